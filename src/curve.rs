@@ -1,0 +1,300 @@
+//! `Curve`: a spline family, its end convention and its points, checked once on construction.
+
+use glam::{DVec2, DVec3, Vec3};
+
+use crate::basis::{Basis, Rows, bezier_rows};
+use crate::error::InputError;
+use crate::segment::SegmentTable;
+
+/// The largest number of coordinates per point.
+pub const MAX_DIM: usize = 64;
+
+/// Points in D dimensions, 1 <= D <= [`MAX_DIM`], stored flat (point i is
+/// `coords[i*D..(i+1)*D]`), all finite.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Points {
+    dim: usize,
+    coords: Vec<f64>,
+}
+
+impl Points {
+    /// Points from flat coordinates, `dim` per point.
+    ///
+    /// # Errors
+    /// `dim` outside 1..=64, a length that is not a multiple of `dim`, or a non-finite value
+    /// (the error names `"points"` and the first bad coordinate).
+    pub fn new(dim: usize, coords: Vec<f64>) -> Result<Self, InputError> {
+        if dim == 0 || dim > MAX_DIM {
+            return Err(InputError::field(
+                "points",
+                format!("must have 1 to {MAX_DIM} coordinates per point, got {dim}"),
+            ));
+        }
+        if coords.len() % dim != 0 {
+            return Err(InputError::field(
+                "points",
+                format!(
+                    "{} values are not a whole number of {dim}-D points",
+                    coords.len()
+                ),
+            ));
+        }
+        if let Some(i) = coords.iter().position(|v| !v.is_finite()) {
+            return Err(InputError::field(
+                "points",
+                format!(
+                    "must be finite: points[{}][{}] = {}",
+                    i / dim,
+                    i % dim,
+                    coords[i]
+                ),
+            ));
+        }
+        Ok(Self { dim, coords })
+    }
+
+    /// Coordinates per point.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.coords.len() / self.dim
+    }
+
+    /// True when there are no points.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.coords.is_empty()
+    }
+
+    /// All coordinates, point after point.
+    #[must_use]
+    pub fn coords(&self) -> &[f64] {
+        &self.coords
+    }
+
+    /// Point `i`.
+    #[must_use]
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.coords[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// The extent E: the largest per-axis (max − min) over the points.
+    #[must_use]
+    pub fn extent(&self) -> f64 {
+        (0..self.dim)
+            .map(|k| {
+                let axis = self.coords.iter().skip(k).step_by(self.dim);
+                let (lo, hi) = axis.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+                hi - lo
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+impl TryFrom<&[DVec2]> for Points {
+    type Error = InputError;
+    fn try_from(points: &[DVec2]) -> Result<Self, InputError> {
+        Points::new(2, points.iter().flat_map(|p| p.to_array()).collect())
+    }
+}
+
+impl TryFrom<&[DVec3]> for Points {
+    type Error = InputError;
+    fn try_from(points: &[DVec3]) -> Result<Self, InputError> {
+        Points::new(3, points.iter().flat_map(|p| p.to_array()).collect())
+    }
+}
+
+impl TryFrom<&[Vec3]> for Points {
+    type Error = InputError;
+    fn try_from(points: &[Vec3]) -> Result<Self, InputError> {
+        Points::new(
+            3,
+            points
+                .iter()
+                .flat_map(|p| p.as_dvec3().to_array())
+                .collect(),
+        )
+    }
+}
+
+/// How a sliding-window family treats the ends of its point list (contract: "ends").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Ends {
+    /// The memo's convention: n >= 4 points give n − 3 segments, the first and the last point
+    /// only steer the ends; t in [0, n − 3].
+    #[default]
+    Control,
+    /// The first and the last point are doubled before windowing (the memo's "double the first
+    /// and last knots"): n >= 2 points give n − 1 segments; t in [0, n − 1].
+    Repeat,
+    /// Cyclic, windowing P_{n−1}, P_0, ..., P_{n−1}, P_0, P_1 (the memo's cyclic spline):
+    /// n >= 3 points give n segments; t in [0, n].
+    Closed,
+}
+
+impl Ends {
+    /// The fewest points this convention accepts.
+    #[must_use]
+    pub fn min_points(self) -> usize {
+        match self {
+            Ends::Control => 4,
+            Ends::Repeat => 2,
+            Ends::Closed => 3,
+        }
+    }
+
+    /// Number of segments for `n` points (n >= `min_points`).
+    #[must_use]
+    pub fn segments(self, n: usize) -> usize {
+        match self {
+            Ends::Control => n - 3,
+            Ends::Repeat => n - 1,
+            Ends::Closed => n,
+        }
+    }
+
+    /// Indices into the n points of segment i's window of four.
+    fn window(self, n: usize, i: usize) -> [usize; 4] {
+        // Position j of the extended sequence, mapped back to a point index.
+        let at = |j: usize| -> usize {
+            match self {
+                Ends::Control => j,
+                // [P0, P0, P1, ..., P_{n-1}, P_{n-1}]
+                Ends::Repeat => j.saturating_sub(1).min(n - 1),
+                // [P_{n-1}, P0, ..., P_{n-1}, P0, P1]
+                Ends::Closed => (j + n - 1) % n,
+            }
+        };
+        [at(i), at(i + 1), at(i + 2), at(i + 3)]
+    }
+}
+
+/// What family a curve belongs to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CurveKind {
+    /// A uniform 4x4-matrix family on a sliding window of four points; segment i spans
+    /// t in [i, i + 1].
+    Uniform {
+        /// The basis matrix.
+        basis: Basis,
+        /// The end convention.
+        ends: Ends,
+    },
+    /// Cubic Bezier segments sharing end points: 3k + 1 points make k segments, segment i
+    /// from points 3i..3i+3 over t in [i, i + 1].
+    Bezier,
+}
+
+/// A curve ready to fit: its kind and its points, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    kind: CurveKind,
+    points: Points,
+    /// The basis matrix, checked: the family's, or Bezier's power form.
+    rows: Rows,
+}
+
+impl Curve {
+    /// A checked curve.
+    ///
+    /// # Errors
+    /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), or a basis
+    /// parameter that is out of its domain (see [`Basis::try_rows`]).
+    pub fn new(kind: CurveKind, points: Points) -> Result<Self, InputError> {
+        let n = points.len();
+        let rows = match &kind {
+            CurveKind::Uniform { basis, ends } => {
+                let rows = basis.try_rows()?;
+                if n < ends.min_points() {
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "needs at least {} points with ends \"{}\", got {n}",
+                            ends.min_points(),
+                            ends_name(*ends)
+                        ),
+                    ));
+                }
+                rows
+            }
+            CurveKind::Bezier => {
+                if n < 4 || (n - 1) % 3 != 0 {
+                    return Err(InputError::field(
+                        "points",
+                        format!("a bezier curve needs 3k+1 points (k >= 1), got {n}"),
+                    ));
+                }
+                bezier_rows()
+            }
+        };
+        Ok(Self { kind, points, rows })
+    }
+
+    /// The curve's kind.
+    #[must_use]
+    pub fn kind(&self) -> &CurveKind {
+        &self.kind
+    }
+
+    /// The curve's points.
+    #[must_use]
+    pub fn points(&self) -> &Points {
+        &self.points
+    }
+
+    /// Number of segments.
+    #[must_use]
+    pub fn segment_count(&self) -> usize {
+        let n = self.points.len();
+        match &self.kind {
+            CurveKind::Uniform { ends, .. } => ends.segments(n),
+            CurveKind::Bezier => (n - 1) / 3,
+        }
+    }
+
+    /// The parameter range [t_start, t_end].
+    #[must_use]
+    pub fn t_range(&self) -> (f64, f64) {
+        (0.0, self.segment_count() as f64)
+    }
+
+    /// The curve's segments in power form, formed in f64 (see [`SegmentTable`]).
+    #[must_use]
+    pub fn fit(&self) -> SegmentTable {
+        let (dim, n) = (self.points.dim(), self.points.len());
+        let coords = self.points.coords();
+        let extent = self.points.extent();
+        let segments = self.segment_count();
+        let rows = &self.rows;
+        match &self.kind {
+            CurveKind::Uniform { ends, .. } => {
+                SegmentTable::from_windows(dim, coords, rows, segments, extent, |i| {
+                    ends.window(n, i)
+                })
+            }
+            CurveKind::Bezier => {
+                SegmentTable::from_windows(dim, coords, rows, segments, extent, |i| {
+                    [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3]
+                })
+            }
+        }
+    }
+}
+
+/// The contract's name of an end convention.
+#[must_use]
+pub fn ends_name(ends: Ends) -> &'static str {
+    match ends {
+        Ends::Control => "control",
+        Ends::Repeat => "repeat",
+        Ends::Closed => "closed",
+    }
+}

@@ -1,0 +1,112 @@
+//! Errors: what was wrong with the input (and where), and what went wrong on the GPU.
+
+use std::fmt;
+
+/// Where in the input document an [`InputError`] lies.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// The document itself (a top-level key, or the JSON syntax).
+    Document,
+    /// The curve with this 0-based index in `"curves"`.
+    Curve(usize),
+}
+
+/// Bad input: names the place (document or curve index), the field and the offending value.
+///
+/// Displayed as the CLI prints it, e.g.
+/// `curve 5: "t" must be strictly increasing: t[3] = 2 follows t[2] = 2` or
+/// `document: "curves" must not be empty`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InputError {
+    /// The document or the curve the error belongs to.
+    pub location: Location,
+    /// The JSON key at fault, when there is one.
+    pub field: Option<String>,
+    /// What is wrong, with the value.
+    pub message: String,
+}
+
+impl InputError {
+    /// An error in `field` of a curve whose index is not known yet (see [`InputError::in_curve`]).
+    #[must_use]
+    pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            location: Location::Document,
+            field: Some(field.into()),
+            message: message.into(),
+        }
+    }
+
+    /// A document-level error with no single key to blame (a JSON syntax error, say).
+    #[must_use]
+    pub fn document(message: impl Into<String>) -> Self {
+        Self {
+            location: Location::Document,
+            field: None,
+            message: message.into(),
+        }
+    }
+
+    /// The same error, placed in the curve with index `index`.
+    #[must_use]
+    pub fn in_curve(mut self, index: usize) -> Self {
+        self.location = Location::Curve(index);
+        self
+    }
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.location {
+            Location::Document => write!(f, "document: ")?,
+            Location::Curve(i) => write!(f, "curve {i}: ")?,
+        }
+        match &self.field {
+            Some(field) => write!(f, "\"{field}\" {}", self.message),
+            None => write!(f, "{}", self.message),
+        }
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// A failure of the GPU path that is not the input's fault.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// wgpu found no adapter (no Vulkan, Metal or DX12 driver).
+    #[error("no GPU adapter found: {0}")]
+    NoAdapter(String),
+    /// The adapter refused to create a device.
+    #[error("could not create a device on {adapter}: {reason}")]
+    RequestDevice {
+        /// The adapter's name.
+        adapter: String,
+        /// wgpu's reason.
+        reason: String,
+    },
+    /// A value does not fit the GPU's float32 range.
+    #[error(
+        "curve {curve}: {what} exceeds the float32 range of the GPU backend (use the cpu backend)"
+    )]
+    OutOfRange {
+        /// The curve's index.
+        curve: usize,
+        /// What overflowed.
+        what: &'static str,
+    },
+    /// One of the job's input tables is larger than a storage binding may be on this device.
+    #[error(
+        "the job's {table} table needs {bytes} bytes, more than this device binds at once ({limit})"
+    )]
+    TooLarge {
+        /// Which table.
+        table: &'static str,
+        /// Its size.
+        bytes: u64,
+        /// The device's max_storage_buffer_binding_size.
+        limit: u64,
+    },
+    /// wgpu reported an error (validation, out of memory, lost device) or a mapping failed.
+    #[error("GPU failure: {0}")]
+    Device(String),
+}

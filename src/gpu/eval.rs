@@ -1,0 +1,202 @@
+//! `GpuContext::evaluate`: upload a packed job, dispatch it in batches, read the samples back.
+
+use std::sync::mpsc;
+
+use wgpu::util::DeviceExt;
+
+use super::GpuContext;
+use super::layout::{self, BatchLimits, Params, Run};
+use super::shader::WG_SIZE;
+use crate::error::GpuError;
+use crate::job::EvalJob;
+use crate::samples::Samples;
+
+const F32: u64 = size_of::<f32>() as u64;
+
+impl GpuContext {
+    /// Evaluates every curve of `job` on the GPU and reads the f32 samples back.
+    ///
+    /// The output is cut into as many dispatches as the device's storage-binding limit needs;
+    /// all of them go in one submission.
+    ///
+    /// # Errors
+    /// A value outside the f32 range ([`GpuError::OutOfRange`]), a segment table larger than
+    /// one binding ([`GpuError::TooLarge`]), or a device failure ([`GpuError::Device`]).
+    pub fn evaluate(&self, job: &EvalJob) -> Result<Samples<f32>, GpuError> {
+        let mut samples = Samples::for_job(job);
+        let total = samples.value_offset(job.len());
+        if total == 0 {
+            return Ok(samples);
+        }
+        let planes = job.derivatives().order() + 1;
+        let limits = self.device.limits();
+        let max_binding =
+            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let packed = layout::pack(
+            job,
+            self.shape.run_len,
+            BatchLimits {
+                values: (max_binding / F32 / planes as u64) as usize,
+                runs: (max_binding / size_of::<Run>() as u64) as usize,
+            },
+        )?;
+        let too_large = |table, bytes: u64, limit: u64| {
+            if bytes > limit {
+                Err(GpuError::TooLarge {
+                    table,
+                    bytes,
+                    limit,
+                })
+            } else {
+                Ok(())
+            }
+        };
+        too_large(
+            "segment",
+            size_of_val(packed.segments.as_slice()) as u64,
+            max_binding,
+        )?;
+        too_large(
+            "coefficient",
+            size_of_val(packed.coeffs.as_slice()) as u64,
+            max_binding,
+        )?;
+        let download_bytes = total as u64 * planes as u64 * F32;
+        too_large("output", download_bytes, limits.max_buffer_size)?;
+
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let storage = |label, contents: &[u8]| {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        };
+        let segments = storage("segments", bytemuck::cast_slice(&packed.segments));
+        let coeffs = storage("coeffs", bytemuck::cast_slice(&packed.coeffs));
+        // One output buffer, reused by every batch: each batch's copy-out is recorded before
+        // the next batch's dispatch, and wgpu orders the two.
+        let plane_stride = packed
+            .batches
+            .iter()
+            .map(|b| b.values.len())
+            .max()
+            .unwrap_or(0);
+        let output = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("samples"),
+            size: plane_stride as u64 * planes as u64 * F32,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let download = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("download"),
+            size: download_bytes,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let max_groups = limits.max_compute_workgroups_per_dimension;
+        for batch in &packed.batches {
+            let invocations = batch.runs.len() as u64 * u64::from(self.shape.lanes);
+            let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
+            let groups_x = groups.min(max_groups);
+            let groups_y = groups.div_ceil(groups_x);
+            let params = Params {
+                run_count: batch.runs.len() as u32,
+                row_width: groups_x * WG_SIZE,
+                plane_stride: plane_stride as u32,
+                derivatives: job.derivatives().order() as u32,
+            };
+            let params = self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("params"),
+                    contents: bytemuck::bytes_of(&params),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+            let runs = storage(
+                "runs",
+                bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
+            );
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("eval"),
+                layout: &self.bind_group_layout,
+                entries: &[&params, &segments, &coeffs, &runs, &output]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, buffer)| wgpu::BindGroupEntry {
+                        binding: i as u32,
+                        resource: buffer.as_entire_binding(),
+                    })
+                    .collect::<Vec<_>>(),
+            });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("eval"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.dispatch_workgroups(groups_x, groups_y, 1);
+            }
+            // Plane p of this batch lands at plane p's place in the download buffer.
+            for p in 0..planes as u64 {
+                encoder.copy_buffer_to_buffer(
+                    &output,
+                    p * plane_stride as u64 * F32,
+                    &download,
+                    (p * total as u64 + batch.values.start as u64) * F32,
+                    batch.values.len() as u64 * F32,
+                );
+            }
+        }
+        self.queue.submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(out_of_memory.pop()) {
+            return Err(GpuError::Device(e.to_string()));
+        }
+        if let Some(e) = pollster::block_on(validation.pop()) {
+            return Err(GpuError::Device(e.to_string()));
+        }
+        read_back(&self.device, &download, total, &mut samples)?;
+        Ok(samples)
+    }
+}
+
+/// Maps `download` (planes of `total` f32 values each) and copies it into `samples`.
+///
+/// The readback sequence: map_async on the whole buffer, poll the device until the callback
+/// has run, view the mapped range as f32, copy out, drop the view, unmap.
+fn read_back(
+    device: &wgpu::Device,
+    download: &wgpu::Buffer,
+    total: usize,
+    samples: &mut Samples<f32>,
+) -> Result<(), GpuError> {
+    let (tx, rx) = mpsc::channel();
+    download.map_async(wgpu::MapMode::Read, .., move |result| {
+        // The receiver outlives the poll below; a failed send cannot happen.
+        let _ = tx.send(result);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Device(e.to_string()))?
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    {
+        let view = download
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let values: &[f32] = bytemuck::cast_slice(&view);
+        for (p, plane) in samples.planes_mut().into_iter().enumerate() {
+            if !plane.is_empty() {
+                plane.copy_from_slice(&values[p * total..(p + 1) * total]);
+            }
+        }
+    }
+    download.unmap();
+    Ok(())
+}

@@ -1,0 +1,255 @@
+//! The GPU evaluator: a `GpuContext` (device, queue, compiled pipeline) made once and reused.
+//!
+//! Getting a device is kept apart from doing the work: [`GpuContext::new`] picks an adapter,
+//! [`GpuContext::from_device`] takes a caller's device and queue, and
+//! [`GpuContext::evaluate`] (in `eval.rs`) runs a job and reads the samples back.
+
+mod eval;
+pub mod layout;
+pub mod shader;
+
+use crate::error::GpuError;
+
+/// How the kernel spreads a job over invocations.
+///
+/// A job is cut into runs of at most `run_len` consecutive samples of one segment;
+/// `lanes` invocations share a run, each taking every `lanes`-th sample. On a CPU adapter
+/// (lavapipe) one invocation looping over a long run is fastest (`lanes = 1`); a GPU wants one
+/// sample per invocation so that neighbouring invocations write neighbouring addresses
+/// (`lanes = run_len`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct KernelShape {
+    /// Invocations per run (>= 1).
+    pub lanes: u32,
+    /// Samples per run (>= 1).
+    pub run_len: u32,
+}
+
+impl KernelShape {
+    /// Long runs, one invocation each: for CPU adapters such as lavapipe.
+    pub const LOOPING: KernelShape = KernelShape {
+        lanes: 1,
+        run_len: 64,
+    };
+    /// One sample per invocation: for GPUs.
+    pub const PER_SAMPLE: KernelShape = KernelShape {
+        lanes: 32,
+        run_len: 32,
+    };
+
+    /// The default shape for an adapter of this type.
+    #[must_use]
+    pub fn for_device_type(device_type: wgpu::DeviceType) -> Self {
+        match device_type {
+            wgpu::DeviceType::Cpu => Self::LOOPING,
+            _ => Self::PER_SAMPLE,
+        }
+    }
+}
+
+/// A device, its queue and the compiled evaluation pipeline.
+#[derive(Debug)]
+pub struct GpuContext {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    shape: KernelShape,
+    bind_group_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role).
+const BINDINGS: [(wgpu::BufferBindingType, &str); 5] = [
+    (wgpu::BufferBindingType::Uniform, "params"),
+    (
+        wgpu::BufferBindingType::Storage { read_only: true },
+        "segments",
+    ),
+    (
+        wgpu::BufferBindingType::Storage { read_only: true },
+        "coeffs",
+    ),
+    (wgpu::BufferBindingType::Storage { read_only: true }, "runs"),
+    (
+        wgpu::BufferBindingType::Storage { read_only: false },
+        "samples",
+    ),
+];
+
+impl GpuContext {
+    /// A context on the adapter named by `WGPU_ADAPTER_NAME` (a case-insensitive substring, as
+    /// wgpu's examples use it), or else the default high-performance adapter.
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] when there is none (or none matches the name);
+    /// [`GpuError::RequestDevice`] when the adapter refuses a device.
+    pub fn new() -> Result<Self, GpuError> {
+        let instance = new_instance();
+        let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
+            Ok(name) => {
+                let wanted = name.to_lowercase();
+                pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+                    .into_iter()
+                    .find(|a| a.get_info().name.to_lowercase().contains(&wanted))
+                    .ok_or_else(|| {
+                        GpuError::NoAdapter(format!("no adapter matches WGPU_ADAPTER_NAME={name}"))
+                    })?
+            }
+            Err(_) => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                ..Default::default()
+            }))
+            .map_err(|e| GpuError::NoAdapter(e.to_string()))?,
+        };
+        Self::from_adapter(&adapter)
+    }
+
+    /// A context on `adapter`, with the largest limits it offers.
+    ///
+    /// # Errors
+    /// [`GpuError::RequestDevice`] when the adapter refuses a device.
+    pub fn from_adapter(adapter: &wgpu::Adapter) -> Result<Self, GpuError> {
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("splinegpu"),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::RequestDevice {
+            adapter: info.name.clone(),
+            reason: e.to_string(),
+        })?;
+        Ok(Self::with_parts(device, queue, info))
+    }
+
+    /// A context on a caller's device and queue (a renderer's, say); nothing is copied.
+    #[must_use]
+    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self::with_parts(device.clone(), queue.clone(), device.adapter_info())
+    }
+
+    fn with_parts(device: wgpu::Device, queue: wgpu::Queue, info: wgpu::AdapterInfo) -> Self {
+        let shape = KernelShape::for_device_type(info.device_type);
+        let entries: Vec<_> = BINDINGS
+            .iter()
+            .enumerate()
+            .map(|(i, (ty, _))| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: *ty,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("eval"),
+            entries: &entries,
+        });
+        let pipeline = compile(&device, &bind_group_layout, shape);
+        Self {
+            device,
+            queue,
+            info,
+            shape,
+            bind_group_layout,
+            pipeline,
+        }
+    }
+
+    /// The same context with another kernel shape (recompiles the pipeline).
+    ///
+    /// # Panics
+    /// If `shape.lanes` or `shape.run_len` is 0.
+    #[must_use]
+    pub fn with_shape(mut self, shape: KernelShape) -> Self {
+        assert!(
+            shape.lanes >= 1 && shape.run_len >= 1,
+            "a kernel shape needs lanes and run_len >= 1"
+        );
+        self.pipeline = compile(&self.device, &self.bind_group_layout, shape);
+        self.shape = shape;
+        self
+    }
+
+    /// The adapter this context runs on.
+    #[must_use]
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// The kernel shape in use.
+    #[must_use]
+    pub fn shape(&self) -> KernelShape {
+        self.shape
+    }
+
+    /// The device.
+    #[must_use]
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+}
+
+/// A wgpu instance configured from the environment (`WGPU_BACKEND`, `WGPU_DEBUG`, ...).
+#[must_use]
+pub fn new_instance() -> wgpu::Instance {
+    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+}
+
+/// Every adapter wgpu finds, on every backend.
+#[must_use]
+pub fn adapters() -> Vec<wgpu::AdapterInfo> {
+    let instance = new_instance();
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+        .iter()
+        .map(wgpu::Adapter::get_info)
+        .collect()
+}
+
+/// The hardware adapter (discrete, integrated or virtual GPU, in that order of preference) that
+/// the CLI's `--backend auto` uses, if there is one.
+#[must_use]
+pub fn hardware_adapter() -> Option<wgpu::Adapter> {
+    let rank = |t: wgpu::DeviceType| match t {
+        wgpu::DeviceType::DiscreteGpu => Some(0),
+        wgpu::DeviceType::IntegratedGpu => Some(1),
+        wgpu::DeviceType::VirtualGpu => Some(2),
+        wgpu::DeviceType::Cpu | wgpu::DeviceType::Other => None,
+    };
+    let instance = new_instance();
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+        .into_iter()
+        .filter_map(|a| rank(a.get_info().device_type).map(|r| (r, a)))
+        .min_by_key(|(r, _)| *r)
+        .map(|(_, a)| a)
+}
+
+fn compile(
+    device: &wgpu::Device,
+    bind_group_layout: &wgpu::BindGroupLayout,
+    shape: KernelShape,
+) -> wgpu::ComputePipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("eval.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(shader::EVAL_WGSL.into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("eval"),
+        bind_group_layouts: &[Some(bind_group_layout)],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("eval"),
+        layout: Some(&layout),
+        module: &module,
+        entry_point: Some(shader::ENTRY_POINT),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &[(shader::LANES_CONSTANT, f64::from(shape.lanes))],
+            ..Default::default()
+        },
+        cache: None,
+    })
+}

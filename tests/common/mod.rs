@@ -1,0 +1,86 @@
+//! Helpers shared by the integration tests: the GPU context and the GPU-vs-CPU comparison.
+#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+
+use std::sync::OnceLock;
+
+use splinegpu::accuracy::gpu_bound;
+use splinegpu::{EvalJob, GpuContext, Samples};
+
+/// The context every GPU test of this binary shares, or `None` on a developer's machine without
+/// an adapter. Under CI (`CI=true`) a missing adapter fails the test instead: a broken driver
+/// install must never pass as green.
+pub fn gpu() -> Option<&'static GpuContext> {
+    static CONTEXT: OnceLock<Option<GpuContext>> = OnceLock::new();
+    CONTEXT
+        .get_or_init(|| match GpuContext::new() {
+            Ok(context) => Some(context),
+            Err(e) if std::env::var("CI").is_ok_and(|v| v == "true") => {
+                panic!("CI=true and no GPU adapter: {e}")
+            }
+            Err(e) => {
+                eprintln!("skipping GPU test: {e}");
+                None
+            }
+        })
+        .as_ref()
+}
+
+/// The worst GPU sample of a comparison, as a fraction of its promised bound.
+#[derive(Clone, Debug, Default)]
+pub struct Worst {
+    /// error / bound; the promise holds while this is <= 1.
+    pub ratio: f64,
+    pub curve: usize,
+    pub sample: usize,
+    pub order: usize,
+    pub coord: usize,
+    pub gpu: f32,
+    pub cpu: f64,
+    pub bound: f64,
+}
+
+/// Compares GPU samples with the CPU reference, sample by sample, coordinate by coordinate,
+/// against the contract's accuracy promise, and returns the worst.
+pub fn compare(job: &EvalJob, cpu: &Samples<f64>, gpu: &Samples<f32>) -> Worst {
+    let mut worst = Worst::default();
+    for c in 0..job.len() {
+        let (table, plan) = (job.table(c), job.plan(c));
+        let (cc, gc) = (cpu.curve(c), gpu.curve(c));
+        assert_eq!(cc.t, gc.t, "curve {c}: t differs between backends");
+        let planes = [
+            (cc.points, Some(gc.points)),
+            (cc.d1.unwrap_or(&[]), gc.d1),
+            (cc.d2.unwrap_or(&[]), gc.d2),
+        ];
+        for (order, (cpu_values, gpu_values)) in planes.into_iter().enumerate() {
+            let Some(gpu_values) = gpu_values else { continue };
+            assert_eq!(cpu_values.len(), gpu_values.len());
+            for (i, (cv, gv)) in cpu_values.iter().zip(gpu_values).enumerate() {
+                let (sample, coord) = (i / cc.dim, i % cc.dim);
+                let segment = table.segment(plan.loc(sample).segment);
+                let bound = gpu_bound(&segment, table.extent(), order, coord, *cv);
+                let ratio = (f64::from(*gv) - cv).abs() / bound;
+                if !(ratio <= worst.ratio) {
+                    worst = Worst { ratio, curve: c, sample, order, coord, gpu: *gv, cpu: *cv, bound };
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Runs `job` on both backends and asserts that every GPU value meets the promise; returns the
+/// worst ratio seen. Returns `None` when there is no GPU (outside CI).
+pub fn assert_gpu_matches_cpu(job: &EvalJob) -> Option<Worst> {
+    let context = gpu()?;
+    let cpu = splinegpu::cpu::evaluate(job);
+    let gpu = context.evaluate(job).expect("GPU evaluation");
+    let worst = compare(job, &cpu, &gpu);
+    assert!(
+        worst.ratio <= 1.0,
+        "GPU breaks the accuracy promise: {worst:?} (error {} > bound {})",
+        (f64::from(worst.gpu) - worst.cpu).abs(),
+        worst.bound
+    );
+    Some(worst)
+}
