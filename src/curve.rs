@@ -30,7 +30,7 @@ impl Points {
                 format!("must have 1 to {MAX_DIM} coordinates per point, got {dim}"),
             ));
         }
-        if coords.len() % dim != 0 {
+        if !coords.len().is_multiple_of(dim) {
             return Err(InputError::field(
                 "points",
                 format!(
@@ -226,7 +226,7 @@ impl Curve {
                 rows
             }
             CurveKind::Bezier => {
-                if n < 4 || (n - 1) % 3 != 0 {
+                if n < 4 || !(n - 1).is_multiple_of(3) {
                     return Err(InputError::field(
                         "points",
                         format!("a bezier curve needs 3k+1 points (k >= 1), got {n}"),

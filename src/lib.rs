@@ -29,18 +29,26 @@ pub mod accuracy;
 pub mod basis;
 pub mod cpu;
 pub mod curve;
+pub mod doc;
 pub mod error;
 pub mod gpu;
 pub mod job;
+pub mod output;
 pub mod samples;
 pub mod sampling;
 pub mod segment;
 
 pub use basis::Basis;
 pub use curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
+pub use doc::{DocumentError, parse_document};
 pub use error::{GpuError, InputError, Location};
 pub use gpu::{GpuContext, KernelShape};
 pub use job::{Derivatives, EvalJob};
 pub use samples::{CurveSamples, Samples};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};
 pub use segment::{Segment, SegmentTable};
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

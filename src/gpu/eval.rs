@@ -30,13 +30,15 @@ impl GpuContext {
         }
         let planes = job.derivatives().order() + 1;
         let limits = self.device.limits();
-        let max_binding =
-            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let max_binding = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         let packed = layout::pack(
             job,
             self.shape.run_len,
             BatchLimits {
-                values: (max_binding / F32 / planes as u64) as usize,
+                values: ((max_binding / F32 / planes as u64) as usize)
+                    .min(self.max_dispatch_values),
                 runs: (max_binding / size_of::<Run>() as u64) as usize,
             },
         )?;

@@ -54,6 +54,8 @@ pub struct GpuContext {
     queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
     shape: KernelShape,
+    /// At most this many output values per plane in one dispatch (besides the device's limit).
+    max_dispatch_values: usize,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
 }
@@ -154,6 +156,7 @@ impl GpuContext {
             queue,
             info,
             shape,
+            max_dispatch_values: usize::MAX,
             bind_group_layout,
             pipeline,
         }
@@ -171,6 +174,19 @@ impl GpuContext {
         );
         self.pipeline = compile(&self.device, &self.bind_group_layout, shape);
         self.shape = shape;
+        self
+    }
+
+    /// The same context, cutting jobs into dispatches of at most `values` output values per
+    /// plane (the device's storage-binding limit always applies). Smaller dispatches bound the
+    /// GPU memory a job holds at once; results are the same.
+    ///
+    /// # Panics
+    /// If `values` is 0.
+    #[must_use]
+    pub fn with_max_dispatch_values(mut self, values: usize) -> Self {
+        assert!(values >= 1, "a dispatch must hold at least one value");
+        self.max_dispatch_values = values;
         self
     }
 

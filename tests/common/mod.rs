@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests: the GPU context and the GPU-vs-CPU comparison.
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+#![allow(
+    dead_code,
+    reason = "each test binary uses a different subset of these helpers"
+)]
 
 use std::sync::OnceLock;
 
@@ -37,6 +40,8 @@ pub struct Worst {
     pub gpu: f32,
     pub cpu: f64,
     pub bound: f64,
+    /// The worst ratio for positions, first and second derivatives.
+    pub per_order: [f64; 3],
 }
 
 /// Compares GPU samples with the CPU reference, sample by sample, coordinate by coordinate,
@@ -53,15 +58,33 @@ pub fn compare(job: &EvalJob, cpu: &Samples<f64>, gpu: &Samples<f32>) -> Worst {
             (cc.d2.unwrap_or(&[]), gc.d2),
         ];
         for (order, (cpu_values, gpu_values)) in planes.into_iter().enumerate() {
-            let Some(gpu_values) = gpu_values else { continue };
+            let Some(gpu_values) = gpu_values else {
+                continue;
+            };
             assert_eq!(cpu_values.len(), gpu_values.len());
             for (i, (cv, gv)) in cpu_values.iter().zip(gpu_values).enumerate() {
                 let (sample, coord) = (i / cc.dim, i % cc.dim);
                 let segment = table.segment(plan.loc(sample).segment);
                 let bound = gpu_bound(&segment, table.extent(), order, coord, *cv);
+                // A NaN from the GPU counts as infinitely wrong.
                 let ratio = (f64::from(*gv) - cv).abs() / bound;
-                if !(ratio <= worst.ratio) {
-                    worst = Worst { ratio, curve: c, sample, order, coord, gpu: *gv, cpu: *cv, bound };
+                let ratio = if ratio.is_nan() { f64::INFINITY } else { ratio };
+                if ratio > worst.per_order[order] {
+                    worst.per_order[order] = ratio;
+                }
+                if ratio > worst.ratio {
+                    let per_order = worst.per_order;
+                    worst = Worst {
+                        ratio,
+                        curve: c,
+                        sample,
+                        order,
+                        coord,
+                        gpu: *gv,
+                        cpu: *cv,
+                        bound,
+                        per_order,
+                    };
                 }
             }
         }
@@ -83,4 +106,42 @@ pub fn assert_gpu_matches_cpu(job: &EvalJob) -> Option<Worst> {
         worst.bound
     );
     Some(worst)
+}
+
+/// A small deterministic generator (xorshift64*), so tests need no extra crate.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// A value in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let bits = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
+        lo + (hi - lo) * (bits as f64 / (1u64 << 53) as f64)
+    }
+
+    /// `n` points of `dim` coordinates in [lo, hi).
+    pub fn points(&mut self, n: usize, dim: usize, lo: f64, hi: f64) -> splinegpu::Points {
+        splinegpu::Points::new(dim, (0..n * dim).map(|_| self.range(lo, hi)).collect()).unwrap()
+    }
+}
+
+/// The CPU reference at explicit parameter values, with derivatives.
+pub fn cpu_at(curve: &splinegpu::Curve, ts: &[f64]) -> Samples<f64> {
+    let mut job = EvalJob::new(splinegpu::Derivatives::Second);
+    job.push(curve, &splinegpu::Sampling::At(ts.to_vec()))
+        .unwrap();
+    splinegpu::cpu::evaluate(&job)
+}
+
+/// Asserts |a - b| <= tol elementwise, naming `what`.
+pub fn assert_close(a: &[f64], b: &[f64], tol: f64, what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: lengths differ");
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= tol,
+            "{what}: [{i}] {x} vs {y} (tolerance {tol})"
+        );
+    }
 }

@@ -1,0 +1,247 @@
+//! The `splinegpu` command line: argument parsing, I/O and exit status only.
+//! The contract it follows is `CLI-CONTRACT.md` in the steering repository's shared folder.
+
+use std::io::{self, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use splinegpu::output::{self, OutputError, SampleValue};
+use splinegpu::{DocumentError, GpuContext, Samples, gpu};
+
+/// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
+#[derive(Parser)]
+#[command(name = "splinegpu", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Tessellate the curves of a JSON document into CSV, JSON or NPZ samples.
+    Tessellate {
+        /// The input document, or `-` for standard input.
+        input: String,
+        /// Where to write; standard output when absent.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz), else csv.
+        #[arg(long)]
+        format: Option<Format>,
+        /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
+        /// finds, lavapipe included (gpu, float32); the host reference (cpu, float64).
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
+    /// Run the named benchmark workloads.
+    Bench {
+        /// A workload to run (may repeat; default: all).
+        #[arg(long = "workload")]
+        workloads: Vec<String>,
+        /// One JSON object per line per measurement.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the adapters wgpu finds and what `--backend auto` would pick.
+    Info,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Csv,
+    Json,
+    Npz,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Backend {
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// A failure and its exit status: 2 for bad input or usage, 1 for everything else.
+struct Failure {
+    status: u8,
+    message: String,
+}
+
+impl Failure {
+    fn input(message: impl ToString) -> Self {
+        Self {
+            status: 2,
+            message: message.to_string(),
+        }
+    }
+
+    fn other(message: impl ToString) -> Self {
+        Self {
+            status: 1,
+            message: message.to_string(),
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    // Mesa's device-select Vulkan layer prints XDG_RUNTIME_DIR warnings on headless machines
+    // unless NODEVICE_SELECT is set before the Vulkan instance exists.
+    #[allow(
+        unsafe_code,
+        reason = "set_var is unsafe from edition 2024; no other thread exists yet"
+    )]
+    // SAFETY: this is the first statement of main, before any thread is spawned.
+    unsafe {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Tessellate {
+            input,
+            output,
+            format,
+            backend,
+        } => tessellate(&input, output.as_deref(), format, backend),
+        Command::Bench { .. } => Err(Failure::other("not supported yet: bench")),
+        Command::Info => info(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("splinegpu: {}", failure.message);
+            ExitCode::from(failure.status)
+        }
+    }
+}
+
+fn tessellate(
+    input: &str,
+    output: Option<&Path>,
+    format: Option<Format>,
+    backend: Backend,
+) -> Result<(), Failure> {
+    let text = read_input(input)?;
+    let job = splinegpu::parse_document(&text).map_err(|e| match e {
+        DocumentError::Input(e) => Failure::input(e),
+        DocumentError::Unsupported(_) => Failure::other(e),
+    })?;
+    let format = format.unwrap_or_else(|| format_of(output));
+    if format == Format::Npz {
+        return Err(Failure::other("not supported yet: --format npz"));
+    }
+    let context = match backend {
+        Backend::Cpu => None,
+        Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
+        Backend::Auto => match gpu::hardware_adapter() {
+            Some(adapter) => {
+                let context = GpuContext::from_adapter(&adapter).map_err(Failure::other)?;
+                let info = context.adapter_info();
+                eprintln!(
+                    "splinegpu: backend auto: gpu on {} ({:?})",
+                    info.name, info.device_type
+                );
+                Some(context)
+            }
+            None => {
+                eprintln!("splinegpu: backend auto: cpu (no hardware GPU adapter)");
+                None
+            }
+        },
+    };
+    match context {
+        Some(context) => write(
+            &context.evaluate(&job).map_err(Failure::other)?,
+            output,
+            format,
+        ),
+        None => write(&splinegpu::cpu::evaluate(&job), output, format),
+    }
+}
+
+fn read_input(input: &str) -> Result<String, Failure> {
+    let mut text = String::new();
+    let result = if input == "-" {
+        io::stdin().read_to_string(&mut text).map(|_| ())
+    } else {
+        std::fs::File::open(input).and_then(|mut f| f.read_to_string(&mut text).map(|_| ()))
+    };
+    result.map_err(|e| Failure::input(format!("document: cannot read input \"{input}\": {e}")))?;
+    Ok(text)
+}
+
+fn format_of(output: Option<&Path>) -> Format {
+    match output.and_then(Path::extension).and_then(|e| e.to_str()) {
+        Some("json") => Format::Json,
+        Some("npz") => Format::Npz,
+        _ => Format::Csv,
+    }
+}
+
+fn write<F: SampleValue>(
+    samples: &Samples<F>,
+    output: Option<&Path>,
+    format: Format,
+) -> Result<(), Failure> {
+    output::check_finite(samples).map_err(Failure::other)?;
+    let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
+        let mut out = out;
+        match format {
+            Format::Json => output::write_json(samples, &mut out)?,
+            _ => output::write_csv(samples, &mut out)?,
+        }
+        Ok(())
+    };
+    match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_atomically(path, |out| emit(out)),
+    }
+    .map_err(|e| match e {
+        OutputError::Io(e) => Failure::other(format!("cannot write output: {e}")),
+        e => Failure::other(e),
+    })
+}
+
+fn info() -> Result<(), Failure> {
+    let instance = gpu::new_instance();
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    if adapters.is_empty() {
+        println!("no adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
+    }
+    for adapter in &adapters {
+        let (info, limits) = (adapter.get_info(), adapter.limits());
+        println!("{}", info.name);
+        println!("  backend: {:?}", info.backend);
+        println!("  device type: {:?}", info.device_type);
+        println!("  driver: {} {}", info.driver, info.driver_info);
+        println!(
+            "  max_storage_buffer_binding_size: {}",
+            limits.max_storage_buffer_binding_size
+        );
+        println!("  max_buffer_size: {}", limits.max_buffer_size);
+        println!(
+            "  max_compute_workgroups_per_dimension: {}",
+            limits.max_compute_workgroups_per_dimension
+        );
+        println!(
+            "  max_compute_invocations_per_workgroup: {}",
+            limits.max_compute_invocations_per_workgroup
+        );
+        println!(
+            "  timestamp queries: {}",
+            adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+        );
+        let shape = splinegpu::KernelShape::for_device_type(info.device_type);
+        println!(
+            "  kernel shape: {} lanes per run of {} samples",
+            shape.lanes, shape.run_len
+        );
+    }
+    match gpu::hardware_adapter() {
+        Some(a) => println!("auto: gpu on {}", a.get_info().name),
+        None => println!("auto: cpu (no hardware GPU adapter)"),
+    }
+    Ok(())
+}

@@ -1,0 +1,499 @@
+//! The `splinegpu` binary against the CLI contract: output that parses back to the library's
+//! values, the GPU promise through the CLI, and every bad input exiting 2 with one located
+//! message and no output file.
+
+mod common;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use splinegpu::accuracy::gpu_bound;
+
+struct Run {
+    status: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn splinegpu(args: &[&str], stdin: Option<&str>) -> Run {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run splinegpu");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.unwrap_or("").as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    Run {
+        status: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+    }
+}
+
+fn write_input(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("input.json");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Curves of several kinds and dimensions, derivatives, both sampling modes, values that need
+/// all 17 digits, and a curve near 1e6.
+const MIXED: &str = r#"{
+  "sampling": {"per_segment": 5},
+  "derivatives": 2,
+  "curves": [
+    {"kind": "catmull-rom", "points": [[0.1, 0.2], [1.3, 1.7], [2.9, -0.4], [3.3, 1.1], [4.0, 0.0]]},
+    {"kind": "bspline", "ends": "closed", "points": [[0.123456789, 1, 2], [3, 4.5, 6], [7, -8, 9.25]]},
+    {"kind": "beta", "bias": 1.3, "tension": 2.5, "ends": "repeat", "points": [[1e6, 2e6, 3e6], [1000000.5, 2000000.25, 3000001], [1000001.5, 1999999.75, 3000000.5]]},
+    {"kind": "bezier", "points": [[0], [1], [3], [2]], "sampling": {"at": [0, 0.5, 0.25, 1, 0.5]}},
+    {"kind": "matrix", "matrix": [[-1, 3, -3, 1], [3, -6, 3, 0], [-3, 0, 3, 0], [1, 4, 1, 0]], "points": [[1, 1, 1, 1], [2, 0, 1, 3], [0, 5, 1, 2], [3, 3, 3, 3]]}
+  ]
+}"#;
+
+/// The rows of a CSV file: (curve, sample, t, values by column, empty fields as None).
+fn parse_csv(text: &str) -> (Vec<String>, Vec<Vec<Option<String>>>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|f| (!f.is_empty()).then(|| f.to_string()))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+/// Every (curve, sample, column, value) of the library's CPU evaluation of `doc`, in CSV order.
+fn library_values(doc: &str) -> (splinegpu::EvalJob, splinegpu::Samples<f64>) {
+    let job = splinegpu::parse_document(doc).unwrap();
+    let samples = splinegpu::cpu::evaluate(&job);
+    (job, samples)
+}
+
+#[test]
+fn cpu_csv_parses_back_to_the_library_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_input(dir.path(), MIXED);
+    let out = dir.path().join("out.csv");
+    let run = splinegpu(
+        &[
+            "tessellate",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+        ],
+        None,
+    );
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    assert_eq!(run.stderr, "", "the cpu backend has nothing to say");
+    let (header, rows) = parse_csv(&std::fs::read_to_string(&out).unwrap());
+    let expected_header: Vec<String> = ["curve", "sample", "t"]
+        .into_iter()
+        .map(str::to_string)
+        .chain(
+            ["x", "dx", "ddx"]
+                .iter()
+                .flat_map(|p| (0..4).map(move |k| format!("{p}{k}"))),
+        )
+        .collect();
+    assert_eq!(header, expected_header);
+    let (_, samples) = library_values(MIXED);
+    let mut row = 0;
+    for c in 0..samples.len() {
+        let s = samples.curve(c);
+        for i in 0..s.t.len() {
+            let fields = &rows[row];
+            assert_eq!(fields[0].as_deref(), Some(c.to_string().as_str()));
+            assert_eq!(fields[1].as_deref(), Some(i.to_string().as_str()));
+            let parse = |f: &Option<String>| f.as_ref().map(|v| v.parse::<f64>().unwrap());
+            assert_eq!(parse(&fields[2]).unwrap().to_bits(), s.t[i].to_bits());
+            for (p, plane) in [Some(s.points), s.d1, s.d2].into_iter().enumerate() {
+                let plane = plane.unwrap();
+                for k in 0..4 {
+                    let field = parse(&fields[3 + 4 * p + k]);
+                    if k < s.dim {
+                        assert_eq!(
+                            field.unwrap().to_bits(),
+                            plane[i * s.dim + k].to_bits(),
+                            "curve {c} sample {i}"
+                        );
+                    } else {
+                        assert_eq!(
+                            field, None,
+                            "curve {c} of dimension {} has no column {k}",
+                            s.dim
+                        );
+                    }
+                }
+            }
+            row += 1;
+        }
+    }
+    assert_eq!(row, rows.len());
+}
+
+#[test]
+fn cpu_json_parses_back_to_the_library_values() {
+    let run = splinegpu(
+        &["tessellate", "-", "--format", "json", "--backend", "cpu"],
+        Some(MIXED),
+    );
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    let doc: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let (_, samples) = library_values(MIXED);
+    let curves = doc["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), samples.len());
+    for (c, curve) in curves.iter().enumerate() {
+        let s = samples.curve(c);
+        let t: Vec<f64> = curve["t"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(t, s.t);
+        for (name, plane) in [
+            ("points", s.points),
+            ("d1", s.d1.unwrap()),
+            ("d2", s.d2.unwrap()),
+        ] {
+            let values: Vec<f64> = curve[name]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|p| p.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()))
+                .collect();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&values), bits(plane), "curve {c} {name}");
+        }
+    }
+}
+
+#[test]
+fn gpu_csv_meets_the_promise() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let run = splinegpu(&["tessellate", "-", "--backend", "gpu"], Some(MIXED));
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    assert_eq!(run.stderr, "", "no driver noise on stderr");
+    let (_, rows) = parse_csv(&run.stdout);
+    let (job, samples) = library_values(MIXED);
+    let mut row = 0;
+    for c in 0..samples.len() {
+        let (s, table, plan) = (samples.curve(c), job.table(c), job.plan(c));
+        for i in 0..s.t.len() {
+            let segment = table.segment(plan.loc(i).segment);
+            for (p, plane) in [Some(s.points), s.d1, s.d2].into_iter().enumerate() {
+                for k in 0..s.dim {
+                    let exact = plane.unwrap()[i * s.dim + k];
+                    // The GPU prints f32 values; the text must parse as one.
+                    let gpu: f32 = rows[row][3 + 4 * p + k].as_ref().unwrap().parse().unwrap();
+                    let bound = gpu_bound(&segment, table.extent(), p, k, exact);
+                    assert!(
+                        (f64::from(gpu) - exact).abs() <= bound,
+                        "curve {c} sample {i} order {p}: {gpu} vs {exact}"
+                    );
+                }
+            }
+            row += 1;
+        }
+    }
+}
+
+#[test]
+fn format_follows_the_output_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write_input(dir.path(), MIXED);
+    let out = dir.path().join("result.json");
+    let run = splinegpu(
+        &[
+            "tessellate",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+        ],
+        None,
+    );
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(serde_json::from_str::<serde_json::Value>(&text).is_ok());
+}
+
+#[cfg(unix)]
+#[test]
+fn output_files_get_the_mode_of_any_new_file() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.csv");
+    let run = splinegpu(
+        &[
+            "tessellate",
+            "-",
+            "-o",
+            out.to_str().unwrap(),
+            "--backend",
+            "cpu",
+        ],
+        Some(MIXED),
+    );
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    let plain = dir.path().join("plain");
+    std::fs::File::create(&plain).unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&out), mode(&plain));
+}
+
+#[test]
+fn auto_says_which_backend_it_used() {
+    let run = splinegpu(&["tessellate", "-"], Some(MIXED));
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(run.stderr.contains("backend auto: "), "{}", run.stderr);
+}
+
+#[test]
+fn info_lists_adapters_and_exits_0() {
+    let run = splinegpu(&["info"], None);
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    assert!(run.stdout.contains("auto: "), "{}", run.stdout);
+}
+
+/// (document, what the message must name).
+const BAD_INPUTS: &[(&str, &[&str])] = &[
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [NaN]]}]}"#,
+        &["document:", "line 1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [Infinity]]}]}"#,
+        &["document:", "line 1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [1e999]]}]}"#,
+        &["document:", "line 1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "catmull-rom", "points": [[0], [1], [2]]}]}"#,
+        &["curve 1:", "\"points\"", "got 3"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bezier", "points": [[0, 0], [1, 1], [2, 2, 2], [3, 3]]}]}"#,
+        &["curve 0:", "\"points\"", "points[2]"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[], [], [], []]}]}"#,
+        &["curve 0:", "\"points\"", "has 0"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bezier", "points": [[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]]}]}"#,
+        &["curve 0:", "\"points\"", "has 65"],
+    ),
+    (
+        r#"{"sampling": {"per_segment": 0}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
+        &["document:", "\"per_segment\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "bspline", "points": [[0], [1], [2], [3]], "sampling": {"per_segment": 0}}]}"#,
+        &["curve 1:", "\"per_segment\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3], [4]], "sampling": {"at": [0.5, 2.5]}}]}"#,
+        &["curve 0:", "\"at\"", "at[1] = 2.5"],
+    ),
+    (
+        r#"{"curves": [{"kind": "beta", "bias": -1, "tension": 0, "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"tension\"", "d = "],
+    ),
+    (
+        r#"{"curves": [{"kind": "hermite", "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"kind\"", "hermite"],
+    ),
+    (
+        r#"{"curves": [{"kind": "cardinal", "tenson": 0.3, "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"tenson\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "tension": 0.3, "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"tension\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bezier", "ends": "closed", "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"ends\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": "abc"}]}"#,
+        &["curve 0:", "\"points\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "cardinal", "tension": "high", "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"tension\""],
+    ),
+    (
+        r#"{"curves": [{"kind": 3, "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"kind\""],
+    ),
+    (
+        r#"{"derivatives": 3, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
+        &["document:", "\"derivatives\""],
+    ),
+    (r#"{"curves": []}"#, &["document:", "\"curves\"", "empty"]),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}], "sample": {"at": []}}"#,
+        &["document:", "\"sample\""],
+    ),
+    (
+        r#"{"sampling": {"per_segment": 2, "at": [0]}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
+        &["document:", "\"sampling\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "matrix", "matrix": [[1, 2, 3], [1, 2, 3], [1, 2, 3]], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"matrix\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "natural", "t": [0, 1, 1], "points": [[0], [1], [2]]}]}"#,
+        &["curve 1:", "\"t\"", "t[2] = 1 follows t[1] = 1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "natural", "t": [0, 1], "points": [[0], [1], [2]]}]}"#,
+        &["curve 0:", "\"t\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "periodic", "points": [[0, 0], [1, 0], [0, 1], [0.5, 0]]}]}"#,
+        &["curve 0:", "\"points\"", "points[3][0]"],
+    ),
+    (
+        r#"{"curves": [{"kind": "clamped", "start_derivative": [1, 0], "points": [[0, 0], [1, 0], [0, 1]]}]}"#,
+        &["curve 0:", "\"end_derivative\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "clamped", "start_derivative": [1], "end_derivative": [1, 0], "points": [[0, 0], [1, 0], [0, 1]]}]}"#,
+        &["curve 0:", "\"start_derivative\"", "got 1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "not-a-knot", "points": [[0], [1], [2]]}]}"#,
+        &["curve 0:", "\"points\"", "got 3"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]], "sampling": {"arc_length": 1}}]}"#,
+        &["curve 0:", "\"arc_length\""],
+    ),
+];
+
+#[test]
+fn bad_input_exits_2_names_the_place_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    for (doc, names) in BAD_INPUTS {
+        let input = write_input(dir.path(), doc);
+        let existing = dir.path().join("existing.csv");
+        std::fs::write(&existing, "KEEP").unwrap();
+        let fresh = dir.path().join("fresh.csv");
+        for (out, backend) in [(&existing, "cpu"), (&fresh, "gpu"), (&fresh, "auto")] {
+            let run = splinegpu(
+                &[
+                    "tessellate",
+                    input.to_str().unwrap(),
+                    "-o",
+                    out.to_str().unwrap(),
+                    "--backend",
+                    backend,
+                ],
+                None,
+            );
+            assert_eq!(run.status, 2, "{doc}: {}", run.stderr);
+            assert_eq!(
+                run.stderr.lines().count(),
+                1,
+                "one message for {doc}: {}",
+                run.stderr
+            );
+            for name in *names {
+                assert!(
+                    run.stderr.contains(name),
+                    "{doc}: message lacks {name}: {}",
+                    run.stderr
+                );
+            }
+        }
+        assert_eq!(std::fs::read_to_string(&existing).unwrap(), "KEEP");
+        assert!(!fresh.exists(), "{doc} left an output file");
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left.len(), 2, "temporary files left behind: {left:?}");
+    }
+}
+
+#[test]
+fn missing_input_and_unknown_flags_exit_2() {
+    let run = splinegpu(&["tessellate", "/nonexistent/input.json"], None);
+    assert_eq!(run.status, 2);
+    assert!(
+        run.stderr.contains("/nonexistent/input.json"),
+        "{}",
+        run.stderr
+    );
+    let run = splinegpu(&["tessellate", "-", "--colour"], Some(MIXED));
+    assert_eq!(run.status, 2);
+}
+
+#[test]
+fn unwritable_output_exits_1() {
+    let run = splinegpu(
+        &[
+            "tessellate",
+            "-",
+            "-o",
+            "/nonexistent/dir/out.csv",
+            "--backend",
+            "cpu",
+        ],
+        Some(MIXED),
+    );
+    assert_eq!(run.status, 1, "{}", run.stderr);
+}
+
+#[test]
+fn features_not_built_yet_exit_1_after_checking_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.npz");
+    let cases: [(&str, &[&str]); 3] = [
+        (MIXED, &["-o", out.to_str().unwrap()]),
+        (
+            r#"{"curves": [{"kind": "natural", "points": [[0], [1], [3]]}]}"#,
+            &[],
+        ),
+        (
+            r#"{"sampling": {"arc_length": 10}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
+            &[],
+        ),
+    ];
+    for (doc, extra) in cases {
+        let mut args = vec!["tessellate", "-", "--backend", "cpu"];
+        args.extend_from_slice(extra);
+        let run = splinegpu(&args, Some(doc));
+        assert_eq!(run.status, 1, "{doc}: {}", run.stderr);
+        assert!(run.stderr.contains("not supported yet"), "{}", run.stderr);
+        assert_eq!(run.stdout, "");
+    }
+    assert!(!out.exists());
+}

@@ -1,0 +1,88 @@
+//! The WGSL kernel, checked with naga where no GPU is needed: it parses and validates, its
+//! structs match their Rust twins byte for byte, and its workgroup size is `WG_SIZE`.
+
+use std::mem::{offset_of, size_of};
+
+use splinegpu::gpu::layout::{GpuSegment, Params, Run};
+use splinegpu::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+
+fn module() -> (naga::Module, naga::valid::ModuleInfo) {
+    let module = naga::front::wgsl::parse_str(EVAL_WGSL).expect("eval.wgsl parses");
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .expect("eval.wgsl validates");
+    (module, info)
+}
+
+/// (size, [(member name, offset)]) of the WGSL struct `name`.
+fn wgsl_struct(module: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
+    let ty = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name} in eval.wgsl"))
+        .1;
+    match &ty.inner {
+        naga::TypeInner::Struct { members, span } => (
+            *span,
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap(), m.offset))
+                .collect(),
+        ),
+        other => panic!("{name} is not a struct: {other:?}"),
+    }
+}
+
+macro_rules! assert_twin {
+    ($module:expr, $wgsl:literal, $rust:ty, [$($field:ident),*]) => {{
+        let (size, members) = wgsl_struct($module, $wgsl);
+        assert_eq!(size as usize, size_of::<$rust>(), "size of {}", $wgsl);
+        let rust: Vec<(String, u32)> = vec![$((stringify!($field).to_string(), offset_of!($rust, $field) as u32)),*];
+        assert_eq!(members, rust, "members of {}", $wgsl);
+    }};
+}
+
+#[test]
+fn eval_wgsl_validates() {
+    module();
+}
+
+#[test]
+fn structs_match_their_rust_twins() {
+    let (module, _) = module();
+    assert_twin!(
+        &module,
+        "Params",
+        Params,
+        [run_count, row_width, plane_stride, derivatives]
+    );
+    assert_twin!(&module, "Segment", GpuSegment, [coeff_offset, dim, inv_dt]);
+    assert_twin!(&module, "Run", Run, [segment, out_offset, count, u0, du]);
+}
+
+#[test]
+fn workgroup_size_is_wg_size() {
+    let (module, _) = module();
+    let entry = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == ENTRY_POINT)
+        .expect("entry point");
+    assert_eq!(entry.stage, naga::ShaderStage::Compute);
+    assert_eq!(entry.workgroup_size, [WG_SIZE, 1, 1]);
+}
+
+#[test]
+fn lanes_is_an_override() {
+    let (module, _) = module();
+    assert!(
+        module
+            .overrides
+            .iter()
+            .any(|(_, o)| o.name.as_deref() == Some(LANES_CONSTANT))
+    );
+}
