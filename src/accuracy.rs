@@ -1,5 +1,6 @@
-//! The accuracy the f32 GPU path promises against the f64 reference (CLI contract,
-//! "Accuracy the tool promises"), as a bound per sample and coordinate.
+//! The accuracy the tool promises (CLI contract, "Accuracy the tool promises"), as a bound per
+//! sample and coordinate: for the f32 GPU path against the exact value, and for the f64 CPU
+//! path (1e-9 of the same scales).
 //!
 //! For a sample on a segment P(u) = A u^3 + B u^2 + C u + D of parameter length Δ, in the
 //! curve of extent E, coordinate k, with S_k = |A_k| + |B_k| + |C_k|:
@@ -23,6 +24,9 @@ pub const POSITION_TOLERANCE: f64 = 1e-5;
 /// Relative derivative tolerance of the GPU path, against the derivative's coefficient scale.
 pub const DERIVATIVE_TOLERANCE: f64 = 1e-4;
 
+/// Relative tolerance of the f64 CPU path, against the same scales.
+pub const CPU_TOLERANCE: f64 = 1e-9;
+
 /// The f32 spacing at |x|: the distance from |x| (rounded to f32) to the next f32 up.
 #[must_use]
 pub fn ulp_f32(x: f64) -> f64 {
@@ -30,20 +34,40 @@ pub fn ulp_f32(x: f64) -> f64 {
     f64::from(a.next_up()) - f64::from(a)
 }
 
+/// The scale the promise is relative to, for coordinate `k` of derivative `order` (0, 1 or 2)
+/// on `segment` of a curve of extent `extent`: max(E, S_k), (3|A_k| + 2|B_k| + |C_k|)/Δ or
+/// (6|A_k| + 2|B_k|)/Δ².
+#[must_use]
+pub fn scale(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
+    let [a, b, c, _] = segment.power();
+    let (a, b, c) = (a[k].abs(), b[k].abs(), c[k].abs());
+    let dt = segment.dt();
+    match order {
+        0 => extent.max(a + b + c),
+        1 => (3.0 * a + 2.0 * b + c) / dt,
+        _ => (6.0 * a + 2.0 * b) / (dt * dt),
+    }
+}
+
 /// The largest error the GPU path may make in coordinate `k` of derivative `order` (0, 1 or 2)
 /// of a sample on `segment`, whose curve has extent `extent`, when the exact value is `value`.
 #[must_use]
 pub fn gpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize, value: f64) -> f64 {
-    let [a, b, c, d] = segment.power();
-    let (a, b, c, d) = (a[k].abs(), b[k].abs(), c[k].abs(), d[k].abs());
-    let dt = segment.dt();
-    let scale = match order {
-        0 => {
-            let s = a + b + c;
-            return POSITION_TOLERANCE * extent.max(s) + 4.0 * ulp_f32(d + s) + ulp_f32(value);
-        }
-        1 => (3.0 * a + 2.0 * b + c) / dt,
-        _ => (6.0 * a + 2.0 * b) / (dt * dt),
+    let relative = if order == 0 {
+        POSITION_TOLERANCE
+    } else {
+        DERIVATIVE_TOLERANCE
     };
-    DERIVATIVE_TOLERANCE * scale + ulp_f32(value)
+    let mut bound = relative * scale(segment, extent, order, k) + ulp_f32(value);
+    if order == 0 {
+        let [a, b, c, d] = segment.power();
+        bound += 4.0 * ulp_f32(d[k].abs() + a[k].abs() + b[k].abs() + c[k].abs());
+    }
+    bound
+}
+
+/// The largest error the f64 CPU path may make in the same sample: 1e-9 of [`scale`].
+#[must_use]
+pub fn cpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
+    CPU_TOLERANCE * scale(segment, extent, order, k)
 }

@@ -4,6 +4,7 @@ use glam::{DVec2, DVec3, Vec3};
 
 use crate::basis::{Basis, Rows, bezier_rows};
 use crate::error::InputError;
+use crate::fit::interp::{self, EndCondition, Fitter};
 use crate::segment::SegmentTable;
 
 /// The largest number of coordinates per point.
@@ -86,16 +87,22 @@ impl Points {
     /// The extent E: the largest per-axis (max − min) over the points.
     #[must_use]
     pub fn extent(&self) -> f64 {
-        (0..self.dim)
-            .map(|k| {
-                let axis = self.coords.iter().skip(k).step_by(self.dim);
-                let (lo, hi) = axis.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                    (lo.min(v), hi.max(v))
-                });
-                hi - lo
-            })
-            .fold(0.0, f64::max)
+        extent(&self.coords, self.dim)
     }
+}
+
+/// The extent E of point-major `coords` with `dim` coordinates per point: the largest per-axis
+/// (max − min).
+#[must_use]
+pub fn extent(coords: &[f64], dim: usize) -> f64 {
+    let (mut lo, mut hi) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
+    for point in coords.chunks_exact(dim) {
+        for k in 0..dim {
+            lo[k] = lo[k].min(point[k]);
+            hi[k] = hi[k].max(point[k]);
+        }
+    }
+    (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max)
 }
 
 impl TryFrom<&[DVec2]> for Points {
@@ -191,6 +198,14 @@ pub enum CurveKind {
     /// Cubic Bezier segments sharing end points: 3k + 1 points make k segments, segment i
     /// from points 3i..3i+3 over t in [i, i + 1].
     Bezier,
+    /// An interpolating spline through every point, solved on the host
+    /// ([`crate::fit::interp`]); segment i spans [t_i, t_{i+1}].
+    Interpolating {
+        /// The end condition.
+        condition: EndCondition,
+        /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
+        t: Option<Vec<f64>>,
+    },
 }
 
 /// A curve ready to fit: its kind and its points, checked.
@@ -198,19 +213,33 @@ pub enum CurveKind {
 pub struct Curve {
     kind: CurveKind,
     points: Points,
-    /// The basis matrix, checked: the family's, or Bezier's power form.
-    rows: Rows,
+    /// How the curve is fitted, checked.
+    fit: FitMethod,
+}
+
+/// What `Curve::new` resolved a kind into.
+#[derive(Clone, Debug, PartialEq)]
+enum FitMethod {
+    /// A 4x4 basis matrix on sliding windows of four points (`ends`), or, with `ends` None,
+    /// on Bezier windows that step by three points.
+    Windows { rows: Rows, ends: Option<Ends> },
+    /// An interpolation solve at knots `t`.
+    Solve {
+        condition: EndCondition,
+        t: Vec<f64>,
+    },
 }
 
 impl Curve {
     /// A checked curve.
     ///
     /// # Errors
-    /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), or a basis
-    /// parameter that is out of its domain (see [`Basis::try_rows`]).
+    /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), a basis
+    /// parameter that is out of its domain (see [`Basis::try_rows`]), or interpolation data
+    /// that break a rule of [`interp::check`].
     pub fn new(kind: CurveKind, points: Points) -> Result<Self, InputError> {
         let n = points.len();
-        let rows = match &kind {
+        let fit = match &kind {
             CurveKind::Uniform { basis, ends } => {
                 let rows = basis.try_rows()?;
                 if n < ends.min_points() {
@@ -223,7 +252,10 @@ impl Curve {
                         ),
                     ));
                 }
-                rows
+                FitMethod::Windows {
+                    rows,
+                    ends: Some(*ends),
+                }
             }
             CurveKind::Bezier => {
                 if n < 4 || !(n - 1).is_multiple_of(3) {
@@ -232,10 +264,23 @@ impl Curve {
                         format!("a bezier curve needs 3k+1 points (k >= 1), got {n}"),
                     ));
                 }
-                bezier_rows()
+                FitMethod::Windows {
+                    rows: bezier_rows(),
+                    ends: None,
+                }
+            }
+            CurveKind::Interpolating { condition, t } => {
+                let t = t
+                    .clone()
+                    .unwrap_or_else(|| (0..n).map(|i| i as f64).collect());
+                interp::check(&t, points.coords(), points.dim(), condition)?;
+                FitMethod::Solve {
+                    condition: condition.clone(),
+                    t,
+                }
             }
         };
-        Ok(Self { kind, points, rows })
+        Ok(Self { kind, points, fit })
     }
 
     /// The curve's kind.
@@ -257,13 +302,17 @@ impl Curve {
         match &self.kind {
             CurveKind::Uniform { ends, .. } => ends.segments(n),
             CurveKind::Bezier => (n - 1) / 3,
+            CurveKind::Interpolating { .. } => n - 1,
         }
     }
 
     /// The parameter range [t_start, t_end].
     #[must_use]
     pub fn t_range(&self) -> (f64, f64) {
-        (0.0, self.segment_count() as f64)
+        match &self.fit {
+            FitMethod::Solve { t, .. } => (t[0], t[t.len() - 1]),
+            FitMethod::Windows { .. } => (0.0, self.segment_count() as f64),
+        }
     }
 
     /// The curve's segments in power form, formed in f64 (see [`SegmentTable`]).
@@ -273,14 +322,19 @@ impl Curve {
         let coords = self.points.coords();
         let extent = self.points.extent();
         let segments = self.segment_count();
-        let rows = &self.rows;
-        match &self.kind {
-            CurveKind::Uniform { ends, .. } => {
-                SegmentTable::from_windows(dim, coords, rows, segments, extent, |i| {
-                    ends.window(n, i)
-                })
+        match &self.fit {
+            FitMethod::Solve { condition, t } => {
+                let mut table = SegmentTable::default();
+                Fitter::new().fit_checked(t, coords, dim, condition, &mut table);
+                table
             }
-            CurveKind::Bezier => {
+            FitMethod::Windows {
+                rows,
+                ends: Some(ends),
+            } => SegmentTable::from_windows(dim, coords, rows, segments, extent, |i| {
+                ends.window(n, i)
+            }),
+            FitMethod::Windows { rows, ends: None } => {
                 SegmentTable::from_windows(dim, coords, rows, segments, extent, |i| {
                     [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3]
                 })

@@ -7,6 +7,7 @@ use serde_json::{Map, Value};
 use crate::basis::Basis;
 use crate::curve::{Curve, CurveKind, Ends, Points};
 use crate::error::InputError;
+use crate::fit::interp::EndCondition;
 use crate::job::{Derivatives, EvalJob};
 use crate::sampling::Sampling;
 
@@ -20,9 +21,6 @@ pub enum DocumentError {
     #[error("not supported yet: {0}")]
     Unsupported(String),
 }
-
-/// The kinds whose host solve is not built yet; their fields are still checked.
-const INTERPOLATING: [&str; 4] = ["natural", "clamped", "periodic", "not-a-knot"];
 
 /// Every kind the contract names.
 const KINDS: [&str; 11] = [
@@ -180,12 +178,7 @@ fn parse_curve(
             check_keys(curve, &["kind", "points", "sampling"], &owner)?;
             CurveKind::Bezier
         }
-        k => {
-            debug_assert!(INTERPOLATING.contains(&k));
-            check_interpolating(curve, k, &owner, &points)?;
-            unsupported.get_or_insert_with(|| format!("interpolating kind \"{k}\""));
-            return Ok(());
-        }
+        interpolating => interpolating_kind(curve, interpolating, &owner)?,
     };
     let curve = Curve::new(kind, points)?;
     match sampling {
@@ -197,89 +190,38 @@ fn parse_curve(
     }
 }
 
-/// The fields of an interpolating curve, checked as the contract states them.
-fn check_interpolating(
+/// An interpolating curve's kind from its fields ("t", and for clamped ends the two
+/// derivatives); the data themselves are checked by `Curve::new`.
+fn interpolating_kind(
     curve: &Map<String, Value>,
     kind: &str,
     owner: &str,
-    points: &Points,
-) -> Result<(), InputError> {
+) -> Result<CurveKind, InputError> {
     let mut allowed = vec!["kind", "points", "sampling", "t"];
     if kind == "clamped" {
         allowed.extend(["start_derivative", "end_derivative"]);
     }
     check_keys(curve, &allowed, owner)?;
-    let n = points.len();
-    let min = match kind {
-        "periodic" => 3,
-        "not-a-knot" => 4,
-        _ => 2,
+    let derivative = |field: &str| -> Result<Vec<f64>, InputError> {
+        let v = curve.get(field).ok_or_else(|| {
+            InputError::field(
+                field,
+                "is missing (a clamped spline needs both end derivatives)",
+            )
+        })?;
+        number_array(v, field)
     };
-    if n < min {
-        return Err(InputError::field(
-            "points",
-            format!("needs at least {min} points for a {kind} spline, got {n}"),
-        ));
-    }
-    if let Some(t) = curve.get("t") {
-        let t = number_array(t, "t")?;
-        if t.len() != n {
-            return Err(InputError::field(
-                "t",
-                format!("must have one value per point ({n}), got {}", t.len()),
-            ));
-        }
-        for i in 1..n {
-            if t[i] <= t[i - 1] {
-                return Err(InputError::field(
-                    "t",
-                    format!(
-                        "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
-                        t[i],
-                        i - 1,
-                        t[i - 1]
-                    ),
-                ));
-            }
-        }
-    }
-    if kind == "clamped" {
-        for field in ["start_derivative", "end_derivative"] {
-            let v = curve.get(field).ok_or_else(|| {
-                InputError::field(
-                    field,
-                    "is missing (a clamped spline needs both end derivatives)",
-                )
-            })?;
-            let v = number_array(v, field)?;
-            if v.len() != points.dim() {
-                return Err(InputError::field(
-                    field,
-                    format!(
-                        "must have {} values (the points' dimension), got {}",
-                        points.dim(),
-                        v.len()
-                    ),
-                ));
-            }
-        }
-    }
-    if kind == "periodic" {
-        let (first, last) = (points.point(0), points.point(n - 1));
-        let tolerance = 1e-12 * points.extent();
-        if let Some(k) = (0..points.dim()).find(|&k| (first[k] - last[k]).abs() > tolerance) {
-            return Err(InputError::field(
-                "points",
-                format!(
-                    "of a periodic spline must end where they start: points[{}][{k}] = {} but points[0][{k}] = {}",
-                    n - 1,
-                    last[k],
-                    first[k]
-                ),
-            ));
-        }
-    }
-    Ok(())
+    let condition = match kind {
+        "natural" => EndCondition::Natural,
+        "periodic" => EndCondition::Periodic,
+        "not-a-knot" => EndCondition::NotAKnot,
+        _ => EndCondition::Clamped {
+            start: derivative("start_derivative")?,
+            end: derivative("end_derivative")?,
+        },
+    };
+    let t = curve.get("t").map(|v| number_array(v, "t")).transpose()?;
+    Ok(CurveKind::Interpolating { condition, t })
 }
 
 fn parse_sampling(value: &Value) -> Result<SamplingSpec, InputError> {

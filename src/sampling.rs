@@ -118,7 +118,7 @@ impl SamplePlan {
 /// The segment and local u of parameter `t`: the last segment whose start is <= t, so an
 /// interior knot belongs to the segment that starts there and the range's end to the last
 /// segment at u = 1. `None` outside [t_0, t_n] or for a non-finite t.
-fn locate(knots: &[f64], t: f64) -> Option<SampleLoc> {
+pub(crate) fn locate(knots: &[f64], t: f64) -> Option<SampleLoc> {
     let segments = knots.len() - 1;
     if !(t >= knots[0] && t <= knots[segments]) {
         return None;

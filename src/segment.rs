@@ -17,7 +17,10 @@
 use crate::basis::Rows;
 
 /// One curve's segments in power form, with the parameter value of every knot.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// `Default` is an empty table, for [`Fitter::fit_into`](crate::fit::interp::Fitter::fit_into)
+/// to fill.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct SegmentTable {
     dim: usize,
     /// `segments + 1` strictly increasing parameter values.
@@ -82,19 +85,29 @@ impl SegmentTable {
         Self::from_parts(dim, knots, coeffs, extent)
     }
 
+    /// The knot and coefficient buffers, emptied, for a fit to refill (keeping their
+    /// allocations); sets the dimension and extent.
+    pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
+        self.dim = dim;
+        self.extent = extent;
+        self.knots.clear();
+        self.coeffs.clear();
+        (&mut self.knots, &mut self.coeffs)
+    }
+
     /// Number of coordinates of each point.
     #[must_use]
     pub fn dim(&self) -> usize {
         self.dim
     }
 
-    /// Number of segments (at least 1).
+    /// Number of segments (at least 1, but for an empty `Default` table).
     #[must_use]
     pub fn len(&self) -> usize {
-        self.knots.len() - 1
+        self.knots.len().saturating_sub(1)
     }
 
-    /// Always false: a table has at least one segment.
+    /// True only for an empty `Default` table.
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
@@ -135,7 +148,79 @@ impl SegmentTable {
     }
 }
 
+impl SegmentTable {
+    /// The uniform cubic B-spline control points B_0..B_n of the curve (flat, `dim` values
+    /// each), when its knots are evenly spaced (within 1e-12 relative): every C2 cubic spline
+    /// on uniform knots is a uniform B-spline. Segment i's Bezier points are
+    /// (S_i, 2/3 B_i + 1/3 B_{i+1}, 1/3 B_i + 2/3 B_{i+1}, S_{i+1}) (seed 001 §4), so
+    /// B_i = 2 P1_i − P2_i and B_n = 2 P2_{n−1} − P1_{n−1}. For a natural spline this is seed
+    /// 001's relaxed B-spline, with B_0 = S_0 and B_n = S_n.
+    ///
+    /// `None` for uneven knots, or for a curve that is only C1 (then no B-spline matches every
+    /// segment, and the points returned would describe another curve).
+    #[must_use]
+    pub fn bspline_control_points(&self) -> Option<Vec<f64>> {
+        let n = self.len();
+        let h = self.knots[1] - self.knots[0];
+        if (0..n).any(|i| ((self.knots[i + 1] - self.knots[i]) - h).abs() > 1e-12 * h) {
+            return None;
+        }
+        let dim = self.dim;
+        let mut b = Vec::with_capacity((n + 1) * dim);
+        for i in 0..n {
+            let [_, p1, p2, _] = self.segment(i).bezier_points();
+            b.extend((0..dim).map(|k| 2.0 * p1[k] - p2[k]));
+        }
+        let [_, p1, p2, _] = self.segment(n - 1).bezier_points();
+        b.extend((0..dim).map(|k| 2.0 * p2[k] - p1[k]));
+        // The B_i must also reproduce the joints S_i = (B_{i−1} + 4B_i + B_{i+1})/6.
+        let scale = self.coeffs.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        for i in 1..n {
+            let [s, ..] = self.segment(i).bezier_points();
+            for k in 0..dim {
+                let joint =
+                    (b[(i - 1) * dim + k] + 4.0 * b[i * dim + k] + b[(i + 1) * dim + k]) / 6.0;
+                if (joint - s[k]).abs() > 1e-9 * scale {
+                    return None;
+                }
+            }
+        }
+        Some(b)
+    }
+}
+
 impl Segment<'_> {
+    /// The coefficients as seed 002 writes them, in t rather than u:
+    /// S_i(t) = a + b (t − t_i) + c (t − t_i)² + d (t − t_i)³, i.e. a = D, b = C/Δ, c = B/Δ²,
+    /// d = A/Δ³. Returns [a, b, c, d], `dim` values each.
+    #[must_use]
+    pub fn t_power(&self) -> [Vec<f64>; 4] {
+        let [a, b, c, d] = self.power();
+        let dt = self.dt;
+        [
+            d.to_vec(),
+            c.iter().map(|v| v / dt).collect(),
+            b.iter().map(|v| v / (dt * dt)).collect(),
+            a.iter().map(|v| v / (dt * dt * dt)).collect(),
+        ]
+    }
+
+    /// The segment's cubic Bezier control points P0..P3 (`dim` values each): P0 = D,
+    /// P1 = D + C/3, P2 = D + (2C + B)/3, P3 = A + B + C + D.
+    #[must_use]
+    pub fn bezier_points(&self) -> [Vec<f64>; 4] {
+        let [a, b, c, d] = self.power();
+        let k = 0..self.dim;
+        [
+            d.to_vec(),
+            k.clone().map(|k| d[k] + c[k] / 3.0).collect(),
+            k.clone()
+                .map(|k| d[k] + (2.0 * c[k] + b[k]) / 3.0)
+                .collect(),
+            k.map(|k| a[k] + b[k] + c[k] + d[k]).collect(),
+        ]
+    }
+
     /// The power coefficient vectors (A, B, C, D), each `dim` values.
     #[must_use]
     pub fn power(&self) -> [&[f64]; 4] {

@@ -213,3 +213,120 @@ fn empty_sample_lists_give_empty_curves() {
     assert!(samples.curve(0).points.is_empty());
     assert_eq!(samples.curve(1).points.len(), 1);
 }
+
+/// Knots from `start` with spacings drawn log-uniformly over a factor `ratio`.
+fn random_knots(rng: &mut Rng, n: usize, start: f64, ratio: f64) -> Vec<f64> {
+    let mut t = vec![start];
+    for i in 1..n {
+        let spacing = ratio.powf(rng.range(-0.5, 0.5));
+        t.push(t[i - 1] + spacing);
+    }
+    t
+}
+
+#[test]
+fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
+    use splinegpu::EndCondition;
+    let mut rng = Rng(10_000);
+    let mut job = EvalJob::new(Derivatives::Second);
+    for i in 0..10_000 {
+        let dim = [1, 2, 3, 3, 7][i % 5];
+        let n = 4 + i % 17;
+        let condition = match i % 4 {
+            0 => EndCondition::Natural,
+            1 => EndCondition::Clamped {
+                start: (0..dim).map(|_| rng.range(-3.0, 3.0)).collect(),
+                end: (0..dim).map(|_| rng.range(-3.0, 3.0)).collect(),
+            },
+            2 => EndCondition::Periodic,
+            _ => EndCondition::NotAKnot,
+        };
+        let start = 1.0e4 * rng.range(0.5, 1.5);
+        let t = random_knots(&mut rng, n, start, [1.0, 1e3, 1e6][i % 3]);
+        let center = if i % 9 == 0 { 1.0e6 } else { 0.0 };
+        let mut coords: Vec<f64> = (0..n * dim)
+            .map(|_| center + rng.range(-5.0, 5.0))
+            .collect();
+        if condition == EndCondition::Periodic {
+            let first = coords[..dim].to_vec();
+            coords[(n - 1) * dim..].copy_from_slice(&first);
+        }
+        let points = Points::new(dim, coords).unwrap();
+        let curve = Curve::new(
+            CurveKind::Interpolating {
+                condition,
+                t: Some(t.clone()),
+            },
+            points,
+        )
+        .unwrap();
+        let sampling = if i % 2 == 0 {
+            Sampling::PerSegment(6)
+        } else {
+            Sampling::At(
+                (0..12)
+                    .map(|_| rng.range(t[0], t[n - 1]))
+                    .chain([t[1], t[n - 1]])
+                    .collect(),
+            )
+        };
+        job.push(&curve, &sampling).unwrap();
+    }
+    // Every curve's segments, knots and samples travel in one dispatch.
+    let one_dispatch = splinegpu::gpu::layout::BatchLimits {
+        values: usize::MAX,
+        runs: usize::MAX,
+    };
+    assert_eq!(
+        splinegpu::gpu::layout::pack(&job, 64, one_dispatch)
+            .unwrap()
+            .batches
+            .len(),
+        1
+    );
+    if let Some(worst) = assert_gpu_matches_cpu(&job) {
+        eprintln!(
+            "10,000 interpolating curves: worst fraction of the bound {:.3?}",
+            worst.per_order
+        );
+    }
+}
+
+#[test]
+fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
+    use splinegpu::EndCondition;
+    // Knots near 1e4, the middle segment 1e-6 wide between segments of width 1: in f32 the
+    // whole narrow segment lies within one ulp of 1e4 (ulp 0.00098), so the segment and u must
+    // come from the host's f64 search.
+    let t = vec![
+        1.0e4,
+        1.0e4 + 1.0,
+        1.0e4 + 1.0 + 1e-6,
+        1.0e4 + 2.0 + 1e-6,
+        1.0e4 + 3.0 + 1e-6,
+    ];
+    let points = Points::new(2, vec![0.0, 0.0, 1.0, 2.0, 1.5, 2.5, 3.0, 1.0, 4.0, 0.0]).unwrap();
+    let inside: Vec<f64> = [0.1, 0.25, 0.5, 0.9]
+        .iter()
+        .map(|u| t[1] + u * 1e-6)
+        .collect();
+    for condition in [EndCondition::Natural, EndCondition::NotAKnot] {
+        let curve = Curve::new(
+            CurveKind::Interpolating {
+                condition,
+                t: Some(t.clone()),
+            },
+            points.clone(),
+        )
+        .unwrap();
+        let mut job = EvalJob::new(Derivatives::Second);
+        job.push(&curve, &Sampling::At(inside.clone())).unwrap();
+        job.push(&curve, &Sampling::PerSegment(50)).unwrap();
+        for (i, want_u) in [0.1, 0.25, 0.5, 0.9].into_iter().enumerate() {
+            let loc = job.plan(0).loc(i);
+            assert_eq!(loc.segment, 1);
+            assert!((loc.u - want_u).abs() < 1e-6, "u = {}", loc.u);
+        }
+        assert_gpu_matches_cpu(&job);
+    }
+}

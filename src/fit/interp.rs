@@ -1,0 +1,361 @@
+//! Interpolating cubic splines through (t_i, f_i), f_i in R^D: natural, clamped, periodic and
+//! not-a-knot ends, any strictly increasing knots, solved in f64 in O(n) time and memory.
+//!
+//! The unknowns are the slopes m_i = S'(t_i). With Δ_i = t_{i+1} − t_i and
+//! q_i = (f_{i+1} − f_i)/Δ_i, C2 continuity at an interior knot reads (seed 002, eq. 26 with
+//! its index typo corrected)
+//!
+//! ```text
+//! Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1} = 3(Δ_i q_{i−1} + Δ_{i−1} q_i)
+//! ```
+//!
+//! and the ends add one row each:
+//! - natural (seed 002 §2, "free"): S''(t_0) = 0 gives 2m_0 + m_1 = 3q_0; likewise at the end;
+//! - clamped (seed 002 §3): m_0 = σ_0 and m_{n−1} = σ_1, derivatives with respect to t;
+//! - not-a-knot (seed 001 §9): S''' continuous at t_1 and t_{n−2}, which gives
+//!   Δ_1 m_0 + (Δ_0 + Δ_1) m_1 = ((Δ_0 + 2(Δ_0 + Δ_1)) Δ_1 q_0 + Δ_0² q_1)/(Δ_0 + Δ_1)
+//!   and its mirror image;
+//! - periodic (seed 002 §4): f_{n−1} = f_0, and the interior row also holds at t_0 with the
+//!   indices taken cyclically over the n − 1 segments. Seed 002 notes that eliminating its
+//!   block system directly is ill-conditioned; here the cyclic tridiagonal slope system, which
+//!   is strictly diagonally dominant, goes through Sherman–Morrison ([`solve_cyclic`]).
+//!
+//! Every system is solved by banded elimination with partial pivoting, once for all D
+//! coordinates. Segment i is then the cubic Hermite piece of (f_i, m_i, f_{i+1}, m_{i+1}), in
+//! local u = (t − t_i)/Δ_i:
+//!
+//! ```text
+//! A = 2(f_i − f_{i+1}) + Δ_i (m_i + m_{i+1})     B = 3(f_{i+1} − f_i) − Δ_i (2m_i + m_{i+1})
+//! C = Δ_i m_i                                     D = f_i
+//! ```
+
+use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
+use crate::error::InputError;
+use crate::segment::SegmentTable;
+
+/// How an interpolating spline behaves at its two ends.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EndCondition {
+    /// Second derivative zero at both ends (the "relaxed" or "free" spline). n >= 2.
+    Natural,
+    /// Given first derivatives (with respect to t) at both ends, D values each. n >= 2.
+    Clamped {
+        /// dP/dt at t_0.
+        start: Vec<f64>,
+        /// dP/dt at t_{n−1}.
+        end: Vec<f64>,
+    },
+    /// First and last point equal (within 1e-12 of the curve's extent); value, slope and
+    /// curvature match across the seam. n >= 3.
+    Periodic,
+    /// Third derivative continuous at the second and the next-to-last knot. n >= 4.
+    NotAKnot,
+}
+
+/// An end condition without its data, for [`CardinalBasis`](super::cardinal::CardinalBasis):
+/// a clamped spline's end derivatives are then inputs like the points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndKind {
+    /// See [`EndCondition::Natural`].
+    Natural,
+    /// See [`EndCondition::Clamped`].
+    Clamped,
+    /// See [`EndCondition::Periodic`].
+    Periodic,
+    /// See [`EndCondition::NotAKnot`].
+    NotAKnot,
+}
+
+impl EndCondition {
+    /// The condition without its data.
+    #[must_use]
+    pub fn kind(&self) -> EndKind {
+        match self {
+            EndCondition::Natural => EndKind::Natural,
+            EndCondition::Clamped { .. } => EndKind::Clamped,
+            EndCondition::Periodic => EndKind::Periodic,
+            EndCondition::NotAKnot => EndKind::NotAKnot,
+        }
+    }
+
+    /// The contract's name of the condition ("natural", "clamped", ...).
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            EndCondition::Natural => "natural",
+            EndCondition::Clamped { .. } => "clamped",
+            EndCondition::Periodic => "periodic",
+            EndCondition::NotAKnot => "not-a-knot",
+        }
+    }
+
+    /// The fewest points the condition accepts.
+    #[must_use]
+    pub fn min_points(&self) -> usize {
+        match self {
+            EndCondition::Natural | EndCondition::Clamped { .. } => 2,
+            EndCondition::Periodic => 3,
+            EndCondition::NotAKnot => 4,
+        }
+    }
+}
+
+/// Checks the data of an interpolating spline: n >= the condition's minimum, one strictly
+/// increasing finite t per point, finite values, end derivatives of dimension `dim`, and for a
+/// periodic spline a last point equal to the first within 1e-12 of the extent.
+///
+/// # Errors
+/// The first rule broken, naming the field ("points", "t", "start_derivative",
+/// "end_derivative") and the value.
+pub fn check(
+    t: &[f64],
+    values: &[f64],
+    dim: usize,
+    condition: &EndCondition,
+) -> Result<(), InputError> {
+    let n = values.len() / dim;
+    let (name, min) = (condition.name(), condition.min_points());
+    if n < min {
+        return Err(InputError::field(
+            "points",
+            format!("needs at least {min} points for a {name} spline, got {n}"),
+        ));
+    }
+    if t.len() != n {
+        return Err(InputError::field(
+            "t",
+            format!("must have one value per point ({n}), got {}", t.len()),
+        ));
+    }
+    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::field(
+            "t",
+            format!("must be finite: t[{i}] = {}", t[i]),
+        ));
+    }
+    if let Some(i) = (1..n).find(|&i| t[i] <= t[i - 1]) {
+        return Err(InputError::field(
+            "t",
+            format!(
+                "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
+                t[i],
+                i - 1,
+                t[i - 1]
+            ),
+        ));
+    }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::field(
+            "points",
+            format!(
+                "must be finite: points[{}][{}] = {}",
+                i / dim,
+                i % dim,
+                values[i]
+            ),
+        ));
+    }
+    match condition {
+        EndCondition::Clamped { start, end } => {
+            for (field, v) in [("start_derivative", start), ("end_derivative", end)] {
+                if v.len() != dim {
+                    return Err(InputError::field(
+                        field,
+                        format!(
+                            "must have {dim} values (the points' dimension), got {}",
+                            v.len()
+                        ),
+                    ));
+                }
+                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                    return Err(InputError::field(
+                        field,
+                        format!("must be finite: {field}[{k}] = {}", v[k]),
+                    ));
+                }
+            }
+        }
+        EndCondition::Periodic => {
+            let extent = crate::curve::extent(values, dim);
+            let (first, last) = (&values[..dim], &values[(n - 1) * dim..]);
+            if let Some(k) = (0..dim).find(|&k| (first[k] - last[k]).abs() > 1e-12 * extent) {
+                return Err(InputError::field(
+                    "points",
+                    format!(
+                        "of a periodic spline must end where they start: points[{}][{k}] = {} but points[0][{k}] = {}",
+                        n - 1,
+                        last[k],
+                        first[k]
+                    ),
+                ));
+            }
+        }
+        EndCondition::Natural | EndCondition::NotAKnot => {}
+    }
+    Ok(())
+}
+
+/// Reusable scratch space for fits: a caller fitting many curves, or one large curve again and
+/// again, allocates nothing after the first fit of each size.
+#[derive(Clone, Debug, Default)]
+pub struct Fitter {
+    system: Tridiagonal,
+    slopes: Vec<f64>,
+    fill: Vec<f64>,
+    cyclic: CyclicScratch,
+}
+
+impl Fitter {
+    /// A fitter with empty scratch space.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Fits the spline through `values` (n points of `dim` coordinates, point-major) at knots
+    /// `t` into `out`, reusing `out`'s buffers.
+    ///
+    /// # Errors
+    /// The data break a rule of [`check`].
+    pub fn fit_into(
+        &mut self,
+        t: &[f64],
+        values: &[f64],
+        dim: usize,
+        condition: &EndCondition,
+        out: &mut SegmentTable,
+    ) -> Result<(), InputError> {
+        check(t, values, dim, condition)?;
+        self.fit_checked(t, values, dim, condition, out);
+        Ok(())
+    }
+
+    /// [`Fitter::fit_into`] for data that already passed [`check`].
+    pub(crate) fn fit_checked(
+        &mut self,
+        t: &[f64],
+        values: &[f64],
+        dim: usize,
+        condition: &EndCondition,
+        out: &mut SegmentTable,
+    ) {
+        self.solve_slopes(t, values, dim, condition);
+        let n = t.len();
+        let extent = crate::curve::extent(values, dim);
+        let (knots, coeffs) = out.parts_mut(dim, extent);
+        knots.clear();
+        knots.extend_from_slice(t);
+        coeffs.clear();
+        coeffs.reserve(4 * dim * (n - 1));
+        let m = &self.slopes;
+        for i in 0..n - 1 {
+            let dt = t[i + 1] - t[i];
+            let (f0, f1) = (
+                &values[i * dim..(i + 1) * dim],
+                &values[(i + 1) * dim..(i + 2) * dim],
+            );
+            let (m0, m1) = (&m[i * dim..(i + 1) * dim], &m[(i + 1) * dim..(i + 2) * dim]);
+            coeffs.extend((0..dim).map(|k| 2.0 * (f0[k] - f1[k]) + dt * (m0[k] + m1[k])));
+            coeffs.extend((0..dim).map(|k| 3.0 * (f1[k] - f0[k]) - dt * (2.0 * m0[k] + m1[k])));
+            coeffs.extend((0..dim).map(|k| dt * m0[k]));
+            coeffs.extend_from_slice(f0);
+        }
+    }
+
+    /// Solves for the slopes m_0..m_{n−1} into `self.slopes` (n × dim, point-major).
+    fn solve_slopes(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
+        let n = t.len();
+        let periodic = matches!(condition, EndCondition::Periodic);
+        // A periodic spline has n − 1 distinct slopes (m_{n−1} = m_0).
+        let rows = if periodic { n - 1 } else { n };
+        let (a, rhs) = (&mut self.system, &mut self.slopes);
+        a.reset(rows);
+        rhs.clear();
+        rhs.resize(n * dim, 0.0);
+        let dt = |i: usize| t[i + 1] - t[i];
+        let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
+        // Interior rows (all rows of a periodic spline, indices modulo n − 1).
+        let interior = if periodic { 0..rows } else { 1..n - 1 };
+        for i in interior {
+            let prev = if i == 0 { rows - 1 } else { i - 1 };
+            let (d_prev, d_here) = (dt(prev), dt(i));
+            a.sub[i] = d_here;
+            a.diag[i] = 2.0 * (d_prev + d_here);
+            a.sup[i] = d_prev;
+            for k in 0..dim {
+                rhs[i * dim + k] = 3.0 * (d_here * q(prev, k) + d_prev * q(i, k));
+            }
+        }
+        let solved = if periodic {
+            if rows == 2 {
+                // Two segments: both neighbours of each row are the other unknown.
+                let s = a.sub[0] + a.sup[0];
+                (a.sup[0], a.sub[1]) = (s, s);
+                solve_tridiagonal(a, &mut rhs[..rows * dim], dim, &mut self.fill)
+            } else {
+                // a.sub[0] and a.sup[rows − 1] are the corners A[0][rows−1] and A[rows−1][0].
+                solve_cyclic(a, &mut rhs[..rows * dim], dim, &mut self.cyclic)
+            }
+        } else {
+            end_rows(a, rhs, t, values, dim, condition);
+            solve_tridiagonal(a, rhs, dim, &mut self.fill)
+        };
+        // Strictly increasing knots make every one of these systems nonsingular.
+        debug_assert!(solved.is_ok(), "singular spline system: {solved:?}");
+        if periodic {
+            let (head, tail) = rhs.split_at_mut((n - 1) * dim);
+            tail.copy_from_slice(&head[..dim]);
+        }
+    }
+}
+
+/// The first and last rows of a non-periodic slope system, each scaled like its neighbours.
+fn end_rows(
+    a: &mut Tridiagonal,
+    rhs: &mut [f64],
+    t: &[f64],
+    values: &[f64],
+    dim: usize,
+    condition: &EndCondition,
+) {
+    let n = t.len();
+    let dt = |i: usize| t[i + 1] - t[i];
+    let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
+    let (first, last) = (0, n - 1);
+    match condition {
+        EndCondition::Natural => {
+            // Δ (2 m_0 + m_1) = 3 Δ q_0, and Δ (m_{n−2} + 2 m_{n−1}) = 3 Δ q_{n−2}.
+            let (d0, dl) = (dt(0), dt(n - 2));
+            (a.diag[first], a.sup[first]) = (2.0 * d0, d0);
+            (a.sub[last], a.diag[last]) = (dl, 2.0 * dl);
+            for k in 0..dim {
+                rhs[k] = 3.0 * d0 * q(0, k);
+                rhs[last * dim + k] = 3.0 * dl * q(n - 2, k);
+            }
+        }
+        EndCondition::Clamped { start, end } => {
+            let (d0, dl) = (dt(0), dt(n - 2));
+            (a.diag[first], a.sup[first]) = (d0, 0.0);
+            (a.sub[last], a.diag[last]) = (0.0, dl);
+            for k in 0..dim {
+                rhs[k] = d0 * start[k];
+                rhs[last * dim + k] = dl * end[k];
+            }
+        }
+        EndCondition::NotAKnot => {
+            let (d0, d1) = (dt(0), dt(1));
+            let s = d0 + d1;
+            (a.diag[first], a.sup[first]) = (d1, s);
+            let (dl, dm) = (dt(n - 2), dt(n - 3));
+            let e = dl + dm;
+            (a.sub[last], a.diag[last]) = (e, dm);
+            for k in 0..dim {
+                rhs[k] = ((d0 + 2.0 * s) * d1 * q(0, k) + d0 * d0 * q(1, k)) / s;
+                rhs[last * dim + k] =
+                    (dl * dl * q(n - 3, k) + (2.0 * e + dl) * dm * q(n - 2, k)) / e;
+            }
+        }
+        // A cyclic system has no end rows: its first and last rows are interior rows.
+        EndCondition::Periodic => {}
+    }
+}
