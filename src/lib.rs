@@ -27,6 +27,7 @@
 
 pub mod accuracy;
 pub mod basis;
+pub mod bench;
 pub mod cpu;
 pub mod curve;
 pub mod doc;
@@ -45,7 +46,7 @@ pub use doc::{DocumentError, parse_document};
 pub use error::{GpuError, InputError, Location};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
-pub use gpu::{GpuContext, KernelShape};
+pub use gpu::{DeviceTime, GpuContext, KernelShape, TimingMethod};
 pub use job::{Derivatives, EvalJob};
 pub use samples::{CurveSamples, Samples};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};

@@ -102,7 +102,7 @@ fn main() -> ExitCode {
             format,
             backend,
         } => tessellate(&input, output.as_deref(), format, backend),
-        Command::Bench { .. } => Err(Failure::other("not supported yet: bench")),
+        Command::Bench { workloads, json } => bench(&workloads, json),
         Command::Info => info(),
     };
     match result {
@@ -202,6 +202,81 @@ fn write<F: SampleValue>(
         OutputError::Io(e) => Failure::other(format!("cannot write output: {e}")),
         e => Failure::other(e),
     })
+}
+
+fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
+    // Check the names before spending minutes on a GPU context and the first workload.
+    if let Some(unknown) = workloads
+        .iter()
+        .find(|w| !splinegpu::bench::WORKLOADS.contains(&w.as_str()))
+    {
+        return Err(Failure::input(format!(
+            "unknown workload \"{unknown}\" (expected one of {})",
+            splinegpu::bench::WORKLOADS.join(", ")
+        )));
+    }
+    let gpu = match GpuContext::new() {
+        Ok(gpu) => {
+            let info = gpu.adapter_info();
+            eprintln!(
+                "splinegpu: bench on {} ({:?}), {} threads",
+                info.name,
+                info.device_type,
+                threads()
+            );
+            Some(gpu)
+        }
+        Err(e) => {
+            eprintln!("splinegpu: no GPU adapter ({e}); GPU paths skipped");
+            None
+        }
+    };
+    let mut memset_gbps = f64::NAN;
+    if !json {
+        println!(
+            "{:<8} {:<15} {:>10} {:>10} {:>10} {:>11} {:>10} {:>8} {:>9}",
+            "workload",
+            "path",
+            "median ms",
+            "min ms",
+            "max ms",
+            "samples",
+            "MB",
+            "GB/s",
+            "% memset"
+        );
+    }
+    splinegpu::bench::run(workloads, gpu.as_ref(), |m| {
+        if json {
+            println!("{}", m.to_json());
+        } else {
+            if m.path == "memset" {
+                memset_gbps = m.gbps();
+            }
+            println!(
+                "{:<8} {:<15} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}",
+                m.workload,
+                m.path,
+                m.seconds * 1e3,
+                m.min_seconds * 1e3,
+                m.max_seconds * 1e3,
+                m.samples,
+                m.bytes as f64 / 1e6,
+                m.gbps(),
+                if m.path == "memset" {
+                    String::new()
+                } else {
+                    format!("{:.1}", 100.0 * m.gbps() / memset_gbps)
+                }
+            );
+        }
+    })
+    .map_err(Failure::other)?;
+    Ok(())
+}
+
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 fn info() -> Result<(), Failure> {

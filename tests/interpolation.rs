@@ -679,3 +679,44 @@ fn bad_interpolation_data_are_typed_errors() {
         assert!(e.to_string().contains(text), "{e} lacks {text}");
     }
 }
+
+#[test]
+fn large_fits_formed_on_several_threads_interpolate_and_join_smoothly() {
+    // 300,000 knots: the coefficients are formed in chunks on several threads; every segment
+    // must still start and end at its points and join its neighbours with matching slopes.
+    let n = 300_000;
+    let t = uneven_knots(n, 100.0, 0.0);
+    let mut rng = Rng(300);
+    let points = data(&mut rng, n, 2, &EndCondition::Natural);
+    let mut table = SegmentTable::default();
+    Fitter::new()
+        .fit_into(&t, points.coords(), 2, &EndCondition::Natural, &mut table)
+        .unwrap();
+    let (mut end, mut start) = ([0.0; 2], [0.0; 2]);
+    for i in 0..n - 1 {
+        let segment = table.segment(i);
+        segment.eval(0.0, &mut start);
+        assert_eq!(start, points.point(i), "segment {i} starts at its point");
+        segment.eval(1.0, &mut end);
+        assert_close(
+            &end,
+            points.point(i + 1),
+            1e-9 * table.extent(),
+            &format!("segment {i} ends at its point"),
+        );
+        if i + 1 < n - 1 {
+            let next = table.segment(i + 1);
+            segment.deriv(1.0, &mut end);
+            next.deriv(0.0, &mut start);
+            let scale = (0..2)
+                .map(|k| splinegpu::accuracy::scale(&segment, table.extent(), 1, k))
+                .fold(0.0, f64::max);
+            assert_close(
+                &end,
+                &start,
+                1e-9 * scale,
+                &format!("slope at knot {}", i + 1),
+            );
+        }
+    }
+}

@@ -200,10 +200,15 @@ pub fn check(
 #[derive(Clone, Debug, Default)]
 pub struct Fitter {
     system: Tridiagonal,
+    /// Thomas' modified superdiagonal.
+    sup_prime: Vec<f64>,
     slopes: Vec<f64>,
     fill: Vec<f64>,
     cyclic: CyclicScratch,
 }
+
+/// Segments below which forming the coefficients stays on the calling thread.
+const PARALLEL_SEGMENTS: usize = 1 << 16;
 
 impl Fitter {
     /// A fitter with empty scratch space.
@@ -214,6 +219,9 @@ impl Fitter {
 
     /// Fits the spline through `values` (n points of `dim` coordinates, point-major) at knots
     /// `t` into `out`, reusing `out`'s buffers.
+    ///
+    /// Cost: O(n·D) time and memory; forming the coefficients of a large fit is spread over the
+    /// machine's threads.
     ///
     /// # Errors
     /// The data break a rule of [`check`].
@@ -239,31 +247,108 @@ impl Fitter {
         condition: &EndCondition,
         out: &mut SegmentTable,
     ) {
-        self.solve_slopes(t, values, dim, condition);
-        let n = t.len();
+        match condition {
+            EndCondition::Natural | EndCondition::Clamped { .. } => {
+                self.solve_dominant(t, values, dim, condition);
+            }
+            EndCondition::NotAKnot | EndCondition::Periodic => {
+                self.solve_general(t, values, dim, condition)
+            }
+        }
+        let segments = t.len() - 1;
         let extent = crate::curve::extent(values, dim);
         let (knots, coeffs) = out.parts_mut(dim, extent);
-        knots.clear();
         knots.extend_from_slice(t);
-        coeffs.clear();
-        coeffs.reserve(4 * dim * (n - 1));
-        let m = &self.slopes;
-        for i in 0..n - 1 {
-            let dt = t[i + 1] - t[i];
-            let (f0, f1) = (
-                &values[i * dim..(i + 1) * dim],
-                &values[(i + 1) * dim..(i + 2) * dim],
-            );
-            let (m0, m1) = (&m[i * dim..(i + 1) * dim], &m[(i + 1) * dim..(i + 2) * dim]);
-            coeffs.extend((0..dim).map(|k| 2.0 * (f0[k] - f1[k]) + dt * (m0[k] + m1[k])));
-            coeffs.extend((0..dim).map(|k| 3.0 * (f1[k] - f0[k]) - dt * (2.0 * m0[k] + m1[k])));
-            coeffs.extend((0..dim).map(|k| dt * m0[k]));
-            coeffs.extend_from_slice(f0);
+        // Resized, not cleared: a table refilled at the same size is not zeroed first.
+        coeffs.resize(4 * dim * segments, 0.0);
+        let slopes = &self.slopes;
+        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        let per_thread = segments.div_ceil(threads).max(PARALLEL_SEGMENTS);
+        std::thread::scope(|scope| {
+            let mut parts = coeffs.chunks_mut(per_thread * 4 * dim).enumerate();
+            let (_, head) = parts.next().expect("at least one segment");
+            for (c, part) in parts {
+                scope.spawn(move || hermite_segments(t, values, slopes, dim, c * per_thread, part));
+            }
+            hermite_segments(t, values, slopes, dim, 0, head);
+        });
+    }
+
+    /// Natural and clamped ends: every row is strictly diagonally dominant, so the Thomas
+    /// algorithm (elimination without pivoting) is stable. The rows are built inside the
+    /// forward sweep, which reads the knots and points once.
+    fn solve_dominant(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
+        let n = t.len();
+        let (cp, m) = (&mut self.sup_prime, &mut self.slopes);
+        cp.resize(n, 0.0);
+        m.resize(n * dim, 0.0);
+        let point = |i: usize| &values[i * dim..(i + 1) * dim];
+        // Row 0, scaled by Δ_0 like the interior rows.
+        let d0 = t[1] - t[0];
+        let mut inv_prev = 1.0 / d0;
+        let (diag, sup) = match condition {
+            EndCondition::Clamped { start, .. } => {
+                m[..dim].copy_from_slice(start);
+                (1.0, 0.0)
+            }
+            _ => {
+                // 2 m_0 + m_1 = 3 q_0
+                let (f0, f1) = (point(0), point(1));
+                for k in 0..dim {
+                    m[k] = 3.0 * (f1[k] - f0[k]) * inv_prev / 2.0;
+                }
+                (2.0, 1.0)
+            }
+        };
+        cp[0] = sup / diag;
+        // Interior rows: Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1}
+        //               = 3(Δ_i q_{i−1} + Δ_{i−1} q_i).
+        for i in 1..n - 1 {
+            let (d_prev, d_here) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+            let inv_here = 1.0 / d_here;
+            let (sub, diag, sup) = (d_here, 2.0 * (d_prev + d_here), d_prev);
+            let inv_pivot = 1.0 / (diag - sub * cp[i - 1]);
+            cp[i] = sup * inv_pivot;
+            let (f_prev, f, f_next) = (point(i - 1), point(i), point(i + 1));
+            let (done, row) = m.split_at_mut(i * dim);
+            let above = &done[(i - 1) * dim..];
+            for k in 0..dim {
+                let r = 3.0
+                    * (d_here * (f[k] - f_prev[k]) * inv_prev
+                        + d_prev * (f_next[k] - f[k]) * inv_here);
+                row[k] = (r - sub * above[k]) * inv_pivot;
+            }
+            inv_prev = inv_here;
+        }
+        // Row n − 1.
+        let last = n - 1;
+        let (done, row) = m.split_at_mut(last * dim);
+        let above = &done[(last - 1) * dim..];
+        match condition {
+            EndCondition::Clamped { end, .. } => row[..dim].copy_from_slice(end),
+            _ => {
+                // m_{n−2} + 2 m_{n−1} = 3 q_{n−2}
+                let (f_prev, f) = (point(last - 1), point(last));
+                let inv_pivot = 1.0 / (2.0 - cp[last - 1]);
+                for k in 0..dim {
+                    row[k] = (3.0 * (f[k] - f_prev[k]) * inv_prev - above[k]) * inv_pivot;
+                }
+            }
+        }
+        // Back substitution.
+        for i in (0..last).rev() {
+            let (head, tail) = m.split_at_mut((i + 1) * dim);
+            let (row, below) = (&mut head[i * dim..], &tail[..dim]);
+            for k in 0..dim {
+                row[k] -= cp[i] * below[k];
+            }
         }
     }
 
-    /// Solves for the slopes m_0..m_{n−1} into `self.slopes` (n × dim, point-major).
-    fn solve_slopes(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
+    /// Not-a-knot and periodic ends: the rows are assembled, then solved by banded elimination
+    /// with partial pivoting (not-a-knot's end rows are not diagonally dominant) or by
+    /// Sherman–Morrison (periodic).
+    fn solve_general(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
         let n = t.len();
         let periodic = matches!(condition, EndCondition::Periodic);
         // A periodic spline has n − 1 distinct slopes (m_{n−1} = m_0).
@@ -305,6 +390,39 @@ impl Fitter {
         if periodic {
             let (head, tail) = rhs.split_at_mut((n - 1) * dim);
             tail.copy_from_slice(&head[..dim]);
+        }
+    }
+}
+
+/// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)
+/// from the points and slopes: the cubic Hermite piece in local u.
+fn hermite_segments(
+    t: &[f64],
+    values: &[f64],
+    slopes: &[f64],
+    dim: usize,
+    first: usize,
+    out: &mut [f64],
+) {
+    for (s, c) in out.chunks_exact_mut(4 * dim).enumerate() {
+        let i = first + s;
+        let dt = t[i + 1] - t[i];
+        let (f0, f1) = (
+            &values[i * dim..(i + 1) * dim],
+            &values[(i + 1) * dim..(i + 2) * dim],
+        );
+        let (m0, m1) = (
+            &slopes[i * dim..(i + 1) * dim],
+            &slopes[(i + 1) * dim..(i + 2) * dim],
+        );
+        let (a, rest) = c.split_at_mut(dim);
+        let (b, rest) = rest.split_at_mut(dim);
+        let (cc, d) = rest.split_at_mut(dim);
+        for k in 0..dim {
+            a[k] = 2.0 * (f0[k] - f1[k]) + dt * (m0[k] + m1[k]);
+            b[k] = 3.0 * (f1[k] - f0[k]) - dt * (2.0 * m0[k] + m1[k]);
+            cc[k] = dt * m0[k];
+            d[k] = f0[k];
         }
     }
 }

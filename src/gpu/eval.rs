@@ -13,6 +13,25 @@ use crate::samples::Samples;
 
 const F32: u64 = size_of::<f32>() as u64;
 
+/// How long the evaluation dispatches ran on the device.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeviceTime {
+    /// Seconds, summed over the job's dispatches.
+    pub seconds: f64,
+    /// How they were measured.
+    pub method: TimingMethod,
+}
+
+/// How [`DeviceTime`] was measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimingMethod {
+    /// Timestamp queries at the start and end of every compute pass.
+    Timestamps,
+    /// Wall clock from each dispatch's submission to its completion (adapters without
+    /// timestamp queries); includes submission overhead.
+    SubmitToCompletion,
+}
+
 impl GpuContext {
     /// Evaluates every curve of `job` on the GPU and reads the f32 samples back.
     ///
@@ -23,10 +42,33 @@ impl GpuContext {
     /// A value outside the f32 range ([`GpuError::OutOfRange`]), a segment table larger than
     /// one binding ([`GpuError::TooLarge`]), or a device failure ([`GpuError::Device`]).
     pub fn evaluate(&self, job: &EvalJob) -> Result<Samples<f32>, GpuError> {
+        Ok(self.run(job, false)?.0)
+    }
+
+    /// [`GpuContext::evaluate`], also measuring how long the dispatches ran on the device:
+    /// by timestamp queries where the device has `TIMESTAMP_QUERY`, else by submitting each
+    /// dispatch alone and waiting for it.
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate`].
+    pub fn evaluate_timed(&self, job: &EvalJob) -> Result<(Samples<f32>, DeviceTime), GpuError> {
+        let (samples, time) = self.run(job, true)?;
+        let time = time.unwrap_or(DeviceTime {
+            seconds: 0.0,
+            method: TimingMethod::Timestamps,
+        });
+        Ok((samples, time))
+    }
+
+    fn run(
+        &self,
+        job: &EvalJob,
+        timed: bool,
+    ) -> Result<(Samples<f32>, Option<DeviceTime>), GpuError> {
         let mut samples = Samples::for_job(job);
         let total = samples.value_offset(job.len());
         if total == 0 {
-            return Ok(samples);
+            return Ok((samples, None));
         }
         let planes = job.derivatives().order() + 1;
         let limits = self.device.limits();
@@ -99,9 +141,16 @@ impl GpuContext {
             mapped_at_creation: false,
         });
 
+        let stamps = (timed
+            && self
+                .device
+                .features()
+                .contains(wgpu::Features::TIMESTAMP_QUERY))
+        .then(|| Timestamps::new(&self.device, packed.batches.len()));
+        let mut waited = 0.0;
         let mut encoder = self.device.create_command_encoder(&Default::default());
         let max_groups = limits.max_compute_workgroups_per_dimension;
-        for batch in &packed.batches {
+        for (b, batch) in packed.batches.iter().enumerate() {
             let invocations = batch.runs.len() as u64 * u64::from(self.shape.lanes);
             let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
             let groups_x = groups.min(max_groups);
@@ -138,11 +187,21 @@ impl GpuContext {
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("eval"),
-                    timestamp_writes: None,
+                    timestamp_writes: stamps.as_ref().map(|s| s.writes(b)),
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
                 pass.dispatch_workgroups(groups_x, groups_y, 1);
+            }
+            if timed && stamps.is_none() {
+                // No timestamps: this dispatch goes alone, and we wait for it.
+                let start = std::time::Instant::now();
+                self.queue.submit([encoder.finish()]);
+                self.device
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| GpuError::Device(e.to_string()))?;
+                waited += start.elapsed().as_secs_f64();
+                encoder = self.device.create_command_encoder(&Default::default());
             }
             // Plane p of this batch lands at plane p's place in the download buffer.
             for p in 0..planes as u64 {
@@ -155,6 +214,9 @@ impl GpuContext {
                 );
             }
         }
+        if let Some(stamps) = &stamps {
+            stamps.resolve(&mut encoder);
+        }
         self.queue.submit([encoder.finish()]);
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::Device(e.to_string()));
@@ -163,22 +225,111 @@ impl GpuContext {
             return Err(GpuError::Device(e.to_string()));
         }
         read_back(&self.device, &download, total, &mut samples)?;
-        Ok(samples)
+        let time = match stamps {
+            Some(stamps) => Some(DeviceTime {
+                seconds: stamps.read(&self.device, self.queue.get_timestamp_period())?,
+                method: TimingMethod::Timestamps,
+            }),
+            None => timed.then_some(DeviceTime {
+                seconds: waited,
+                method: TimingMethod::SubmitToCompletion,
+            }),
+        };
+        Ok((samples, time))
+    }
+}
+
+/// A timestamp at the start and the end of each dispatch's compute pass.
+struct Timestamps {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    download: wgpu::Buffer,
+    count: u32,
+}
+
+impl Timestamps {
+    fn new(device: &wgpu::Device, dispatches: usize) -> Self {
+        let count = 2 * dispatches as u32;
+        let bytes = u64::from(count) * size_of::<u64>() as u64;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("dispatch times"),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            }),
+            resolve: buffer(
+                "timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            download: buffer(
+                "timestamps download",
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            ),
+            count,
+        }
+    }
+
+    /// The pass timestamps of dispatch `b`.
+    fn writes(&self, b: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(2 * b as u32),
+            end_of_pass_write_index: Some(2 * b as u32 + 1),
+        }
+    }
+
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.queries, 0..self.count, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.download, 0, self.resolve.size());
+    }
+
+    /// Seconds between each pass's two timestamps, summed; `period` is nanoseconds per tick.
+    fn read(&self, device: &wgpu::Device, period: f32) -> Result<f64, GpuError> {
+        let ticks: Vec<u64> = map_read(device, &self.download, |bytes| {
+            bytemuck::cast_slice(bytes).to_vec()
+        })?;
+        let total: u64 = ticks
+            .chunks_exact(2)
+            .map(|t| t[1].saturating_sub(t[0]))
+            .sum();
+        Ok(total as f64 * f64::from(period) * 1e-9)
     }
 }
 
 /// Maps `download` (planes of `total` f32 values each) and copies it into `samples`.
-///
-/// The readback sequence: map_async on the whole buffer, poll the device until the callback
-/// has run, view the mapped range as f32, copy out, drop the view, unmap.
 fn read_back(
     device: &wgpu::Device,
     download: &wgpu::Buffer,
     total: usize,
     samples: &mut Samples<f32>,
 ) -> Result<(), GpuError> {
+    map_read(device, download, |bytes| {
+        let values: &[f32] = bytemuck::cast_slice(bytes);
+        for (p, plane) in samples.planes_mut().into_iter().enumerate() {
+            if !plane.is_empty() {
+                plane.copy_from_slice(&values[p * total..(p + 1) * total]);
+            }
+        }
+    })
+}
+
+/// The readback sequence, written once: map_async on the whole buffer, poll the device until
+/// the callback has run, hand the mapped bytes to `read`, drop the view, unmap.
+fn map_read<T>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T, GpuError> {
     let (tx, rx) = mpsc::channel();
-    download.map_async(wgpu::MapMode::Read, .., move |result| {
+    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
         // The receiver outlives the poll below; a failed send cannot happen.
         let _ = tx.send(result);
     });
@@ -188,17 +339,12 @@ fn read_back(
     rx.recv()
         .map_err(|e| GpuError::Device(e.to_string()))?
         .map_err(|e| GpuError::Device(e.to_string()))?;
-    {
-        let view = download
+    let result = {
+        let view = buffer
             .get_mapped_range(..)
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        let values: &[f32] = bytemuck::cast_slice(&view);
-        for (p, plane) in samples.planes_mut().into_iter().enumerate() {
-            if !plane.is_empty() {
-                plane.copy_from_slice(&values[p * total..(p + 1) * total]);
-            }
-        }
-    }
-    download.unmap();
-    Ok(())
+        read(&view)
+    };
+    buffer.unmap();
+    Ok(result)
 }

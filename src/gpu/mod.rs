@@ -8,6 +8,8 @@ mod eval;
 pub mod layout;
 pub mod shader;
 
+pub use eval::{DeviceTime, TimingMethod};
+
 use crate::error::GpuError;
 
 /// How the kernel spreads a job over invocations.
@@ -112,8 +114,11 @@ impl GpuContext {
     /// [`GpuError::RequestDevice`] when the adapter refuses a device.
     pub fn from_adapter(adapter: &wgpu::Adapter) -> Result<Self, GpuError> {
         let info = adapter.get_info();
+        // Timestamp queries, where the adapter has them, time dispatches on the device.
+        let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("splinegpu"),
+            required_features,
             required_limits: adapter.limits(),
             ..Default::default()
         }))

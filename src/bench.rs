@@ -1,0 +1,311 @@
+//! `splinegpu bench`: the named workloads of the CLI contract, measured in one run so that
+//! their figures can be compared as ratios (GPU against CPU against the machine's memset
+//! bandwidth into already-touched memory), since the machines they run on are shared and noisy.
+//!
+//! Each measurement is the median of at least [`REPETITIONS`] runs after one warm-up run.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use crate::curve::{Curve, CurveKind, Ends, Points};
+use crate::fit::interp::{EndCondition, Fitter};
+use crate::job::{Derivatives, EvalJob};
+use crate::segment::SegmentTable;
+use crate::{Basis, GpuContext, Sampling};
+
+/// Timed runs per measurement, after the warm-up.
+pub const REPETITIONS: usize = 5;
+
+/// The workloads, in the order `bench` runs them by default.
+pub const WORKLOADS: [&str; 5] = ["w1", "w1-b", "w1-d", "fit-1m", "eval-at"];
+
+/// One measurement: a contract `--json` line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measurement {
+    /// The workload's name.
+    pub workload: &'static str,
+    /// "gpu-device", "gpu-end-to-end", "cpu-1t", "cpu-all", "memset" or "fit".
+    pub path: &'static str,
+    /// Median seconds.
+    pub seconds: f64,
+    /// Fastest run.
+    pub min_seconds: f64,
+    /// Slowest run.
+    pub max_seconds: f64,
+    /// Samples (or knots, for a fit) per run.
+    pub samples: u64,
+    /// Useful output bytes per run (D values of 4 bytes for f32 or 8 for f64, no padding).
+    pub bytes: u64,
+}
+
+impl Measurement {
+    /// Useful bytes per second, in GB/s.
+    #[must_use]
+    pub fn gbps(&self) -> f64 {
+        self.bytes as f64 / self.seconds / 1e9
+    }
+
+    /// The contract's JSON line.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        format!(
+            "{{\"workload\": \"{}\", \"path\": \"{}\", \"seconds\": {:e}, \"min_seconds\": {:e}, \
+             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}}}",
+            self.workload,
+            self.path,
+            self.seconds,
+            self.min_seconds,
+            self.max_seconds,
+            self.samples,
+            self.bytes,
+            self.gbps()
+        )
+    }
+}
+
+/// Times `run` once to warm up, then [`REPETITIONS`] times; returns (median, min, max) seconds.
+/// `run` returns its own measured seconds, or `None` to be timed by the wall clock.
+pub fn time(mut run: impl FnMut() -> Option<f64>) -> (f64, f64, f64) {
+    run();
+    let mut times: Vec<f64> = (0..REPETITIONS)
+        .map(|_| {
+            let start = Instant::now();
+            let own = run();
+            own.unwrap_or_else(|| start.elapsed().as_secs_f64())
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], times[0], times[times.len() - 1])
+}
+
+/// The machine's memset bandwidth into already-touched memory: `bytes` zeroed by all threads.
+#[must_use]
+pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
+    let mut buffer = vec![1u8; bytes];
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let chunk = bytes.div_ceil(threads).max(1);
+    let (seconds, min_seconds, max_seconds) = time(|| {
+        std::thread::scope(|s| {
+            for part in buffer.chunks_mut(chunk) {
+                s.spawn(move || part.fill(0));
+            }
+        });
+        black_box(&buffer);
+        None
+    });
+    Measurement {
+        workload,
+        path: "memset",
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: 0,
+        bytes: bytes as u64,
+    }
+}
+
+/// A deterministic generator (xorshift64*) for the workloads' data.
+struct Rng(u64);
+
+impl Rng {
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let bits = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
+        lo + (hi - lo) * (bits as f64 / (1u64 << 53) as f64)
+    }
+}
+
+/// w1 (`basis` Catmull-Rom), w1-b (B-spline), w1-d (w1 with derivatives): 10,000 curves of 34
+/// control points in 3-D with "control" ends, 32 samples per segment plus the end point:
+/// 10,000 × (31 × 32 + 1) = 9,930,000 samples.
+#[must_use]
+pub fn w1_job(basis: Basis, derivatives: Derivatives) -> EvalJob {
+    let mut rng = Rng(1);
+    let mut job = EvalJob::new(derivatives);
+    for _ in 0..10_000 {
+        let points = Points::new(3, (0..34 * 3).map(|_| rng.range(-100.0, 100.0)).collect())
+            .expect("finite points");
+        let kind = CurveKind::Uniform {
+            basis: basis.clone(),
+            ends: Ends::Control,
+        };
+        let curve = Curve::new(kind, points).expect("34 points");
+        job.push(&curve, &Sampling::PerSegment(32))
+            .expect("per-segment sampling");
+    }
+    job
+}
+
+/// fit-1m's data: 1,000,000 non-uniform knots (spacings within a factor of 100) and 3-D points.
+#[must_use]
+pub fn fit_1m_data() -> (Vec<f64>, Vec<f64>) {
+    let mut rng = Rng(2);
+    let mut t = Vec::with_capacity(1_000_000);
+    let mut at = 0.0;
+    for _ in 0..1_000_000 {
+        t.push(at);
+        at += 10f64.powf(rng.range(-1.0, 1.0));
+    }
+    let values = (0..3_000_000).map(|_| rng.range(-10.0, 10.0)).collect();
+    (t, values)
+}
+
+/// eval-at: 10,000 natural splines of 64 non-uniform knots in 3-D, each at 1,000 random t.
+#[must_use]
+pub fn eval_at_job() -> EvalJob {
+    let mut rng = Rng(3);
+    let mut job = EvalJob::new(Derivatives::None);
+    for _ in 0..10_000 {
+        let mut t = vec![0.0];
+        for i in 1..64 {
+            t.push(t[i - 1] + rng.range(0.1, 2.0));
+        }
+        let points = Points::new(3, (0..64 * 3).map(|_| rng.range(-10.0, 10.0)).collect())
+            .expect("finite points");
+        let ts: Vec<f64> = (0..1_000).map(|_| rng.range(0.0, t[63])).collect();
+        let kind = CurveKind::Interpolating {
+            condition: EndCondition::Natural,
+            t: Some(t),
+        };
+        let curve = Curve::new(kind, points).expect("valid knots");
+        job.push(&curve, &Sampling::At(ts)).expect("t in range");
+    }
+    job
+}
+
+/// Runs the named workloads and hands each measurement to `report` as soon as it is made, each
+/// workload's memset first. GPU paths are skipped when `gpu` is `None`.
+///
+/// # Errors
+/// An unknown workload name (before anything runs), or a GPU failure.
+pub fn run(
+    names: &[String],
+    gpu: Option<&GpuContext>,
+    mut report: impl FnMut(&Measurement),
+) -> Result<(), String> {
+    let names: Vec<&'static str> = if names.is_empty() {
+        WORKLOADS.to_vec()
+    } else {
+        names
+            .iter()
+            .map(|n| {
+                WORKLOADS
+                    .iter()
+                    .find(|w| **w == n.as_str())
+                    .copied()
+                    .ok_or_else(|| {
+                        format!(
+                            "unknown workload \"{n}\" (expected one of {})",
+                            WORKLOADS.join(", ")
+                        )
+                    })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    for name in names {
+        match name {
+            "fit-1m" => fit_1m(&mut report),
+            "eval-at" => evaluation(name, &eval_at_job(), gpu, &mut report)?,
+            "w1-b" => evaluation(
+                name,
+                &w1_job(Basis::BSpline, Derivatives::None),
+                gpu,
+                &mut report,
+            )?,
+            "w1-d" => evaluation(
+                name,
+                &w1_job(Basis::CatmullRom, Derivatives::Second),
+                gpu,
+                &mut report,
+            )?,
+            _ => evaluation(
+                name,
+                &w1_job(Basis::CatmullRom, Derivatives::None),
+                gpu,
+                &mut report,
+            )?,
+        }
+    }
+    Ok(())
+}
+
+fn fit_1m(report: &mut impl FnMut(&Measurement)) {
+    let (t, values) = fit_1m_data();
+    let bytes = (t.len() - 1) * 4 * 3 * size_of::<f64>();
+    report(&memset("fit-1m", bytes));
+    let mut fitter = Fitter::new();
+    let mut table = SegmentTable::default();
+    let (seconds, min_seconds, max_seconds) = time(|| {
+        fitter
+            .fit_into(
+                black_box(&t),
+                black_box(&values),
+                3,
+                &EndCondition::Natural,
+                &mut table,
+            )
+            .expect("valid data");
+        black_box(&table);
+        None
+    });
+    report(&Measurement {
+        workload: "fit-1m",
+        path: "fit",
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: t.len() as u64,
+        bytes: bytes as u64,
+    });
+}
+
+fn evaluation(
+    workload: &'static str,
+    job: &EvalJob,
+    gpu: Option<&GpuContext>,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), String> {
+    let samples = job.sample_count() as u64;
+    let values = (0..job.len())
+        .map(|c| job.plan(c).len() * job.table(c).dim())
+        .sum::<usize>() as u64
+        * (job.derivatives().order() as u64 + 1);
+    let measurement =
+        |path, (seconds, min_seconds, max_seconds), bytes_per_value: u64| Measurement {
+            workload,
+            path,
+            seconds,
+            min_seconds,
+            max_seconds,
+            samples,
+            bytes: values * bytes_per_value,
+        };
+    report(&memset(workload, (values * 4) as usize));
+    if let Some(gpu) = gpu {
+        let mut failure = None;
+        let device = time(|| match gpu.evaluate_timed(job) {
+            Ok((_, time)) => Some(time.seconds),
+            Err(e) => {
+                failure = Some(e.to_string());
+                Some(0.0)
+            }
+        });
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        report(&measurement("gpu-device", device, 4));
+        let end_to_end = time(|| {
+            black_box(gpu.evaluate(job).ok());
+            None
+        });
+        report(&measurement("gpu-end-to-end", end_to_end, 4));
+    }
+    let cpu = time(|| {
+        black_box(crate::cpu::evaluate(job));
+        None
+    });
+    report(&measurement("cpu-1t", cpu, 8));
+    Ok(())
+}
