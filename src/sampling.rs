@@ -89,6 +89,24 @@ impl SamplePlan {
         self.len() == 0
     }
 
+    /// Appends every sample's t to `out`, as [`SamplePlan::loc`] gives them, in one pass.
+    pub fn extend_t(&self, out: &mut Vec<f64>) {
+        match self {
+            SamplePlan::PerSegment { k, knots } => {
+                let k = *k as usize;
+                for w in knots.windows(2) {
+                    let (t0, t1) = (w[0], w[1]);
+                    out.extend((0..k).map(|j| {
+                        let u = j as f64 / k as f64;
+                        t0 + u * (t1 - t0)
+                    }));
+                }
+                out.push(knots[knots.len() - 1]);
+            }
+            SamplePlan::At(locs) => out.extend(locs.iter().map(|l| l.t)),
+        }
+    }
+
     /// Sample `i`: segment i / k at u = (i mod k)/k, or the final point.
     ///
     /// # Panics

@@ -278,7 +278,7 @@ fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
         runs: usize::MAX,
     };
     assert_eq!(
-        splinegpu::gpu::layout::pack(&job, 64, one_dispatch)
+        splinegpu::gpu::layout::pack(&job, KernelShape::LOOPING, one_dispatch)
             .unwrap()
             .batches
             .len(),
@@ -328,5 +328,62 @@ fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
             assert!((loc.u - want_u).abs() < 1e-6, "u = {}", loc.u);
         }
         assert_gpu_matches_cpu(&job);
+    }
+}
+
+#[test]
+fn concurrent_evaluations_on_one_context_do_not_share_buffers() {
+    let Some(context) = gpu() else { return };
+    let jobs: Vec<EvalJob> = (0..4)
+        .map(|i| {
+            let mut rng = Rng(500 + i);
+            let mut job = EvalJob::new(Derivatives::First);
+            for _ in 0..50 {
+                let kind = CurveKind::Uniform {
+                    basis: Basis::CatmullRom,
+                    ends: Ends::Closed,
+                };
+                let curve = Curve::new(kind, rng.points(10 + i as usize, 3, -1.0, 1.0)).unwrap();
+                job.push(&curve, &Sampling::PerSegment(8 + i as u32))
+                    .unwrap();
+            }
+            job
+        })
+        .collect();
+    let alone: Vec<_> = jobs
+        .iter()
+        .map(|job| context.evaluate(job).unwrap())
+        .collect();
+    std::thread::scope(|s| {
+        for (job, expected) in jobs.iter().zip(&alone) {
+            s.spawn(move || {
+                for _ in 0..5 {
+                    assert_eq!(&context.evaluate(job).unwrap(), expected);
+                }
+            });
+        }
+    });
+}
+
+#[test]
+fn evaluate_into_reuses_samples_across_jobs_of_other_shapes() {
+    let Some(context) = gpu() else { return };
+    let jobs = [medium_job(), {
+        let mut job = EvalJob::new(Derivatives::None);
+        let kind = CurveKind::Uniform {
+            basis: Basis::BSpline,
+            ends: Ends::Repeat,
+        };
+        job.push(
+            &Curve::new(kind, Rng(9).points(6, 2, 0.0, 1.0)).unwrap(),
+            &Sampling::PerSegment(3),
+        )
+        .unwrap();
+        job
+    }];
+    let mut reused = context.evaluate(&jobs[1]).unwrap();
+    for job in jobs.iter().chain(&jobs) {
+        context.evaluate_into(job, &mut reused).unwrap();
+        assert_eq!(reused, context.evaluate(job).unwrap());
     }
 }

@@ -60,8 +60,18 @@ fn structs_match_their_rust_twins() {
         Params,
         [run_count, row_width, plane_stride, derivatives]
     );
-    assert_twin!(&module, "Segment", GpuSegment, [coeff_offset, dim, inv_dt]);
-    assert_twin!(&module, "Run", Run, [segment, out_offset, count, u0, du]);
+    assert_twin!(
+        &module,
+        "Segment",
+        GpuSegment,
+        [coeff_offset, dim, vec4s, inv_dt]
+    );
+    assert_twin!(
+        &module,
+        "Run",
+        Run,
+        [segment, segments, out_offset, count, vector, u0, du]
+    );
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! `GpuContext::evaluate`: upload a packed job, dispatch it in batches, read the samples back.
 
-use std::sync::mpsc;
+use std::sync::{PoisonError, mpsc};
 
 use wgpu::util::DeviceExt;
 
@@ -42,33 +42,53 @@ impl GpuContext {
     /// A value outside the f32 range ([`GpuError::OutOfRange`]), a segment table larger than
     /// one binding ([`GpuError::TooLarge`]), or a device failure ([`GpuError::Device`]).
     pub fn evaluate(&self, job: &EvalJob) -> Result<Samples<f32>, GpuError> {
-        Ok(self.run(job, false)?.0)
+        let mut samples = Samples::for_job(job);
+        self.run(job, false, &mut samples)?;
+        Ok(samples)
     }
 
-    /// [`GpuContext::evaluate`], also measuring how long the dispatches ran on the device:
+    /// [`GpuContext::evaluate`] into `samples`, which is laid out for `job` first, reusing
+    /// its memory: a caller evaluating jobs of similar size again and again allocates nothing
+    /// and pays no page faults after the first call.
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate`].
+    pub fn evaluate_into(&self, job: &EvalJob, samples: &mut Samples<f32>) -> Result<(), GpuError> {
+        samples.prepare(job);
+        self.run(job, false, samples)?;
+        Ok(())
+    }
+
+    /// [`GpuContext::evaluate_into`], also measuring how long the dispatches ran on the device:
     /// by timestamp queries where the device has `TIMESTAMP_QUERY`, else by submitting each
     /// dispatch alone and waiting for it.
     ///
     /// # Errors
     /// As [`GpuContext::evaluate`].
-    pub fn evaluate_timed(&self, job: &EvalJob) -> Result<(Samples<f32>, DeviceTime), GpuError> {
-        let (samples, time) = self.run(job, true)?;
-        let time = time.unwrap_or(DeviceTime {
+    pub fn evaluate_timed(
+        &self,
+        job: &EvalJob,
+        samples: &mut Samples<f32>,
+    ) -> Result<DeviceTime, GpuError> {
+        samples.prepare(job);
+        let time = self.run(job, true, samples)?;
+        // A job without samples dispatches nothing: zero seconds.
+        Ok(time.unwrap_or(DeviceTime {
             seconds: 0.0,
             method: TimingMethod::Timestamps,
-        });
-        Ok((samples, time))
+        }))
     }
 
+    /// Evaluates `job` into `samples` (already laid out for it).
     fn run(
         &self,
         job: &EvalJob,
         timed: bool,
-    ) -> Result<(Samples<f32>, Option<DeviceTime>), GpuError> {
-        let mut samples = Samples::for_job(job);
+        samples: &mut Samples<f32>,
+    ) -> Result<Option<DeviceTime>, GpuError> {
         let total = samples.value_offset(job.len());
         if total == 0 {
-            return Ok((samples, None));
+            return Ok(None);
         }
         let planes = job.derivatives().order() + 1;
         let limits = self.device.limits();
@@ -77,7 +97,7 @@ impl GpuContext {
             .min(limits.max_buffer_size);
         let packed = layout::pack(
             job,
-            self.shape.run_len,
+            self.shape,
             BatchLimits {
                 values: ((max_binding / F32 / planes as u64) as usize)
                     .min(self.max_dispatch_values),
@@ -105,41 +125,60 @@ impl GpuContext {
             size_of_val(packed.coeffs.as_slice()) as u64,
             max_binding,
         )?;
-        let download_bytes = total as u64 * planes as u64 * F32;
+        // The GPU's output plane: each curve's samples start at a multiple of 4 floats.
+        let gpu_total = packed.curve_offsets[job.len()];
+        let download_bytes = gpu_total as u64 * planes as u64 * F32;
         too_large("output", download_bytes, limits.max_buffer_size)?;
 
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let storage = |label, contents: &[u8]| {
-            self.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage: wgpu::BufferUsages::STORAGE,
-                })
+        // Pooled buffers are taken out for this evaluation and given back at its end.
+        let mut pool = self.pool.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut taken = Vec::new();
+        let mut take = |role: (&'static str, usize), size: u64, usage: wgpu::BufferUsages| {
+            let buffer = pool.take(&self.device, role, size, usage);
+            taken.push((role, buffer.clone()));
+            buffer
         };
-        let segments = storage("segments", bytemuck::cast_slice(&packed.segments));
-        let coeffs = storage("coeffs", bytemuck::cast_slice(&packed.coeffs));
+        let storage = wgpu::BufferUsages::STORAGE;
+        let mut upload = |role: (&'static str, usize), contents: &[u8]| {
+            let buffer = take(
+                role,
+                contents.len() as u64,
+                storage | wgpu::BufferUsages::COPY_DST,
+            );
+            self.queue.write_buffer(&buffer, 0, contents);
+            buffer
+        };
+        let segments = upload(("segments", 0), bytemuck::cast_slice(&packed.segments));
+        let coeffs = upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs));
+        let runs: Vec<wgpu::Buffer> = (packed.batches.iter().enumerate())
+            .map(|(b, batch)| {
+                upload(
+                    ("runs", b),
+                    bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
+                )
+            })
+            .collect();
         // One output buffer, reused by every batch: each batch's copy-out is recorded before
         // the next batch's dispatch, and wgpu orders the two.
         let plane_stride = packed
             .batches
             .iter()
-            .map(|b| b.values.len())
+            .map(|b| b.values.len().next_multiple_of(4))
             .max()
             .unwrap_or(0);
-        let output = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("samples"),
-            size: plane_stride as u64 * planes as u64 * F32,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let download = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("download"),
-            size: download_bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let output = take(
+            ("samples", 0),
+            plane_stride as u64 * planes as u64 * F32,
+            storage | wgpu::BufferUsages::COPY_SRC,
+        );
+        let download = take(
+            ("download", 0),
+            download_bytes,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
+        drop(pool);
 
         let stamps = (timed
             && self
@@ -168,14 +207,10 @@ impl GpuContext {
                     contents: bytemuck::bytes_of(&params),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-            let runs = storage(
-                "runs",
-                bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
-            );
             let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("eval"),
                 layout: &self.bind_group_layout,
-                entries: &[&params, &segments, &coeffs, &runs, &output]
+                entries: &[&params, &segments, &coeffs, &runs[b], &output]
                     .iter()
                     .enumerate()
                     .map(|(i, buffer)| wgpu::BindGroupEntry {
@@ -209,7 +244,7 @@ impl GpuContext {
                     &output,
                     p * plane_stride as u64 * F32,
                     &download,
-                    (p * total as u64 + batch.values.start as u64) * F32,
+                    (p * gpu_total as u64 + batch.values.start as u64) * F32,
                     batch.values.len() as u64 * F32,
                 );
             }
@@ -224,7 +259,11 @@ impl GpuContext {
         if let Some(e) = pollster::block_on(validation.pop()) {
             return Err(GpuError::Device(e.to_string()));
         }
-        read_back(&self.device, &download, total, &mut samples)?;
+        read_back(&self.device, &download, &packed.curve_offsets, samples)?;
+        let mut pool = self.pool.lock().unwrap_or_else(PoisonError::into_inner);
+        for (role, buffer) in taken {
+            pool.give(role, buffer);
+        }
         let time = match stamps {
             Some(stamps) => Some(DeviceTime {
                 seconds: stamps.read(&self.device, self.queue.get_timestamp_period())?,
@@ -235,7 +274,7 @@ impl GpuContext {
                 method: TimingMethod::SubmitToCompletion,
             }),
         };
-        Ok((samples, time))
+        Ok(time)
     }
 }
 
@@ -304,18 +343,28 @@ impl Timestamps {
     }
 }
 
-/// Maps `download` (planes of `total` f32 values each) and copies it into `samples`.
+/// Maps `download` (planes in the GPU's layout, curve c from `curve_offsets[c]` on) and copies
+/// every curve's values into `samples`, whose planes are packed.
 fn read_back(
     device: &wgpu::Device,
     download: &wgpu::Buffer,
-    total: usize,
+    curve_offsets: &[usize],
     samples: &mut Samples<f32>,
 ) -> Result<(), GpuError> {
+    let curves = curve_offsets.len() - 1;
+    let gpu_total = curve_offsets[curves];
+    let host_offsets: Vec<usize> = (0..=curves).map(|c| samples.value_offset(c)).collect();
     map_read(device, download, |bytes| {
         let values: &[f32] = bytemuck::cast_slice(bytes);
         for (p, plane) in samples.planes_mut().into_iter().enumerate() {
-            if !plane.is_empty() {
-                plane.copy_from_slice(&values[p * total..(p + 1) * total]);
+            if plane.is_empty() {
+                continue;
+            }
+            let gpu_plane = &values[p * gpu_total..(p + 1) * gpu_total];
+            for c in 0..curves {
+                let (from, to) = (host_offsets[c], host_offsets[c + 1]);
+                let at = curve_offsets[c];
+                plane[from..to].copy_from_slice(&gpu_plane[at..at + (to - from)]);
             }
         }
     })

@@ -8,12 +8,13 @@ use std::ops::Range;
 
 use bytemuck::{Pod, Zeroable};
 
+use super::KernelShape;
 use crate::error::GpuError;
 use crate::job::EvalJob;
 use crate::sampling::SamplePlan;
 
-/// f32 values per coordinate of a segment: a, b, c, d_lo, d_hi.
-pub const COEFFS_PER_COORD: usize = 5;
+/// Coefficient terms per segment: a, b, c, d_lo, d_hi.
+pub const TERMS: usize = 5;
 
 /// Per-dispatch uniforms. WGSL twin: `Params` in `shaders/eval.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
@@ -23,7 +24,7 @@ pub struct Params {
     pub run_count: u32,
     /// Invocations per row of the 2-D dispatch.
     pub row_width: u32,
-    /// Values per output plane.
+    /// Floats per output plane (a multiple of 4).
     pub plane_stride: u32,
     /// 0, 1 or 2.
     pub derivatives: u32,
@@ -33,37 +34,54 @@ pub struct Params {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
 pub struct GpuSegment {
-    /// Index of its first coefficient in the coefficient table.
+    /// Index of its first coefficient vec4.
     pub coeff_offset: u32,
     /// Coordinates per point.
     pub dim: u32,
+    /// Vec4s per coefficient term: ⌈dim / 4⌉.
+    pub vec4s: u32,
     /// 1 / Δ, for the t-derivatives.
     pub inv_dt: f32,
 }
 
-/// A run of samples of one segment at u = u0 + j·du, j < count. WGSL twin: `Run`.
+/// A run: `count` samples at u = u0 + j·du of each of `segments` consecutive segments, one
+/// segment's block after the other. WGSL twin: `Run`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
 pub struct Run {
-    /// Index into the segment table.
+    /// Index into the segment table of its first segment.
     pub segment: u32,
-    /// Where its first sample's values go, relative to the dispatch's output.
+    /// Consecutive segments (of one curve) it covers.
+    pub segments: u32,
+    /// The float where its first sample's values go, relative to the dispatch's output.
     pub out_offset: u32,
-    /// Number of samples.
+    /// Samples per segment.
     pub count: u32,
+    /// 1 when the run is written 4 samples at a time as whole vec4s (dim <= 4, out_offset,
+    /// count and count·dim multiples of 4), else 0.
+    pub vector: u32,
     /// u of the first sample.
     pub u0: f32,
     /// u step between samples.
     pub du: f32,
 }
 
-/// One dispatch: a range of runs whose output is the value range `values` of each plane.
+/// One dispatch: a range of runs whose output is the float range `values` of each plane.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Batch {
     /// Indices into [`Packed::runs`].
     pub runs: Range<usize>,
-    /// Values (of each output plane) this dispatch writes.
+    /// Floats (of each output plane) this dispatch writes; starts at a multiple of 4.
     pub values: Range<usize>,
+}
+
+/// How much one dispatch may hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BatchLimits {
+    /// Output floats per plane.
+    pub values: usize,
+    /// Runs.
+    pub runs: usize,
 }
 
 /// A job as the kernel reads it.
@@ -71,25 +89,20 @@ pub struct Batch {
 pub struct Packed {
     /// Every curve's segments, curve after curve.
     pub segments: Vec<GpuSegment>,
-    /// [a, b, c, d_lo, d_hi] per coordinate per segment.
-    pub coeffs: Vec<f32>,
+    /// Per segment, the terms a, b, c, d_lo, d_hi, each ⌈dim / 4⌉ vec4s.
+    pub coeffs: Vec<[f32; 4]>,
     /// Runs; `out_offset` is relative to the start of the run's batch.
     pub runs: Vec<Run>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
+    /// Where each curve's samples start in the GPU output plane (a multiple of 4 floats, so
+    /// that vector runs are aligned), and, last, the plane's length.
+    pub curve_offsets: Vec<usize>,
 }
 
-/// How much one dispatch may hold.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct BatchLimits {
-    /// Output values per plane.
-    pub values: usize,
-    /// Runs.
-    pub runs: usize,
-}
-
-/// Packs `job` into runs of at most `run_len` samples, and cuts them into dispatches that stay
-/// within `limits`.
+/// Packs `job` into runs of at most `shape.run_len` samples, and cuts them into dispatches that
+/// stay within `limits` (`limits.values` should hold several runs: 2 · 4 · `run_len` · 64
+/// floats always suffice).
 ///
 /// The power coefficients are rounded to f32 only here, after M·X was formed in f64; D is
 /// split as d_hi = f32(D), d_lo = f32(D − d_hi), so a curve far from the origin keeps its
@@ -97,13 +110,14 @@ pub struct BatchLimits {
 ///
 /// # Errors
 /// A coefficient, or 1/Δ, outside the f32 range ([`GpuError::OutOfRange`]).
-pub fn pack(job: &EvalJob, run_len: u32, limits: BatchLimits) -> Result<Packed, GpuError> {
+pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Packed, GpuError> {
     let mut packed = Packed::default();
     let mut all_runs = Vec::new();
     let mut value_base = 0usize;
     for c in 0..job.len() {
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
+        let vec4s = dim.div_ceil(4);
         let first_segment = packed.segments.len() as u32;
         for s in 0..table.len() {
             let segment = table.segment(s);
@@ -112,40 +126,77 @@ pub fn pack(job: &EvalJob, run_len: u32, limits: BatchLimits) -> Result<Packed, 
             packed.segments.push(GpuSegment {
                 coeff_offset: packed.coeffs.len() as u32,
                 dim: dim as u32,
+                vec4s: vec4s as u32,
                 inv_dt,
             });
             let [a, b, cc, d] = segment.power();
-            for k in 0..dim {
-                let d_hi = d[k] as f32;
-                let values = [
-                    a[k] as f32,
-                    b[k] as f32,
-                    cc[k] as f32,
-                    (d[k] - f64::from(d_hi)) as f32,
-                    d_hi,
-                ];
-                for v in values {
-                    check_f32(c, "a coordinate or power coefficient", v)?;
+            let d_hi: Vec<f32> = d.iter().map(|&v| v as f32).collect();
+            let d_lo: Vec<f32> = d
+                .iter()
+                .zip(&d_hi)
+                .map(|(&v, &hi)| (v - f64::from(hi)) as f32)
+                .collect();
+            let terms: [Vec<f32>; TERMS] = [
+                a.iter().map(|&v| v as f32).collect(),
+                b.iter().map(|&v| v as f32).collect(),
+                cc.iter().map(|&v| v as f32).collect(),
+                d_lo,
+                d_hi,
+            ];
+            for term in &terms {
+                if term.iter().any(|v| !v.is_finite()) {
+                    return Err(GpuError::OutOfRange {
+                        curve: c,
+                        what: "a coordinate or power coefficient",
+                    });
                 }
-                packed.coeffs.extend_from_slice(&values);
+                for j in 0..vec4s {
+                    let mut v = [0.0; 4];
+                    for (slot, k) in v.iter_mut().zip(4 * j..dim.min(4 * j + 4)) {
+                        *slot = term[k];
+                    }
+                    packed.coeffs.push(v);
+                }
             }
         }
-        push_runs(&mut all_runs, plan, first_segment, value_base, dim, run_len);
-        value_base += plan.len() * dim;
+        packed.curve_offsets.push(value_base);
+        push_runs(&mut all_runs, plan, first_segment, value_base, dim, shape);
+        value_base = (value_base + plan.len() * dim).next_multiple_of(4);
     }
-    // Cut into dispatches; out_offset becomes relative to the dispatch's first value.
+    packed.curve_offsets.push(value_base);
+    cut_batches(&mut packed, &all_runs, limits);
+    Ok(packed)
+}
+
+/// Cuts the runs (with absolute float offsets) into dispatches within `limits`, each starting
+/// at an aligned run, and makes `out_offset` relative to its dispatch's first float.
+fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: BatchLimits) {
     let mut start = 0;
     while start < all_runs.len() {
         let first_value = all_runs[start].1;
-        let mut end = start;
+        debug_assert_eq!(first_value % 4, 0, "dispatches start at aligned runs");
+        // Extend to the last run that fits; then back off to just before an aligned run.
+        let mut end = start + 1;
         while end < all_runs.len()
             && end - start < limits.runs
             && all_runs[end].2 - first_value <= limits.values
         {
             end += 1;
         }
-        let end = end.max(start + 1);
-        let last_value = all_runs[end - 1].2;
+        if end < all_runs.len() {
+            match (start + 1..=end)
+                .rev()
+                .find(|&i| all_runs[i].1.is_multiple_of(4))
+            {
+                Some(aligned) => end = aligned,
+                // Only a head run begins unaligned, and the run after it is aligned.
+                None => {
+                    while end < all_runs.len() && !all_runs[end].1.is_multiple_of(4) {
+                        end += 1;
+                    }
+                }
+            }
+        }
         for (run, begin, _) in &all_runs[start..end] {
             packed.runs.push(Run {
                 out_offset: (begin - first_value) as u32,
@@ -154,32 +205,95 @@ pub fn pack(job: &EvalJob, run_len: u32, limits: BatchLimits) -> Result<Packed, 
         }
         packed.batches.push(Batch {
             runs: start..end,
-            values: first_value..last_value,
+            values: first_value..all_runs[end - 1].2,
         });
         start = end;
     }
-    Ok(packed)
 }
 
-/// Appends one curve's runs as (run, first value, end value) with absolute value offsets.
+/// Appends one curve's runs as (run, first float, end float) with absolute float offsets.
+///
+/// Each chunk of at most `run_len` samples of a segment is split into a head of fewer than 4
+/// samples, after which the floats start at a multiple of 4, then (for dim <= 4) a body of
+/// whole groups of 4 samples written as vec4s, then a tail.
 fn push_runs(
     runs: &mut Vec<(Run, usize, usize)>,
     plan: &SamplePlan,
     first_segment: u32,
     value_base: usize,
     dim: usize,
-    run_len: u32,
+    shape: KernelShape,
 ) {
+    let run_len = shape.run_len;
+    if let SamplePlan::PerSegment { k, knots } = plan {
+        let (segments, k) = (knots.len() - 1, *k);
+        // Short segments whose blocks all stay vec4-aligned share runs, several segments
+        // each, so that one looping invocation writes up to `run_len` samples.
+        let per_run = (run_len / k) as usize;
+        if shape.lanes == 1
+            && dim <= 4
+            && k % 4 == 0
+            && per_run >= 2
+            && value_base.is_multiple_of(4)
+        {
+            let mut s = 0;
+            while s < segments {
+                let n = per_run.min(segments - s);
+                let begin = value_base + s * k as usize * dim;
+                let run = Run {
+                    segment: first_segment + s as u32,
+                    segments: n as u32,
+                    out_offset: 0,
+                    count: k,
+                    vector: 1,
+                    u0: 0.0,
+                    du: (1.0 / f64::from(k)) as f32,
+                };
+                runs.push((run, begin, begin + n * k as usize * dim));
+                s += n;
+            }
+            // The final point, u = 1 on the last segment, on its own.
+            let begin = value_base + segments * k as usize * dim;
+            let run = Run {
+                segment: first_segment + segments as u32 - 1,
+                segments: 1,
+                out_offset: 0,
+                count: 1,
+                vector: 0,
+                u0: 1.0,
+                du: 0.0,
+            };
+            runs.push((run, begin, begin + dim));
+            return;
+        }
+    }
     let mut push = |segment: usize, sample: usize, count: u32, u0: f64, du: f64| {
         let begin = value_base + sample * dim;
-        let run = Run {
-            segment: first_segment + segment as u32,
-            out_offset: 0,
-            count,
-            u0: u0 as f32,
-            du: du as f32,
-        };
-        runs.push((run, begin, begin + count as usize * dim));
+        let head = (0..4u32.min(count + 1))
+            .find(|&j| (begin + j as usize * dim).is_multiple_of(4))
+            .unwrap_or(count);
+        let body = if dim <= 4 { (count - head) / 4 * 4 } else { 0 };
+        let pieces = [
+            (0, head, 0),
+            (head, body, 1),
+            (head + body, count - head - body, 0),
+        ];
+        for (j0, n, vector) in pieces {
+            if n == 0 {
+                continue;
+            }
+            let first = begin + j0 as usize * dim;
+            let run = Run {
+                segment: first_segment + segment as u32,
+                segments: 1,
+                out_offset: 0,
+                count: n,
+                vector,
+                u0: (u0 + f64::from(j0) * du) as f32,
+                du: du as f32,
+            };
+            runs.push((run, first, first + n as usize * dim));
+        }
     };
     match plan {
         SamplePlan::PerSegment { k, knots } => {
