@@ -86,51 +86,74 @@ fn horner(p: Cubic, u: f32) -> vec4<f32> {
     return p.hi + (p.lo + u * (p.c + u * (p.b + u * p.a)));
 }
 
-// The run's `count` samples of one segment whose block starts at float `out`, 4 samples at a
-// time as `dim` whole vec4s. The cubic is loaded once per plane, the dimension decided once.
-fn vector_block(segment: Segment, out: u32, run: Run, lane: u32) {
+// Where the group of 4 samples `g` of segment `s` of a vector run starts, in vec4s, in the
+// plane `order`, and the u of its first sample.
+fn group_start(run: Run, dim: u32, order: u32, s: u32, g: u32) -> u32 {
+    return (run.out_offset + order * params.plane_stride) / 4u + (s * run.count / 4u + g) * dim;
+}
+
+// A vector run: `count` samples of each of its segments, 4 at a time as `dim` whole vec4s.
+// Lavapipe runs every loop in a branch no lane takes at least once, masked, so the dimension
+// is decided once per run, outside the loops, at the price of one loop nest per dimension.
+fn vector_run(run: Run, lane: u32) {
     let groups = run.count / 4u;
     let du = run.du;
-    for (var order = 0u; order <= params.derivatives; order++) {
-        let p = cubic(segment, 0u, order);
-        let base = (out + order * params.plane_stride) / 4u;
-        switch segment.dim {
-            case 1u: {
-                for (var g = lane; g < groups; g += LANES) {
-                    let u = run.u0 + f32(4u * g) * du;
-                    samples[base + g] = vec4(horner(p, u).x, horner(p, u + du).x, horner(p, u + 2.0 * du).x,
-                        horner(p, u + 3.0 * du).x);
+    switch segments[run.segment].dim {
+        case 1u: {
+            for (var s = 0u; s < run.segments; s++) {
+                for (var order = 0u; order <= params.derivatives; order++) {
+                    let p = cubic(segments[run.segment + s], 0u, order);
+                    for (var g = lane; g < groups; g += LANES) {
+                        let u = run.u0 + f32(4u * g) * du;
+                        samples[group_start(run, 1u, order, s, g)] = vec4(horner(p, u).x, horner(p, u + du).x,
+                            horner(p, u + 2.0 * du).x, horner(p, u + 3.0 * du).x);
+                    }
                 }
             }
-            case 2u: {
-                for (var g = lane; g < groups; g += LANES) {
-                    let u = run.u0 + f32(4u * g) * du;
-                    let w = base + 2u * g;
-                    samples[w] = vec4(horner(p, u).xy, horner(p, u + du).xy);
-                    samples[w + 1u] = vec4(horner(p, u + 2.0 * du).xy, horner(p, u + 3.0 * du).xy);
+        }
+        case 2u: {
+            for (var s = 0u; s < run.segments; s++) {
+                for (var order = 0u; order <= params.derivatives; order++) {
+                    let p = cubic(segments[run.segment + s], 0u, order);
+                    for (var g = lane; g < groups; g += LANES) {
+                        let u = run.u0 + f32(4u * g) * du;
+                        let w = group_start(run, 2u, order, s, g);
+                        samples[w] = vec4(horner(p, u).xy, horner(p, u + du).xy);
+                        samples[w + 1u] = vec4(horner(p, u + 2.0 * du).xy, horner(p, u + 3.0 * du).xy);
+                    }
                 }
             }
-            case 3u: {
-                for (var g = lane; g < groups; g += LANES) {
-                    let u = run.u0 + f32(4u * g) * du;
-                    let s0 = horner(p, u);
-                    let s1 = horner(p, u + du);
-                    let s2 = horner(p, u + 2.0 * du);
-                    let s3 = horner(p, u + 3.0 * du);
-                    let w = base + 3u * g;
-                    samples[w] = vec4(s0.xyz, s1.x);
-                    samples[w + 1u] = vec4(s1.yz, s2.xy);
-                    samples[w + 2u] = vec4(s2.z, s3.xyz);
+        }
+        case 3u: {
+            for (var s = 0u; s < run.segments; s++) {
+                for (var order = 0u; order <= params.derivatives; order++) {
+                    let p = cubic(segments[run.segment + s], 0u, order);
+                    for (var g = lane; g < groups; g += LANES) {
+                        let u = run.u0 + f32(4u * g) * du;
+                        let s0 = horner(p, u);
+                        let s1 = horner(p, u + du);
+                        let s2 = horner(p, u + 2.0 * du);
+                        let s3 = horner(p, u + 3.0 * du);
+                        let w = group_start(run, 3u, order, s, g);
+                        samples[w] = vec4(s0.xyz, s1.x);
+                        samples[w + 1u] = vec4(s1.yz, s2.xy);
+                        samples[w + 2u] = vec4(s2.z, s3.xyz);
+                    }
                 }
             }
-            default: {
-                for (var g = lane; g < groups; g += LANES) {
-                    let u = run.u0 + f32(4u * g) * du;
-                    let w = base + 4u * g;
-                    samples[w] = horner(p, u);
-                    samples[w + 1u] = horner(p, u + du);
-                    samples[w + 2u] = horner(p, u + 2.0 * du);
-                    samples[w + 3u] = horner(p, u + 3.0 * du);
+        }
+        default: {
+            for (var s = 0u; s < run.segments; s++) {
+                for (var order = 0u; order <= params.derivatives; order++) {
+                    let p = cubic(segments[run.segment + s], 0u, order);
+                    for (var g = lane; g < groups; g += LANES) {
+                        let u = run.u0 + f32(4u * g) * du;
+                        let w = group_start(run, 4u, order, s, g);
+                        samples[w] = horner(p, u);
+                        samples[w + 1u] = horner(p, u + du);
+                        samples[w + 2u] = horner(p, u + 2.0 * du);
+                        samples[w + 3u] = horner(p, u + 3.0 * du);
+                    }
                 }
             }
         }
@@ -165,14 +188,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let run = runs[run_index];
     let lane = index % LANES;
-    var out = run.out_offset;
-    for (var s = 0u; s < run.segments; s++) {
-        let segment = segments[run.segment + s];
-        if run.vector != 0u {
-            vector_block(segment, out, run, lane);
-        } else {
+    // The branch is taken once per run, not per segment: lavapipe runs a loop in a branch no
+    // lane takes at least once, masked.
+    if run.vector != 0u {
+        vector_run(run, lane);
+    } else {
+        var out = run.out_offset;
+        for (var s = 0u; s < run.segments; s++) {
+            let segment = segments[run.segment + s];
             scalar_block(segment, out, run, lane);
+            out += run.count * segment.dim;
         }
-        out += run.count * segment.dim;
     }
 }
