@@ -28,23 +28,36 @@ struct Segment {
 
 // Rust twin: gpu::layout::Run. `segments` consecutive segments from `segment` on, `count`
 // samples of each at u = u0 + j*du, written `dim` floats apart from float out_offset on, one
-// segment's block after the other. A vector run (dim <= 4, out_offset and count*dim multiples
-// of 4, count a multiple of 4) writes 4 samples at a time as `dim` whole vec4s.
+// segment's block after the other. Modes: MODE_SCALAR writes each float on its own;
+// MODE_VECTOR (dim <= 4, out_offset and count*dim multiples of 4, count a multiple of 4)
+// writes 4 samples at a time as `dim` whole vec4s; MODE_EXPLICIT writes `count` samples whose
+// segment and u are locs[first_loc + j].
 struct Run {
     segment: u32,
     segments: u32,
     out_offset: u32,
     count: u32,
-    vector: u32,
+    mode: u32,
     u0: f32,
     du: f32,
+    first_loc: u32,
 }
+
+// Rust twin: gpu::layout::GpuLoc. An explicitly placed sample.
+struct Loc {
+    segment: u32,
+    u: f32,
+}
+
+const MODE_VECTOR: u32 = 1u;
+const MODE_EXPLICIT: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> segments: array<Segment>;
 @group(0) @binding(2) var<storage, read> coeffs: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> runs: array<Run>;
 @group(0) @binding(4) var<storage, read_write> samples: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> locs: array<Loc>;
 
 const WG_SIZE: u32 = 64u;
 
@@ -160,6 +173,25 @@ fn vector_run(run: Run, lane: u32) {
     }
 }
 
+// An explicit run: each sample at its own segment and u, each float on its own.
+fn explicit_run(run: Run, lane: u32) {
+    for (var j = lane; j < run.count; j += LANES) {
+        let loc = locs[run.first_loc + j];
+        let segment = segments[loc.segment];
+        let out = run.out_offset + j * segment.dim;
+        for (var q = 0u; q < segment.vec4s; q++) {
+            let last = min(segment.dim, 4u * q + 4u);
+            for (var order = 0u; order <= params.derivatives; order++) {
+                let v = horner(cubic(segment, q, order), loc.u);
+                let plane = out + order * params.plane_stride;
+                for (var k = 4u * q; k < last; k++) {
+                    samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
+                }
+            }
+        }
+    }
+}
+
 // The run's `count` samples of one segment whose block starts at float `out`, each float on
 // its own: any dimension and alignment.
 fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
@@ -190,8 +222,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let lane = index % LANES;
     // The branch is taken once per run, not per segment: lavapipe runs a loop in a branch no
     // lane takes at least once, masked.
-    if run.vector != 0u {
+        if run.mode == MODE_VECTOR {
         vector_run(run, lane);
+    } else if run.mode == MODE_EXPLICIT {
+        explicit_run(run, lane);
     } else {
         var out = run.out_offset;
         for (var s = 0u; s < run.segments; s++) {

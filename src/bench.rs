@@ -36,6 +36,9 @@ pub struct Measurement {
     pub samples: u64,
     /// Useful output bytes per run (D values of 4 bytes for f32 or 8 for f64, no padding).
     pub bytes: u64,
+    /// The output's number type, "f32" or "f64" (None for memset); an extension of the
+    /// contract's line, which tells the f32 and f64 CPU measurements apart.
+    pub float: Option<&'static str>,
 }
 
 impl Measurement {
@@ -48,9 +51,13 @@ impl Measurement {
     /// The contract's JSON line.
     #[must_use]
     pub fn to_json(&self) -> String {
+        let float = self
+            .float
+            .map(|f| format!(", \"float\": \"{f}\""))
+            .unwrap_or_default();
         format!(
             "{{\"workload\": \"{}\", \"path\": \"{}\", \"seconds\": {:e}, \"min_seconds\": {:e}, \
-             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}}}",
+             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}}}",
             self.workload,
             self.path,
             self.seconds,
@@ -101,6 +108,7 @@ pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
         max_seconds,
         samples: 0,
         bytes: bytes as u64,
+        float: None,
     }
 }
 
@@ -258,6 +266,7 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         max_seconds,
         samples: t.len() as u64,
         bytes: bytes as u64,
+        float: Some("f64"),
     });
 }
 
@@ -281,6 +290,7 @@ fn evaluation(
             max_seconds,
             samples,
             bytes: values * bytes_per_value,
+            float: Some(if bytes_per_value == 4 { "f32" } else { "f64" }),
         };
     report(&memset(workload, (values * 4) as usize));
     if let Some(gpu) = gpu {
@@ -304,10 +314,26 @@ fn evaluation(
         });
         report(&measurement("gpu-end-to-end", end_to_end, 4));
     }
-    let cpu = time(|| {
-        black_box(crate::cpu::evaluate(job));
+    // The fast CPU evaluator into already-touched memory, as `--backend auto` uses it without
+    // a GPU: f32 on one thread and on all, then f64 on all.
+    let mut f32_samples = crate::Samples::<f32>::for_job(job);
+    for (path, threads) in [("cpu-1t", 1), ("cpu-all", crate::cpu::threads())] {
+        let run = time(|| {
+            let [p, d1, d2] = f32_samples.planes_mut();
+            crate::cpu::evaluate_values_into(job, [p, d1, d2], threads);
+            black_box(&f32_samples);
+            None
+        });
+        report(&measurement(path, run, 4));
+    }
+    drop(f32_samples);
+    let mut f64_samples = crate::Samples::<f64>::for_job(job);
+    let run = time(|| {
+        let [p, d1, d2] = f64_samples.planes_mut();
+        crate::cpu::evaluate_values_into(job, [p, d1, d2], crate::cpu::threads());
+        black_box(&f64_samples);
         None
     });
-    report(&measurement("cpu-1t", cpu, 8));
+    report(&measurement("cpu-all", run, 8));
     Ok(())
 }

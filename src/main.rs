@@ -154,7 +154,12 @@ fn tessellate(
             output,
             format,
         ),
-        None => write(&splinegpu::cpu::evaluate(&job), output, format),
+        None => {
+            // The fast evaluator: f64 on every thread, equal to the reference bit for bit.
+            let mut samples = Samples::<f64>::for_job(&job);
+            splinegpu::cpu::evaluate_into(&job, &mut samples, splinegpu::cpu::threads());
+            write(&samples, output, format)
+        }
     }
 }
 

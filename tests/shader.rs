@@ -3,7 +3,7 @@
 
 use std::mem::{offset_of, size_of};
 
-use splinegpu::gpu::layout::{GpuSegment, Params, Run};
+use splinegpu::gpu::layout::{GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
 use splinegpu::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo) {
@@ -70,8 +70,11 @@ fn structs_match_their_rust_twins() {
         &module,
         "Run",
         Run,
-        [segment, segments, out_offset, count, vector, u0, du]
+        [
+            segment, segments, out_offset, count, mode, u0, du, first_loc
+        ]
     );
+    assert_twin!(&module, "Loc", GpuLoc, [segment, u]);
 }
 
 #[test]
@@ -84,6 +87,24 @@ fn workgroup_size_is_wg_size() {
         .expect("entry point");
     assert_eq!(entry.stage, naga::ShaderStage::Compute);
     assert_eq!(entry.workgroup_size, [WG_SIZE, 1, 1]);
+}
+
+#[test]
+fn run_modes_match_the_wgsl_constants() {
+    let (module, _) = module();
+    let constant = |name: &str| {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap();
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{name} = {other:?}"),
+        }
+    };
+    assert_eq!(constant("MODE_VECTOR"), MODE_VECTOR);
+    assert_eq!(constant("MODE_EXPLICIT"), MODE_EXPLICIT);
 }
 
 #[test]

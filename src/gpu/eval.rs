@@ -125,6 +125,11 @@ impl GpuContext {
             size_of_val(packed.coeffs.as_slice()) as u64,
             max_binding,
         )?;
+        too_large(
+            "sample place",
+            size_of_val(packed.locs.as_slice()) as u64,
+            max_binding,
+        )?;
         // The GPU's output plane: each curve's samples start at a multiple of 4 floats.
         let gpu_total = packed.curve_offsets[job.len()];
         let download_bytes = gpu_total as u64 * planes as u64 * F32;
@@ -152,6 +157,7 @@ impl GpuContext {
         };
         let segments = upload(("segments", 0), bytemuck::cast_slice(&packed.segments));
         let coeffs = upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs));
+        let locs = upload(("locs", 0), bytemuck::cast_slice(&packed.locs));
         let runs: Vec<wgpu::Buffer> = (packed.batches.iter().enumerate())
             .map(|(b, batch)| {
                 upload(
@@ -210,7 +216,7 @@ impl GpuContext {
             let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("eval"),
                 layout: &self.bind_group_layout,
-                entries: &[&params, &segments, &coeffs, &runs[b], &output]
+                entries: &[&params, &segments, &coeffs, &runs[b], &output, &locs]
                     .iter()
                     .enumerate()
                     .map(|(i, buffer)| wgpu::BindGroupEntry {

@@ -57,13 +57,33 @@ pub struct Run {
     pub out_offset: u32,
     /// Samples per segment.
     pub count: u32,
-    /// 1 when the run is written 4 samples at a time as whole vec4s (dim <= 4, out_offset,
-    /// count and count·dim multiples of 4), else 0.
-    pub vector: u32,
+    /// How the run is written: [`MODE_SCALAR`], [`MODE_VECTOR`] or [`MODE_EXPLICIT`].
+    pub mode: u32,
     /// u of the first sample.
     pub u0: f32,
     /// u step between samples.
     pub du: f32,
+    /// For an explicit run, where its samples' places start in [`Packed::locs`].
+    pub first_loc: u32,
+}
+
+/// [`Run::mode`]: each float written on its own (any dimension and alignment).
+pub const MODE_SCALAR: u32 = 0;
+/// [`Run::mode`]: 4 samples at a time as `dim` whole vec4s (dim <= 4; out_offset, count and
+/// count·dim multiples of 4).
+pub const MODE_VECTOR: u32 = 1;
+/// [`Run::mode`]: `count` samples, each at its own segment and u from [`Packed::locs`]
+/// (explicit t; `segment`, `segments`, `u0` and `du` are unused).
+pub const MODE_EXPLICIT: u32 = 2;
+
+/// One explicitly placed sample. WGSL twin: `Loc` in `shaders/eval.wgsl`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub struct GpuLoc {
+    /// Index into the segment table.
+    pub segment: u32,
+    /// Local parameter, located in f64 on the host.
+    pub u: f32,
 }
 
 /// One dispatch: a range of runs whose output is the float range `values` of each plane.
@@ -93,6 +113,8 @@ pub struct Packed {
     pub coeffs: Vec<[f32; 4]>,
     /// Runs; `out_offset` is relative to the start of the run's batch.
     pub runs: Vec<Run>,
+    /// The places of explicitly sampled curves' samples.
+    pub locs: Vec<GpuLoc>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
     /// Where each curve's samples start in the GPU output plane (a multiple of 4 floats, so
@@ -160,7 +182,15 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
             }
         }
         packed.curve_offsets.push(value_base);
-        push_runs(&mut all_runs, plan, first_segment, value_base, dim, shape);
+        push_runs(
+            &mut all_runs,
+            &mut packed.locs,
+            plan,
+            first_segment,
+            value_base,
+            dim,
+            shape,
+        );
         value_base = (value_base + plan.len() * dim).next_multiple_of(4);
     }
     packed.curve_offsets.push(value_base);
@@ -218,6 +248,7 @@ fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: Ba
 /// whole groups of 4 samples written as vec4s, then a tail.
 fn push_runs(
     runs: &mut Vec<(Run, usize, usize)>,
+    locs: &mut Vec<GpuLoc>,
     plan: &SamplePlan,
     first_segment: u32,
     value_base: usize,
@@ -225,6 +256,28 @@ fn push_runs(
     shape: KernelShape,
 ) {
     let run_len = shape.run_len;
+    if let SamplePlan::At(places) = plan {
+        // Explicit t: runs of up to run_len samples, each with its own segment and u.
+        for (c, chunk) in places.chunks(run_len as usize).enumerate() {
+            let begin = value_base + c * run_len as usize * dim;
+            let run = Run {
+                segment: 0,
+                segments: 1,
+                out_offset: 0,
+                count: chunk.len() as u32,
+                mode: MODE_EXPLICIT,
+                u0: 0.0,
+                du: 0.0,
+                first_loc: locs.len() as u32,
+            };
+            locs.extend(chunk.iter().map(|l| GpuLoc {
+                segment: first_segment + l.segment as u32,
+                u: l.u as f32,
+            }));
+            runs.push((run, begin, begin + chunk.len() * dim));
+        }
+        return;
+    }
     if let SamplePlan::PerSegment { k, knots } = plan {
         let (segments, k) = (knots.len() - 1, *k);
         // Short segments whose blocks all stay vec4-aligned share runs, several segments
@@ -245,9 +298,10 @@ fn push_runs(
                     segments: n as u32,
                     out_offset: 0,
                     count: k,
-                    vector: 1,
+                    mode: MODE_VECTOR,
                     u0: 0.0,
                     du: (1.0 / f64::from(k)) as f32,
+                    first_loc: 0,
                 };
                 runs.push((run, begin, begin + n * k as usize * dim));
                 s += n;
@@ -259,9 +313,10 @@ fn push_runs(
                 segments: 1,
                 out_offset: 0,
                 count: 1,
-                vector: 0,
+                mode: MODE_SCALAR,
                 u0: 1.0,
                 du: 0.0,
+                first_loc: 0,
             };
             runs.push((run, begin, begin + dim));
             return;
@@ -274,11 +329,11 @@ fn push_runs(
             .unwrap_or(count);
         let body = if dim <= 4 { (count - head) / 4 * 4 } else { 0 };
         let pieces = [
-            (0, head, 0),
-            (head, body, 1),
-            (head + body, count - head - body, 0),
+            (0, head, MODE_SCALAR),
+            (head, body, MODE_VECTOR),
+            (head + body, count - head - body, MODE_SCALAR),
         ];
-        for (j0, n, vector) in pieces {
+        for (j0, n, mode) in pieces {
             if n == 0 {
                 continue;
             }
@@ -288,9 +343,10 @@ fn push_runs(
                 segments: 1,
                 out_offset: 0,
                 count: n,
-                vector,
+                mode,
                 u0: (u0 + f64::from(j0) * du) as f32,
                 du: du as f32,
+                first_loc: 0,
             };
             runs.push((run, first, first + n as usize * dim));
         }
@@ -314,11 +370,8 @@ fn push_runs(
             }
             push(segments - 1, segments * k as usize, 1, 1.0, 0.0);
         }
-        SamplePlan::At(locs) => {
-            for (i, loc) in locs.iter().enumerate() {
-                push(loc.segment, i, 1, loc.u, 0.0);
-            }
-        }
+        // Explicit plans returned above.
+        SamplePlan::At(_) => {}
     }
 }
 

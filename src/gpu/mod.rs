@@ -109,7 +109,7 @@ impl BufferPool {
 }
 
 /// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role).
-const BINDINGS: [(wgpu::BufferBindingType, &str); 5] = [
+const BINDINGS: [(wgpu::BufferBindingType, &str); 6] = [
     (wgpu::BufferBindingType::Uniform, "params"),
     (
         wgpu::BufferBindingType::Storage { read_only: true },
@@ -124,6 +124,7 @@ const BINDINGS: [(wgpu::BufferBindingType, &str); 5] = [
         wgpu::BufferBindingType::Storage { read_only: false },
         "samples",
     ),
+    (wgpu::BufferBindingType::Storage { read_only: true }, "locs"),
 ];
 
 impl GpuContext {
