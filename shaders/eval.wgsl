@@ -10,8 +10,15 @@ struct Params {
     // Floats per output plane (a multiple of 4): positions at 0, dP/dt at plane_stride,
     // d2P/dt2 at 2*plane_stride.
     plane_stride: u32,
-    // 0, 1 or 2.
+        // 0, 1 or 2.
     derivatives: u32,
+    // Float where this dispatch's output starts in the bound buffer (a multiple of 4): 0 when
+    // each dispatch has a buffer of its own, the dispatch's place when a job is written whole
+    // into a caller's buffer.
+    out_base: u32,
+    _padding0: u32,
+    _padding1: u32,
+    _padding2: u32,
 }
 
 // Rust twin: gpu::layout::GpuSegment. Its coefficients are 5 terms of `vec4s` vec4 each,
@@ -218,7 +225,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if run_index >= params.run_count {
         return;
     }
-    let run = runs[run_index];
+        var run = runs[run_index];
+    run.out_offset += params.out_base;
     let lane = index % LANES;
     // The branch is taken once per run, not per segment: lavapipe runs a loop in a branch no
     // lane takes at least once, masked.

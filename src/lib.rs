@@ -46,7 +46,7 @@ pub use doc::{DocumentError, parse_document};
 pub use error::{GpuError, InputError, Location};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
-pub use gpu::{DeviceTime, GpuContext, KernelShape, TimingMethod};
+pub use gpu::{DeviceTime, GpuContext, KernelShape, OutputLayout, TimingMethod};
 pub use job::{Derivatives, EvalJob};
 pub use samples::{CurveSamples, Samples};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};

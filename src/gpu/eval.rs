@@ -5,7 +5,7 @@ use std::sync::{PoisonError, mpsc};
 use wgpu::util::DeviceExt;
 
 use super::GpuContext;
-use super::layout::{self, BatchLimits, Params, Run};
+use super::layout::{self, BatchLimits, Packed, Params, Run};
 use super::shader::WG_SIZE;
 use crate::error::GpuError;
 use crate::job::EvalJob;
@@ -86,54 +86,25 @@ impl GpuContext {
         timed: bool,
         samples: &mut Samples<f32>,
     ) -> Result<Option<DeviceTime>, GpuError> {
-        let total = samples.value_offset(job.len());
-        if total == 0 {
+        if samples.value_offset(job.len()) == 0 {
             return Ok(None);
         }
-        let planes = job.derivatives().order() + 1;
-        let limits = self.device.limits();
-        let max_binding = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        let packed = layout::pack(
-            job,
-            self.shape,
-            BatchLimits {
-                values: ((max_binding / F32 / planes as u64) as usize)
-                    .min(self.max_dispatch_values),
-                runs: (max_binding / size_of::<Run>() as u64) as usize,
-            },
-        )?;
-        let too_large = |table, bytes: u64, limit: u64| {
-            if bytes > limit {
-                Err(GpuError::TooLarge {
-                    table,
-                    bytes,
-                    limit,
-                })
-            } else {
-                Ok(())
-            }
-        };
-        too_large(
-            "segment",
-            size_of_val(packed.segments.as_slice()) as u64,
-            max_binding,
-        )?;
-        too_large(
-            "coefficient",
-            size_of_val(packed.coeffs.as_slice()) as u64,
-            max_binding,
-        )?;
-        too_large(
-            "sample place",
-            size_of_val(packed.locs.as_slice()) as u64,
-            max_binding,
-        )?;
+        let planes = job.derivatives().order() as u64 + 1;
+        let packed = self.pack_checked(job, self.max_dispatch_values)?;
         // The GPU's output plane: each curve's samples start at a multiple of 4 floats.
-        let gpu_total = packed.curve_offsets[job.len()];
-        let download_bytes = gpu_total as u64 * planes as u64 * F32;
-        too_large("output", download_bytes, limits.max_buffer_size)?;
+        let gpu_total = packed.curve_offsets[job.len()] as u64;
+        let download_bytes = gpu_total * planes * F32;
+        check_size(
+            "output",
+            download_bytes,
+            self.device.limits().max_buffer_size,
+        )?;
+        // One output buffer, reused by every batch: each batch's copy-out is recorded before
+        // the next batch's dispatch, and wgpu orders the two.
+        let plane_stride = (packed.batches.iter())
+            .map(|b| b.values.len().next_multiple_of(4))
+            .max()
+            .unwrap_or(0) as u64;
 
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -145,39 +116,16 @@ impl GpuContext {
             taken.push((role, buffer.clone()));
             buffer
         };
-        let storage = wgpu::BufferUsages::STORAGE;
-        let mut upload = |role: (&'static str, usize), contents: &[u8]| {
-            let buffer = take(
-                role,
-                contents.len() as u64,
-                storage | wgpu::BufferUsages::COPY_DST,
-            );
+        let tables = Tables::upload(&packed, |role, contents| {
+            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            let buffer = take(role, contents.len() as u64, usage);
             self.queue.write_buffer(&buffer, 0, contents);
             buffer
-        };
-        let segments = upload(("segments", 0), bytemuck::cast_slice(&packed.segments));
-        let coeffs = upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs));
-        let locs = upload(("locs", 0), bytemuck::cast_slice(&packed.locs));
-        let runs: Vec<wgpu::Buffer> = (packed.batches.iter().enumerate())
-            .map(|(b, batch)| {
-                upload(
-                    ("runs", b),
-                    bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
-                )
-            })
-            .collect();
-        // One output buffer, reused by every batch: each batch's copy-out is recorded before
-        // the next batch's dispatch, and wgpu orders the two.
-        let plane_stride = packed
-            .batches
-            .iter()
-            .map(|b| b.values.len().next_multiple_of(4))
-            .max()
-            .unwrap_or(0);
+        });
         let output = take(
             ("samples", 0),
-            plane_stride as u64 * planes as u64 * F32,
-            storage | wgpu::BufferUsages::COPY_SRC,
+            plane_stride * planes * F32,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
         let download = take(
             ("download", 0),
@@ -186,54 +134,29 @@ impl GpuContext {
         );
         drop(pool);
 
-        let stamps = (timed
-            && self
-                .device
-                .features()
-                .contains(wgpu::Features::TIMESTAMP_QUERY))
-        .then(|| Timestamps::new(&self.device, packed.batches.len()));
+        let has_timestamps = self
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY);
+        let stamps =
+            (timed && has_timestamps).then(|| Timestamps::new(&self.device, packed.batches.len()));
         let mut waited = 0.0;
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        let max_groups = limits.max_compute_workgroups_per_dimension;
-        for (b, batch) in packed.batches.iter().enumerate() {
-            let invocations = batch.runs.len() as u64 * u64::from(self.shape.lanes);
-            let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
-            let groups_x = groups.min(max_groups);
-            let groups_y = groups.div_ceil(groups_x);
-            let params = Params {
-                run_count: batch.runs.len() as u32,
-                row_width: groups_x * WG_SIZE,
+        for b in 0..packed.batches.len() {
+            let target = Target {
+                binding: output.as_entire_buffer_binding(),
+                out_base: 0,
                 plane_stride: plane_stride as u32,
-                derivatives: job.derivatives().order() as u32,
             };
-            let params = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("params"),
-                    contents: bytemuck::bytes_of(&params),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("eval"),
-                layout: &self.bind_group_layout,
-                entries: &[&params, &segments, &coeffs, &runs[b], &output, &locs]
-                    .iter()
-                    .enumerate()
-                    .map(|(i, buffer)| wgpu::BindGroupEntry {
-                        binding: i as u32,
-                        resource: buffer.as_entire_binding(),
-                    })
-                    .collect::<Vec<_>>(),
-            });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("eval"),
-                    timestamp_writes: stamps.as_ref().map(|s| s.writes(b)),
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(groups_x, groups_y, 1);
-            }
+            self.dispatch(
+                &mut encoder,
+                job,
+                &packed,
+                &tables,
+                b,
+                &target,
+                stamps.as_ref(),
+            );
             if timed && stamps.is_none() {
                 // No timestamps: this dispatch goes alone, and we wait for it.
                 let start = std::time::Instant::now();
@@ -245,13 +168,14 @@ impl GpuContext {
                 encoder = self.device.create_command_encoder(&Default::default());
             }
             // Plane p of this batch lands at plane p's place in the download buffer.
-            for p in 0..planes as u64 {
+            let values = &packed.batches[b].values;
+            for p in 0..planes {
                 encoder.copy_buffer_to_buffer(
                     &output,
-                    p * plane_stride as u64 * F32,
+                    p * plane_stride * F32,
                     &download,
-                    (p * gpu_total as u64 + batch.values.start as u64) * F32,
-                    batch.values.len() as u64 * F32,
+                    (p * gpu_total + values.start as u64) * F32,
+                    values.len() as u64 * F32,
                 );
             }
         }
@@ -281,6 +205,271 @@ impl GpuContext {
             }),
         };
         Ok(time)
+    }
+
+    /// Where [`GpuContext::record_into`] puts `job`'s samples, to size the caller's buffer.
+    #[must_use]
+    pub fn output_layout(&self, job: &EvalJob) -> OutputLayout {
+        OutputLayout::new(job, &layout::curve_offsets(job))
+    }
+
+    /// Records the evaluation of `job` into the caller's `encoder`, writing the f32 samples
+    /// into the caller's `buffer` from byte `offset` on, laid out as [`OutputLayout`] says:
+    /// nothing is read back, so a renderer can draw them (as vertices, with `buffer` made with
+    /// `STORAGE | VERTEX` usage) in the same submission.
+    ///
+    /// The job's tables go into buffers of their own that the recorded commands keep alive,
+    /// so the call may be repeated before the encoder is submitted.
+    ///
+    /// # Errors
+    /// `buffer` without `STORAGE` usage, too small from `offset`, or `offset` not a multiple
+    /// of the device's `min_storage_buffer_offset_alignment` ([`GpuError::Device`]); the job's
+    /// output larger than one storage binding ([`GpuError::TooLarge`]); a value outside the f32
+    /// range ([`GpuError::OutOfRange`]).
+    pub fn record_into(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        job: &EvalJob,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+    ) -> Result<OutputLayout, GpuError> {
+        let packed = self.pack_checked(job, self.max_dispatch_values)?;
+        let layout = OutputLayout::new(job, &packed.curve_offsets);
+        let limits = self.device.limits();
+        check_size(
+            "output",
+            layout.bytes,
+            limits.max_storage_buffer_binding_size,
+        )?;
+        let alignment = u64::from(limits.min_storage_buffer_offset_alignment);
+        let problem = if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
+            Some("the target buffer needs STORAGE usage".to_string())
+        } else if !offset.is_multiple_of(alignment) {
+            Some(format!(
+                "the offset {offset} is not a multiple of {alignment}"
+            ))
+        } else if offset + layout.bytes > buffer.size() {
+            Some(format!(
+                "the target buffer holds {} bytes from offset {offset}; the job needs {}",
+                buffer.size().saturating_sub(offset),
+                layout.bytes
+            ))
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            return Err(GpuError::Device(problem));
+        }
+        if layout.bytes == 0 {
+            return Ok(layout);
+        }
+        let tables = Tables::upload(&packed, |role, contents| {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(role.0),
+                    // A binding is never empty: an empty table binds 16 zero bytes.
+                    contents: if contents.is_empty() {
+                        &[0; 16]
+                    } else {
+                        contents
+                    },
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        });
+        let target = |b: &layout::Batch| Target {
+            binding: wgpu::BufferBinding {
+                buffer,
+                offset,
+                size: std::num::NonZeroU64::new(layout.bytes),
+            },
+            out_base: b.values.start as u32,
+            plane_stride: (layout.plane_bytes / F32) as u32,
+        };
+        for (b, batch) in packed.batches.iter().enumerate() {
+            self.dispatch(encoder, job, &packed, &tables, b, &target(batch), None);
+        }
+        Ok(layout)
+    }
+
+    /// Packs `job` and checks that its tables fit the device's bindings.
+    fn pack_checked(&self, job: &EvalJob, max_values: usize) -> Result<Packed, GpuError> {
+        let planes = job.derivatives().order() as u64 + 1;
+        let limits = self.device.limits();
+        let max_binding = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let batch_limits = BatchLimits {
+            values: ((max_binding / F32 / planes) as usize).min(max_values),
+            runs: (max_binding / size_of::<Run>() as u64) as usize,
+        };
+        let packed = layout::pack(job, self.shape, batch_limits)?;
+        check_size(
+            "segment",
+            size_of_val(packed.segments.as_slice()) as u64,
+            max_binding,
+        )?;
+        check_size(
+            "coefficient",
+            size_of_val(packed.coeffs.as_slice()) as u64,
+            max_binding,
+        )?;
+        check_size(
+            "sample place",
+            size_of_val(packed.locs.as_slice()) as u64,
+            max_binding,
+        )?;
+        Ok(packed)
+    }
+
+    /// Records dispatch `b` of `packed`, writing into `target`.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "one dispatch needs every one of these"
+    )]
+    fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        job: &EvalJob,
+        packed: &Packed,
+        tables: &Tables,
+        b: usize,
+        target: &Target<'_>,
+        stamps: Option<&Timestamps>,
+    ) {
+        let batch = &packed.batches[b];
+        let invocations = batch.runs.len() as u64 * u64::from(self.shape.lanes);
+        let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
+        let groups_x = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
+        let groups_y = groups.div_ceil(groups_x);
+        let params = Params {
+            run_count: batch.runs.len() as u32,
+            row_width: groups_x * WG_SIZE,
+            plane_stride: target.plane_stride,
+            derivatives: job.derivatives().order() as u32,
+            out_base: target.out_base,
+            _padding: [0; 3],
+        };
+        let params = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let resources = [
+            params.as_entire_buffer_binding(),
+            tables.segments.as_entire_buffer_binding(),
+            tables.coeffs.as_entire_buffer_binding(),
+            tables.runs[b].as_entire_buffer_binding(),
+            target.binding.clone(),
+            tables.locs.as_entire_buffer_binding(),
+        ];
+        let entries: Vec<_> = (resources.into_iter().enumerate())
+            .map(|(i, binding)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::Buffer(binding),
+            })
+            .collect();
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("eval"),
+            layout: &self.bind_group_layout,
+            entries: &entries,
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("eval"),
+            timestamp_writes: stamps.map(|s| s.writes(b)),
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(groups_x, groups_y, 1);
+    }
+}
+
+/// Where a job's samples go: the output binding, the float where a dispatch's output starts
+/// in it, and the floats between planes.
+struct Target<'a> {
+    binding: wgpu::BufferBinding<'a>,
+    out_base: u32,
+    plane_stride: u32,
+}
+
+/// A packed job's tables on the device.
+struct Tables {
+    segments: wgpu::Buffer,
+    coeffs: wgpu::Buffer,
+    locs: wgpu::Buffer,
+    runs: Vec<wgpu::Buffer>,
+}
+
+impl Tables {
+    /// Uploads the tables through `upload(role, bytes)`.
+    fn upload(
+        packed: &Packed,
+        mut upload: impl FnMut((&'static str, usize), &[u8]) -> wgpu::Buffer,
+    ) -> Self {
+        Self {
+            segments: upload(("segments", 0), bytemuck::cast_slice(&packed.segments)),
+            coeffs: upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs)),
+            locs: upload(("locs", 0), bytemuck::cast_slice(&packed.locs)),
+            runs: (packed.batches.iter().enumerate())
+                .map(|(b, batch)| {
+                    upload(
+                        ("runs", b),
+                        bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Where [`GpuContext::record_into`] writes a job's samples, in bytes from its `offset`:
+/// positions first (curve c's `counts[c]` samples of `dims[c]` f32 values, tightly packed, from
+/// `curve_starts[c]` on; each curve starts 16-byte aligned), then, when the job asks for them,
+/// the first derivatives at `plane_bytes` further, and the second at twice that.
+///
+/// To draw curve c as a line strip of vec`dims[c]` vertices: bind the buffer from
+/// `offset + curve_starts[c]` with a stride of `4 * dims[c]` bytes and draw `counts[c]`
+/// vertices.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutputLayout {
+    /// Byte offset of each curve's first sample, relative to the write's `offset`.
+    pub curve_starts: Vec<u64>,
+    /// Samples of each curve.
+    pub counts: Vec<u32>,
+    /// Coordinates per sample of each curve.
+    pub dims: Vec<u32>,
+    /// Bytes from one plane to the next (positions, dP/dt, d2P/dt2).
+    pub plane_bytes: u64,
+    /// Bytes written in all, from `offset` on.
+    pub bytes: u64,
+}
+
+impl OutputLayout {
+    fn new(job: &EvalJob, curve_offsets: &[usize]) -> Self {
+        let plane_bytes = curve_offsets[job.len()] as u64 * F32;
+        Self {
+            curve_starts: curve_offsets[..job.len()]
+                .iter()
+                .map(|&o| o as u64 * F32)
+                .collect(),
+            counts: (0..job.len()).map(|c| job.plan(c).len() as u32).collect(),
+            dims: (0..job.len()).map(|c| job.table(c).dim() as u32).collect(),
+            plane_bytes,
+            bytes: plane_bytes * (job.derivatives().order() as u64 + 1),
+        }
+    }
+}
+
+fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<(), GpuError> {
+    if bytes > limit {
+        Err(GpuError::TooLarge {
+            table,
+            bytes,
+            limit,
+        })
+    } else {
+        Ok(())
     }
 }
 
@@ -378,7 +567,7 @@ fn read_back(
 
 /// The readback sequence, written once: map_async on the whole buffer, poll the device until
 /// the callback has run, hand the mapped bytes to `read`, drop the view, unmap.
-fn map_read<T>(
+pub(super) fn map_read<T>(
     device: &wgpu::Device,
     buffer: &wgpu::Buffer,
     read: impl FnOnce(&[u8]) -> T,

@@ -28,6 +28,10 @@ pub struct Params {
     pub plane_stride: u32,
     /// 0, 1 or 2.
     pub derivatives: u32,
+    /// Float where this dispatch's output starts in the bound buffer (a multiple of 4).
+    pub out_base: u32,
+    /// WGSL uniform structs are padded to 16 bytes.
+    pub _padding: [u32; 3],
 }
 
 /// One segment. WGSL twin: `Segment` in `shaders/eval.wgsl`.
@@ -181,7 +185,6 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
                 }
             }
         }
-        packed.curve_offsets.push(value_base);
         push_runs(
             &mut all_runs,
             &mut packed.locs,
@@ -193,9 +196,22 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
         );
         value_base = (value_base + plan.len() * dim).next_multiple_of(4);
     }
-    packed.curve_offsets.push(value_base);
+    packed.curve_offsets = curve_offsets(job);
+    debug_assert_eq!(packed.curve_offsets[job.len()], value_base);
     cut_batches(&mut packed, &all_runs, limits);
     Ok(packed)
+}
+
+/// Where each curve's samples start in the GPU's output plane: each at a multiple of 4 floats
+/// (so that vector runs are aligned), and, last, the plane's length.
+#[must_use]
+pub fn curve_offsets(job: &EvalJob) -> Vec<usize> {
+    let mut offsets = vec![0];
+    for c in 0..job.len() {
+        let end = offsets[c] + job.plan(c).len() * job.table(c).dim();
+        offsets.push(end.next_multiple_of(4));
+    }
+    offsets
 }
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, each starting

@@ -6,9 +6,10 @@
 
 mod eval;
 pub mod layout;
+pub mod preview;
 pub mod shader;
 
-pub use eval::{DeviceTime, TimingMethod};
+pub use eval::{DeviceTime, OutputLayout, TimingMethod};
 
 use crate::error::GpuError;
 
@@ -259,6 +260,12 @@ impl GpuContext {
     #[must_use]
     pub fn device(&self) -> &wgpu::Device {
         &self.device
+    }
+
+    /// The queue.
+    #[must_use]
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
     }
 }
 

@@ -1,0 +1,196 @@
+//! Renderer integration: samples recorded into a caller's encoder and buffer, laid out as
+//! `OutputLayout` says, and drawn as line strips with no readback of the samples.
+
+mod common;
+
+use common::gpu;
+use splinegpu::gpu::preview::{LinePreview, View};
+use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuError, Points, Sampling};
+
+/// A closed Catmull-Rom curve through 6 points on the circle of radius 0.6.
+fn ring(derivatives: Derivatives) -> EvalJob {
+    let points: Vec<f64> = (0..6)
+        .flat_map(|i| {
+            let a = f64::from(i) * std::f64::consts::PI / 3.0;
+            [0.6 * a.cos(), 0.6 * a.sin(), 0.25]
+        })
+        .collect();
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let mut job = EvalJob::new(derivatives);
+    job.push(
+        &Curve::new(kind, Points::new(3, points).unwrap()).unwrap(),
+        &Sampling::PerSegment(64),
+    )
+    .unwrap();
+    job
+}
+
+#[test]
+fn recorded_samples_follow_the_output_layout() {
+    let Some(context) = gpu() else { return };
+    let (device, queue) = (context.device(), context.queue());
+    let mut job = ring(Derivatives::Second);
+    let kind = CurveKind::Uniform {
+        basis: Basis::BSpline,
+        ends: Ends::Repeat,
+    };
+    job.push(
+        &Curve::new(
+            kind,
+            Points::new(2, vec![0.0, 0.0, 1.0, 2.0, 3.0, -1.0]).unwrap(),
+        )
+        .unwrap(),
+        &Sampling::PerSegment(5),
+    )
+    .unwrap();
+    let layout = context.output_layout(&job);
+    let offset = 256;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("vertices"),
+        size: offset + layout.bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    assert_eq!(
+        context
+            .record_into(&mut encoder, &job, &buffer, offset)
+            .unwrap(),
+        layout
+    );
+    let download = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("check"),
+        size: layout.bytes,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_buffer_to_buffer(&buffer, offset, &download, 0, layout.bytes);
+    queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    download.map_async(wgpu::MapMode::Read, .., move |r| tx.send(r).unwrap());
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    rx.recv().unwrap().unwrap();
+    let bytes = download.get_mapped_range(..).unwrap();
+    let floats: &[f32] = bytemuck::cast_slice(&bytes);
+    let expected = context.evaluate(&job).unwrap();
+    for c in 0..job.len() {
+        let e = expected.curve(c);
+        let n = layout.counts[c] as usize * layout.dims[c] as usize;
+        for (p, plane) in [e.points, e.d1.unwrap(), e.d2.unwrap()]
+            .into_iter()
+            .enumerate()
+        {
+            let start = ((p as u64 * layout.plane_bytes + layout.curve_starts[c]) / 4) as usize;
+            assert_eq!(&floats[start..start + n], plane, "curve {c} plane {p}");
+        }
+    }
+}
+
+#[test]
+fn unusable_target_buffers_are_errors() {
+    let Some(context) = gpu() else { return };
+    let device = context.device();
+    let job = ring(Derivatives::None);
+    let bytes = context.output_layout(&job).bytes;
+    let buffer = |usage, size| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let cases = [
+        (buffer(wgpu::BufferUsages::VERTEX, bytes), 0, "STORAGE"),
+        (buffer(wgpu::BufferUsages::STORAGE, bytes), 4, "multiple"),
+        (buffer(wgpu::BufferUsages::STORAGE, bytes - 16), 0, "needs"),
+    ];
+    for (target, offset, text) in cases {
+        match context.record_into(&mut encoder, &job, &target, offset) {
+            Err(GpuError::Device(message)) => assert!(message.contains(text), "{message}"),
+            other => panic!("expected an error naming {text}, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn a_drawn_curve_lights_its_pixels_and_none_far_from_it() {
+    let Some(context) = gpu() else { return };
+    let (device, queue) = (context.device(), context.queue());
+    let job = ring(Derivatives::None);
+    let layout = context.output_layout(&job);
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("vertices"),
+        size: layout.bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+        mapped_at_creation: false,
+    });
+    const SIZE: u32 = 64;
+    let mut preview = LinePreview::new(device, SIZE, SIZE);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    context.record_into(&mut encoder, &job, &buffer, 0).unwrap();
+    preview.draw(
+        device,
+        &mut encoder,
+        &buffer,
+        0,
+        &layout,
+        View::fit(-1.0, -1.0, 1.0, 1.0, [1.0; 4]),
+    );
+    queue.submit([encoder.finish()]);
+    let rgba = preview.read_rgba(device, queue).unwrap();
+    let lit = |x: i64, y: i64| {
+        (0..SIZE as i64).contains(&x)
+            && (0..SIZE as i64).contains(&y)
+            && rgba[(4 * (y * SIZE as i64 + x)) as usize] > 128
+    };
+    // The curve's samples, from the CPU reference, in pixels (y down).
+    let reference = splinegpu::cpu::evaluate(&job);
+    let to_pixel = |p: &[f64]| {
+        (
+            (p[0] + 1.0) / 2.0 * f64::from(SIZE),
+            (1.0 - p[1]) / 2.0 * f64::from(SIZE),
+        )
+    };
+    let polyline: Vec<(f64, f64)> = reference
+        .curve(0)
+        .points
+        .chunks_exact(3)
+        .map(to_pixel)
+        .collect();
+    for &(x, y) in &polyline {
+        let near_lit = (-1..=1).any(|dx| (-1..=1).any(|dy| lit(x as i64 + dx, y as i64 + dy)));
+        assert!(near_lit, "no lit pixel near the curve at ({x:.1}, {y:.1})");
+    }
+    let distance = |px: f64, py: f64| {
+        polyline.windows(2).fold(f64::INFINITY, |d, w| {
+            let ((ax, ay), (bx, by)) = (w[0], w[1]);
+            let (vx, vy) = (bx - ax, by - ay);
+            let t = (((px - ax) * vx + (py - ay) * vy) / (vx * vx + vy * vy).max(1e-12))
+                .clamp(0.0, 1.0);
+            d.min(((px - ax - t * vx).powi(2) + (py - ay - t * vy).powi(2)).sqrt())
+        })
+    };
+    let mut lit_far = Vec::new();
+    for y in 0..SIZE as i64 {
+        for x in 0..SIZE as i64 {
+            if lit(x, y) && distance(x as f64 + 0.5, y as f64 + 0.5) > 4.0 {
+                lit_far.push((x, y));
+            }
+        }
+    }
+    assert!(
+        lit_far.is_empty(),
+        "pixels lit far from the curve: {lit_far:?}"
+    );
+    let lit_count = (0..SIZE as i64 * SIZE as i64)
+        .filter(|i| lit(i % SIZE as i64, i / SIZE as i64))
+        .count();
+    assert!(lit_count > 100, "only {lit_count} pixels lit");
+}
