@@ -92,14 +92,31 @@ impl Points {
 }
 
 /// The extent E of point-major `coords` with `dim` coordinates per point: the largest per-axis
-/// (max − min).
+/// (max − min). NaN coordinates are ignored.
 #[must_use]
 pub fn extent(coords: &[f64], dim: usize) -> f64 {
-    let (mut lo, mut hi) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
+    if dim > MAX_DIM {
+        // Wide data (a cardinal basis's identity matrix, say): one axis at a time.
+        return (0..dim)
+            .map(|k| {
+                let axis = coords.iter().skip(k).step_by(dim);
+                let (lo, hi) = axis.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                    (l.min(v), h.max(v))
+                });
+                hi - lo
+            })
+            .fold(0.0, f64::max);
+    }
+    // Stack arrays and plain comparisons: this runs over every point of million-knot fits.
+    let (mut lo, mut hi) = ([f64::INFINITY; MAX_DIM], [f64::NEG_INFINITY; MAX_DIM]);
     for point in coords.chunks_exact(dim) {
-        for k in 0..dim {
-            lo[k] = lo[k].min(point[k]);
-            hi[k] = hi[k].max(point[k]);
+        for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(point) {
+            if v < *l {
+                *l = v;
+            }
+            if v > *h {
+                *h = v;
+            }
         }
     }
     (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max)
