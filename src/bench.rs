@@ -184,7 +184,8 @@ pub fn eval_at_job() -> EvalJob {
 }
 
 /// Runs the named workloads and hands each measurement to `report` as soon as it is made, each
-/// workload's memset first. GPU paths are skipped when `gpu` is `None`.
+/// workload's memset first. GPU paths are skipped when `gpu` is `None`. Besides the contract's
+/// paths, "gpu-first-call" is a workload's first evaluation on the context (one run).
 ///
 /// # Errors
 /// An unknown workload name (before anything runs), or a GPU failure.
@@ -296,6 +297,12 @@ fn evaluation(
     if let Some(gpu) = gpu {
         // Host memory is reused between runs, as a caller tessellating every frame would.
         let mut samples = crate::Samples::for_job(job);
+        // The first call on a context pays what later calls do not (pipeline compilation on
+        // lavapipe, buffer allocation): measured once, on its own.
+        let start = Instant::now();
+        gpu.evaluate_into(job, &mut samples).map_err(|e| e.to_string())?;
+        let first = start.elapsed().as_secs_f64();
+        report(&measurement("gpu-first-call", (first, first, first), 4));
         let mut failure = None;
         let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
             Ok(time) => Some(time.seconds),

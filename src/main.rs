@@ -220,9 +220,14 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
             splinegpu::bench::WORKLOADS.join(", ")
         )));
     }
+    let start = std::time::Instant::now();
     let gpu = match GpuContext::new() {
         Ok(gpu) => {
             let info = gpu.adapter_info();
+            eprintln!(
+                "splinegpu: GpuContext::new took {:.1} ms (instance, adapter, device, pipeline)",
+                start.elapsed().as_secs_f64() * 1e3
+            );
             eprintln!(
                 "splinegpu: bench on {} ({:?}), {} threads",
                 info.name,
