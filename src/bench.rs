@@ -300,7 +300,8 @@ fn evaluation(
         // The first call on a context pays what later calls do not (pipeline compilation on
         // lavapipe, buffer allocation): measured once, on its own.
         let start = Instant::now();
-        gpu.evaluate_into(job, &mut samples).map_err(|e| e.to_string())?;
+        gpu.evaluate_into(job, &mut samples)
+            .map_err(|e| e.to_string())?;
         let first = start.elapsed().as_secs_f64();
         report(&measurement("gpu-first-call", (first, first, first), 4));
         let mut failure = None;

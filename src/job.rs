@@ -107,4 +107,100 @@ impl EvalJob {
     pub fn sample_count(&self) -> usize {
         self.plans.iter().map(SamplePlan::len).sum()
     }
+
+    /// The job as a sequence of smaller jobs of about `max_samples` samples each, made one at a
+    /// time, for output that streams with bounded memory. Whole curves go together while they
+    /// fit; a longer curve is cut at segment boundaries (per-segment sampling: at least one
+    /// segment per piece, so a piece can hold more than `max_samples` when one segment does)
+    /// or between samples (explicit t). Evaluating the chunks in order gives every curve's
+    /// samples in order, each once.
+    pub fn chunks(&self, max_samples: usize) -> impl Iterator<Item = Chunk> + '_ {
+        let max_samples = max_samples.max(1);
+        let mut pieces = (0..self.len())
+            .flat_map(move |c| self.pieces(c, max_samples))
+            .peekable();
+        std::iter::from_fn(move || {
+            let mut chunk = Chunk {
+                job: EvalJob::new(self.derivatives),
+                pieces: Vec::new(),
+            };
+            let mut samples = 0;
+            while let Some(piece) =
+                pieces.next_if(|p| samples == 0 || samples + p.2.len() <= max_samples)
+            {
+                let (place, table, plan) = piece;
+                samples += plan.len();
+                chunk.job.push_table(table, plan);
+                chunk.pieces.push(place);
+            }
+            (!chunk.pieces.is_empty()).then_some(chunk)
+        })
+    }
+
+    /// Curve `c` cut into pieces of about `max_samples` samples.
+    fn pieces(&self, c: usize, max_samples: usize) -> Vec<(Piece, SegmentTable, SamplePlan)> {
+        let (table, plan) = (&self.tables[c], &self.plans[c]);
+        if plan.len() <= max_samples {
+            return vec![(
+                Piece {
+                    curve: c,
+                    first_sample: 0,
+                },
+                table.clone(),
+                plan.clone(),
+            )];
+        }
+        match plan {
+            SamplePlan::PerSegment { k, closing, .. } => {
+                let per_piece = (max_samples / *k as usize).max(1);
+                (0..table.len())
+                    .step_by(per_piece)
+                    .map(|s0| {
+                        let s1 = (s0 + per_piece).min(table.len());
+                        let part = table.slice(s0..s1);
+                        let plan = SamplePlan::PerSegment {
+                            k: *k,
+                            knots: part.knots().to_vec(),
+                            closing: *closing && s1 == table.len(),
+                        };
+                        let place = Piece {
+                            curve: c,
+                            first_sample: s0 * *k as usize,
+                        };
+                        (place, part, plan)
+                    })
+                    .collect()
+            }
+            SamplePlan::At(locs) => locs
+                .chunks(max_samples)
+                .enumerate()
+                .map(|(i, part)| {
+                    let place = Piece {
+                        curve: c,
+                        first_sample: i * max_samples,
+                    };
+                    (place, table.clone(), SamplePlan::At(part.to_vec()))
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Where a curve of a [`Chunk`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Piece {
+    /// The curve's index in the whole job.
+    pub curve: usize,
+    /// The index, in that curve, of the piece's first sample.
+    pub first_sample: usize,
+}
+
+/// A part of a job ([`EvalJob::chunks`]): a job of its own, and where each of its curves
+/// comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chunk {
+    /// The part to evaluate.
+    pub job: EvalJob,
+    /// For each of its curves, the original curve and first sample.
+    pub pieces: Vec<Piece>,
 }

@@ -1,13 +1,15 @@
 //! The `splinegpu` command line: argument parsing, I/O and exit status only.
 //! The contract it follows is `CLI-CONTRACT.md` in the steering repository's shared folder.
 
-use std::io::{self, Read, Write};
+use std::io::{self, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use splinegpu::output::{self, OutputError, SampleValue};
-use splinegpu::{DocumentError, GpuContext, Samples, gpu};
+use splinegpu::npz::Dtype;
+use splinegpu::output::{self, OutputError};
+use splinegpu::stream;
+use splinegpu::{DocumentError, EvalJob, GpuContext, Samples, gpu};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
 #[derive(Parser)]
@@ -127,7 +129,14 @@ fn tessellate(
     })?;
     let format = format.unwrap_or_else(|| format_of(output));
     if format == Format::Npz {
-        return Err(Failure::other("not supported yet: --format npz"));
+        let dim = job.table(0).dim();
+        if let Some(c) = (0..job.len()).find(|&c| job.table(c).dim() != dim) {
+            return Err(Failure::input(format!(
+                "curve {c}: \"points\" have {} coordinates but curve 0's have {dim}: npz output \
+                 needs one dimension for all curves",
+                job.table(c).dim()
+            )));
+        }
     }
     let context = match backend {
         Backend::Cpu => None,
@@ -148,19 +157,66 @@ fn tessellate(
             }
         },
     };
-    match context {
-        Some(context) => write(
-            &context.evaluate(&job).map_err(Failure::other)?,
-            output,
-            format,
-        ),
-        None => {
-            // The fast evaluator: f64 on every thread, equal to the reference bit for bit.
-            let mut samples = Samples::<f64>::for_job(&job);
-            splinegpu::cpu::evaluate_into(&job, &mut samples, splinegpu::cpu::threads());
-            write(&samples, output, format)
+    let format = match format {
+        Format::Csv => stream::Format::Csv,
+        Format::Json => stream::Format::Json,
+        Format::Npz => stream::Format::Npz,
+    };
+    // Chunks bound the memory a job holds; SPLINEGPU_CHUNK_SAMPLES overrides their size.
+    let chunk = std::env::var("SPLINEGPU_CHUNK_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(stream::CHUNK_SAMPLES);
+    // A progress bar on stderr, only when it is a terminal.
+    let bar = if io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(job.sample_count() as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let mut progress = |n: u64| bar.inc(n);
+    let mut emit = |out: &mut dyn Write| -> Result<(), OutputError> {
+        let mut out = out;
+        match &context {
+            Some(gpu) => stream::write(
+                &job,
+                format,
+                chunk,
+                Dtype::F32,
+                |j, s| gpu.evaluate_into(j, s).map_err(|e| e.to_string()),
+                &mut out,
+                &mut progress,
+            ),
+            None => {
+                // The fast evaluator: f64 on every thread, equal to the reference bit for bit.
+                let threads = splinegpu::cpu::threads();
+                let cpu = |j: &EvalJob, s: &mut Samples<f64>| {
+                    splinegpu::cpu::evaluate_into(j, s, threads);
+                    Ok(())
+                };
+                stream::write(
+                    &job,
+                    format,
+                    chunk,
+                    Dtype::F64,
+                    cpu,
+                    &mut out,
+                    &mut progress,
+                )
+            }
         }
-    }
+    };
+    let result = match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_atomically(path, |out| emit(out)),
+    };
+    bar.finish_and_clear();
+    result.map_err(|e| match e {
+        OutputError::Io(e) => Failure::other(format!("cannot write output: {e}")),
+        e => Failure::other(e),
+    })
 }
 
 fn read_input(input: &str) -> Result<String, Failure> {
@@ -180,33 +236,6 @@ fn format_of(output: Option<&Path>) -> Format {
         Some("npz") => Format::Npz,
         _ => Format::Csv,
     }
-}
-
-fn write<F: SampleValue>(
-    samples: &Samples<F>,
-    output: Option<&Path>,
-    format: Format,
-) -> Result<(), Failure> {
-    output::check_finite(samples).map_err(Failure::other)?;
-    let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
-        let mut out = out;
-        match format {
-            Format::Json => output::write_json(samples, &mut out)?,
-            _ => output::write_csv(samples, &mut out)?,
-        }
-        Ok(())
-    };
-    match output {
-        None => {
-            let mut out = io::BufWriter::new(io::stdout().lock());
-            emit(&mut out).and_then(|()| Ok(out.flush()?))
-        }
-        Some(path) => output::write_atomically(path, |out| emit(out)),
-    }
-    .map_err(|e| match e {
-        OutputError::Io(e) => Failure::other(format!("cannot write output: {e}")),
-        e => Failure::other(e),
-    })
 }
 
 fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {

@@ -9,7 +9,8 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::Path;
 
-use crate::samples::Samples;
+use crate::job::{Derivatives, Piece};
+use crate::samples::{CurveSamples, Samples};
 
 /// A sample value: f32 (GPU) or f64 (CPU).
 pub trait SampleValue: Copy + Debug {
@@ -45,6 +46,9 @@ pub enum OutputError {
     /// Writing failed.
     #[error("cannot write output: {0}")]
     Io(#[from] io::Error),
+    /// The evaluator failed.
+    #[error("{0}")]
+    Evaluation(String),
 }
 
 /// Checks that every value is finite, naming the first sample that is not.
@@ -76,20 +80,51 @@ pub fn write_csv<F: SampleValue>(samples: &Samples<F>, out: &mut impl Write) -> 
         .map(|c| samples.curve(c).dim)
         .max()
         .unwrap_or(0);
-    let order = samples.derivatives().order();
+    write_csv_header(dim, samples.derivatives(), out)?;
+    let pieces: Vec<Piece> = (0..samples.len())
+        .map(|curve| Piece {
+            curve,
+            first_sample: 0,
+        })
+        .collect();
+    write_csv_rows(samples, &pieces, dim, out)
+}
+
+/// The CSV header for curves of at most `dim` coordinates.
+///
+/// # Errors
+/// Any I/O error of `out`.
+pub fn write_csv_header(
+    dim: usize,
+    derivatives: Derivatives,
+    out: &mut impl Write,
+) -> io::Result<()> {
     write!(out, "curve,sample,t")?;
     for (prefix, o) in [("x", 0), ("dx", 1), ("ddx", 2)] {
-        if order >= o {
+        if derivatives.order() >= o {
             for k in 0..dim {
                 write!(out, ",{prefix}{k}")?;
             }
         }
     }
-    writeln!(out)?;
-    for c in 0..samples.len() {
+    writeln!(out)
+}
+
+/// CSV rows of `samples`, whose curve i is the piece `pieces[i]` of a larger job (its curve
+/// number and first sample number), with `dim` value columns per plane.
+///
+/// # Errors
+/// Any I/O error of `out`.
+pub fn write_csv_rows<F: SampleValue>(
+    samples: &Samples<F>,
+    pieces: &[Piece],
+    dim: usize,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    for (c, piece) in pieces.iter().enumerate() {
         let s = samples.curve(c);
         for (i, t) in s.t.iter().enumerate() {
-            write!(out, "{c},{i},{t:?}")?;
+            write!(out, "{},{},{t:?}", piece.curve, piece.first_sample + i)?;
             for plane in [Some(s.points), s.d1, s.d2].into_iter().flatten() {
                 for v in &plane[i * s.dim..(i + 1) * s.dim] {
                     write!(out, ",{v:?}")?;
@@ -112,30 +147,41 @@ pub fn write_csv<F: SampleValue>(samples: &Samples<F>, out: &mut impl Write) -> 
 pub fn write_json<F: SampleValue>(samples: &Samples<F>, out: &mut impl Write) -> io::Result<()> {
     write!(out, "{{\"curves\": [")?;
     for c in 0..samples.len() {
-        let s = samples.curve(c);
-        if c > 0 {
-            write!(out, ",")?;
-        }
-        write!(out, "\n{{\"t\": [")?;
-        for (i, t) in s.t.iter().enumerate() {
-            write!(out, "{}{t:?}", if i > 0 { ", " } else { "" })?;
-        }
-        write!(out, "]")?;
-        for (name, plane) in [("points", Some(s.points)), ("d1", s.d1), ("d2", s.d2)] {
-            let Some(plane) = plane else { continue };
-            write!(out, ", \"{name}\": [")?;
-            for (i, point) in plane.chunks_exact(s.dim).enumerate() {
-                write!(out, "{}[", if i > 0 { ", " } else { "" })?;
-                for (k, v) in point.iter().enumerate() {
-                    write!(out, "{}{v:?}", if k > 0 { ", " } else { "" })?;
-                }
-                write!(out, "]")?;
+        write_json_curve(&samples.curve(c), c == 0, out)?;
+    }
+    writeln!(out, "]}}")
+}
+
+/// One curve's object of the JSON output (preceded by a comma unless it is the `first`).
+///
+/// # Errors
+/// Any I/O error of `out`.
+pub fn write_json_curve<F: SampleValue>(
+    s: &CurveSamples<'_, F>,
+    first: bool,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    if !first {
+        write!(out, ",")?;
+    }
+    write!(out, "\n{{\"t\": [")?;
+    for (i, t) in s.t.iter().enumerate() {
+        write!(out, "{}{t:?}", if i > 0 { ", " } else { "" })?;
+    }
+    write!(out, "]")?;
+    for (name, plane) in [("points", Some(s.points)), ("d1", s.d1), ("d2", s.d2)] {
+        let Some(plane) = plane else { continue };
+        write!(out, ", \"{name}\": [")?;
+        for (i, point) in plane.chunks_exact(s.dim).enumerate() {
+            write!(out, "{}[", if i > 0 { ", " } else { "" })?;
+            for (k, v) in point.iter().enumerate() {
+                write!(out, "{}{v:?}", if k > 0 { ", " } else { "" })?;
             }
             write!(out, "]")?;
         }
-        write!(out, "}}")?;
+        write!(out, "]")?;
     }
-    writeln!(out, "]}}")
+    write!(out, "}}")
 }
 
 /// Writes a file that appears only whole: `write` fills a temporary file beside `path`, which

@@ -37,12 +37,17 @@ pub struct SampleLoc {
 /// The samples of one curve, resolved against its segment table.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SamplePlan {
-    /// `segments * k + 1` samples, generated on demand (nothing per sample is stored).
+    /// `segments * k` samples, then the final point when `closing`, generated on demand
+    /// (nothing per sample is stored).
     PerSegment {
         /// Samples per segment.
         k: u32,
         /// The curve's knots (segments + 1 values).
         knots: Vec<f64>,
+        /// Whether the final point (the last segment at u = 1) is a sample: always for a whole
+        /// curve, only for the last piece of a curve cut into pieces (see
+        /// [`EvalJob::chunks`](crate::EvalJob::chunks)).
+        closing: bool,
     },
     /// Explicit samples.
     At(Vec<SampleLoc>),
@@ -60,6 +65,7 @@ impl SamplePlan {
             &Sampling::PerSegment(k) => Ok(SamplePlan::PerSegment {
                 k,
                 knots: table.knots().to_vec(),
+                closing: true,
             }),
             Sampling::At(ts) => {
                 let locs = ts
@@ -78,7 +84,9 @@ impl SamplePlan {
     #[must_use]
     pub fn len(&self) -> usize {
         match self {
-            SamplePlan::PerSegment { k, knots } => (knots.len() - 1) * *k as usize + 1,
+            SamplePlan::PerSegment { k, knots, closing } => {
+                (knots.len() - 1) * *k as usize + usize::from(*closing)
+            }
             SamplePlan::At(locs) => locs.len(),
         }
     }
@@ -92,7 +100,7 @@ impl SamplePlan {
     /// Appends every sample's t to `out`, as [`SamplePlan::loc`] gives them, in one pass.
     pub fn extend_t(&self, out: &mut Vec<f64>) {
         match self {
-            SamplePlan::PerSegment { k, knots } => {
+            SamplePlan::PerSegment { k, knots, closing } => {
                 let k = *k as usize;
                 for w in knots.windows(2) {
                     let (t0, t1) = (w[0], w[1]);
@@ -101,7 +109,9 @@ impl SamplePlan {
                         t0 + u * (t1 - t0)
                     }));
                 }
-                out.push(knots[knots.len() - 1]);
+                if *closing {
+                    out.push(knots[knots.len() - 1]);
+                }
             }
             SamplePlan::At(locs) => out.extend(locs.iter().map(|l| l.t)),
         }
@@ -114,10 +124,10 @@ impl SamplePlan {
     #[must_use]
     pub fn loc(&self, i: usize) -> SampleLoc {
         match self {
-            SamplePlan::PerSegment { k, knots } => {
+            SamplePlan::PerSegment { k, knots, .. } => {
                 let k = *k as usize;
                 let segments = knots.len() - 1;
-                assert!(i <= segments * k, "sample {i} past the plan's end");
+                assert!(i < self.len(), "sample {i} past the plan's end");
                 let (segment, u) = if i == segments * k {
                     (segments - 1, 1.0)
                 } else {

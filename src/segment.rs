@@ -94,6 +94,25 @@ impl SegmentTable {
         (&mut self.knots, &mut self.coeffs)
     }
 
+    /// Segments `range` as a table of their own (same dimension and extent), knots included.
+    ///
+    /// # Panics
+    /// If the range is empty or reaches past the last segment.
+    #[must_use]
+    pub fn slice(&self, range: std::ops::Range<usize>) -> Self {
+        assert!(
+            !range.is_empty() && range.end <= self.len(),
+            "bad segment range {range:?}"
+        );
+        let n = 4 * self.dim;
+        Self {
+            dim: self.dim,
+            knots: self.knots[range.start..=range.end].to_vec(),
+            coeffs: self.coeffs[range.start * n..range.end * n].to_vec(),
+            extent: self.extent,
+        }
+    }
+
     /// Number of coordinates of each point.
     #[must_use]
     pub fn dim(&self) -> usize {

@@ -480,13 +480,10 @@ fn unwritable_output_exits_1() {
 fn features_not_built_yet_exit_1_after_checking_the_input() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.npz");
-    let cases: [(&str, &[&str]); 2] = [
-        (MIXED, &["-o", out.to_str().unwrap()]),
-        (
-            r#"{"sampling": {"arc_length": 10}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
-            &[],
-        ),
-    ];
+    let cases: [(&str, &[&str]); 1] = [(
+        r#"{"sampling": {"arc_length": 10}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
+        &[],
+    )];
     for (doc, extra) in cases {
         let mut args = vec!["tessellate", "-", "--backend", "cpu"];
         args.extend_from_slice(extra);

@@ -294,7 +294,7 @@ fn push_runs(
         }
         return;
     }
-    if let SamplePlan::PerSegment { k, knots } = plan {
+    if let SamplePlan::PerSegment { k, knots, closing } = plan {
         let (segments, k) = (knots.len() - 1, *k);
         // Short segments whose blocks all stay vec4-aligned share runs, several segments
         // each, so that one looping invocation writes up to `run_len` samples.
@@ -321,6 +321,9 @@ fn push_runs(
                 };
                 runs.push((run, begin, begin + n * k as usize * dim));
                 s += n;
+            }
+            if !closing {
+                return;
             }
             // The final point, u = 1 on the last segment, on its own.
             let begin = value_base + segments * k as usize * dim;
@@ -368,7 +371,7 @@ fn push_runs(
         }
     };
     match plan {
-        SamplePlan::PerSegment { k, knots } => {
+        SamplePlan::PerSegment { k, knots, closing } => {
             let segments = knots.len() - 1;
             let k = *k;
             for s in 0..segments {
@@ -384,7 +387,9 @@ fn push_runs(
                     );
                 }
             }
-            push(segments - 1, segments * k as usize, 1, 1.0, 0.0);
+            if *closing {
+                push(segments - 1, segments * k as usize, 1, 1.0, 0.0);
+            }
         }
         // Explicit plans returned above.
         SamplePlan::At(_) => {}

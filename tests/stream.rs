@@ -1,0 +1,286 @@
+//! Streaming output: a job cut into chunks gives the same samples as the whole job, and the
+//! CLI's NPZ files read back (with a small zip/npy reader here, and with numpy where Python has
+//! it) to the library's values.
+
+mod common;
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+use common::Rng;
+use splinegpu::{
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Samples, Sampling,
+};
+
+fn job(derivatives: Derivatives) -> EvalJob {
+    let mut rng = Rng(4);
+    let mut job = EvalJob::new(derivatives);
+    let bspline = CurveKind::Uniform {
+        basis: Basis::BSpline,
+        ends: Ends::Repeat,
+    };
+    for n in [5, 40, 3] {
+        job.push(
+            &Curve::new(bspline.clone(), rng.points(n, 3, -2.0, 2.0)).unwrap(),
+            &Sampling::PerSegment(9),
+        )
+        .unwrap();
+    }
+    let natural = CurveKind::Interpolating {
+        condition: EndCondition::Natural,
+        t: None,
+    };
+    let ts: Vec<f64> = (0..333).map(|_| rng.range(0.0, 29.0)).collect();
+    job.push(
+        &Curve::new(natural, rng.points(30, 3, -2.0, 2.0)).unwrap(),
+        &Sampling::At(ts),
+    )
+    .unwrap();
+    job
+}
+
+#[test]
+fn chunks_in_order_give_every_sample_once() {
+    let job = job(Derivatives::Second);
+    let whole = splinegpu::cpu::evaluate(&job);
+    for max in [1, 7, 50, 100, 10_000] {
+        // Per original curve: its samples' t and values, appended chunk by chunk.
+        let mut seen: HashMap<usize, (Vec<f64>, [Vec<f64>; 3])> = HashMap::new();
+        for chunk in job.chunks(max) {
+            let part = splinegpu::cpu::evaluate(&chunk.job);
+            for (c, piece) in chunk.pieces.iter().enumerate() {
+                let s = part.curve(c);
+                let entry = seen.entry(piece.curve).or_default();
+                assert_eq!(
+                    entry.0.len(),
+                    piece.first_sample,
+                    "pieces of curve {} in order",
+                    piece.curve
+                );
+                entry.0.extend_from_slice(s.t);
+                for (plane, values) in entry.1.iter_mut().zip([Some(s.points), s.d1, s.d2]) {
+                    plane.extend_from_slice(values.unwrap());
+                }
+            }
+        }
+        for c in 0..job.len() {
+            let s = whole.curve(c);
+            let (t, planes) = &seen[&c];
+            assert_eq!(t.as_slice(), s.t, "max {max}, curve {c}: t");
+            for (got, want) in planes.iter().zip([s.points, s.d1.unwrap(), s.d2.unwrap()]) {
+                assert_eq!(got.as_slice(), want, "max {max}, curve {c}");
+            }
+        }
+    }
+}
+
+/// The arrays of an NPZ file: name -> (descr, shape, data bytes), CRCs checked.
+fn read_npz(bytes: &[u8]) -> HashMap<String, (String, Vec<usize>, Vec<u8>)> {
+    let u16_at = |i: usize| u16::from_le_bytes(bytes[i..i + 2].try_into().unwrap()) as usize;
+    let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap());
+    let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap()) as usize;
+    // End record (no comment), then the zip64 locator before it, then the zip64 end record.
+    let end = bytes.len() - 22;
+    assert_eq!(u32_at(end), 0x0605_4b50);
+    let locator = end - 20;
+    assert_eq!(u32_at(locator), 0x0706_4b50);
+    let end64 = u64_at(locator + 8);
+    assert_eq!(u32_at(end64), 0x0606_4b50);
+    let (count, mut at) = (u64_at(end64 + 32), u64_at(end64 + 48));
+    let mut arrays = HashMap::new();
+    for _ in 0..count {
+        assert_eq!(u32_at(at), 0x0201_4b50);
+        let crc = u32_at(at + 16);
+        let (name_len, extra_len) = (u16_at(at + 28), u16_at(at + 30));
+        let name = String::from_utf8(bytes[at + 46..at + 46 + name_len].to_vec()).unwrap();
+        let extra = at + 46 + name_len;
+        assert_eq!(u16_at(extra), 1, "zip64 field");
+        let (size, offset) = (u64_at(extra + 4), u64_at(extra + 20));
+        let data_at = offset + 30 + u16_at(offset + 26) + u16_at(offset + 28);
+        let data = &bytes[data_at..data_at + size];
+        assert_eq!(crc32fast::hash(data), crc, "{name}: CRC");
+        assert_eq!(&data[..8], b"\x93NUMPY\x01\x00");
+        let header_len = u16::from_le_bytes([data[8], data[9]]) as usize;
+        assert_eq!(
+            (10 + header_len) % 64,
+            0,
+            "{name}: data aligned to 64 bytes"
+        );
+        let header = std::str::from_utf8(&data[10..10 + header_len]).unwrap();
+        let descr = header
+            .split("'descr': '")
+            .nth(1)
+            .unwrap()
+            .split('\'')
+            .next()
+            .unwrap()
+            .to_string();
+        let shape: Vec<usize> = header
+            .split("'shape': (")
+            .nth(1)
+            .unwrap()
+            .split(')')
+            .next()
+            .unwrap()
+            .split(',')
+            .filter(|s| !s.trim().is_empty())
+            .map(|s| s.trim().parse().unwrap())
+            .collect();
+        arrays.insert(
+            name.trim_end_matches(".npy").to_string(),
+            (descr, shape, data[10 + header_len..].to_vec()),
+        );
+        at = extra + extra_len;
+    }
+    arrays
+}
+
+const DOC: &str = r#"{"derivatives": 2, "sampling": {"per_segment": 6}, "curves": [
+  {"kind": "catmull-rom", "points": [[0, 0, 0], [1, 2, 0], [2, 0, 1], [3, 1, 1], [4, 0, 0]]},
+  {"kind": "natural", "t": [0, 0.5, 3], "points": [[1, 1, 1], [2, 0, 0], [0, 0, 3]], "sampling": {"at": [0, 2.5, 1, 3]}},
+  {"kind": "bezier", "points": [[0, 0, 0], [1, 1, 1], [2, 1, 0], [3, 0, 1]]}
+]}"#;
+
+fn splinegpu(args: &[&str], envs: &[(&str, &str)]) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
+        .args(args)
+        .envs(envs.iter().copied())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let _ = child.stdin.take().unwrap().write_all(DOC.as_bytes());
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn cli_npz_reads_back_to_the_library_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.npz");
+    // Small chunks, so that the stream really is cut.
+    let run = splinegpu(
+        &[
+            "tessellate",
+            "-",
+            "-o",
+            path.to_str().unwrap(),
+            "--backend",
+            "cpu",
+        ],
+        &[("SPLINEGPU_CHUNK_SAMPLES", "5")],
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let arrays = read_npz(&std::fs::read(&path).unwrap());
+    let job = splinegpu::parse_document(DOC).unwrap();
+    let expected = splinegpu::cpu::evaluate(&job);
+    let n = job.sample_count();
+    let f64s = |b: &[u8]| {
+        b.chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+            .collect::<Vec<_>>()
+    };
+    let (descr, shape, t) = &arrays["t"];
+    assert_eq!((descr.as_str(), shape.as_slice()), ("<f8", &[n][..]));
+    let all = |f: &dyn Fn(&splinegpu::CurveSamples<'_, f64>) -> Vec<f64>| {
+        (0..job.len())
+            .flat_map(|c| f(&expected.curve(c)))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(f64s(t), all(&|s| s.t.to_vec()));
+    for (name, plane) in [("points", 0), ("d1", 1), ("d2", 2)] {
+        let (descr, shape, data) = &arrays[name];
+        assert_eq!(
+            (descr.as_str(), shape.as_slice()),
+            ("<f8", &[n, 3][..]),
+            "{name}"
+        );
+        let want = all(&|s| [Some(s.points), s.d1, s.d2][plane].unwrap().to_vec());
+        assert_eq!(f64s(data), want, "{name}");
+    }
+    let (descr, shape, offsets) = &arrays["curve_offsets"];
+    assert_eq!((descr.as_str(), shape.as_slice()), ("<i8", &[4][..]));
+    let offsets: Vec<i64> = offsets
+        .chunks_exact(8)
+        .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    // 2 segments x 6 + 1, 4 explicit t, 1 segment x 6 + 1.
+    assert_eq!(offsets, [0, 13, 17, 24]);
+    // numpy reads it too, where Python has numpy.
+    let script = format!(
+        "import numpy as np; z = np.load({:?}); print(z['points'].shape, z['d2'].dtype, list(z['curve_offsets']))",
+        path.to_str().unwrap()
+    );
+    if let Ok(out) = Command::new("python3").args(["-c", &script]).output() {
+        if out.status.success() {
+            assert_eq!(
+                String::from_utf8_lossy(&out.stdout).trim(),
+                "(24, 3) float64 [np.int64(0), np.int64(13), np.int64(17), np.int64(24)]"
+            );
+        } else {
+            eprintln!(
+                "numpy check skipped: {}",
+                String::from_utf8_lossy(&out.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("")
+            );
+        }
+    }
+}
+
+#[test]
+fn chunked_csv_is_the_same_file() {
+    let whole = splinegpu(&["tessellate", "-", "--backend", "cpu"], &[]);
+    let chunked = splinegpu(
+        &["tessellate", "-", "--backend", "cpu"],
+        &[("SPLINEGPU_CHUNK_SAMPLES", "3")],
+    );
+    assert!(whole.status.success() && chunked.status.success());
+    assert_eq!(whole.stdout, chunked.stdout);
+    let gpu_whole = splinegpu(&["tessellate", "-", "--backend", "gpu"], &[]);
+    let gpu_chunked = splinegpu(
+        &["tessellate", "-", "--backend", "gpu", "--format", "json"],
+        &[("SPLINEGPU_CHUNK_SAMPLES", "3")],
+    );
+    if common::gpu().is_some() {
+        assert!(gpu_whole.status.success() && gpu_chunked.status.success());
+    }
+}
+
+#[test]
+fn npz_of_curves_with_different_dimensions_is_bad_input() {
+    let doc = r#"{"curves": [{"kind": "bezier", "points": [[0], [1], [2], [3]]}, {"kind": "bezier", "points": [[0, 0], [1, 1], [2, 0], [3, 1]]}]}"#;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
+        .args(["tessellate", "-", "--format", "npz", "--backend", "cpu"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let _ = child.stdin.take().unwrap().write_all(doc.as_bytes());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("curve 1:") && stderr.contains("\"points\""),
+        "{stderr}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn samples_reused_across_chunks_do_not_leak_between_them() {
+    // A later, smaller chunk must not show values of an earlier, larger one.
+    let job = job(Derivatives::None);
+    let mut samples = Samples::<f64>::for_job(&job);
+    splinegpu::cpu::evaluate_into(&job, &mut samples, 2);
+    let small = job.chunks(3).last().unwrap();
+    splinegpu::cpu::evaluate_into(&small.job, &mut samples, 2);
+    assert_eq!(samples, splinegpu::cpu::evaluate(&small.job));
+}
