@@ -40,17 +40,7 @@ impl Points {
                 ),
             ));
         }
-        if let Some(i) = coords.iter().position(|v| !v.is_finite()) {
-            return Err(InputError::field(
-                "points",
-                format!(
-                    "must be finite: points[{}][{}] = {}",
-                    i / dim,
-                    i % dim,
-                    coords[i]
-                ),
-            ));
-        }
+        check_finite(&coords, dim)?;
         Ok(Self { dim, coords })
     }
 
@@ -88,6 +78,25 @@ impl Points {
     #[must_use]
     pub fn extent(&self) -> f64 {
         extent(&self.coords, self.dim)
+    }
+}
+
+/// Checks that point-major `coords` (`dim` per point) are all finite.
+///
+/// # Errors
+/// The first that is not, named as `points[i][k]`.
+pub fn check_finite(coords: &[f64], dim: usize) -> Result<(), InputError> {
+    match coords.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(InputError::field(
+            "points",
+            format!(
+                "must be finite: points[{}][{}] = {}",
+                i / dim,
+                i % dim,
+                coords[i]
+            ),
+        )),
     }
 }
 

@@ -4,9 +4,7 @@
 
 mod common;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 use splinegpu::accuracy::gpu_bound;
 
@@ -17,20 +15,7 @@ struct Run {
 }
 
 fn splinegpu(args: &[&str], stdin: Option<&str>) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run splinegpu");
-    // A process that fails before reading its input closes the pipe: not the test's concern.
-    let _ = child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.unwrap_or("").as_bytes());
-    let out = child.wait_with_output().unwrap();
+    let out = common::run_cli(args, &[], stdin.unwrap_or(""));
     Run {
         status: out.status.code().unwrap_or(-1),
         stdout: String::from_utf8(out.stdout).unwrap(),

@@ -5,8 +5,8 @@
 mod common;
 
 use std::collections::HashMap;
-use std::io::Write;
-use std::process::{Command, Stdio};
+
+use std::process::Command;
 
 use common::Rng;
 use splinegpu::{
@@ -143,16 +143,7 @@ const DOC: &str = r#"{"derivatives": 2, "sampling": {"per_segment": 6}, "curves"
 ]}"#;
 
 fn splinegpu(args: &[&str], envs: &[(&str, &str)]) -> std::process::Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
-        .args(args)
-        .envs(envs.iter().copied())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let _ = child.stdin.take().unwrap().write_all(DOC.as_bytes());
-    child.wait_with_output().unwrap()
+    common::run_cli(args, envs, DOC)
 }
 
 #[test]
@@ -256,15 +247,11 @@ fn chunked_csv_is_the_same_file() {
 #[test]
 fn npz_of_curves_with_different_dimensions_is_bad_input() {
     let doc = r#"{"curves": [{"kind": "bezier", "points": [[0], [1], [2], [3]]}, {"kind": "bezier", "points": [[0, 0], [1, 1], [2, 0], [3, 1]]}]}"#;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_splinegpu"))
-        .args(["tessellate", "-", "--format", "npz", "--backend", "cpu"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let _ = child.stdin.take().unwrap().write_all(doc.as_bytes());
-    let out = child.wait_with_output().unwrap();
+    let out = common::run_cli(
+        &["tessellate", "-", "--format", "npz", "--backend", "cpu"],
+        &[],
+        doc,
+    );
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(

@@ -144,17 +144,7 @@ pub fn check(
             ),
         ));
     }
-    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::field(
-            "points",
-            format!(
-                "must be finite: points[{}][{}] = {}",
-                i / dim,
-                i % dim,
-                values[i]
-            ),
-        ));
-    }
+    crate::curve::check_finite(values, dim)?;
     match condition {
         EndCondition::Clamped { start, end } => {
             for (field, v) in [("start_derivative", start), ("end_derivative", end)] {
