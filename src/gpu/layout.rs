@@ -155,34 +155,30 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
                 vec4s: vec4s as u32,
                 inv_dt,
             });
+            // Terms a, b, c, d_lo, d_hi, each `vec4s` vec4s; the coordinate k of term t goes
+            // to vec4 k / 4, lane k % 4. d_hi = f32(D), d_lo = f32(D − d_hi).
             let [a, b, cc, d] = segment.power();
-            let d_hi: Vec<f32> = d.iter().map(|&v| v as f32).collect();
-            let d_lo: Vec<f32> = d
-                .iter()
-                .zip(&d_hi)
-                .map(|(&v, &hi)| (v - f64::from(hi)) as f32)
-                .collect();
-            let terms: [Vec<f32>; TERMS] = [
-                a.iter().map(|&v| v as f32).collect(),
-                b.iter().map(|&v| v as f32).collect(),
-                cc.iter().map(|&v| v as f32).collect(),
-                d_lo,
-                d_hi,
-            ];
-            for term in &terms {
-                if term.iter().any(|v| !v.is_finite()) {
-                    return Err(GpuError::OutOfRange {
-                        curve: c,
-                        what: "a coordinate or power coefficient",
-                    });
+            let at = packed.coeffs.len();
+            packed.coeffs.resize(at + TERMS * vec4s, [0.0; 4]);
+            let block = &mut packed.coeffs[at..];
+            for k in 0..dim {
+                let hi = d[k] as f32;
+                let values = [
+                    a[k] as f32,
+                    b[k] as f32,
+                    cc[k] as f32,
+                    (d[k] - f64::from(hi)) as f32,
+                    hi,
+                ];
+                for (t, v) in values.into_iter().enumerate() {
+                    block[t * vec4s + k / 4][k % 4] = v;
                 }
-                for j in 0..vec4s {
-                    let mut v = [0.0; 4];
-                    for (slot, k) in v.iter_mut().zip(4 * j..dim.min(4 * j + 4)) {
-                        *slot = term[k];
-                    }
-                    packed.coeffs.push(v);
-                }
+            }
+            if block.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(GpuError::OutOfRange {
+                    curve: c,
+                    what: "a coordinate or power coefficient",
+                });
             }
         }
         push_runs(
