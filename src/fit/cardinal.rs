@@ -85,7 +85,7 @@ impl CardinalBasis {
         &self.table
     }
 
-    /// The weights f_0(t)..f_{m−1}(t): P(t) = Σ_j weights[j] · input_j.
+    /// The weights f_0(t)..f_{m−1}(t): P(t) = Σ_j `weights[j]` · input_j.
     ///
     /// # Errors
     /// `t` outside the knots' range (the error names `"t"`).

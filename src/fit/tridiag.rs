@@ -119,9 +119,14 @@ pub struct CyclicScratch {
 /// Solves the cyclic system `A X = B` in place, where A is tridiagonal plus the corners
 /// `A[0][n-1] = a.sub[0]` and `A[n-1][0] = a.sup[n-1]`, for n >= 3.
 ///
-/// Sherman–Morrison: A = T + u vᵀ with u = (γ, 0, .., 0, A[n-1][0]) and
-/// v = (1, 0, .., 0, A[0][n-1]/γ), γ = −A[0][0]; solve T Y = B and T z = u, then
-/// X = Y − z (vᵀY)/(1 + vᵀz). T stays diagonally dominant when A is, so both solves are stable.
+/// Sherman–Morrison:
+///
+/// ```text
+/// A = T + u vᵀ,  u = (γ, 0, .., 0, A[n-1][0]),  v = (1, 0, .., 0, A[0][n-1]/γ),  γ = −A[0][0]
+/// solve T Y = B and T z = u, then X = Y − z (vᵀY)/(1 + vᵀz)
+/// ```
+///
+/// T stays diagonally dominant when A is, so both solves are stable.
 ///
 /// # Errors
 /// The row of a zero pivot (singular system).
