@@ -23,6 +23,22 @@ fn splinegpu(args: &[&str], stdin: Option<&str>) -> Run {
     }
 }
 
+/// Writes MIXED to a file in `dir` and tessellates it with the cpu backend into `dir/name`.
+fn tessellate_mixed_to(dir: &Path, name: &str) -> (PathBuf, Run) {
+    let input = write_input(dir, MIXED);
+    let out = dir.join(name);
+    let args = [
+        "tessellate",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--backend",
+        "cpu",
+    ];
+    let run = splinegpu(&args, None);
+    (out, run)
+}
+
 fn write_input(dir: &Path, text: &str) -> PathBuf {
     let path = dir.join("input.json");
     std::fs::write(&path, text).unwrap();
@@ -76,19 +92,7 @@ fn library_values(doc: &str) -> (splinegpu::EvalJob, splinegpu::Samples<f64>) {
 #[test]
 fn cpu_csv_parses_back_to_the_library_values() {
     let dir = tempfile::tempdir().unwrap();
-    let input = write_input(dir.path(), MIXED);
-    let out = dir.path().join("out.csv");
-    let run = splinegpu(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        None,
-    );
+    let (out, run) = tessellate_mixed_to(dir.path(), "out.csv");
     assert_eq!(run.status, 0, "{}", run.stderr);
     assert_eq!(run.stderr, "", "the cpu backend has nothing to say");
     let (header, rows) = parse_csv(&std::fs::read_to_string(&out).unwrap());
@@ -209,19 +213,7 @@ fn gpu_csv_meets_the_promise() {
 #[test]
 fn format_follows_the_output_extension() {
     let dir = tempfile::tempdir().unwrap();
-    let input = write_input(dir.path(), MIXED);
-    let out = dir.path().join("result.json");
-    let run = splinegpu(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        None,
-    );
+    let (out, run) = tessellate_mixed_to(dir.path(), "result.json");
     assert_eq!(run.status, 0, "{}", run.stderr);
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(serde_json::from_str::<serde_json::Value>(&text).is_ok());
