@@ -10,7 +10,7 @@ struct Params {
     // Floats per output plane (a multiple of 4): positions at 0, dP/dt at plane_stride,
     // d2P/dt2 at 2*plane_stride.
     plane_stride: u32,
-        // 0, 1 or 2.
+    // 0, 1 or 2.
     derivatives: u32,
     // Float where this dispatch's output starts in the bound buffer (a multiple of 4): 0 when
     // each dispatch has a buffer of its own, the dispatch's place when a job is written whole
@@ -21,16 +21,14 @@ struct Params {
     _padding2: u32,
 }
 
-// Rust twin: gpu::layout::GpuSegment. Its coefficients are 5 terms of `vec4s` vec4 each,
-// a, b, c, d_lo, d_hi, coordinate k in vec4 k/4, component k%4:
-// P(u) = d_hi + (d_lo + u(c + u(b + u a))), formed in f64 on the host with d_hi = f32(D) and
-// d_lo = f32(D - d_hi), so large coordinates keep their low bits.
+// Rust twin: gpu::layout::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
+// the floats a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/(t_{i+1} - t_i),
+// end to end (gpu::layout::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
+// in f64 on the host, d_hi = f32(D) and d_lo = f32(D - d_hi), so that large coordinates keep
+// their low bits.
 struct Segment {
     coeff_offset: u32,
     dim: u32,
-    vec4s: u32,
-    // 1 / (t_{i+1} - t_i).
-    inv_dt: f32,
 }
 
 // Rust twin: gpu::layout::Run. `segments` consecutive segments from `segment` on, `count`
@@ -65,6 +63,8 @@ const MODE_EXPLICIT: u32 = 2u;
 @group(0) @binding(3) var<storage, read> runs: array<Run>;
 @group(0) @binding(4) var<storage, read_write> samples: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> locs: array<Loc>;
+// The buffer bound as `coeffs`, float by float: blocks of any dimension.
+@group(0) @binding(6) var<storage, read> coeff_floats: array<f32>;
 
 const WG_SIZE: u32 = 64u;
 
@@ -81,25 +81,70 @@ struct Cubic {
     hi: vec4<f32>,
 }
 
-// Derivative `order` (0, 1 or 2) with respect to t of coordinates 4j..4j+3 of a segment, as a
-// cubic in u. Position: the terms as stored (d_hi + (d_lo + u(c + u(b + u a)))).
-// dP/dt = c/dt + u(2b/dt + u 3a/dt); d2P/dt2 = 2b/dt^2 + u 6a/dt^2. One Horner loop then
-// serves every plane.
-fn cubic(segment: Segment, j: u32, order: u32) -> Cubic {
-    let at = segment.coeff_offset + j;
-    let n = segment.vec4s;
-    let a = coeffs[at];
-    let b = coeffs[at + n];
-    let c = coeffs[at + 2u * n];
-    let s = segment.inv_dt;
+// A segment's cubic in 4 coordinates (zero past its dimension) and its 1/(t_{i+1} - t_i).
+struct Piece {
+    p: Cubic,
+    inv_dt: f32,
+}
+
+// Whole blocks of 1, 2, 3 and 4 dimensions, loaded as 2, 3, 4 and 6 vec4s: a CPU adapter
+// pays for every float loaded (lavapipe 22.3 loads each through a loop over its SIMD lanes).
+fn piece1(at: u32) -> Piece {
+    let v0 = coeffs[at];
+    let v1 = coeffs[at + 1u];
+    let z = vec3(0.0);
+    return Piece(Cubic(vec4(v0.x, z), vec4(v0.y, z), vec4(v0.z, z), vec4(v0.w, z), vec4(v1.x, z)), v1.y);
+}
+
+fn piece2(at: u32) -> Piece {
+    let v0 = coeffs[at];
+    let v1 = coeffs[at + 1u];
+    let v2 = coeffs[at + 2u];
+    let z = vec2(0.0);
+    return Piece(Cubic(vec4(v0.xy, z), vec4(v0.zw, z), vec4(v1.xy, z), vec4(v1.zw, z), vec4(v2.xy, z)), v2.z);
+}
+
+fn piece3(at: u32) -> Piece {
+    let v0 = coeffs[at];
+    let v1 = coeffs[at + 1u];
+    let v2 = coeffs[at + 2u];
+    let v3 = coeffs[at + 3u];
+    return Piece(Cubic(vec4(v0.xyz, 0.0), vec4(v0.w, v1.xy, 0.0), vec4(v1.zw, v2.x, 0.0), vec4(v2.yzw, 0.0),
+        vec4(v3.xyz, 0.0)), v3.w);
+}
+
+fn piece4(at: u32) -> Piece {
+    return Piece(Cubic(coeffs[at], coeffs[at + 1u], coeffs[at + 2u], coeffs[at + 3u], coeffs[at + 4u]),
+        coeffs[at + 5u].x);
+}
+
+// Coordinates 4q..4q+3 of a segment of any dimension, float by float.
+fn piece_any(segment: Segment, q: u32) -> Piece {
+    let block = 4u * segment.coeff_offset;
+    let dim = segment.dim;
+    var terms = array<vec4<f32>, 5>();
+    for (var k = 4u * q; k < min(dim, 4u * q + 4u); k++) {
+        for (var t = 0u; t < 5u; t++) {
+            terms[t][k - 4u * q] = coeff_floats[block + t * dim + k];
+        }
+    }
+    return Piece(Cubic(terms[0], terms[1], terms[2], terms[3], terms[4]), coeff_floats[block + 5u * dim]);
+}
+
+// Derivative `order` (0, 1 or 2) with respect to t of a piece, as a cubic in u. Position: the
+// terms as stored (d_hi + (d_lo + u(c + u(b + u a)))). dP/dt = c/dt + u(2b/dt + u 3a/dt);
+// d2P/dt2 = 2b/dt^2 + u 6a/dt^2. One Horner loop then serves every plane.
+fn derive(piece: Piece, order: u32) -> Cubic {
+    let p = piece.p;
+    let s = piece.inv_dt;
     let zero = vec4(0.0);
     if order == 0u {
-        return Cubic(a, b, c, coeffs[at + 3u * n], coeffs[at + 4u * n]);
+        return p;
     }
     if order == 1u {
-        return Cubic(zero, 3.0 * s * a, 2.0 * s * b, s * c, zero);
+        return Cubic(zero, 3.0 * s * p.a, 2.0 * s * p.b, s * p.c, zero);
     }
-    return Cubic(zero, zero, 6.0 * s * s * a, 2.0 * s * s * b, zero);
+    return Cubic(zero, zero, 6.0 * s * s * p.a, 2.0 * s * s * p.b, zero);
 }
 
 fn horner(p: Cubic, u: f32) -> vec4<f32> {
@@ -115,14 +160,19 @@ fn group_start(run: Run, dim: u32, order: u32, s: u32, g: u32) -> u32 {
 // A vector run: `count` samples of each of its segments, 4 at a time as `dim` whole vec4s.
 // Lavapipe runs every loop in a branch no lane takes at least once, masked, so the dimension
 // is decided once per run, outside the loops, at the price of one loop nest per dimension.
+// The run's segments are consecutive segments of one curve, so their blocks follow the first
+// one's, and a segment costs only its block's loads.
 fn vector_run(run: Run, lane: u32) {
     let groups = run.count / 4u;
     let du = run.du;
-    switch segments[run.segment].dim {
+    let first = segments[run.segment];
+    let at = first.coeff_offset;
+    switch first.dim {
         case 1u: {
             for (var s = 0u; s < run.segments; s++) {
+                let piece = piece1(at + s * 2u);
                 for (var order = 0u; order <= params.derivatives; order++) {
-                    let p = cubic(segments[run.segment + s], 0u, order);
+                    let p = derive(piece, order);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
                         samples[group_start(run, 1u, order, s, g)] = vec4(horner(p, u).x, horner(p, u + du).x,
@@ -133,8 +183,9 @@ fn vector_run(run: Run, lane: u32) {
         }
         case 2u: {
             for (var s = 0u; s < run.segments; s++) {
+                let piece = piece2(at + s * 3u);
                 for (var order = 0u; order <= params.derivatives; order++) {
-                    let p = cubic(segments[run.segment + s], 0u, order);
+                    let p = derive(piece, order);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
                         let w = group_start(run, 2u, order, s, g);
@@ -146,8 +197,9 @@ fn vector_run(run: Run, lane: u32) {
         }
         case 3u: {
             for (var s = 0u; s < run.segments; s++) {
+                let piece = piece3(at + s * 4u);
                 for (var order = 0u; order <= params.derivatives; order++) {
-                    let p = cubic(segments[run.segment + s], 0u, order);
+                    let p = derive(piece, order);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
                         let s0 = horner(p, u);
@@ -164,8 +216,9 @@ fn vector_run(run: Run, lane: u32) {
         }
         default: {
             for (var s = 0u; s < run.segments; s++) {
+                let piece = piece4(at + s * 6u);
                 for (var order = 0u; order <= params.derivatives; order++) {
-                    let p = cubic(segments[run.segment + s], 0u, order);
+                    let p = derive(piece, order);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
                         let w = group_start(run, 4u, order, s, g);
@@ -186,10 +239,11 @@ fn explicit_run(run: Run, lane: u32) {
         let loc = locs[run.first_loc + j];
         let segment = segments[loc.segment];
         let out = run.out_offset + j * segment.dim;
-        for (var q = 0u; q < segment.vec4s; q++) {
+        for (var q = 0u; 4u * q < segment.dim; q++) {
+            let piece = piece_any(segment, q);
             let last = min(segment.dim, 4u * q + 4u);
             for (var order = 0u; order <= params.derivatives; order++) {
-                let v = horner(cubic(segment, q, order), loc.u);
+                let v = horner(derive(piece, order), loc.u);
                 let plane = out + order * params.plane_stride;
                 for (var k = 4u * q; k < last; k++) {
                     samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
@@ -202,10 +256,11 @@ fn explicit_run(run: Run, lane: u32) {
 // The run's `count` samples of one segment whose block starts at float `out`, each float on
 // its own: any dimension and alignment.
 fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
-    for (var q = 0u; q < segment.vec4s; q++) {
+    for (var q = 0u; 4u * q < segment.dim; q++) {
+        let piece = piece_any(segment, q);
         let last = min(segment.dim, 4u * q + 4u);
         for (var order = 0u; order <= params.derivatives; order++) {
-            let p = cubic(segment, q, order);
+            let p = derive(piece, order);
             let plane = out + order * params.plane_stride;
             for (var j = lane; j < run.count; j += LANES) {
                 let v = horner(p, run.u0 + f32(j) * run.du);
@@ -225,12 +280,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if run_index >= params.run_count {
         return;
     }
-        var run = runs[run_index];
+    var run = runs[run_index];
     run.out_offset += params.out_base;
     let lane = index % LANES;
     // The branch is taken once per run, not per segment: lavapipe runs a loop in a branch no
     // lane takes at least once, masked.
-        if run.mode == MODE_VECTOR {
+    if run.mode == MODE_VECTOR {
         vector_run(run, lane);
     } else if run.mode == MODE_EXPLICIT {
         explicit_run(run, lane);

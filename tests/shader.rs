@@ -91,12 +91,7 @@ fn structs_match_their_rust_twins() {
         Params,
         [run_count, row_width, plane_stride, derivatives, out_base]
     );
-    assert_twin!(
-        &module,
-        "Segment",
-        GpuSegment,
-        [coeff_offset, dim, vec4s, inv_dt]
-    );
+    assert_twin!(&module, "Segment", GpuSegment, [coeff_offset, dim]);
     assert_twin!(
         &module,
         "Run",

@@ -363,6 +363,7 @@ impl GpuContext {
             tables.runs[b].as_entire_buffer_binding(),
             target.binding.clone(),
             tables.locs.as_entire_buffer_binding(),
+            tables.coeffs.as_entire_buffer_binding(),
         ];
         let entries: Vec<_> = (resources.into_iter().enumerate())
             .map(|(i, binding)| wgpu::BindGroupEntry {

@@ -16,6 +16,18 @@ use crate::sampling::SamplePlan;
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
 pub const TERMS: usize = 5;
 
+/// Vec4s in the coefficient block of a segment in `dim` dimensions: the floats
+/// `a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/Δ`, end to end, padded to a
+/// whole vec4 (a 3-D segment's 16 floats are 4 vec4s).
+///
+/// Blocks are packed without per-term padding because a CPU adapter pays for every float a
+/// shader loads from a storage buffer: lavapipe 22.3 loads each one through its own loop over
+/// the SIMD lanes.
+#[must_use]
+pub const fn block_vec4s(dim: usize) -> usize {
+    (TERMS * dim + 1).div_ceil(4)
+}
+
 /// Per-dispatch uniforms. WGSL twin: `Params` in `shaders/eval.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]
@@ -35,17 +47,13 @@ pub struct Params {
 }
 
 /// One segment. WGSL twin: `Segment` in `shaders/eval.wgsl`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]
 pub struct GpuSegment {
-    /// Index of its first coefficient vec4.
+    /// Index of the first vec4 of its coefficient block (see [`block_vec4s`]).
     pub coeff_offset: u32,
     /// Coordinates per point.
     pub dim: u32,
-    /// Vec4s per coefficient term: ⌈dim / 4⌉.
-    pub vec4s: u32,
-    /// 1 / Δ, for the t-derivatives.
-    pub inv_dt: f32,
 }
 
 /// A run: `count` samples at u = u0 + j·du of each of `segments` consecutive segments, one
@@ -113,7 +121,7 @@ pub struct BatchLimits {
 pub struct Packed {
     /// Every curve's segments, curve after curve.
     pub segments: Vec<GpuSegment>,
-    /// Per segment, the terms a, b, c, d_lo, d_hi, each ⌈dim / 4⌉ vec4s.
+    /// Per segment, its coefficient block of [`block_vec4s`]`(dim)` vec4s.
     pub coeffs: Vec<[f32; 4]>,
     /// Runs; `out_offset` is relative to the start of the run's batch.
     pub runs: Vec<Run>,
@@ -143,7 +151,7 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
     for c in 0..job.len() {
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
-        let vec4s = dim.div_ceil(4);
+        let block_len = block_vec4s(dim);
         let first_segment = packed.segments.len() as u32;
         for s in 0..table.len() {
             let segment = table.segment(s);
@@ -152,15 +160,13 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
             packed.segments.push(GpuSegment {
                 coeff_offset: packed.coeffs.len() as u32,
                 dim: dim as u32,
-                vec4s: vec4s as u32,
-                inv_dt,
             });
-            // Terms a, b, c, d_lo, d_hi, each `vec4s` vec4s; the coordinate k of term t goes
-            // to vec4 k / 4, lane k % 4. d_hi = f32(D), d_lo = f32(D − d_hi).
+            // The coordinate k of term t is float t·dim + k of the block; 1/Δ follows the
+            // terms. d_hi = f32(D), d_lo = f32(D − d_hi).
             let [a, b, cc, d] = segment.power();
             let at = packed.coeffs.len();
-            packed.coeffs.resize(at + TERMS * vec4s, [0.0; 4]);
-            let block = &mut packed.coeffs[at..];
+            packed.coeffs.resize(at + block_len, [0.0; 4]);
+            let block: &mut [f32] = bytemuck::cast_slice_mut(&mut packed.coeffs[at..]);
             for k in 0..dim {
                 let hi = d[k] as f32;
                 let values = [
@@ -171,10 +177,11 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
                     hi,
                 ];
                 for (t, v) in values.into_iter().enumerate() {
-                    block[t * vec4s + k / 4][k % 4] = v;
+                    block[t * dim + k] = v;
                 }
             }
-            if block.iter().flatten().any(|v| !v.is_finite()) {
+            block[TERMS * dim] = inv_dt;
+            if block.iter().any(|v| !v.is_finite()) {
                 return Err(GpuError::OutOfRange {
                     curve: c,
                     what: "a coordinate or power coefficient",

@@ -110,7 +110,7 @@ impl BufferPool {
 }
 
 /// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role).
-const BINDINGS: [(wgpu::BufferBindingType, &str); 6] = [
+const BINDINGS: [(wgpu::BufferBindingType, &str); 7] = [
     (wgpu::BufferBindingType::Uniform, "params"),
     (
         wgpu::BufferBindingType::Storage { read_only: true },
@@ -126,6 +126,11 @@ const BINDINGS: [(wgpu::BufferBindingType, &str); 6] = [
         "samples",
     ),
     (wgpu::BufferBindingType::Storage { read_only: true }, "locs"),
+    // The coefficients again, as floats.
+    (
+        wgpu::BufferBindingType::Storage { read_only: true },
+        "coeff_floats",
+    ),
 ];
 
 impl GpuContext {
