@@ -258,9 +258,10 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                 start.elapsed().as_secs_f64() * 1e3
             );
             eprintln!(
-                "splinegpu: bench on {} ({:?}), {} threads",
+                "splinegpu: bench on {} ({:?}; driver {}), {} threads",
                 info.name,
                 info.device_type,
+                info.driver_info,
                 threads()
             );
             Some(gpu)
