@@ -7,11 +7,11 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use splinegpu::{Basis, Derivatives, GpuContext};
 
 fn w1(c: &mut Criterion) {
-    let job = splinegpu::bench::w1_job(Basis::CatmullRom, Derivatives::None);
+    let job = splinegpu::internals::bench::w1_job(Basis::CatmullRom, Derivatives::None);
     let mut group = c.benchmark_group("w1");
     group.sample_size(10);
     group.bench_function("cpu reference, f64, 1 thread", |b| {
-        b.iter(|| black_box(splinegpu::cpu::evaluate(black_box(&job))));
+        b.iter(|| black_box(splinegpu::evaluate_reference(black_box(&job))));
     });
     match GpuContext::new() {
         Ok(gpu) => {

@@ -7,7 +7,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use splinegpu::{EndCondition, Fitter, SegmentTable};
 
 fn fits(c: &mut Criterion) {
-    let (t, values) = splinegpu::bench::fit_1m_data();
+    let (t, values) = splinegpu::internals::bench::fit_1m_data();
     let mut fitter = Fitter::new();
     let mut table = SegmentTable::default();
     let mut group = c.benchmark_group("fit");

@@ -81,7 +81,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             .collect(),
         Err(e) => {
             eprintln!("no GPU ({e}); using the CPU reference");
-            splinegpu::cpu::evaluate(&job).curve(0).points.to_vec()
+            splinegpu::evaluate_reference(&job).curve(0).points.to_vec()
         }
     };
 

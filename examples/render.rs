@@ -6,10 +6,10 @@
 
 use std::error::Error;
 
-use splinegpu::gpu::preview::{LinePreview, View};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, Points, Sampling,
 };
+use splinegpu::{LinePreview, LineView};
 
 const SIZE: u32 = 1024;
 
@@ -63,7 +63,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut encoder = device.create_command_encoder(&Default::default());
     context.record_into(&mut encoder, &job, &vertices, 0)?;
     let mut preview = LinePreview::new(device, SIZE, SIZE);
-    let view = View::fit(0.0, 0.0, 40.0, 40.0, [0.95, 0.75, 0.3, 1.0]);
+    let view = LineView::fit(0.0, 0.0, 40.0, 40.0, [0.95, 0.75, 0.3, 1.0]);
     preview.draw(device, &mut encoder, &vertices, 0, &layout, view);
     queue.submit([encoder.finish()]);
 

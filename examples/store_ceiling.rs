@@ -8,7 +8,7 @@
 //! On lavapipe the storage-buffer store path, not the arithmetic, bounds the evaluator: Mesa
 //! 22.3 stores each float through a loop over the SIMD lanes.
 
-use splinegpu::bench::{self, Measurement};
+use splinegpu::internals::bench::{self, Measurement};
 use splinegpu::{Basis, Derivatives, GpuContext, Samples};
 
 /// The store-only kernel: invocation i writes vec4s `i·RUN .. (i+1)·RUN` of `out`, with

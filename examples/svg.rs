@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         Ok(gpu) => polylines(&gpu.evaluate(&job)?),
         Err(e) => {
             eprintln!("no GPU ({e}); using the CPU reference");
-            polylines(&splinegpu::cpu::evaluate(&job))
+            polylines(&splinegpu::evaluate_reference(&job))
         }
     };
 

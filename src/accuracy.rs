@@ -14,7 +14,7 @@
 //! ulp(x) is the f32 spacing at |x|. Coordinates are taken one at a time (|A_k| <= |A| for any
 //! norm), so this is never looser than the contract. Nothing but the ulp terms grows with the
 //! distance from the origin: the host forms the coefficients in f64 and splits D into a f32
-//! value and its f32 remainder (see [`gpu::layout::pack`](crate::gpu::layout::pack)).
+//! value and its f32 remainder (the GPU packer).
 
 use crate::segment::Segment;
 
@@ -38,7 +38,7 @@ pub fn ulp_f32(x: f64) -> f64 {
 /// on `segment` of a curve of extent `extent`: max(E, S_k), (3|A_k| + 2|B_k| + |C_k|)/Δ or
 /// (6|A_k| + 2|B_k|)/Δ².
 #[must_use]
-pub fn scale(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
+pub fn promise_scale(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
     let [a, b, c, _] = segment.power();
     let (a, b, c) = (a[k].abs(), b[k].abs(), c[k].abs());
     let dt = segment.dt();
@@ -58,7 +58,7 @@ pub fn gpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize, val
     } else {
         DERIVATIVE_TOLERANCE
     };
-    let mut bound = relative * scale(segment, extent, order, k) + ulp_f32(value);
+    let mut bound = relative * promise_scale(segment, extent, order, k) + ulp_f32(value);
     if order == 0 {
         let [a, b, c, d] = segment.power();
         bound += 4.0 * ulp_f32(d[k].abs() + a[k].abs() + b[k].abs() + c[k].abs());
@@ -66,8 +66,8 @@ pub fn gpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize, val
     bound
 }
 
-/// The largest error the f64 CPU path may make in the same sample: 1e-9 of [`scale`].
+/// The largest error the f64 CPU path may make in the same sample: 1e-9 of [`promise_scale`].
 #[must_use]
 pub fn cpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
-    CPU_TOLERANCE * scale(segment, extent, order, k)
+    CPU_TOLERANCE * promise_scale(segment, extent, order, k)
 }

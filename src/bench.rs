@@ -7,11 +7,24 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use crate::cpu::{available_threads, evaluate_cpu_values_into};
 use crate::curve::{Curve, CurveKind, Ends, Points};
+use crate::error::GpuError;
 use crate::fit::interp::{EndCondition, Fitter};
 use crate::job::{Derivatives, EvalJob};
 use crate::segment::SegmentTable;
 use crate::{Basis, GpuContext, Sampling};
+
+/// Why a bench run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A workload name that is not one of [`WORKLOADS`].
+    #[error("unknown workload \"{0}\" (expected one of {names})", names = WORKLOADS.join(", "))]
+    UnknownWorkload(String),
+    /// The GPU failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
 
 /// Timed runs per measurement, after the warm-up.
 pub const REPETITIONS: usize = 5;
@@ -89,8 +102,7 @@ pub fn time(mut run: impl FnMut() -> Option<f64>) -> (f64, f64, f64) {
 #[must_use]
 pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
     let mut buffer = vec![1u8; bytes];
-    let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let chunk = bytes.div_ceil(threads).max(1);
+    let chunk = bytes.div_ceil(available_threads()).max(1);
     let (seconds, min_seconds, max_seconds) = time(|| {
         std::thread::scope(|s| {
             for part in buffer.chunks_mut(chunk) {
@@ -193,7 +205,7 @@ pub fn run(
     names: &[String],
     gpu: Option<&GpuContext>,
     mut report: impl FnMut(&Measurement),
-) -> Result<(), String> {
+) -> Result<(), BenchError> {
     let names: Vec<&'static str> = if names.is_empty() {
         WORKLOADS.to_vec()
     } else {
@@ -204,12 +216,7 @@ pub fn run(
                     .iter()
                     .find(|w| **w == n.as_str())
                     .copied()
-                    .ok_or_else(|| {
-                        format!(
-                            "unknown workload \"{n}\" (expected one of {})",
-                            WORKLOADS.join(", ")
-                        )
-                    })
+                    .ok_or_else(|| BenchError::UnknownWorkload(n.clone()))
             })
             .collect::<Result<_, _>>()?
     };
@@ -276,12 +283,9 @@ fn evaluation(
     job: &EvalJob,
     gpu: Option<&GpuContext>,
     report: &mut impl FnMut(&Measurement),
-) -> Result<(), String> {
+) -> Result<(), GpuError> {
     let samples = job.sample_count() as u64;
-    let values = (0..job.len())
-        .map(|c| job.plan(c).len() * job.table(c).dim())
-        .sum::<usize>() as u64
-        * (job.derivatives().order() as u64 + 1);
+    let values = job.layout().values() as u64 * (job.derivatives().order() as u64 + 1);
     let measurement =
         |path, (seconds, min_seconds, max_seconds), bytes_per_value: u64| Measurement {
             workload,
@@ -300,15 +304,14 @@ fn evaluation(
         // The first call on a context pays what later calls do not (pipeline compilation on
         // lavapipe, buffer allocation): measured once, on its own.
         let start = Instant::now();
-        gpu.evaluate_into(job, &mut samples)
-            .map_err(|e| e.to_string())?;
+        gpu.evaluate_into(job, &mut samples)?;
         let first = start.elapsed().as_secs_f64();
         report(&measurement("gpu-first-call", (first, first, first), 4));
         let mut failure = None;
         let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
             Ok(time) => Some(time.seconds),
             Err(e) => {
-                failure = Some(e.to_string());
+                failure = Some(e);
                 Some(0.0)
             }
         });
@@ -325,10 +328,10 @@ fn evaluation(
     // The fast CPU evaluator into already-touched memory, as `--backend auto` uses it without
     // a GPU: f32 on one thread and on all, then f64 on all.
     let mut f32_samples = crate::Samples::<f32>::for_job(job);
-    for (path, threads) in [("cpu-1t", 1), ("cpu-all", crate::cpu::threads())] {
+    for (path, threads) in [("cpu-1t", 1), ("cpu-all", available_threads())] {
         let run = time(|| {
             let [p, d1, d2] = f32_samples.planes_mut();
-            crate::cpu::evaluate_values_into(job, [p, d1, d2], threads);
+            evaluate_cpu_values_into(job, [p, d1, d2], threads);
             black_box(&f32_samples);
             None
         });
@@ -338,7 +341,7 @@ fn evaluation(
     let mut f64_samples = crate::Samples::<f64>::for_job(job);
     let run = time(|| {
         let [p, d1, d2] = f64_samples.planes_mut();
-        crate::cpu::evaluate_values_into(job, [p, d1, d2], crate::cpu::threads());
+        evaluate_cpu_values_into(job, [p, d1, d2], available_threads());
         black_box(&f64_samples);
         None
     });

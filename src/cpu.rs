@@ -1,26 +1,28 @@
-//! The CPU evaluators: the f64 reference (the twin of `shaders/eval.wgsl`) and a fast
-//! evaluator that writes f32 or f64 into a caller's memory on every thread.
+//! The CPU evaluators: the f64 reference, and a fast evaluator that writes f32 or f64 into a
+//! caller's memory on every thread.
 //!
-//! Both use the kernel's Horner order, D + u(C + u(B + uA)), and its derivatives
-//! (C + u(2B + 3uA))/Δ and (2B + 6uA)/Δ², every step in f64; the fast one rounds to its output
-//! type only when it stores.
+//! Both evaluate the f64 power form with the formulas of [`segment`](crate::segment)
+//! (D + u(C + u(B + uA)), (C + u(2B + 3uA))/Δ, (2B + 6uA)/Δ²), every step in f64; the fast one
+//! rounds to its output type only when it stores, so with f64 output the two agree bit for
+//! bit. Neither is the GPU kernel's twin: the kernel reads f32 coefficients with D split in two
+//! and applies 1/Δ before Horner. Its line-by-line twin is the f32 interpreter in
+//! `gpu::interpret`.
 
 use crate::job::EvalJob;
-use crate::samples::Samples;
-use crate::sampling::SamplePlan;
-use crate::segment::{Segment, SegmentTable};
+use crate::samples::{SampleFloat, Samples};
+use crate::sampling::{Plan, SamplePlan};
+use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
-/// Evaluates every curve of `job` in f64 on one thread, straight from the
-/// [`SamplePlan`]s (sample by sample through [`SamplePlan::loc`]): the reference the GPU and
-/// the fast evaluator are tested against.
+/// Evaluates every curve of `job` in f64 on one thread, sample by sample through
+/// [`SamplePlan::loc`]: the reference the GPU and the fast evaluator are tested against.
 #[must_use]
-pub fn evaluate(job: &EvalJob) -> Samples<f64> {
+pub fn evaluate_reference(job: &EvalJob) -> Samples<f64> {
     let mut samples = Samples::for_job(job);
     let order = job.derivatives().order();
     for c in 0..job.len() {
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
-        let base = samples.value_offset(c);
+        let base = job.layout().values_of(c).start;
         let [points, d1, d2] = samples.planes_mut();
         for i in 0..plan.len() {
             let loc = plan.loc(i);
@@ -38,90 +40,54 @@ pub fn evaluate(job: &EvalJob) -> Samples<f64> {
     samples
 }
 
-/// A number type the fast evaluator writes: f64, or f32 (rounded from f64).
-pub trait OutputFloat: Copy + Default + Send + Sync {
-    /// `v` rounded to this type.
-    fn from_f64(v: f64) -> Self;
-}
-
-impl OutputFloat for f64 {
-    fn from_f64(v: f64) -> Self {
-        v
-    }
-}
-
-impl OutputFloat for f32 {
-    fn from_f64(v: f64) -> Self {
-        v as f32
-    }
-}
-
-/// The machine's threads, the default for [`evaluate_into`].
+/// The threads this machine runs at once (at least 1): the default for the `threads`
+/// arguments of this crate.
 #[must_use]
-pub fn threads() -> usize {
+pub fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 /// Evaluates `job` into `samples` (laid out for it first, reusing its memory) on `threads`
-/// threads. With `F = f64` the values equal [`evaluate`]'s exactly.
-pub fn evaluate_into<F: OutputFloat>(job: &EvalJob, samples: &mut Samples<F>, threads: usize) {
+/// threads. With `F = f64` the values equal [`evaluate_reference`]'s exactly.
+pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, samples: &mut Samples<F>, threads: usize) {
     samples.prepare(job);
     let [points, d1, d2] = samples.planes_mut();
-    evaluate_values_into(job, [points, d1, d2], threads);
+    evaluate_cpu_values_into(job, [points, d1, d2], threads);
 }
 
-/// Evaluates `job` into a caller's planes, laid out as [`Samples`] lays them out: curve after
-/// curve, `dim` values per sample, positions in `planes[0]` and, when the job asks for them,
-/// first and second derivatives in `planes[1]` and `planes[2]` (pass empty slices otherwise).
-/// Nothing is allocated per sample; the samples are split into one contiguous range per
-/// thread.
+/// Evaluates `job` into a caller's planes, laid out as the job's
+/// [`JobLayout`](crate::JobLayout) lays out host planes: curve after curve, `dim` values per
+/// sample, positions in `planes[0]` and, when the job asks for them, first and second
+/// derivatives in `planes[1]` and `planes[2]` (pass empty slices otherwise). Nothing is
+/// allocated per sample; the samples are split into one contiguous range per thread.
 ///
 /// # Panics
 /// If a plane the job needs is not exactly as long as the job's values.
-pub fn evaluate_values_into<F: OutputFloat>(job: &EvalJob, planes: [&mut [F]; 3], threads: usize) {
-    // value_offsets[c]: where curve c starts in each plane; sample_offsets likewise in samples.
-    let mut sample_offsets = vec![0usize];
-    let mut value_offsets = vec![0usize];
-    for c in 0..job.len() {
-        let n = job.plan(c).len();
-        sample_offsets.push(sample_offsets[c] + n);
-        value_offsets.push(value_offsets[c] + n * job.table(c).dim());
-    }
-    let (total, values) = (sample_offsets[job.len()], value_offsets[job.len()]);
+pub fn evaluate_cpu_values_into<F: SampleFloat>(
+    job: &EvalJob,
+    planes: [&mut [F]; 3],
+    threads: usize,
+) {
+    let layout = job.layout();
+    let (total, values) = (layout.samples(), layout.values());
     let order = job.derivatives().order();
     for (o, plane) in planes.iter().enumerate() {
         let expected = if order >= o { values } else { 0 };
         assert!(
-            plane.len() == expected || (expected == 0 && plane.is_empty()),
+            plane.len() == expected,
             "plane {o} holds {} values, the job {expected}",
             plane.len()
         );
     }
-    // The value offset of global sample i.
-    let value_at = |i: usize| {
-        let c = sample_offsets
-            .partition_point(|&s| s <= i)
-            .saturating_sub(1)
-            .min(job.len().saturating_sub(1));
-        value_offsets[c] + (i - sample_offsets[c]) * job.table(c).dim().max(1)
-    };
     let threads = threads.clamp(1, total.max(1));
     let [mut points, mut d1, mut d2] = planes;
     std::thread::scope(|scope| {
         let mut start = 0;
         for t in 0..threads {
-            let end = if t + 1 == threads {
-                total
-            } else {
-                total * (t + 1) / threads
-            };
-            let (v0, v1) = (
-                value_at(start).min(values),
-                if end == total { values } else { value_at(end) },
-            );
-            let parts = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, v1 - v0));
-            let (job, sample_offsets) = (job, &sample_offsets);
-            let work = move || evaluate_range(job, sample_offsets, start..end, parts);
+            let end = total * (t + 1) / threads;
+            let n = layout.value_of_sample(end) - layout.value_of_sample(start);
+            let parts = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, n));
+            let work = move || evaluate_range(job, start..end, parts);
             if t + 1 == threads {
                 work();
             } else {
@@ -149,45 +115,47 @@ fn sub<F>(plane: &mut [F], range: std::ops::Range<usize>) -> &mut [F] {
     }
 }
 
-/// Evaluates global samples `range` into `out` (each plane starting at the range's first value).
-fn evaluate_range<F: OutputFloat>(
+/// Evaluates the job's samples `range` into `out` (each plane starting at the range's first
+/// value).
+fn evaluate_range<F: SampleFloat>(
     job: &EvalJob,
-    sample_offsets: &[usize],
     range: std::ops::Range<usize>,
     mut out: [&mut [F]; 3],
 ) {
+    if range.is_empty() {
+        return;
+    }
+    let layout = job.layout();
     let mut written = 0;
-    let first_curve = sample_offsets
-        .partition_point(|&s| s <= range.start)
-        .saturating_sub(1);
-    for c in first_curve..job.len() {
-        let (lo, hi) = (
-            sample_offsets[c].max(range.start),
-            sample_offsets[c + 1].min(range.end),
-        );
+    for c in layout.curve_of_sample(range.start)..job.len() {
+        let samples = layout.samples_of(c);
+        if samples.start >= range.end {
+            break;
+        }
+        let (lo, hi) = (samples.start.max(range.start), samples.end.min(range.end));
         if lo >= hi {
-            if sample_offsets[c] >= range.end {
-                break;
-            }
             continue;
         }
-        let (table, plan) = (job.table(c), job.plan(c));
+        let table = job.table(c);
         let values = (hi - lo) * table.dim();
         let [p, a, b] = &mut out;
         let at = written..written + values;
         let parts = [sub(p, at.clone()), sub(a, at.clone()), sub(b, at)];
         curve_range(
             table,
-            plan,
-            lo - sample_offsets[c]..hi - sample_offsets[c],
+            job.plan(c),
+            lo - samples.start..hi - samples.start,
             parts,
         );
         written += values;
     }
 }
 
+/// The most local parameters of a segment held at once (64 KiB).
+const CACHED_US: usize = 8192;
+
 /// Samples `range` of one curve into `out`, segment by segment with the coefficients hoisted.
-fn curve_range<F: OutputFloat>(
+fn curve_range<F: SampleFloat>(
     table: &SegmentTable,
     plan: &SamplePlan,
     range: std::ops::Range<usize>,
@@ -195,27 +163,43 @@ fn curve_range<F: OutputFloat>(
 ) {
     let dim = table.dim();
     let [points, d1, d2] = out;
-    match plan {
-        SamplePlan::PerSegment { k, .. } => {
-            let k = *k as usize;
-            let segments = table.len();
-            // u = j/k, divided exactly as SamplePlan::loc divides.
-            let us: Vec<f64> = (0..k).map(|j| j as f64 / k as f64).collect();
-            let mut i = range.start;
-            while i < range.end {
-                let (segment, us) = if i == segments * k {
-                    (segments - 1, &[1.0][..])
+    match &plan.0 {
+        Plan::Grid(grid) => {
+            let k = grid.k as usize;
+            let closing = grid.closing();
+            // u = j/k, divided exactly as the plan divides it: once per range for ordinary k,
+            // block by block for a k too large to hold (nothing per sample of a whole segment
+            // is allocated).
+            let u = |j: usize| j as f64 / k as f64;
+            let cached: Vec<f64> = if k <= CACHED_US {
+                (0..k).map(u).collect()
+            } else {
+                Vec::new()
+            };
+            let mut scratch = Vec::new();
+            let (g0, g1) = (grid.first + range.start, grid.first + range.end);
+            let mut g = g0;
+            while g < g1 {
+                let (segment, us): (usize, &[f64]) = if g == closing {
+                    (grid.segments() - 1, &[1.0])
                 } else {
-                    let j = i % k;
-                    (i / k, &us[j..k.min(j + range.end - i)])
+                    let (s, j) = (g / k, g % k);
+                    let n = (k - j).min(g1 - g);
+                    if cached.is_empty() {
+                        scratch.clear();
+                        scratch.extend((j..j + n.min(CACHED_US)).map(u));
+                        (s, &scratch)
+                    } else {
+                        (s, &cached[j..j + n])
+                    }
                 };
-                let at = (i - range.start) * dim..(i - range.start + us.len()) * dim;
+                let at = (g - g0) * dim..(g - g0 + us.len()) * dim;
                 let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
                 segment_block(&table.segment(segment), us, parts);
-                i += us.len();
+                g += us.len();
             }
         }
-        SamplePlan::At(locs) => {
+        Plan::At(locs) => {
             for i in range.clone() {
                 let at = (i - range.start) * dim..(i - range.start + 1) * dim;
                 let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
@@ -227,7 +211,7 @@ fn curve_range<F: OutputFloat>(
 
 /// One segment at the local parameters `us` into `out`, with its dimension known at compile
 /// time for D <= 4 (the common cases).
-fn segment_block<F: OutputFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+fn segment_block<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     match segment.power()[0].len() {
         1 => block::<1, F>(segment, us, out),
         2 => block::<2, F>(segment, us, out),
@@ -239,49 +223,50 @@ fn segment_block<F: OutputFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [
 
 /// [`block_any`] for a dimension fixed at compile time. The coefficients as arrays let the
 /// compiler drop the bounds checks and vectorize: measured on w1, 13.8 ms against 19 to 21 ms
-/// for `block_any` inlined with a constant dimension, so the two bodies stay separate.
-fn block<const D: usize, F: OutputFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+/// for `block_any` inlined with a constant dimension, so the two bodies stay separate (the
+/// formulas themselves are written once, in `segment`).
+fn block<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     let arr = |v: &[f64]| -> [f64; D] { v.try_into().expect("D coordinates") };
     let [a, b, c, d] = segment.power().map(arr);
     let inv_dt = 1.0 / segment.dt();
     let [points, d1, d2] = out;
     for (&u, o) in us.iter().zip(points.chunks_exact_mut(D)) {
         for k in 0..D {
-            o[k] = F::from_f64(d[k] + u * (c[k] + u * (b[k] + u * a[k])));
+            o[k] = F::from_f64(position(a[k], b[k], c[k], d[k], u));
         }
     }
     for (&u, o) in us.iter().zip(d1.chunks_exact_mut(D)) {
         for k in 0..D {
-            o[k] = F::from_f64((c[k] + u * (2.0 * b[k] + 3.0 * u * a[k])) * inv_dt);
+            o[k] = F::from_f64(first_derivative(a[k], b[k], c[k], u, inv_dt));
         }
     }
     for (&u, o) in us.iter().zip(d2.chunks_exact_mut(D)) {
         for k in 0..D {
-            o[k] = F::from_f64((2.0 * b[k] + 6.0 * u * a[k]) * inv_dt * inv_dt);
+            o[k] = F::from_f64(second_derivative(a[k], b[k], u, inv_dt));
         }
     }
 }
 
 /// One segment of any dimension at the local parameters `us` into `out`: Horner in f64,
 /// rounded to `F` on the store.
-fn block_any<F: OutputFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+fn block_any<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     let [a, b, c, d] = segment.power();
     let dim = a.len();
     let inv_dt = 1.0 / segment.dt();
     let [points, d1, d2] = out;
     for (&u, o) in us.iter().zip(points.chunks_exact_mut(dim)) {
         for k in 0..dim {
-            o[k] = F::from_f64(d[k] + u * (c[k] + u * (b[k] + u * a[k])));
+            o[k] = F::from_f64(position(a[k], b[k], c[k], d[k], u));
         }
     }
     for (&u, o) in us.iter().zip(d1.chunks_exact_mut(dim)) {
         for k in 0..dim {
-            o[k] = F::from_f64((c[k] + u * (2.0 * b[k] + 3.0 * u * a[k])) * inv_dt);
+            o[k] = F::from_f64(first_derivative(a[k], b[k], c[k], u, inv_dt));
         }
     }
     for (&u, o) in us.iter().zip(d2.chunks_exact_mut(dim)) {
         for k in 0..dim {
-            o[k] = F::from_f64((2.0 * b[k] + 6.0 * u * a[k]) * inv_dt * inv_dt);
+            o[k] = F::from_f64(second_derivative(a[k], b[k], u, inv_dt));
         }
     }
 }

@@ -1,15 +1,30 @@
 //! The CLI's input document (contract: "Input document"), parsed and checked into an
 //! [`EvalJob`]. Every error names the curve index (or the document key), the field and the
 //! value; the whole document is checked before anything is evaluated.
+//!
+//! The parser walks the JSON with serde visitors instead of building a `serde_json::Value`
+//! tree: each curve is fitted as soon as it is read and its points are dropped, so a large
+//! document costs about its fitted segment tables (plus, from a file, nothing for its text),
+//! and every object's keys are seen one by one, so a key given twice is an error rather than
+//! last-wins. Visitors report located errors through a side channel ([`Located`]) because
+//! serde's error type carries only text.
 
+use std::cell::RefCell;
+use std::fmt;
+use std::io;
+
+use serde::Deserialize;
+use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 
 use crate::basis::Basis;
-use crate::curve::{Curve, CurveKind, Ends, Points};
-use crate::error::InputError;
+use crate::curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
+use crate::error::{InputError, Location};
 use crate::fit::interp::EndCondition;
 use crate::job::{Derivatives, EvalJob};
-use crate::sampling::Sampling;
+use crate::sampling::{SamplePlan, Sampling};
+use crate::segment::SegmentTable;
 
 /// Why a document cannot be evaluated.
 #[derive(Debug, PartialEq, Eq, thiserror::Error)]
@@ -37,6 +52,73 @@ const KINDS: [&str; 11] = [
     "not-a-knot",
 ];
 
+/// The document's top-level keys.
+const DOCUMENT_KEYS: [&str; 3] = ["sampling", "derivatives", "curves"];
+
+/// Parses and checks a document held in memory, fits its curves and resolves their sampling.
+///
+/// # Errors
+/// [`DocumentError::Input`] for the first rule broken (JSON syntax errors give line and
+/// column); [`DocumentError::Unsupported`] when the document is valid but needs a feature
+/// not built yet.
+pub fn parse_document(text: &str) -> Result<EvalJob, DocumentError> {
+    parse(&mut serde_json::Deserializer::from_str(text))
+}
+
+/// [`parse_document`] reading from `reader` as it goes: the document's text is never held
+/// whole, so memory stays near the size of its fitted curves. Wrap a file in a
+/// `BufReader`.
+///
+/// # Errors
+/// As [`parse_document`]; a read error is reported as a document error.
+pub fn parse_document_from_reader(reader: impl io::Read) -> Result<EvalJob, DocumentError> {
+    parse(&mut serde_json::Deserializer::from_reader(reader))
+}
+
+fn parse<'de, R: serde_json::de::Read<'de>>(
+    de: &mut serde_json::Deserializer<R>,
+) -> Result<EvalJob, DocumentError> {
+    let located = Located::default();
+    let parsed = DocumentSeed(&located)
+        .deserialize(&mut *de)
+        .and_then(|doc| de.end().map(|()| doc));
+    match parsed {
+        Ok(doc) => doc.into_job(),
+        Err(e) => Err(located.0.into_inner().unwrap_or_else(|| syntax(&e)).into()),
+    }
+}
+
+/// A JSON syntax (or read) error, with its line and column.
+fn syntax(e: &serde_json::Error) -> InputError {
+    let message = e.to_string();
+    // serde_json appends " at line L column C"; the message gives those itself.
+    let message = message
+        .rfind(" at line ")
+        .map_or(message.as_str(), |i| &message[..i]);
+    InputError::document(format!(
+        "invalid JSON at line {}, column {}: {message}",
+        e.line(),
+        e.column()
+    ))
+}
+
+/// The first located error a visitor found; the visitor then aborts the parse with an empty
+/// serde error.
+#[derive(Default)]
+struct Located(RefCell<Option<InputError>>);
+
+impl Located {
+    /// Records `error`, placed at `place`, and returns the error that stops the parse.
+    fn fail<T, E: de::Error>(&self, place: &Location, error: InputError) -> Result<T, E> {
+        let error = match place {
+            Location::Curve(i) => error.in_curve(*i),
+            _ => error.in_document(),
+        };
+        self.0.borrow_mut().get_or_insert(error);
+        Err(E::custom("located input error"))
+    }
+}
+
 /// A "sampling" object as written: arc-length sampling is checked but not built yet.
 #[derive(Clone, Debug, PartialEq)]
 enum SamplingSpec {
@@ -44,71 +126,428 @@ enum SamplingSpec {
     ArcLength,
 }
 
-/// Parses and checks a document, fits its curves and resolves their sampling.
-///
-/// # Errors
-/// [`DocumentError::Input`] for the first rule broken (JSON syntax errors give line and
-/// column); [`DocumentError::Unsupported`] when the document is valid but needs a feature
-/// not built yet.
-pub fn parse_document(text: &str) -> Result<EvalJob, DocumentError> {
-    let root: Value = serde_json::from_str(text).map_err(|e| {
-        InputError::document(format!(
-            "invalid JSON at line {}, column {}: {}",
-            e.line(),
-            e.column(),
-            strip_position(&e.to_string())
-        ))
-    })?;
-    let root = root.as_object().ok_or_else(|| {
-        InputError::document(format!("must be a JSON object, got {}", describe(&root)))
-    })?;
-    check_keys(root, &["sampling", "derivatives", "curves"], "the document")?;
-    let mut unsupported = None;
-    let sampling = match root.get("sampling") {
-        Some(v) => parse_sampling(v)?,
-        None => SamplingSpec::Plan(Sampling::default()),
-    };
-    let derivatives = match root.get("derivatives") {
-        None => Derivatives::None,
-        Some(v) => v
-            .as_u64()
-            .and_then(Derivatives::from_order)
-            .ok_or_else(|| {
-                InputError::field(
-                    "derivatives",
-                    format!("must be 0, 1 or 2, got {}", describe(v)),
-                )
-            })?,
-    };
-    let curves = root
-        .get("curves")
-        .ok_or_else(|| InputError::field("curves", "is missing"))?
-        .as_array()
-        .ok_or_else(|| InputError::field("curves", "must be an array of curves"))?;
-    if curves.is_empty() {
-        return Err(InputError::field("curves", "must not be empty").into());
-    }
-    let mut job = EvalJob::new(derivatives);
-    for (i, value) in curves.iter().enumerate() {
-        parse_curve(value, &sampling, &mut job, &mut unsupported).map_err(|e| e.in_curve(i))?;
-    }
-    match unsupported {
-        Some(what) => Err(DocumentError::Unsupported(what)),
-        None => Ok(job),
+/// What the document's visitor gathers; curves are already fitted.
+struct ParsedDocument {
+    sampling: Option<SamplingSpec>,
+    derivatives: Derivatives,
+    curves: Option<Vec<ParsedCurve>>,
+}
+
+/// One fitted curve, with its own sampling if it has one.
+struct ParsedCurve {
+    table: SegmentTable,
+    sampling: Option<SamplingSpec>,
+}
+
+impl ParsedDocument {
+    /// The job: each curve's plan from its sampling or the document's.
+    fn into_job(self) -> Result<EvalJob, DocumentError> {
+        let curves = self
+            .curves
+            .ok_or_else(|| InputError::field("curves", "is missing").in_document())?;
+        if curves.is_empty() {
+            return Err(InputError::field("curves", "must not be empty")
+                .in_document()
+                .into());
+        }
+        let default = self
+            .sampling
+            .unwrap_or(SamplingSpec::Plan(Sampling::default()));
+        let mut job = EvalJob::new(self.derivatives);
+        let mut unsupported = None;
+        for (i, curve) in curves.into_iter().enumerate() {
+            let place = |e: InputError| e.in_curve(i);
+            curve.table.check_range(self.derivatives).map_err(place)?;
+            match curve.sampling.as_ref().unwrap_or(&default) {
+                SamplingSpec::Plan(sampling) => {
+                    let plan = SamplePlan::new(&curve.table, sampling).map_err(place)?;
+                    job.push_table(curve.table, plan).map_err(place)?;
+                }
+                SamplingSpec::ArcLength => {
+                    unsupported.get_or_insert_with(|| "\"arc_length\" sampling".to_string());
+                }
+            }
+        }
+        match unsupported {
+            Some(what) => Err(DocumentError::Unsupported(what)),
+            None => Ok(job),
+        }
     }
 }
 
-/// Parses one curve and adds it to `job`; errors are placed in the curve by the caller.
-fn parse_curve(
-    value: &Value,
-    default_sampling: &SamplingSpec,
-    job: &mut EvalJob,
-    unsupported: &mut Option<String>,
-) -> Result<(), InputError> {
-    let curve = value.as_object().ok_or_else(|| {
-        InputError::document(format!("must be a JSON object, got {}", describe(value)))
-    })?;
-    let kind = curve
+/// Methods for the JSON types a visitor does not expect: each reports the value it got.
+macro_rules! reject_scalars {
+    () => {
+        fn visit_bool<E: de::Error>(self, v: bool) -> Result<Self::Value, E> {
+            self.wrong(&Value::from(v))
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+            self.wrong(&Value::from(v))
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+            self.wrong(&Value::from(v))
+        }
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+            self.wrong(&Value::from(v))
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+            self.wrong(&Value::from(v))
+        }
+        fn visit_unit<E: de::Error>(self) -> Result<Self::Value, E> {
+            self.wrong(&Value::Null)
+        }
+    };
+}
+
+/// A visitor that expects an object, rejecting arrays with the value it got.
+macro_rules! reject_seq {
+    () => {
+        fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+            let got = Value::deserialize(SeqAccessDeserializer::new(seq))?;
+            self.wrong(&got)
+        }
+    };
+}
+
+/// A visitor that expects an array, rejecting objects with the value it got.
+macro_rules! reject_map {
+    () => {
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+            let got = Value::deserialize(MapAccessDeserializer::new(map))?;
+            self.wrong(&got)
+        }
+    };
+}
+
+/// Reads an object's next key, refusing one it has seen already.
+fn next_key<'de, A: MapAccess<'de>>(
+    map: &mut A,
+    seen: &mut Vec<String>,
+    located: &Located,
+    place: &Location,
+) -> Result<Option<String>, A::Error> {
+    let Some(key) = map.next_key::<String>()? else {
+        return Ok(None);
+    };
+    if seen.contains(&key) {
+        let error = InputError::field(key, "appears twice in one object");
+        return located.fail(place, error);
+    }
+    seen.push(key.clone());
+    Ok(Some(key))
+}
+
+/// The document: an object with "sampling", "derivatives" and "curves".
+struct DocumentSeed<'a>(&'a Located);
+
+impl<'de> DeserializeSeed<'de> for DocumentSeed<'_> {
+    type Value = ParsedDocument;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<ParsedDocument, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl DocumentSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<ParsedDocument, E> {
+        let error = InputError::document(format!("must be a JSON object, got {}", describe(got)));
+        self.0.fail(&Location::Document, error)
+    }
+}
+
+impl<'de> Visitor<'de> for DocumentSeed<'_> {
+    type Value = ParsedDocument;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a JSON object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<ParsedDocument, A::Error> {
+        let (located, place) = (self.0, Location::Document);
+        let mut doc = ParsedDocument {
+            sampling: None,
+            derivatives: Derivatives::None,
+            curves: None,
+        };
+        let mut seen = Vec::new();
+        while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
+            match key.as_str() {
+                "sampling" => {
+                    let entries = map.next_value_seed(SamplingSeed(located, place.clone()))?;
+                    doc.sampling =
+                        Some(sampling_spec(&entries).or_else(|e| located.fail(&place, e))?);
+                }
+                "derivatives" => {
+                    let v: Value = map.next_value()?;
+                    doc.derivatives = match v.as_u64().and_then(Derivatives::from_order) {
+                        Some(d) => d,
+                        None => {
+                            let message = format!("must be 0, 1 or 2, got {}", describe(&v));
+                            return located.fail(&place, InputError::field("derivatives", message));
+                        }
+                    };
+                }
+                "curves" => doc.curves = Some(map.next_value_seed(CurvesSeed(located))?),
+                other => {
+                    let message = format!(
+                        "is not a field of the document (allowed: {})",
+                        DOCUMENT_KEYS.join(", ")
+                    );
+                    return located.fail(&place, InputError::field(other, message));
+                }
+            }
+        }
+        Ok(doc)
+    }
+
+    reject_scalars!();
+    reject_seq!();
+}
+
+/// "curves": an array of curve objects, each fitted as soon as it is read.
+struct CurvesSeed<'a>(&'a Located);
+
+impl<'de> DeserializeSeed<'de> for CurvesSeed<'_> {
+    type Value = Vec<ParsedCurve>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Vec<ParsedCurve>, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl CurvesSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<Vec<ParsedCurve>, E> {
+        let message = format!("must be an array of curves, got {}", describe(got));
+        self.0
+            .fail(&Location::Document, InputError::field("curves", message))
+    }
+}
+
+impl<'de> Visitor<'de> for CurvesSeed<'_> {
+    type Value = Vec<ParsedCurve>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of curves")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<ParsedCurve>, A::Error> {
+        let mut curves = Vec::new();
+        while let Some(curve) = seq.next_element_seed(CurveSeed(self.0, curves.len()))? {
+            curves.push(curve);
+        }
+        Ok(curves)
+    }
+
+    reject_scalars!();
+    reject_map!();
+}
+
+/// One curve object: its fields are gathered, then the curve is checked and fitted.
+struct CurveSeed<'a>(&'a Located, usize);
+
+impl<'de> DeserializeSeed<'de> for CurveSeed<'_> {
+    type Value = ParsedCurve;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<ParsedCurve, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl CurveSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<ParsedCurve, E> {
+        let error = InputError::document(format!("must be a JSON object, got {}", describe(got)));
+        self.0.fail(&Location::Curve(self.1), error)
+    }
+}
+
+impl<'de> Visitor<'de> for CurveSeed<'_> {
+    type Value = ParsedCurve;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a curve object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<ParsedCurve, A::Error> {
+        let (located, place) = (self.0, Location::Curve(self.1));
+        let mut fields = Map::new();
+        let (mut points, mut sampling) = (None, None);
+        let mut seen = Vec::new();
+        while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
+            match key.as_str() {
+                "points" => points = Some(map.next_value_seed(PointsSeed(located, self.1))?),
+                "sampling" => {
+                    let entries = map.next_value_seed(SamplingSeed(located, place.clone()))?;
+                    sampling = Some(sampling_spec(&entries).or_else(|e| located.fail(&place, e))?);
+                }
+                _ => {
+                    fields.insert(key, map.next_value()?);
+                }
+            }
+        }
+        let table = fit_curve(&fields, &seen, points).or_else(|e| located.fail(&place, e))?;
+        Ok(ParsedCurve { table, sampling })
+    }
+
+    reject_scalars!();
+    reject_seq!();
+}
+
+/// "points": an array of arrays of D numbers, read straight into flat coordinates.
+struct PointsSeed<'a>(&'a Located, usize);
+
+impl<'de> DeserializeSeed<'de> for PointsSeed<'_> {
+    type Value = Points;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Points, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl PointsSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<Points, E> {
+        let message = format!("must be an array of points, got {}", describe(got));
+        self.fail(message)
+    }
+
+    fn fail<T, E: de::Error>(&self, message: String) -> Result<T, E> {
+        self.0.fail(
+            &Location::Curve(self.1),
+            InputError::field("points", message),
+        )
+    }
+}
+
+impl<'de> Visitor<'de> for PointsSeed<'_> {
+    type Value = Points;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of points")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Points, A::Error> {
+        let (mut coords, mut dim) = (Vec::new(), 0);
+        let mut i = 0;
+        while let Some(point) = seq.next_element::<Value>()? {
+            let Value::Array(point) = point else {
+                return self.fail(format!(
+                    "must be arrays of numbers: points[{i}] = {}",
+                    describe(&point)
+                ));
+            };
+            if i == 0 {
+                dim = point.len();
+                if dim == 0 || dim > MAX_DIM {
+                    return self.fail(format!(
+                        "must have 1 to {MAX_DIM} coordinates per point: points[0] has {dim}"
+                    ));
+                }
+            } else if point.len() != dim {
+                return self.fail(format!(
+                    "must all have the same dimension: points[{i}] has {} coordinates, \
+                     points[0] has {dim}",
+                    point.len()
+                ));
+            }
+            for (k, v) in point.iter().enumerate() {
+                match v.as_f64() {
+                    Some(x) => coords.push(x),
+                    None => {
+                        return self.fail(format!(
+                            "must be numbers: points[{i}][{k}] = {}",
+                            describe(v)
+                        ));
+                    }
+                }
+            }
+            i += 1;
+        }
+        if i == 0 {
+            return self.fail("must not be empty".to_string());
+        }
+        Points::new(dim, coords).or_else(|e| self.0.fail(&Location::Curve(self.1), e))
+    }
+
+    reject_scalars!();
+    reject_map!();
+}
+
+/// A "sampling" object's entries, keys checked for duplicates; their meaning is checked by
+/// [`sampling_spec`].
+struct SamplingSeed<'a>(&'a Located, Location);
+
+impl<'de> DeserializeSeed<'de> for SamplingSeed<'_> {
+    type Value = Vec<(String, Value)>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl SamplingSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<Vec<(String, Value)>, E> {
+        let message = format!("must be an object, got {}", describe(got));
+        self.0.fail(&self.1, InputError::field("sampling", message))
+    }
+}
+
+impl<'de> Visitor<'de> for SamplingSeed<'_> {
+    type Value = Vec<(String, Value)>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a sampling object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let mut entries = Vec::new();
+        let mut seen = Vec::new();
+        while let Some(key) = next_key(&mut map, &mut seen, self.0, &self.1)? {
+            entries.push((key, map.next_value()?));
+        }
+        Ok(entries)
+    }
+
+    reject_scalars!();
+    reject_seq!();
+}
+
+/// The sampling a "sampling" object's entries ask for.
+fn sampling_spec(entries: &[(String, Value)]) -> Result<SamplingSpec, InputError> {
+    let [(key, v)] = entries else {
+        return Err(InputError::field(
+            "sampling",
+            format!(
+                "must have exactly one key (per_segment, at or arc_length), got {}",
+                entries.len()
+            ),
+        ));
+    };
+    match key.as_str() {
+        "per_segment" => match v.as_u64() {
+            Some(k) if k >= 1 && k <= u64::from(u32::MAX) => {
+                Ok(SamplingSpec::Plan(Sampling::PerSegment(k as u32)))
+            }
+            _ => Err(InputError::field(
+                "per_segment",
+                format!("must be an integer from 1 to 2^32 - 1, got {}", describe(v)),
+            )),
+        },
+        "at" => Ok(SamplingSpec::Plan(Sampling::At(number_array(v, "at")?))),
+        "arc_length" => match v.as_u64() {
+            Some(m) if m >= 2 && m <= u64::from(u32::MAX) => Ok(SamplingSpec::ArcLength),
+            _ => Err(InputError::field(
+                "arc_length",
+                format!("must be an integer >= 2, got {}", describe(v)),
+            )),
+        },
+        other => Err(InputError::field(
+            "sampling",
+            format!("has an unknown key \"{other}\" (expected per_segment, at or arc_length)"),
+        )),
+    }
+}
+
+/// Checks a curve's fields (`keys` in the order given), builds the curve and fits it.
+fn fit_curve(
+    fields: &Map<String, Value>,
+    keys: &[String],
+    points: Option<Points>,
+) -> Result<SegmentTable, InputError> {
+    let kind = fields
         .get("kind")
         .ok_or_else(|| InputError::field("kind", "is missing"))?;
     let kind = kind.as_str().ok_or_else(|| {
@@ -124,25 +563,30 @@ fn parse_curve(
         ));
     }
     let owner = format!("a \"{kind}\" curve");
-    let points = parse_points(
-        curve
-            .get("points")
-            .ok_or_else(|| InputError::field("points", "is missing"))?,
-    )?;
-    let sampling = match curve.get("sampling") {
-        Some(v) => parse_sampling(v)?,
-        None => default_sampling.clone(),
+    let check_keys = |extra: &[&str]| -> Result<(), InputError> {
+        let mut allowed = vec!["kind", "points", "sampling"];
+        allowed.extend_from_slice(extra);
+        match keys.iter().find(|k| !allowed.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(key) => Err(InputError::field(
+                key.clone(),
+                format!(
+                    "is not a field of {owner} (allowed: {})",
+                    allowed.join(", ")
+                ),
+            )),
+        }
     };
     let uniform = |basis: Basis, extra: &[&str]| -> Result<CurveKind, InputError> {
-        let mut allowed = vec!["kind", "points", "sampling", "ends"];
+        let mut allowed = vec!["ends"];
         allowed.extend_from_slice(extra);
-        check_keys(curve, &allowed, &owner)?;
+        check_keys(&allowed)?;
         Ok(CurveKind::Uniform {
             basis,
-            ends: parse_ends(curve.get("ends"))?,
+            ends: parse_ends(fields.get("ends"))?,
         })
     };
-    let number_or = |field: &str, default: f64| match curve.get(field) {
+    let number_or = |field: &str, default: f64| match fields.get(field) {
         None => Ok(default),
         Some(v) => number(v, field),
     };
@@ -169,41 +613,33 @@ fn parse_curve(
             &["bias", "tension"],
         )?,
         "matrix" => {
-            let m = curve
+            let m = fields
                 .get("matrix")
                 .ok_or_else(|| InputError::field("matrix", "is missing"))?;
             uniform(Basis::Matrix(parse_matrix(m)?), &["matrix"])?
         }
         "bezier" => {
-            check_keys(curve, &["kind", "points", "sampling"], &owner)?;
+            check_keys(&[])?;
             CurveKind::Bezier
         }
-        interpolating => interpolating_kind(curve, interpolating, &owner)?,
-    };
-    let curve = Curve::new(kind, points)?;
-    match sampling {
-        SamplingSpec::Plan(sampling) => job.push(&curve, &sampling),
-        SamplingSpec::ArcLength => {
-            unsupported.get_or_insert_with(|| "\"arc_length\" sampling".to_string());
-            Ok(())
+        interpolating => {
+            let mut extra = vec!["t"];
+            if interpolating == "clamped" {
+                extra.extend(["start_derivative", "end_derivative"]);
+            }
+            check_keys(&extra)?;
+            interpolating_kind(fields, interpolating)?
         }
-    }
+    };
+    let points = points.ok_or_else(|| InputError::field("points", "is missing"))?;
+    Ok(Curve::new(kind, points)?.fit())
 }
 
 /// An interpolating curve's kind from its fields ("t", and for clamped ends the two
 /// derivatives); the data themselves are checked by `Curve::new`.
-fn interpolating_kind(
-    curve: &Map<String, Value>,
-    kind: &str,
-    owner: &str,
-) -> Result<CurveKind, InputError> {
-    let mut allowed = vec!["kind", "points", "sampling", "t"];
-    if kind == "clamped" {
-        allowed.extend(["start_derivative", "end_derivative"]);
-    }
-    check_keys(curve, &allowed, owner)?;
+fn interpolating_kind(fields: &Map<String, Value>, kind: &str) -> Result<CurveKind, InputError> {
     let derivative = |field: &str| -> Result<Vec<f64>, InputError> {
-        let v = curve.get(field).ok_or_else(|| {
+        let v = fields.get(field).ok_or_else(|| {
             InputError::field(
                 field,
                 "is missing (a clamped spline needs both end derivatives)",
@@ -220,50 +656,8 @@ fn interpolating_kind(
             end: derivative("end_derivative")?,
         },
     };
-    let t = curve.get("t").map(|v| number_array(v, "t")).transpose()?;
+    let t = fields.get("t").map(|v| number_array(v, "t")).transpose()?;
     Ok(CurveKind::Interpolating { condition, t })
-}
-
-fn parse_sampling(value: &Value) -> Result<SamplingSpec, InputError> {
-    let map = value.as_object().ok_or_else(|| {
-        InputError::field(
-            "sampling",
-            format!("must be an object, got {}", describe(value)),
-        )
-    })?;
-    if map.len() != 1 {
-        return Err(InputError::field(
-            "sampling",
-            format!(
-                "must have exactly one key (per_segment, at or arc_length), got {}",
-                map.len()
-            ),
-        ));
-    }
-    let (key, v) = map.iter().next().expect("one key");
-    match key.as_str() {
-        "per_segment" => match v.as_u64() {
-            Some(k) if k >= 1 && k <= u64::from(u32::MAX) => {
-                Ok(SamplingSpec::Plan(Sampling::PerSegment(k as u32)))
-            }
-            _ => Err(InputError::field(
-                "per_segment",
-                format!("must be an integer >= 1, got {}", describe(v)),
-            )),
-        },
-        "at" => Ok(SamplingSpec::Plan(Sampling::At(number_array(v, "at")?))),
-        "arc_length" => match v.as_u64() {
-            Some(m) if m >= 2 && m <= u64::from(u32::MAX) => Ok(SamplingSpec::ArcLength),
-            _ => Err(InputError::field(
-                "arc_length",
-                format!("must be an integer >= 2, got {}", describe(v)),
-            )),
-        },
-        other => Err(InputError::field(
-            "sampling",
-            format!("has an unknown key \"{other}\" (expected per_segment, at or arc_length)"),
-        )),
-    }
 }
 
 fn parse_ends(value: Option<&Value>) -> Result<Ends, InputError> {
@@ -282,57 +676,6 @@ fn parse_ends(value: Option<&Value>) -> Result<Ends, InputError> {
             )),
         },
     }
-}
-
-fn parse_points(value: &Value) -> Result<Points, InputError> {
-    let rows = value.as_array().ok_or_else(|| {
-        InputError::field(
-            "points",
-            format!("must be an array of points, got {}", describe(value)),
-        )
-    })?;
-    if rows.is_empty() {
-        return Err(InputError::field("points", "must not be empty"));
-    }
-    let mut dim = 0;
-    let mut coords = Vec::new();
-    for (i, row) in rows.iter().enumerate() {
-        let point = row.as_array().ok_or_else(|| {
-            InputError::field(
-                "points",
-                format!("must be arrays of numbers: points[{i}] = {}", describe(row)),
-            )
-        })?;
-        if i == 0 {
-            dim = point.len();
-            if dim == 0 || dim > crate::MAX_DIM {
-                return Err(InputError::field(
-                    "points",
-                    format!(
-                        "must have 1 to {} coordinates per point: points[0] has {dim}",
-                        crate::MAX_DIM
-                    ),
-                ));
-            }
-        } else if point.len() != dim {
-            return Err(InputError::field(
-                "points",
-                format!(
-                    "must all have the same dimension: points[{i}] has {} coordinates, points[0] has {dim}",
-                    point.len()
-                ),
-            ));
-        }
-        for (k, v) in point.iter().enumerate() {
-            coords.push(v.as_f64().ok_or_else(|| {
-                InputError::field(
-                    "points",
-                    format!("must be numbers: points[{i}][{k}] = {}", describe(v)),
-                )
-            })?);
-        }
-    }
-    Points::new(dim, coords)
 }
 
 fn parse_matrix(value: &Value) -> Result<[[f64; 4]; 4], InputError> {
@@ -383,20 +726,6 @@ fn number_array(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
         .collect()
 }
 
-/// Unknown keys are errors: they are usually typos, or fields of another kind.
-fn check_keys(map: &Map<String, Value>, allowed: &[&str], owner: &str) -> Result<(), InputError> {
-    match map.keys().find(|k| !allowed.contains(&k.as_str())) {
-        None => Ok(()),
-        Some(key) => Err(InputError::field(
-            key.clone(),
-            format!(
-                "is not a field of {owner} (allowed: {})",
-                allowed.join(", ")
-            ),
-        )),
-    }
-}
-
 /// A JSON value in a message: its text, shortened.
 fn describe(value: &Value) -> String {
     let text = value.to_string();
@@ -405,11 +734,4 @@ fn describe(value: &Value) -> String {
     } else {
         text
     }
-}
-
-/// serde_json appends " at line L column C"; the message gives those itself.
-fn strip_position(message: &str) -> &str {
-    message
-        .rfind(" at line ")
-        .map_or(message, |i| &message[..i])
 }

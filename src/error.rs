@@ -2,12 +2,15 @@
 
 use std::fmt;
 
-/// Where in the input document an [`InputError`] lies.
+/// Where an [`InputError`] lies.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Location {
-    /// The document itself (a top-level key, or the JSON syntax).
+    /// An argument of a library call (a [`Curve`](crate::Curve)'s points, a
+    /// [`Sampling`](crate::Sampling)), not yet placed in a document or a batch.
+    Argument,
+    /// The input document itself (a top-level key, or the JSON syntax).
     Document,
-    /// The curve with this 0-based index in `"curves"`.
+    /// The curve with this 0-based index (in a document's `"curves"`, or in a batch).
     Curve(usize),
 }
 
@@ -27,11 +30,12 @@ pub struct InputError {
 }
 
 impl InputError {
-    /// An error in `field` of a curve whose index is not known yet (see [`InputError::in_curve`]).
+    /// An error in `field` of a library call's argument; [`InputError::in_curve`] places it in
+    /// a curve, [`InputError::in_document`] at the document's level.
     #[must_use]
     pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
-            location: Location::Document,
+            location: Location::Argument,
             field: Some(field.into()),
             message: message.into(),
         }
@@ -47,6 +51,13 @@ impl InputError {
         }
     }
 
+    /// The same error, placed at the document's level (a top-level key).
+    #[must_use]
+    pub fn in_document(mut self) -> Self {
+        self.location = Location::Document;
+        self
+    }
+
     /// The same error, placed in the curve with index `index`.
     #[must_use]
     pub fn in_curve(mut self, index: usize) -> Self {
@@ -58,6 +69,7 @@ impl InputError {
 impl fmt::Display for InputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.location {
+            Location::Argument => {}
             Location::Document => write!(f, "document: ")?,
             Location::Curve(i) => write!(f, "curve {i}: ")?,
         }
@@ -106,7 +118,37 @@ pub enum GpuError {
         /// The device's max_storage_buffer_binding_size.
         limit: u64,
     },
+    /// A caller's target buffer cannot take the samples
+    /// ([`GpuContext::record_into`](crate::GpuContext::record_into)).
+    #[error(transparent)]
+    Target(#[from] TargetError),
     /// wgpu reported an error (validation, out of memory, lost device) or a mapping failed.
     #[error("GPU failure: {0}")]
     Device(String),
+}
+
+/// Why a caller's buffer cannot be the target of
+/// [`GpuContext::record_into`](crate::GpuContext::record_into): the caller's mistake, not the
+/// device's.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TargetError {
+    /// The buffer was made without `BufferUsages::STORAGE`.
+    #[error("the target buffer needs STORAGE usage")]
+    MissingStorageUsage,
+    /// The offset is not a multiple of the device's `min_storage_buffer_offset_alignment`.
+    #[error("the target offset {offset} is not a multiple of {alignment}")]
+    MisalignedOffset {
+        /// The caller's offset, in bytes.
+        offset: u64,
+        /// The device's alignment, in bytes.
+        alignment: u64,
+    },
+    /// The buffer holds fewer bytes from the offset on than the job writes.
+    #[error("the target buffer holds {available} bytes from its offset; the job needs {needed}")]
+    TooSmall {
+        /// Bytes from the offset to the buffer's end.
+        available: u64,
+        /// Bytes the job writes ([`OutputLayout::bytes`](crate::OutputLayout::bytes)).
+        needed: u64,
+    },
 }

@@ -2,7 +2,8 @@
 
 use crate::curve::Curve;
 use crate::error::InputError;
-use crate::sampling::{SamplePlan, Sampling};
+use crate::layout::JobLayout;
+use crate::sampling::{Plan, SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 
 /// Which derivatives (with respect to t) to compute besides positions.
@@ -36,12 +37,14 @@ impl Derivatives {
     }
 }
 
-/// Curves to evaluate in one call: each a [`SegmentTable`] and a [`SamplePlan`].
+/// Curves to evaluate in one call: each a [`SegmentTable`] and a [`SamplePlan`], and the
+/// [`JobLayout`] that says where their samples go.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EvalJob {
     tables: Vec<SegmentTable>,
     plans: Vec<SamplePlan>,
     derivatives: Derivatives,
+    layout: JobLayout,
 }
 
 impl EvalJob {
@@ -57,19 +60,41 @@ impl EvalJob {
     /// Fits `curve` and adds it, sampled as `sampling` says.
     ///
     /// # Errors
-    /// A sampling that does not fit the curve (see [`SamplePlan::new`]); the caller places the
-    /// error in its curve with [`InputError::in_curve`].
+    /// A sampling that does not fit the curve (see [`SamplePlan::new`]), values whose samples
+    /// overflow f64 ([`SegmentTable::check_range`]), or a job whose sample offsets would
+    /// overflow; the caller places the error in its curve with
+    /// [`InputError::in_curve`].
     pub fn push(&mut self, curve: &Curve, sampling: &Sampling) -> Result<(), InputError> {
         let table = curve.fit();
+        table.check_range(self.derivatives)?;
         let plan = SamplePlan::new(&table, sampling)?;
-        self.push_table(table, plan);
-        Ok(())
+        self.push_table(table, plan)
     }
 
     /// Adds an already fitted curve and its plan. The plan must have been made for this table.
-    pub fn push_table(&mut self, table: SegmentTable, plan: SamplePlan) {
+    ///
+    /// # Errors
+    /// The job's sample or value offsets would overflow (the error names `"sampling"`).
+    pub fn push_table(&mut self, table: SegmentTable, plan: SamplePlan) -> Result<(), InputError> {
+        self.layout.push(table.dim(), plan.len()).ok_or_else(|| {
+            InputError::field(
+                "sampling",
+                format!(
+                    "asks for {} samples, more than one job can index after the {} already in it",
+                    plan.len(),
+                    self.layout.samples()
+                ),
+            )
+        })?;
         self.tables.push(table);
         self.plans.push(plan);
+        Ok(())
+    }
+
+    /// Where every curve's samples go.
+    #[must_use]
+    pub fn layout(&self) -> &JobLayout {
+        &self.layout
     }
 
     /// The derivatives computed.
@@ -105,83 +130,61 @@ impl EvalJob {
     /// Total number of samples over all curves.
     #[must_use]
     pub fn sample_count(&self) -> usize {
-        self.plans.iter().map(SamplePlan::len).sum()
+        self.layout.samples()
     }
 
-    /// The job as a sequence of smaller jobs of about `max_samples` samples each, made one at a
-    /// time, for output that streams with bounded memory. Whole curves go together while they
-    /// fit; a longer curve is cut at segment boundaries (per-segment sampling: at least one
-    /// segment per piece, so a piece can hold more than `max_samples` when one segment does)
-    /// or between samples (explicit t). Evaluating the chunks in order gives every curve's
-    /// samples in order, each once.
+    /// The job as a sequence of smaller jobs of at most `max_samples` samples each, made one at
+    /// a time, for output that streams with bounded memory. Whole curves go together while they
+    /// fit; a longer curve is cut into pieces of `max_samples` samples, anywhere (inside a
+    /// segment too), so no chunk holds more than `max_samples` samples however large one
+    /// segment's sampling is. Evaluating the chunks in order gives every curve's samples in
+    /// order, each once.
     pub fn chunks(&self, max_samples: usize) -> impl Iterator<Item = Chunk> + '_ {
         let max_samples = max_samples.max(1);
         let mut pieces = (0..self.len())
-            .flat_map(move |c| self.pieces(c, max_samples))
+            .flat_map(move |c| {
+                let n = self.plans[c].len();
+                (0..n.div_ceil(max_samples).max(1)).map(move |p| {
+                    let start = p * max_samples;
+                    (c, start..(start + max_samples).min(n))
+                })
+            })
             .peekable();
         std::iter::from_fn(move || {
             let mut chunk = Chunk {
                 job: EvalJob::new(self.derivatives),
                 pieces: Vec::new(),
             };
-            let mut samples = 0;
-            while let Some(piece) =
-                pieces.next_if(|p| samples == 0 || samples + p.2.len() <= max_samples)
-            {
-                let (place, table, plan) = piece;
-                samples += plan.len();
-                chunk.job.push_table(table, plan);
-                chunk.pieces.push(place);
+            while let Some((c, range)) = pieces.next_if(|(_, r)| {
+                chunk.job.sample_count() == 0 || chunk.job.sample_count() + r.len() <= max_samples
+            }) {
+                let (table, plan) = self.piece(c, range.clone());
+                // A piece of a job that fits its layout fits the chunk's.
+                chunk
+                    .job
+                    .push_table(table, plan)
+                    .expect("a chunk indexes fewer samples than its job");
+                chunk.pieces.push(Piece {
+                    curve: c,
+                    first_sample: range.start,
+                });
             }
             (!chunk.pieces.is_empty()).then_some(chunk)
         })
     }
 
-    /// Curve `c` cut into pieces of about `max_samples` samples.
-    fn pieces(&self, c: usize, max_samples: usize) -> Vec<(Piece, SegmentTable, SamplePlan)> {
+    /// Samples `range` of curve `c`, with the segments they lie on.
+    fn piece(&self, c: usize, range: std::ops::Range<usize>) -> (SegmentTable, SamplePlan) {
         let (table, plan) = (&self.tables[c], &self.plans[c]);
-        if plan.len() <= max_samples {
-            return vec![(
-                Piece {
-                    curve: c,
-                    first_sample: 0,
-                },
-                table.clone(),
-                plan.clone(),
-            )];
+        if range.len() == plan.len() {
+            return (table.clone(), plan.clone());
         }
-        match plan {
-            SamplePlan::PerSegment { k, closing, .. } => {
-                let per_piece = (max_samples / *k as usize).max(1);
-                (0..table.len())
-                    .step_by(per_piece)
-                    .map(|s0| {
-                        let s1 = (s0 + per_piece).min(table.len());
-                        let part = table.slice(s0..s1);
-                        let plan = SamplePlan::PerSegment {
-                            k: *k,
-                            knots: part.knots().to_vec(),
-                            closing: *closing && s1 == table.len(),
-                        };
-                        let place = Piece {
-                            curve: c,
-                            first_sample: s0 * *k as usize,
-                        };
-                        (place, part, plan)
-                    })
-                    .collect()
+        match &plan.0 {
+            Plan::Grid(grid) => {
+                let (segments, part) = grid.slice(range);
+                (table.slice(segments), SamplePlan(Plan::Grid(part)))
             }
-            SamplePlan::At(locs) => locs
-                .chunks(max_samples)
-                .enumerate()
-                .map(|(i, part)| {
-                    let place = Piece {
-                        curve: c,
-                        first_sample: i * max_samples,
-                    };
-                    (place, table.clone(), SamplePlan::At(part.to_vec()))
-                })
-                .collect(),
+            Plan::At(locs) => (table.clone(), SamplePlan(Plan::At(locs[range].to_vec()))),
         }
     }
 }

@@ -2,9 +2,18 @@
 //!
 //! A [`Curve`] (a family, an end convention and its points) is fitted into a [`SegmentTable`]
 //! of cubic segments in power form, formed in f64. A [`Sampling`] resolves into a
-//! [`SamplePlan`]; many curves with their plans make an [`EvalJob`], which the GPU
-//! ([`GpuContext::evaluate`], f32 samples) and the CPU reference ([`cpu::evaluate`], f64)
-//! evaluate with the same indexing.
+//! [`SamplePlan`]; many curves with their plans make an [`EvalJob`], whose [`JobLayout`] says
+//! where every sample goes. The GPU ([`GpuContext::evaluate`], f32 samples), the fast CPU
+//! evaluator ([`evaluate_cpu_into`], f32 or f64 on every thread) and the f64 reference
+//! ([`evaluate_reference`]) evaluate it with the same indexing. The f32 results meet the
+//! accuracy promise stated in [`gpu_bound`].
+//!
+//! The families follow A. R. Smith, "Spline Tutorial Notes" (Lucasfilm Technical Memo 77,
+//! 1983); the interpolating fits follow D. Eberly, "Fitting a Natural Spline to Samples of the
+//! Form (t, f(t))" and the course notes "Cubic spline curves" (relaxed uniform B-splines,
+//! clamped and periodic ends).
+//!
+//! # Bulk tessellation
 //!
 //! ```
 //! use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, Points, Sampling};
@@ -17,42 +26,162 @@
 //! let mut job = EvalJob::new(Derivatives::First);
 //! job.push(&curve, &Sampling::PerSegment(8))?;
 //!
-//! // The f64 reference; `GpuContext::new()?.evaluate(&job)?` gives the same in f32.
-//! let samples = splinegpu::cpu::evaluate(&job);
+//! // f64 on every thread; `GpuContext::new()?.evaluate(&job)?` gives the same in f32.
+//! let mut samples = splinegpu::Samples::<f64>::for_job(&job);
+//! splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads());
 //! let c = samples.curve(0);
 //! assert_eq!(c.t.len(), 3 * 8 + 1);
 //! assert_eq!(&c.points[..2], &[0.0, 0.0]); // Catmull-Rom passes through its points
 //! # Ok::<(), splinegpu::InputError>(())
 //! ```
+//!
+//! # Interpolation
+//!
+//! ```
+//! use splinegpu::{Curve, CurveKind, Derivatives, EndCondition, EvalJob, Points, Sampling};
+//!
+//! // A natural cubic spline through (t, y) = (0, 0), (1, 1), (3, 0), evaluated at t = 2.
+//! let kind = CurveKind::Interpolating {
+//!     condition: EndCondition::Natural,
+//!     t: Some(vec![0.0, 1.0, 3.0]),
+//! };
+//! let curve = Curve::new(kind, Points::new(1, vec![0.0, 1.0, 0.0])?)?;
+//! let mut job = EvalJob::new(Derivatives::Second);
+//! job.push(&curve, &Sampling::At(vec![1.0, 2.0]))?;
+//! let samples = splinegpu::evaluate_reference(&job);
+//! let s = samples.curve(0);
+//! assert_eq!(s.points[0], 1.0); // it passes through its knots
+//! assert!(s.d2.unwrap()[0] < 0.0); // and bends down over the peak
+//! # Ok::<(), splinegpu::InputError>(())
+//! ```
+//!
+//! # Renderer integration
+//!
+//! [`GpuContext::from_device`] wraps a renderer's device and queue, and
+//! [`GpuContext::record_into`] records the evaluation into the renderer's command encoder,
+//! writing the samples into the renderer's own buffer (made with `STORAGE | VERTEX` usage) as
+//! [`OutputLayout`] lays them out; nothing is read back. This example needs a GPU adapter
+//! (lavapipe counts) and skips itself without one.
+//!
+//! ```
+//! use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, Points, Sampling};
+//!
+//! let Ok(gpu) = GpuContext::new() else { return Ok(()) };
+//! // The renderer's device and queue; here the context's own stand in for them.
+//! let (device, queue) = (gpu.device().clone(), gpu.queue().clone());
+//! let context = GpuContext::from_device(&device, &queue);
+//!
+//! let points = Points::new(2, vec![0.0, 0.0, 1.0, 1.0, 2.0, 0.0, 3.0, 1.0])?;
+//! let curve = Curve::new(CurveKind::Uniform { basis: Basis::BSpline, ends: Ends::Repeat }, points)?;
+//! let mut job = EvalJob::new(Derivatives::None);
+//! job.push(&curve, &Sampling::PerSegment(16))?;
+//!
+//! let layout = context.output_layout(&job);
+//! let vertices = device.create_buffer(&wgpu::BufferDescriptor {
+//!     label: Some("curve vertices"),
+//!     size: layout.bytes,
+//!     usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+//!     mapped_at_creation: false,
+//! });
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! context.record_into(&mut encoder, &job, &vertices, 0)?;
+//! // ... record a render pass that draws `layout.counts[0]` vertices of 8 bytes from
+//! // `layout.curve_starts[0]` as a line strip, then:
+//! queue.submit([encoder.finish()]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! # Features
+//!
+//! - `cli` (default): the `splinegpu` binary and its machinery: the JSON document parser
+//!   ([`parse_document`]), streaming CSV/JSON/NPZ output and `splinegpu bench`. Without it
+//!   (`default-features = false`) the crate is the fitter and the evaluators, with wgpu, glam,
+//!   bytemuck and pollster.
 
-pub mod accuracy;
-pub mod basis;
-pub mod bench;
-pub mod cpu;
-pub mod curve;
-pub mod doc;
-pub mod error;
-pub mod fit;
-pub mod gpu;
-pub mod job;
-pub mod npz;
-pub mod output;
-pub mod samples;
-pub mod sampling;
-pub mod segment;
-pub mod stream;
+mod accuracy;
+mod basis;
+mod cpu;
+mod curve;
+mod error;
+mod fit;
+mod gpu;
+mod job;
+mod layout;
+mod samples;
+mod sampling;
+mod segment;
 
-pub use basis::Basis;
+#[cfg(feature = "cli")]
+mod bench;
+#[cfg(feature = "cli")]
+mod doc;
+#[cfg(feature = "cli")]
+mod npz;
+#[cfg(feature = "cli")]
+mod output;
+#[cfg(feature = "cli")]
+mod stream;
+
+pub use accuracy::{
+    CPU_TOLERANCE, DERIVATIVE_TOLERANCE, POSITION_TOLERANCE, cpu_bound, gpu_bound, promise_scale,
+    ulp_f32,
+};
+pub use basis::{
+    Basis, Rows, beta_rows, bezier_rows, bspline_rows, cardinal_rows, tensioned_bspline_rows,
+};
+pub use cpu::{available_threads, evaluate_cpu_into, evaluate_cpu_values_into, evaluate_reference};
 pub use curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
-pub use doc::{DocumentError, parse_document};
-pub use error::{GpuError, InputError, Location};
+pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
-pub use gpu::{DeviceTime, GpuContext, KernelShape, OutputLayout, TimingMethod};
+pub use gpu::preview::{LinePreview, LineView};
+pub use gpu::{
+    DeviceTime, GpuContext, KernelShape, OutputLayout, TimingMethod, adapters, hardware_adapter,
+    new_instance,
+};
 pub use job::{Chunk, Derivatives, EvalJob, Piece};
-pub use samples::{CurveSamples, Samples};
+pub use layout::JobLayout;
+pub use samples::{CurveSamples, SampleFloat, Samples};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};
 pub use segment::{Segment, SegmentTable};
+
+#[cfg(feature = "cli")]
+pub use doc::{DocumentError, parse_document, parse_document_from_reader};
+
+/// Internals for the `splinegpu` binary, the tests, the benches and the examples: the GPU's Pod
+/// records and shader constants, the kernel's f32 CPU twin, and the CLI's machinery. Not a
+/// stable API.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::gpu::BINDINGS;
+    pub use crate::gpu::interpret::evaluate_interpreted;
+    pub use crate::gpu::pack::{
+        BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, Packed, Params,
+        Run, block_vec4s, pack,
+    };
+    pub use crate::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+
+    /// `splinegpu bench`'s workloads and measurements.
+    #[cfg(feature = "cli")]
+    pub mod bench {
+        pub use crate::bench::*;
+    }
+    /// The streaming NPZ writer.
+    #[cfg(feature = "cli")]
+    pub mod npz {
+        pub use crate::npz::*;
+    }
+    /// CSV and JSON text, and output files that appear only whole.
+    #[cfg(feature = "cli")]
+    pub mod output {
+        pub use crate::output::*;
+    }
+    /// Output that streams, chunk by chunk.
+    #[cfg(feature = "cli")]
+    pub mod stream {
+        pub use crate::stream::*;
+    }
+}
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

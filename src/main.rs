@@ -1,15 +1,14 @@
 //! The `splinegpu` command line: argument parsing, I/O and exit status only.
 //! The contract it follows is `CLI-CONTRACT.md` in the steering repository's shared folder.
 
-use std::io::{self, IsTerminal, Read, Write};
+use std::io::{self, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use splinegpu::npz::Dtype;
-use splinegpu::output::{self, OutputError};
-use splinegpu::stream;
-use splinegpu::{DocumentError, EvalJob, GpuContext, Samples, gpu};
+use splinegpu::internals::output::{self, OutputError};
+use splinegpu::internals::{bench, stream};
+use splinegpu::{DocumentError, EvalJob, GpuContext, GpuError, Samples};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
 #[derive(Parser)]
@@ -96,6 +95,7 @@ fn main() -> ExitCode {
     unsafe {
         std::env::set_var("NODEVICE_SELECT", "1");
     }
+    remove_temporary_output_on_signals();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Tessellate {
@@ -116,32 +116,46 @@ fn main() -> ExitCode {
     }
 }
 
+/// On SIGINT, SIGTERM or SIGHUP: remove the temporary output file (if one is being written)
+/// and exit with 128 + the signal's number, as a shell reports a process killed by it.
+fn remove_temporary_output_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    // Without the handler the signal still ends the process; only the temporary file could
+    // be left behind, so failing to install it is not worth failing the run.
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            output::remove_pending_outputs();
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
 fn tessellate(
     input: &str,
     output: Option<&Path>,
     format: Option<Format>,
     backend: Backend,
 ) -> Result<(), Failure> {
-    let text = read_input(input)?;
-    let job = splinegpu::parse_document(&text).map_err(|e| match e {
-        DocumentError::Input(e) => Failure::input(e),
-        DocumentError::Unsupported(_) => Failure::other(e),
-    })?;
+    let job = read_document(input)?;
     let format = format.unwrap_or_else(|| format_of(output));
     if format == Format::Npz {
         let dim = job.table(0).dim();
         if let Some(c) = (0..job.len()).find(|&c| job.table(c).dim() != dim) {
-            return Err(Failure::input(format!(
-                "curve {c}: \"points\" have {} coordinates but curve 0's have {dim}: npz output \
-                 needs one dimension for all curves",
-                job.table(c).dim()
-            )));
+            let e = OutputError::MixedDimensions {
+                curve: c,
+                dim: job.table(c).dim(),
+                first: dim,
+            };
+            return Err(Failure::input(e));
         }
     }
     let context = match backend {
         Backend::Cpu => None,
         Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
-        Backend::Auto => match gpu::hardware_adapter() {
+        Backend::Auto => match splinegpu::hardware_adapter() {
             Some(adapter) => {
                 let context = GpuContext::from_adapter(&adapter).map_err(Failure::other)?;
                 let info = context.adapter_info();
@@ -181,27 +195,18 @@ fn tessellate(
                 &job,
                 format,
                 chunk,
-                Dtype::F32,
-                |j, s| gpu.evaluate_into(j, s).map_err(|e| e.to_string()),
+                |j, s: &mut Samples<f32>| gpu.evaluate_into(j, s),
                 &mut out,
                 &mut progress,
             ),
             None => {
                 // The fast evaluator: f64 on every thread, equal to the reference bit for bit.
-                let threads = splinegpu::cpu::threads();
-                let cpu = |j: &EvalJob, s: &mut Samples<f64>| {
-                    splinegpu::cpu::evaluate_into(j, s, threads);
+                let threads = splinegpu::available_threads();
+                let cpu = |j: &EvalJob, s: &mut Samples<f64>| -> Result<(), GpuError> {
+                    splinegpu::evaluate_cpu_into(j, s, threads);
                     Ok(())
                 };
-                stream::write(
-                    &job,
-                    format,
-                    chunk,
-                    Dtype::F64,
-                    cpu,
-                    &mut out,
-                    &mut progress,
-                )
+                stream::write(&job, format, chunk, cpu, &mut out, &mut progress)
             }
         }
     };
@@ -210,24 +215,36 @@ fn tessellate(
             let mut out = io::BufWriter::new(io::stdout().lock());
             emit(&mut out).and_then(|()| Ok(out.flush()?))
         }
-        Some(path) => output::write_atomically(path, |out| emit(out)),
+        Some(path) => output::write_output(path, |out| emit(out)),
     };
     bar.finish_and_clear();
-    result.map_err(|e| match e {
-        OutputError::Io(e) => Failure::other(format!("cannot write output: {e}")),
-        e => Failure::other(e),
-    })
+    match result {
+        Ok(()) => Ok(()),
+        // The reader closed its end early (`| head`): the run ends quietly.
+        Err(OutputError::Io(e)) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        // A value that overflows its number type is the input's fault.
+        Err(e @ OutputError::NonFinite { .. }) => Err(Failure::input(e)),
+        Err(e) => Err(Failure::other(e)),
+    }
 }
 
-fn read_input(input: &str) -> Result<String, Failure> {
-    let mut text = String::new();
-    let result = if input == "-" {
-        io::stdin().read_to_string(&mut text).map(|_| ())
+/// Reads and parses the input document: a file is parsed as it is read, so its text is never
+/// held whole; standard input likewise.
+fn read_document(input: &str) -> Result<EvalJob, Failure> {
+    let parsed = if input == "-" {
+        splinegpu::parse_document_from_reader(io::BufReader::with_capacity(
+            1 << 16,
+            io::stdin().lock(),
+        ))
     } else {
-        std::fs::File::open(input).and_then(|mut f| f.read_to_string(&mut text).map(|_| ()))
+        let file = std::fs::File::open(input)
+            .map_err(|e| Failure::input(format!("document: cannot read input \"{input}\": {e}")))?;
+        splinegpu::parse_document_from_reader(io::BufReader::with_capacity(1 << 16, file))
     };
-    result.map_err(|e| Failure::input(format!("document: cannot read input \"{input}\": {e}")))?;
-    Ok(text)
+    parsed.map_err(|e| match e {
+        DocumentError::Input(e) => Failure::input(e),
+        DocumentError::Unsupported(_) => Failure::other(e),
+    })
 }
 
 fn format_of(output: Option<&Path>) -> Format {
@@ -242,11 +259,11 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
     // Check the names before spending minutes on a GPU context and the first workload.
     if let Some(unknown) = workloads
         .iter()
-        .find(|w| !splinegpu::bench::WORKLOADS.contains(&w.as_str()))
+        .find(|w| !bench::WORKLOADS.contains(&w.as_str()))
     {
         return Err(Failure::input(format!(
             "unknown workload \"{unknown}\" (expected one of {})",
-            splinegpu::bench::WORKLOADS.join(", ")
+            bench::WORKLOADS.join(", ")
         )));
     }
     let start = std::time::Instant::now();
@@ -262,7 +279,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                 info.name,
                 info.device_type,
                 info.driver_info,
-                threads()
+                splinegpu::available_threads()
             );
             Some(gpu)
         }
@@ -286,7 +303,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
             "% memset"
         );
     }
-    splinegpu::bench::run(workloads, gpu.as_ref(), |m| {
+    bench::run(workloads, gpu.as_ref(), |m| {
         if json {
             println!("{}", m.to_json());
         } else {
@@ -315,12 +332,8 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
     Ok(())
 }
 
-fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, usize::from)
-}
-
 fn info() -> Result<(), Failure> {
-    let instance = gpu::new_instance();
+    let instance = splinegpu::new_instance();
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     if adapters.is_empty() {
         println!("no adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
@@ -354,7 +367,7 @@ fn info() -> Result<(), Failure> {
             shape.lanes, shape.run_len
         );
     }
-    match gpu::hardware_adapter() {
+    match splinegpu::hardware_adapter() {
         Some(a) => println!("auto: gpu on {}", a.get_info().name),
         None => println!("auto: cpu (no hardware GPU adapter)"),
     }

@@ -19,6 +19,16 @@ pub enum Dtype {
 }
 
 impl Dtype {
+    /// The type of values of `F`: [`Dtype::F32`] or [`Dtype::F64`].
+    #[must_use]
+    pub fn of<F: crate::SampleFloat>() -> Self {
+        if F::NAME == "f32" {
+            Dtype::F32
+        } else {
+            Dtype::F64
+        }
+    }
+
     fn descr(self) -> &'static str {
         match self {
             Dtype::F32 => "<f4",

@@ -4,36 +4,19 @@
 //! type: f32 for GPU samples, f64 for CPU samples and for t (Rust's float formatting has this
 //! property; `{:?}` switches to exponent form for very large and very small magnitudes).
 
-use std::fmt::Debug;
 use std::fs;
 use std::io::{self, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 
+use crate::error::GpuError;
 use crate::job::{Derivatives, Piece};
-use crate::samples::{CurveSamples, Samples};
-
-/// A sample value: f32 (GPU) or f64 (CPU).
-pub trait SampleValue: Copy + Debug {
-    /// True unless NaN or infinite.
-    fn is_finite_value(self) -> bool;
-}
-
-impl SampleValue for f32 {
-    fn is_finite_value(self) -> bool {
-        self.is_finite()
-    }
-}
-
-impl SampleValue for f64 {
-    fn is_finite_value(self) -> bool {
-        self.is_finite()
-    }
-}
+use crate::samples::{SampleFloat, Samples};
 
 /// Why output could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    /// A value overflowed its number type (JSON and CSV have no infinities).
+    /// A value overflowed its number type (JSON and CSV have no infinities): the input's fault.
     #[error(
         "curve {curve}: sample {sample} is not finite (the curve overflows the output's number type)"
     )]
@@ -43,23 +26,36 @@ pub enum OutputError {
         /// The sample within the curve.
         sample: usize,
     },
+    /// NPZ holds one array of points: every curve needs the first one's dimension.
+    #[error(
+        "curve {curve}: \"points\" have {dim} coordinates but curve 0's have {first}: npz output \
+         needs one dimension for all curves"
+    )]
+    MixedDimensions {
+        /// The first curve whose dimension differs.
+        curve: usize,
+        /// Its dimension.
+        dim: usize,
+        /// Curve 0's.
+        first: usize,
+    },
     /// Writing failed.
     #[error("cannot write output: {0}")]
     Io(#[from] io::Error),
-    /// The evaluator failed.
-    #[error("{0}")]
-    Evaluation(String),
+    /// The GPU evaluator failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
 }
 
 /// Checks that every value is finite, naming the first sample that is not.
 ///
 /// # Errors
 /// [`OutputError::NonFinite`].
-pub fn check_finite<F: SampleValue>(samples: &Samples<F>) -> Result<(), OutputError> {
+pub fn check_finite<F: SampleFloat>(samples: &Samples<F>) -> Result<(), OutputError> {
     for c in 0..samples.len() {
         let s = samples.curve(c);
         for plane in [Some(s.points), s.d1, s.d2].into_iter().flatten() {
-            if let Some(i) = plane.iter().position(|v| !v.is_finite_value()) {
+            if let Some(i) = plane.iter().position(|v| !v.finite()) {
                 return Err(OutputError::NonFinite {
                     curve: c,
                     sample: i / s.dim,
@@ -68,26 +64,6 @@ pub fn check_finite<F: SampleValue>(samples: &Samples<F>) -> Result<(), OutputEr
         }
     }
     Ok(())
-}
-
-/// Writes CSV: header `curve,sample,t,x0..x{D-1}` (then `dx0..`, `ddx0..` when computed), one
-/// row per sample; curves of smaller D leave their missing fields empty.
-///
-/// # Errors
-/// Any I/O error of `out`.
-pub fn write_csv<F: SampleValue>(samples: &Samples<F>, out: &mut impl Write) -> io::Result<()> {
-    let dim = (0..samples.len())
-        .map(|c| samples.curve(c).dim)
-        .max()
-        .unwrap_or(0);
-    write_csv_header(dim, samples.derivatives(), out)?;
-    let pieces: Vec<Piece> = (0..samples.len())
-        .map(|curve| Piece {
-            curve,
-            first_sample: 0,
-        })
-        .collect();
-    write_csv_rows(samples, &pieces, dim, out)
 }
 
 /// The CSV header for curves of at most `dim` coordinates.
@@ -115,7 +91,7 @@ pub fn write_csv_header(
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_csv_rows<F: SampleValue>(
+pub fn write_csv_rows<F: SampleFloat>(
     samples: &Samples<F>,
     pieces: &[Piece],
     dim: usize,
@@ -139,60 +115,108 @@ pub fn write_csv_rows<F: SampleValue>(
     Ok(())
 }
 
-/// Writes JSON: `{"curves": [{"t": [...], "points": [[...], ...], "d1": [...], "d2": [...]}]}`,
-/// "d1"/"d2" only when computed.
+/// Numbers of a JSON array, `, `-separated, preceded by a separator unless they are the
+/// `first` of their array.
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_json<F: SampleValue>(samples: &Samples<F>, out: &mut impl Write) -> io::Result<()> {
-    write!(out, "{{\"curves\": [")?;
-    for c in 0..samples.len() {
-        write_json_curve(&samples.curve(c), c == 0, out)?;
+pub fn write_json_numbers(values: &[f64], first: bool, out: &mut impl Write) -> io::Result<()> {
+    for (i, v) in values.iter().enumerate() {
+        write!(out, "{}{v:?}", if i > 0 || !first { ", " } else { "" })?;
     }
-    writeln!(out, "]}}")
+    Ok(())
 }
 
-/// One curve's object of the JSON output (preceded by a comma unless it is the `first`).
+/// Points of a JSON array of arrays (`dim` values each), preceded by a separator unless they
+/// are the `first` of their array.
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_json_curve<F: SampleValue>(
-    s: &CurveSamples<'_, F>,
+pub fn write_json_points<F: SampleFloat>(
+    plane: &[F],
+    dim: usize,
     first: bool,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    if !first {
-        write!(out, ",")?;
-    }
-    write!(out, "\n{{\"t\": [")?;
-    for (i, t) in s.t.iter().enumerate() {
-        write!(out, "{}{t:?}", if i > 0 { ", " } else { "" })?;
-    }
-    write!(out, "]")?;
-    for (name, plane) in [("points", Some(s.points)), ("d1", s.d1), ("d2", s.d2)] {
-        let Some(plane) = plane else { continue };
-        write!(out, ", \"{name}\": [")?;
-        for (i, point) in plane.chunks_exact(s.dim).enumerate() {
-            write!(out, "{}[", if i > 0 { ", " } else { "" })?;
-            for (k, v) in point.iter().enumerate() {
-                write!(out, "{}{v:?}", if k > 0 { ", " } else { "" })?;
-            }
-            write!(out, "]")?;
+    for (i, point) in plane.chunks_exact(dim).enumerate() {
+        write!(out, "{}[", if i > 0 || !first { ", " } else { "" })?;
+        for (k, v) in point.iter().enumerate() {
+            write!(out, "{}{v:?}", if k > 0 { ", " } else { "" })?;
         }
         write!(out, "]")?;
     }
-    write!(out, "}}")
+    Ok(())
 }
 
-/// Writes a file that appears only whole: `write` fills a temporary file beside `path`, which
-/// is renamed onto `path` only when `write` succeeds. On any failure the temporary file is
-/// removed and an existing file at `path` stays as it was.
+/// Writes the output at `path` as the contract says:
+/// - a regular file, or a new path, appears only whole: `write` fills a temporary file beside
+///   it, which is renamed onto `path` only when `write` succeeds; on any failure the temporary
+///   file is removed and an existing file stays as it was;
+/// - a device, FIFO or socket is written directly, never replaced;
+/// - a symbolic link is followed to the file it names (which is then treated as above).
+///
+/// While a temporary file exists its path is listed for [`remove_pending_outputs`], which a
+/// signal handler calls before the process ends.
 ///
 /// # Errors
-/// The error of `write`, or an I/O error creating, flushing or renaming the file.
-pub fn write_atomically<E: From<io::Error>>(
+/// The error of `write`, or an I/O error opening, creating, flushing or renaming the file.
+pub fn write_output<E: From<io::Error>>(
     path: &Path,
-    write: impl FnOnce(&mut io::BufWriter<&fs::File>) -> Result<(), E>,
+    write: impl FnOnce(&mut dyn Write) -> Result<(), E>,
+) -> Result<(), E> {
+    let path = follow_links(path)?;
+    match fs::metadata(&path) {
+        Ok(meta) if !meta.is_file() && !meta.is_dir() => {
+            // A device, a FIFO or a socket: written in place, as a shell's `>` would.
+            let file = fs::OpenOptions::new().write(true).open(&path)?;
+            let mut out = io::BufWriter::new(&file);
+            write(&mut out)?;
+            out.flush()?;
+            Ok(())
+        }
+        _ => write_atomically(&path, write),
+    }
+}
+
+/// `path` with every symbolic link on its last component followed (at most 40, as the
+/// kernel's own limit); a dangling link gives the path it names.
+fn follow_links(path: &Path) -> io::Result<PathBuf> {
+    let mut path = path.to_path_buf();
+    for _ in 0..40 {
+        match fs::symlink_metadata(&path) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&path)?;
+                path = match path.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(path),
+        }
+    }
+    Err(io::Error::other(format!(
+        "too many levels of symbolic links at {}",
+        path.display()
+    )))
+}
+
+/// Temporary output files that exist now, for [`remove_pending_outputs`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes every temporary output file that [`write_output`] has not yet renamed or removed:
+/// for a signal handler, just before the process exits.
+pub fn remove_pending_outputs() {
+    let pending = PENDING.lock().unwrap_or_else(PoisonError::into_inner);
+    for path in pending.iter() {
+        // Already renamed or removed is fine: nothing is left either way.
+        let _ = fs::remove_file(path);
+    }
+}
+
+/// A regular file (or a new path) that appears only whole; see [`write_output`].
+fn write_atomically<E: From<io::Error>>(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<(), E>,
 ) -> Result<(), E> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -205,12 +229,24 @@ pub fn write_atomically<E: From<io::Error>>(
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let file = builder.tempfile_in(dir)?;
-    {
-        let mut out = io::BufWriter::new(file.as_file());
-        write(&mut out)?;
-        out.flush()?;
-    }
-    file.as_file().sync_all()?;
-    file.persist(path).map_err(|e| e.error)?;
-    Ok(())
+    let temp = file.path().to_path_buf();
+    PENDING
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push(temp.clone());
+    let result = (|| {
+        {
+            let mut out = io::BufWriter::new(file.as_file());
+            write(&mut out)?;
+            out.flush()?;
+        }
+        file.as_file().sync_all()?;
+        file.persist(path).map_err(|e| e.error)?;
+        Ok(())
+    })();
+    PENDING
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .retain(|p| *p != temp);
+    result
 }

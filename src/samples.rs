@@ -1,16 +1,61 @@
 //! `Samples`: the evaluated points (and derivatives) of every curve of a job, laid out flat.
 
-use crate::job::{Derivatives, EvalJob};
+use std::fmt::Debug;
 
-/// The samples of a job: for curve c, samples `sample_offsets[c]..sample_offsets[c+1]`, each
-/// `dim(c)` values in `points` (and in `d1`, `d2` when computed) starting at
-/// `value_offsets[c]`. `F` is f64 from the CPU reference and f32 from the GPU; `t` is always
-/// f64.
+use crate::job::{Derivatives, EvalJob};
+use crate::layout::JobLayout;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
+}
+
+/// The number type of evaluated values: f32 (the GPU's, and the fast CPU evaluator's on
+/// request) or f64 (the CPU's). Sealed: these two are the only ones.
+pub trait SampleFloat:
+    sealed::Sealed + Copy + Default + Debug + PartialEq + Send + Sync + bytemuck::Pod + 'static
+{
+    /// "f32" or "f64", as the bench's JSON lines and the NPZ headers name it.
+    const NAME: &'static str;
+
+    /// `v` rounded to this type (to nearest).
+    fn from_f64(v: f64) -> Self;
+
+    /// True unless NaN or infinite.
+    fn finite(self) -> bool;
+}
+
+impl SampleFloat for f32 {
+    const NAME: &'static str = "f32";
+
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl SampleFloat for f64 {
+    const NAME: &'static str = "f64";
+
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+/// The samples of a job: for curve c, the samples and values its [`JobLayout`] names, `dim(c)`
+/// values per sample in `points` (and in `d1`, `d2` when computed). `F` is f64 from the CPU
+/// evaluators and f32 from the GPU; `t` is always f64.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Samples<F> {
-    dims: Vec<usize>,
-    sample_offsets: Vec<usize>,
-    value_offsets: Vec<usize>,
+    layout: JobLayout,
     derivatives: Derivatives,
     t: Vec<f64>,
     points: Vec<F>,
@@ -38,9 +83,7 @@ impl<F: Copy + Default> Samples<F> {
     #[must_use]
     pub fn for_job(job: &EvalJob) -> Self {
         let mut samples = Self {
-            dims: Vec::new(),
-            sample_offsets: Vec::new(),
-            value_offsets: Vec::new(),
+            layout: JobLayout::default(),
             derivatives: job.derivatives(),
             t: Vec::new(),
             points: Vec::new(),
@@ -55,23 +98,15 @@ impl<F: Copy + Default> Samples<F> {
     /// plans, and the value planes are resized (new values are zero, the others keep whatever
     /// they held until they are overwritten).
     pub fn prepare(&mut self, job: &EvalJob) {
-        self.dims.clear();
-        self.sample_offsets.clear();
-        self.value_offsets.clear();
-        self.t.clear();
-        self.t.reserve(job.sample_count());
-        self.sample_offsets.push(0);
-        self.value_offsets.push(0);
-        for c in 0..job.len() {
-            let (dim, plan) = (job.table(c).dim(), job.plan(c));
-            self.dims.push(dim);
-            plan.extend_t(&mut self.t);
-            self.sample_offsets.push(self.t.len());
-            self.value_offsets
-                .push(self.value_offsets[c] + plan.len() * dim);
-        }
+        self.layout.clone_from(job.layout());
         self.derivatives = job.derivatives();
-        let values = self.value_offsets[job.len()];
+        self.t.clear();
+        self.t.reserve(self.layout.samples());
+        for c in 0..job.len() {
+            let plan = job.plan(c);
+            plan.extend_t(0..plan.len(), &mut self.t);
+        }
+        let values = self.layout.values();
         let order = self.derivatives.order();
         for (o, plane) in [&mut self.points, &mut self.d1, &mut self.d2]
             .into_iter()
@@ -86,13 +121,13 @@ impl<F> Samples<F> {
     /// Number of curves.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.dims.len()
+        self.layout.len()
     }
 
     /// True when there are no curves.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.dims.is_empty()
+        self.layout.is_empty()
     }
 
     /// The derivatives held.
@@ -101,28 +136,33 @@ impl<F> Samples<F> {
         self.derivatives
     }
 
+    /// Where each curve's samples and values lie (the job's layout).
+    #[must_use]
+    pub fn layout(&self) -> &JobLayout {
+        &self.layout
+    }
+
     /// Curve `c`'s samples.
     #[must_use]
     pub fn curve(&self, c: usize) -> CurveSamples<'_, F> {
-        let values = self.value_offsets[c]..self.value_offsets[c + 1];
+        let values = self.layout.values_of(c);
         let order = self.derivatives.order();
         CurveSamples {
-            dim: self.dims[c],
-            t: &self.t[self.sample_offsets[c]..self.sample_offsets[c + 1]],
+            dim: self.layout.dim(c),
+            t: &self.t[self.layout.samples_of(c)],
             points: &self.points[values.clone()],
             d1: (order >= 1).then(|| &self.d1[values.clone()]),
             d2: (order >= 2).then(|| &self.d2[values]),
         }
     }
 
-    /// The value offset (into each plane) where curve `c` starts; `c = len()` gives the total.
-    #[must_use]
-    pub fn value_offset(&self, c: usize) -> usize {
-        self.value_offsets[c]
-    }
-
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
     pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]
+    }
+
+    /// The layout with the mutable planes, for writers that place values by it.
+    pub(crate) fn layout_and_planes_mut(&mut self) -> (&JobLayout, [&mut [F]; 3]) {
+        (&self.layout, [&mut self.points, &mut self.d1, &mut self.d2])
     }
 }

@@ -34,39 +34,119 @@ pub struct SampleLoc {
     pub t: f64,
 }
 
-/// The samples of one curve, resolved against its segment table.
+/// The samples of one curve (or of a piece of one), resolved against its segment table.
+///
+/// Per-segment sampling stores nothing per sample: sample i is generated on demand from the
+/// grid, so a plan of 10^12 samples costs a few words. Explicit t store one [`SampleLoc`] each.
 #[derive(Clone, Debug, PartialEq)]
-pub enum SamplePlan {
-    /// `segments * k` samples, then the final point when `closing`, generated on demand
-    /// (nothing per sample is stored).
-    PerSegment {
-        /// Samples per segment.
-        k: u32,
-        /// The curve's knots (segments + 1 values).
-        knots: Vec<f64>,
-        /// Whether the final point (the last segment at u = 1) is a sample: always for a whole
-        /// curve, only for the last piece of a curve cut into pieces (see
-        /// [`EvalJob::chunks`](crate::EvalJob::chunks)).
-        closing: bool,
-    },
+pub struct SamplePlan(pub(crate) Plan);
+
+/// The two shapes of a plan, for the evaluators and the packer of this crate.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Plan {
+    /// Samples `first .. first + len` of the grid of a table's segments: grid sample
+    /// g = s·k + j is segment s at u = j/k, and g = segments·k is the final point (the last
+    /// segment at u = 1). A whole curve is `first = 0, len = segments·k + 1`; a piece of a
+    /// curve cut by [`EvalJob::chunks`](crate::EvalJob::chunks) may start and stop anywhere,
+    /// inside a segment too.
+    Grid(Grid),
     /// Explicit samples.
     At(Vec<SampleLoc>),
+}
+
+/// A window of the per-segment sample grid (see [`Plan::Grid`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Grid {
+    /// Samples per segment.
+    pub k: u32,
+    /// The table's knots (segments + 1 values).
+    pub knots: Vec<f64>,
+    /// The grid index of the plan's first sample.
+    pub first: usize,
+    /// Number of samples.
+    pub len: usize,
+}
+
+impl Grid {
+    /// Number of segments.
+    pub fn segments(&self) -> usize {
+        self.knots.len() - 1
+    }
+
+    /// The grid index of the final point: `segments · k`.
+    pub fn closing(&self) -> usize {
+        self.segments() * self.k as usize
+    }
+
+    /// Grid sample `g`'s segment, local u and t. u = j/k is divided exactly this way by every
+    /// evaluator; the final point's t is exactly the last knot.
+    pub fn loc(&self, g: usize) -> SampleLoc {
+        let k = self.k as usize;
+        let (segment, u) = if g == self.closing() {
+            (self.segments() - 1, 1.0)
+        } else {
+            (g / k, (g % k) as f64 / k as f64)
+        };
+        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
+        let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
+        SampleLoc { segment, u, t }
+    }
+}
+
+impl Grid {
+    /// The segment holding grid sample `g` (the final point lies on the last segment).
+    fn segment_of(&self, g: usize) -> usize {
+        (g / self.k as usize).min(self.segments() - 1)
+    }
+
+    /// Samples `range` of this window: the segments they lie on, and the window over just those
+    /// segments (for `table.slice(segments)`).
+    pub fn slice(&self, range: std::ops::Range<usize>) -> (std::ops::Range<usize>, Grid) {
+        debug_assert!(!range.is_empty() && range.end <= self.len);
+        let (g0, g1) = (self.first + range.start, self.first + range.end);
+        let (s0, s1) = (self.segment_of(g0), self.segment_of(g1 - 1) + 1);
+        let part = Grid {
+            k: self.k,
+            knots: self.knots[s0..=s1].to_vec(),
+            first: g0 - s0 * self.k as usize,
+            len: range.len(),
+        };
+        (s0..s1, part)
+    }
 }
 
 impl SamplePlan {
     /// Resolves `sampling` against `table`.
     ///
     /// # Errors
-    /// k = 0; a t that is not finite or lies outside the curve's range (the error names `"at"`,
-    /// the index and the value).
+    /// k = 0, or more samples than the machine can index (the error names `"per_segment"`); a
+    /// t that is not finite or lies outside the curve's range (the error names `"at"`, the
+    /// index and the value).
     pub fn new(table: &SegmentTable, sampling: &Sampling) -> Result<Self, InputError> {
         match sampling {
             Sampling::PerSegment(0) => Err(InputError::field("per_segment", "must be >= 1, got 0")),
-            &Sampling::PerSegment(k) => Ok(SamplePlan::PerSegment {
-                k,
-                knots: table.knots().to_vec(),
-                closing: true,
-            }),
+            &Sampling::PerSegment(k) => {
+                let len = table
+                    .len()
+                    .checked_mul(k as usize)
+                    .and_then(|n| n.checked_add(1))
+                    .ok_or_else(|| {
+                        InputError::field(
+                            "per_segment",
+                            format!(
+                                "asks for {k} samples on each of {} segments: more than this \
+                                 machine can index",
+                                table.len()
+                            ),
+                        )
+                    })?;
+                Ok(SamplePlan(Plan::Grid(Grid {
+                    k,
+                    knots: table.knots().to_vec(),
+                    first: 0,
+                    len,
+                })))
+            }
             Sampling::At(ts) => {
                 let locs = ts
                     .iter()
@@ -75,7 +155,7 @@ impl SamplePlan {
                         locate(table.knots(), t).ok_or_else(|| out_of_range(table, i, t))
                     })
                     .collect::<Result<_, _>>()?;
-                Ok(SamplePlan::At(locs))
+                Ok(SamplePlan(Plan::At(locs)))
             }
         }
     }
@@ -83,11 +163,9 @@ impl SamplePlan {
     /// Number of samples.
     #[must_use]
     pub fn len(&self) -> usize {
-        match self {
-            SamplePlan::PerSegment { k, knots, closing } => {
-                (knots.len() - 1) * *k as usize + usize::from(*closing)
-            }
-            SamplePlan::At(locs) => locs.len(),
+        match &self.0 {
+            Plan::Grid(grid) => grid.len,
+            Plan::At(locs) => locs.len(),
         }
     }
 
@@ -97,48 +175,31 @@ impl SamplePlan {
         self.len() == 0
     }
 
-    /// Appends every sample's t to `out`, as [`SamplePlan::loc`] gives them, in one pass.
-    pub fn extend_t(&self, out: &mut Vec<f64>) {
-        match self {
-            SamplePlan::PerSegment { k, knots, closing } => {
-                let k = *k as usize;
-                for w in knots.windows(2) {
-                    let (t0, t1) = (w[0], w[1]);
-                    out.extend((0..k).map(|j| {
-                        let u = j as f64 / k as f64;
-                        t0 + u * (t1 - t0)
-                    }));
-                }
-                if *closing {
-                    out.push(knots[knots.len() - 1]);
-                }
-            }
-            SamplePlan::At(locs) => out.extend(locs.iter().map(|l| l.t)),
+    /// Appends the t of samples `range` to `out`, as [`SamplePlan::loc`] gives them.
+    ///
+    /// # Panics
+    /// If the range reaches past the plan's end.
+    pub fn extend_t(&self, range: std::ops::Range<usize>, out: &mut Vec<f64>) {
+        assert!(
+            range.end <= self.len(),
+            "samples {range:?} past the plan's end"
+        );
+        match &self.0 {
+            Plan::Grid(grid) => out.extend(range.map(|i| grid.loc(grid.first + i).t)),
+            Plan::At(locs) => out.extend(locs[range].iter().map(|l| l.t)),
         }
     }
 
-    /// Sample `i`: segment i / k at u = (i mod k)/k, or the final point.
+    /// Sample `i`'s segment, local u and t.
     ///
     /// # Panics
     /// If `i >= self.len()`.
     #[must_use]
     pub fn loc(&self, i: usize) -> SampleLoc {
-        match self {
-            SamplePlan::PerSegment { k, knots, .. } => {
-                let k = *k as usize;
-                let segments = knots.len() - 1;
-                assert!(i < self.len(), "sample {i} past the plan's end");
-                let (segment, u) = if i == segments * k {
-                    (segments - 1, 1.0)
-                } else {
-                    (i / k, (i % k) as f64 / k as f64)
-                };
-                let (t0, t1) = (knots[segment], knots[segment + 1]);
-                // The final point is exactly the last knot; elsewhere t_i + u (t_{i+1} − t_i).
-                let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
-                SampleLoc { segment, u, t }
-            }
-            SamplePlan::At(locs) => locs[i],
+        assert!(i < self.len(), "sample {i} past the plan's end");
+        match &self.0 {
+            Plan::Grid(grid) => grid.loc(grid.first + i),
+            Plan::At(locs) => locs[i],
         }
     }
 }
@@ -164,4 +225,36 @@ fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
         "at",
         format!("values must lie in the curve's range [{lo}, {hi}]: at[{i}] = {t}"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(segments: usize, k: u32) -> Grid {
+        Grid {
+            k,
+            knots: (0..=segments).map(|i| i as f64 * 0.5).collect(),
+            first: 0,
+            len: segments * k as usize + 1,
+        }
+    }
+
+    #[test]
+    fn grid_slices_name_the_segments_they_lie_on() {
+        let g = grid(4, 3); // 13 samples, the last the final point
+        let whole: Vec<SampleLoc> = (0..13).map(|i| g.loc(i)).collect();
+        for start in 0..13 {
+            for end in start + 1..=13 {
+                let (segments, part) = g.slice(start..end);
+                for i in 0..end - start {
+                    let got = part.loc(part.first + i);
+                    let want = whole[start + i];
+                    assert_eq!(got.segment + segments.start, want.segment, "{start}..{end}");
+                    assert_eq!((got.u, got.t), (want.u, want.t), "{start}..{end}");
+                }
+                assert!(segments.end <= 4 && part.knots.len() == segments.len() + 1);
+            }
+        }
+    }
 }

@@ -15,6 +15,7 @@
 //! formed in f64), and the CPU reference evaluates them in f64.
 
 use crate::basis::Rows;
+use crate::error::InputError;
 
 /// One curve's segments in power form, with the parameter value of every knot.
 ///
@@ -150,6 +151,41 @@ impl SegmentTable {
         self.extent
     }
 
+    /// Checks that every sample of the curve, and of its derivatives up to `derivatives`, is
+    /// finite in f64: per segment and coordinate, |A| + |B| + |C| + |D| bounds |P(u)|,
+    /// (3|A| + 2|B| + |C|)/Δ bounds |dP/dt| and (6|A| + 2|B|)/Δ² bounds |d2P/dt2|.
+    ///
+    /// # Errors
+    /// The first segment whose bound overflows, naming `"points"` (the input's values are too
+    /// large, or its knots too close, for f64).
+    pub fn check_range(&self, derivatives: crate::Derivatives) -> Result<(), InputError> {
+        let order = derivatives.order();
+        for i in 0..self.len() {
+            let segment = self.segment(i);
+            let [a, b, c, d] = segment.power();
+            let inv_dt = 1.0 / segment.dt();
+            for k in 0..self.dim {
+                let (a, b, c, d) = (a[k].abs(), b[k].abs(), c[k].abs(), d[k].abs());
+                let bounds = [
+                    a + b + c + d,
+                    (3.0 * a + 2.0 * b + c) * inv_dt,
+                    (6.0 * a + 2.0 * b) * inv_dt * inv_dt,
+                ];
+                if let Some(o) = (0..=order).find(|&o| !bounds[o].is_finite()) {
+                    let what = ["positions", "first derivatives", "second derivatives"][o];
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "give {what} beyond the float64 range on segment {i} \
+                             (coordinate {k}): the values are too large for this curve"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Segment `i`.
     ///
     /// # Panics
@@ -267,7 +303,7 @@ impl Segment<'_> {
     pub fn eval(&self, u: f64, out: &mut [f64]) {
         let [a, b, c, d] = self.power();
         for k in 0..self.dim {
-            out[k] = d[k] + u * (c[k] + u * (b[k] + u * a[k]));
+            out[k] = position(a[k], b[k], c[k], d[k], u);
         }
     }
 
@@ -276,7 +312,7 @@ impl Segment<'_> {
         let [a, b, c, _] = self.power();
         let inv_dt = 1.0 / self.dt;
         for k in 0..self.dim {
-            out[k] = (c[k] + u * (2.0 * b[k] + 3.0 * u * a[k])) * inv_dt;
+            out[k] = first_derivative(a[k], b[k], c[k], u, inv_dt);
         }
     }
 
@@ -285,7 +321,26 @@ impl Segment<'_> {
         let [a, b, _, _] = self.power();
         let inv_dt = 1.0 / self.dt;
         for k in 0..self.dim {
-            out[k] = (2.0 * b[k] + 6.0 * u * a[k]) * inv_dt * inv_dt;
+            out[k] = second_derivative(a[k], b[k], u, inv_dt);
         }
     }
+}
+
+/// One coordinate of P(u) = A u^3 + B u^2 + C u + D by Horner, D + u(C + u(B + uA)): the order
+/// every f64 evaluator of this crate uses, so that they agree bit for bit.
+#[inline(always)]
+pub(crate) fn position(a: f64, b: f64, c: f64, d: f64, u: f64) -> f64 {
+    d + u * (c + u * (b + u * a))
+}
+
+/// One coordinate of dP/dt = (C + u(2B + 3uA)) / Δ, with `inv_dt` = 1/Δ.
+#[inline(always)]
+pub(crate) fn first_derivative(a: f64, b: f64, c: f64, u: f64, inv_dt: f64) -> f64 {
+    (c + u * (2.0 * b + 3.0 * u * a)) * inv_dt
+}
+
+/// One coordinate of d2P/dt2 = (2B + 6uA) / Δ², with `inv_dt` = 1/Δ.
+#[inline(always)]
+pub(crate) fn second_derivative(a: f64, b: f64, u: f64, inv_dt: f64) -> f64 {
+    (2.0 * b + 6.0 * u * a) * inv_dt * inv_dt
 }

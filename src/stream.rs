@@ -1,19 +1,18 @@
 //! Output that streams: a job evaluated chunk by chunk ([`EvalJob::chunks`]) and written as it
 //! goes, so that memory stays bounded however many samples there are.
 //!
-//! CSV and NPZ are streamed chunk by chunk. NPZ holds each array whole, one after the other:
-//! `t` comes from the plans without evaluating, `points` is written while the chunks are
-//! evaluated, and the derivatives wait in temporary files for their turn. JSON writes each
-//! curve's t before its points, so it holds one curve at a time.
+//! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `t` comes
+//! from the plans without evaluating, `points` is written while the chunks are evaluated, and
+//! the derivatives wait in temporary files for their turn. JSON writes each curve's t, then its
+//! points, then each derivative, evaluating the curve chunk by chunk once per plane.
 
 use std::io::{self, Read, Seek, Write};
 
-use bytemuck::Pod;
-
+use crate::error::GpuError;
 use crate::job::{EvalJob, Piece};
 use crate::npz::{Dtype, NpzWriter};
-use crate::output::{self, OutputError, SampleValue};
-use crate::samples::Samples;
+use crate::output::{self, OutputError};
+use crate::samples::{SampleFloat, Samples};
 
 /// An output format of the CLI contract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,22 +33,21 @@ pub const CHUNK_SAMPLES: usize = 1 << 20;
 /// `out` as `format`, calling `progress` with each chunk's sample count.
 ///
 /// # Errors
-/// [`OutputError::Evaluation`] from `evaluate`, [`OutputError::NonFinite`] naming the first
-/// sample that overflowed (its curve and sample numbers in the whole job), or an I/O error.
-/// For NPZ, curves of different dimensions are an error.
-pub fn write<F: SampleValue + Default + Pod>(
+/// [`OutputError::Gpu`] from `evaluate`, [`OutputError::NonFinite`] naming the first sample
+/// that overflowed (its curve and sample numbers in the whole job), or an I/O error. For NPZ,
+/// curves of different dimensions are an error ([`OutputError::MixedDimensions`]).
+pub fn write<F: SampleFloat>(
     job: &EvalJob,
     format: Format,
     chunk_samples: usize,
-    dtype: Dtype,
-    mut evaluate: impl FnMut(&EvalJob, &mut Samples<F>) -> Result<(), String>,
+    mut evaluate: impl FnMut(&EvalJob, &mut Samples<F>) -> Result<(), GpuError>,
     out: &mut impl Write,
     progress: &mut dyn FnMut(u64),
 ) -> Result<(), OutputError> {
     let mut samples = Samples::for_job(&EvalJob::new(job.derivatives()));
     let mut run =
         |chunk: &EvalJob, pieces: &[Piece], samples: &mut Samples<F>| -> Result<(), OutputError> {
-            evaluate(chunk, samples).map_err(OutputError::Evaluation)?;
+            evaluate(chunk, samples)?;
             output::check_finite(samples).map_err(|e| match e {
                 OutputError::NonFinite { curve, sample } => OutputError::NonFinite {
                     curve: pieces[curve].curve,
@@ -62,73 +60,95 @@ pub fn write<F: SampleValue + Default + Pod>(
         };
     match format {
         Format::Csv => {
-            let dim = (0..job.len())
-                .map(|c| job.table(c).dim())
-                .max()
-                .unwrap_or(0);
+            let dim = job.layout().max_dim();
             output::write_csv_header(dim, job.derivatives(), out)?;
             for chunk in job.chunks(chunk_samples) {
                 run(&chunk.job, &chunk.pieces, &mut samples)?;
                 output::write_csv_rows(&samples, &chunk.pieces, dim, out)?;
             }
         }
-        Format::Json => {
-            write!(out, "{{\"curves\": [")?;
-            for c in 0..job.len() {
-                let mut one = EvalJob::new(job.derivatives());
-                one.push_table(job.table(c).clone(), job.plan(c).clone());
-                run(
-                    &one,
-                    &[Piece {
-                        curve: c,
-                        first_sample: 0,
-                    }],
-                    &mut samples,
-                )?;
-                output::write_json_curve(&samples.curve(0), c == 0, out)?;
-            }
-            writeln!(out, "]}}")?;
-        }
-        Format::Npz => write_npz(job, chunk_samples, dtype, &mut samples, &mut run, out)?,
+        Format::Json => write_json(job, chunk_samples, &mut samples, &mut run, out)?,
+        Format::Npz => write_npz(job, chunk_samples, &mut samples, &mut run, out)?,
     }
     Ok(())
 }
 
 type Run<'a, F> = dyn FnMut(&EvalJob, &[Piece], &mut Samples<F>) -> Result<(), OutputError> + 'a;
 
-/// The contract's NPZ: "t" (N,) f64, "points" (N, D), "d1" and "d2" (N, D) when asked for, and
-/// "curve_offsets" (curves + 1,) i64.
-fn write_npz<F: SampleValue + Default + Pod>(
+/// The contract's JSON, one curve at a time, each plane of a curve chunk by chunk.
+fn write_json<F: SampleFloat>(
     job: &EvalJob,
     chunk_samples: usize,
-    dtype: Dtype,
     samples: &mut Samples<F>,
     run: &mut Run<'_, F>,
     out: &mut impl Write,
 ) -> Result<(), OutputError> {
-    let dim = if job.is_empty() {
-        0
-    } else {
-        job.table(0).dim()
-    };
-    if let Some(c) = (0..job.len()).find(|&c| job.table(c).dim() != dim) {
-        return Err(OutputError::Evaluation(format!(
-            "npz needs one dimension for all curves: curve 0 has {dim}, curve {c} has {}",
-            job.table(c).dim()
-        )));
+    write!(out, "{{\"curves\": [")?;
+    let mut t = Vec::new();
+    for c in 0..job.len() {
+        let plan = job.plan(c);
+        write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
+        for (i, start) in (0..plan.len()).step_by(chunk_samples).enumerate() {
+            t.clear();
+            plan.extend_t(start..(start + chunk_samples).min(plan.len()), &mut t);
+            output::write_json_numbers(&t, i == 0, out)?;
+        }
+        write!(out, "]")?;
+        let mut one = EvalJob::new(job.derivatives());
+        one.push_table(job.table(c).clone(), plan.clone())
+            .expect("one curve of a job fits a job");
+        let names = ["points", "d1", "d2"];
+        for (o, name) in names.iter().enumerate().take(job.derivatives().order() + 1) {
+            write!(out, ", \"{name}\": [")?;
+            for (i, chunk) in one.chunks(chunk_samples).enumerate() {
+                let pieces: Vec<Piece> = (chunk.pieces.iter())
+                    .map(|p| Piece { curve: c, ..*p })
+                    .collect();
+                run(&chunk.job, &pieces, samples)?;
+                let s = samples.curve(0);
+                let plane = [Some(s.points), s.d1, s.d2][o].expect("computed plane");
+                output::write_json_points(plane, s.dim, i == 0, out)?;
+            }
+            write!(out, "]")?;
+        }
+        write!(out, "}}")?;
     }
-    let n = job.sample_count() as u64;
+    writeln!(out, "]}}")?;
+    Ok(())
+}
+
+/// The contract's NPZ: "t" (N,) f64, "points" (N, D), "d1" and "d2" (N, D) when asked for, and
+/// "curve_offsets" (curves + 1,) i64.
+fn write_npz<F: SampleFloat>(
+    job: &EvalJob,
+    chunk_samples: usize,
+    samples: &mut Samples<F>,
+    run: &mut Run<'_, F>,
+    out: &mut impl Write,
+) -> Result<(), OutputError> {
+    let layout = job.layout();
+    let dim = if job.is_empty() { 0 } else { layout.dim(0) };
+    if let Some(c) = (0..job.len()).find(|&c| layout.dim(c) != dim) {
+        return Err(OutputError::MixedDimensions {
+            curve: c,
+            dim: layout.dim(c),
+            first: dim,
+        });
+    }
+    let dtype = Dtype::of::<F>();
+    let n = layout.samples() as u64;
     let order = job.derivatives().order();
     let mut npz = NpzWriter::new(out);
-    // t, from the plans alone.
+    // t, from the plans alone, in pieces of at most chunk_samples.
     npz.begin("t", Dtype::F64, &[n])?;
     let mut t = Vec::new();
-    for chunk in job.chunks(chunk_samples) {
-        t.clear();
-        for c in 0..chunk.job.len() {
-            chunk.job.plan(c).extend_t(&mut t);
+    for c in 0..job.len() {
+        let plan = job.plan(c);
+        for start in (0..plan.len()).step_by(chunk_samples) {
+            t.clear();
+            plan.extend_t(start..(start + chunk_samples).min(plan.len()), &mut t);
+            npz.write(bytemuck::cast_slice(&t))?;
         }
-        npz.write(bytemuck::cast_slice(&t))?;
     }
     npz.end()?;
     // points, evaluated; the derivatives wait in temporary files.
@@ -160,12 +180,9 @@ fn write_npz<F: SampleValue + Default + Pod>(
         npz.end()?;
     }
     npz.begin("curve_offsets", Dtype::I64, &[job.len() as u64 + 1])?;
-    let mut offset = 0i64;
-    let mut offsets = vec![0i64];
-    for c in 0..job.len() {
-        offset += job.plan(c).len() as i64;
-        offsets.push(offset);
-    }
+    let offsets: Vec<i64> = std::iter::once(0)
+        .chain((0..job.len()).map(|c| layout.samples_of(c).end as i64))
+        .collect();
     npz.write(bytemuck::cast_slice(&offsets))?;
     npz.end()?;
     npz.finish()?;

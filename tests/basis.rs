@@ -2,7 +2,7 @@
 
 use glam::{DMat4, DVec4};
 use splinegpu::Basis;
-use splinegpu::basis::{
+use splinegpu::{
     Rows, beta_rows, bezier_rows, bspline_rows, cardinal_rows, tensioned_bspline_rows,
 };
 

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use splinegpu::accuracy::gpu_bound;
+use splinegpu::gpu_bound;
 
 struct Run {
     status: i32,
@@ -85,7 +85,7 @@ fn parse_csv(text: &str) -> (Vec<String>, Vec<Vec<Option<String>>>) {
 /// Every (curve, sample, column, value) of the library's CPU evaluation of `doc`, in CSV order.
 fn library_values(doc: &str) -> (splinegpu::EvalJob, splinegpu::Samples<f64>) {
     let job = splinegpu::parse_document(doc).unwrap();
-    let samples = splinegpu::cpu::evaluate(&job);
+    let samples = splinegpu::evaluate_reference(&job);
     (job, samples)
 }
 

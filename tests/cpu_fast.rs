@@ -55,10 +55,10 @@ fn mixed_job(derivatives: Derivatives) -> EvalJob {
 fn fast_f64_equals_the_reference_bit_for_bit_on_any_thread_count() {
     for derivatives in [Derivatives::None, Derivatives::Second] {
         let job = mixed_job(derivatives);
-        let reference = splinegpu::cpu::evaluate(&job);
+        let reference = splinegpu::evaluate_reference(&job);
         let mut fast = Samples::<f64>::for_job(&job);
         for threads in [1, 2, 3, 7, 64] {
-            splinegpu::cpu::evaluate_into(&job, &mut fast, threads);
+            splinegpu::evaluate_cpu_into(&job, &mut fast, threads);
             assert_eq!(fast, reference, "{threads} threads, {derivatives:?}");
         }
     }
@@ -67,9 +67,9 @@ fn fast_f64_equals_the_reference_bit_for_bit_on_any_thread_count() {
 #[test]
 fn fast_f32_is_the_reference_rounded_once() {
     let job = mixed_job(Derivatives::First);
-    let reference = splinegpu::cpu::evaluate(&job);
+    let reference = splinegpu::evaluate_reference(&job);
     let mut fast = Samples::<f32>::for_job(&job);
-    splinegpu::cpu::evaluate_into(&job, &mut fast, 4);
+    splinegpu::evaluate_cpu_into(&job, &mut fast, 4);
     for c in 0..job.len() {
         let (r, f) = (reference.curve(c), fast.curve(c));
         assert_eq!(r.t, f.t);
@@ -84,5 +84,5 @@ fn fast_f32_is_the_reference_rounded_once() {
 fn planes_of_the_wrong_length_are_refused() {
     let job = mixed_job(Derivatives::None);
     let mut points = vec![0.0f32; 3];
-    splinegpu::cpu::evaluate_values_into(&job, [&mut points, &mut [], &mut []], 2);
+    splinegpu::evaluate_cpu_values_into(&job, [&mut points, &mut [], &mut []], 2);
 }

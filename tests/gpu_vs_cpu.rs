@@ -176,7 +176,7 @@ fn every_kernel_shape_meets_the_promise() {
         return;
     }
     let job = medium_job();
-    let cpu = splinegpu::cpu::evaluate(&job);
+    let cpu = splinegpu::evaluate_reference(&job);
     let shapes = [
         KernelShape::LOOPING,
         KernelShape::PER_SAMPLE,
@@ -273,12 +273,12 @@ fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
         job.push(&curve, &sampling).unwrap();
     }
     // Every curve's segments, knots and samples travel in one dispatch.
-    let one_dispatch = splinegpu::gpu::layout::BatchLimits {
+    let one_dispatch = splinegpu::internals::BatchLimits {
         values: usize::MAX,
         runs: usize::MAX,
     };
     assert_eq!(
-        splinegpu::gpu::layout::pack(&job, KernelShape::LOOPING, one_dispatch)
+        splinegpu::internals::pack(&job, KernelShape::LOOPING, one_dispatch)
             .unwrap()
             .batches
             .len(),

@@ -4,7 +4,7 @@
 mod common;
 
 use common::{Rng, assert_close, cpu_at};
-use splinegpu::accuracy::cpu_bound;
+use splinegpu::cpu_bound;
 use splinegpu::{
     CardinalBasis, Curve, CurveKind, EndCondition, EndKind, Fitter, Points, SegmentTable,
 };
@@ -216,7 +216,7 @@ fn every_end_condition_is_c2_and_meets_its_ends() {
             let (a, b) = (table.segment(i), table.segment(i + 1));
             let scale = |o| {
                 (0..3)
-                    .map(|k| splinegpu::accuracy::scale(&a, table.extent(), o, k))
+                    .map(|k| splinegpu::promise_scale(&a, table.extent(), o, k))
                     .fold(0.0, f64::max)
             };
             a.eval(1.0, &mut l);
@@ -253,7 +253,7 @@ fn every_end_condition_is_c2_and_meets_its_ends() {
         let (first, last) = (table.segment(0), table.segment(table.len() - 1));
         let end_scale = |o| {
             (0..3)
-                .map(|k| splinegpu::accuracy::scale(&first, table.extent(), o, k))
+                .map(|k| splinegpu::promise_scale(&first, table.extent(), o, k))
                 .fold(0.0, f64::max)
         };
         match &condition {
@@ -709,7 +709,7 @@ fn large_fits_formed_on_several_threads_interpolate_and_join_smoothly() {
             segment.deriv(1.0, &mut end);
             next.deriv(0.0, &mut start);
             let scale = (0..2)
-                .map(|k| splinegpu::accuracy::scale(&segment, table.extent(), 1, k))
+                .map(|k| splinegpu::promise_scale(&segment, table.extent(), 1, k))
                 .fold(0.0, f64::max);
             assert_close(
                 &end,

@@ -4,8 +4,10 @@
 mod common;
 
 use common::gpu;
-use splinegpu::gpu::preview::{LinePreview, View};
-use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuError, Points, Sampling};
+use splinegpu::{
+    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuError, Points, Sampling, TargetError,
+};
+use splinegpu::{LinePreview, LineView};
 
 /// A closed Catmull-Rom curve through 6 points on the circle of radius 0.6.
 fn ring(derivatives: Derivatives) -> EvalJob {
@@ -106,15 +108,34 @@ fn unusable_target_buffers_are_errors() {
         })
     };
     let mut encoder = device.create_command_encoder(&Default::default());
+    let alignment = u64::from(device.limits().min_storage_buffer_offset_alignment);
     let cases = [
-        (buffer(wgpu::BufferUsages::VERTEX, bytes), 0, "STORAGE"),
-        (buffer(wgpu::BufferUsages::STORAGE, bytes), 4, "multiple"),
-        (buffer(wgpu::BufferUsages::STORAGE, bytes - 16), 0, "needs"),
+        (
+            buffer(wgpu::BufferUsages::VERTEX, bytes),
+            0,
+            TargetError::MissingStorageUsage,
+        ),
+        (
+            buffer(wgpu::BufferUsages::STORAGE, bytes),
+            4,
+            TargetError::MisalignedOffset {
+                offset: 4,
+                alignment,
+            },
+        ),
+        (
+            buffer(wgpu::BufferUsages::STORAGE, bytes - 16),
+            0,
+            TargetError::TooSmall {
+                available: bytes - 16,
+                needed: bytes,
+            },
+        ),
     ];
-    for (target, offset, text) in cases {
+    for (target, offset, expected) in cases {
         match context.record_into(&mut encoder, &job, &target, offset) {
-            Err(GpuError::Device(message)) => assert!(message.contains(text), "{message}"),
-            other => panic!("expected an error naming {text}, got {other:?}"),
+            Err(GpuError::Target(e)) => assert_eq!(e, expected),
+            other => panic!("expected {expected:?}, got {other:?}"),
         }
     }
 }
@@ -141,7 +162,7 @@ fn a_drawn_curve_lights_its_pixels_and_none_far_from_it() {
         &buffer,
         0,
         &layout,
-        View::fit(-1.0, -1.0, 1.0, 1.0, [1.0; 4]),
+        LineView::fit(-1.0, -1.0, 1.0, 1.0, [1.0; 4]),
     );
     queue.submit([encoder.finish()]);
     let rgba = preview.read_rgba(device, queue).unwrap();
@@ -151,7 +172,7 @@ fn a_drawn_curve_lights_its_pixels_and_none_far_from_it() {
             && rgba[(4 * (y * SIZE as i64 + x)) as usize] > 128
     };
     // The curve's samples, from the CPU reference, in pixels (y down).
-    let reference = splinegpu::cpu::evaluate(&job);
+    let reference = splinegpu::evaluate_reference(&job);
     let to_pixel = |p: &[f64]| {
         (
             (p[0] + 1.0) / 2.0 * f64::from(SIZE),

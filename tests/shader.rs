@@ -3,8 +3,8 @@
 
 use std::mem::{offset_of, size_of};
 
-use splinegpu::gpu::layout::{GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
-use splinegpu::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+use splinegpu::internals::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+use splinegpu::internals::{GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo) {
     let module = naga::front::wgsl::parse_str(EVAL_WGSL).expect("eval.wgsl parses");
@@ -74,12 +74,7 @@ fn every_wgsl_file_validates() {
 fn the_view_uniform_matches_its_twin() {
     let source = include_str!("../shaders/lines.wgsl");
     let module = naga::front::wgsl::parse_str(source).unwrap();
-    assert_twin!(
-        &module,
-        "View",
-        splinegpu::gpu::preview::View,
-        [scale, offset, color]
-    );
+    assert_twin!(&module, "View", splinegpu::LineView, [scale, offset, color]);
 }
 
 #[test]

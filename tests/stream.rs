@@ -43,12 +43,12 @@ fn job(derivatives: Derivatives) -> EvalJob {
 #[test]
 fn chunks_in_order_give_every_sample_once() {
     let job = job(Derivatives::Second);
-    let whole = splinegpu::cpu::evaluate(&job);
+    let whole = splinegpu::evaluate_reference(&job);
     for max in [1, 7, 50, 100, 10_000] {
         // Per original curve: its samples' t and values, appended chunk by chunk.
         let mut seen: HashMap<usize, (Vec<f64>, [Vec<f64>; 3])> = HashMap::new();
         for chunk in job.chunks(max) {
-            let part = splinegpu::cpu::evaluate(&chunk.job);
+            let part = splinegpu::evaluate_reference(&chunk.job);
             for (c, piece) in chunk.pieces.iter().enumerate() {
                 let s = part.curve(c);
                 let entry = seen.entry(piece.curve).or_default();
@@ -169,7 +169,7 @@ fn cli_npz_reads_back_to_the_library_values() {
     );
     let arrays = read_npz(&std::fs::read(&path).unwrap());
     let job = splinegpu::parse_document(DOC).unwrap();
-    let expected = splinegpu::cpu::evaluate(&job);
+    let expected = splinegpu::evaluate_reference(&job);
     let n = job.sample_count();
     let f64s = |b: &[u8]| {
         b.chunks_exact(8)
@@ -266,8 +266,8 @@ fn samples_reused_across_chunks_do_not_leak_between_them() {
     // A later, smaller chunk must not show values of an earlier, larger one.
     let job = job(Derivatives::None);
     let mut samples = Samples::<f64>::for_job(&job);
-    splinegpu::cpu::evaluate_into(&job, &mut samples, 2);
+    splinegpu::evaluate_cpu_into(&job, &mut samples, 2);
     let small = job.chunks(3).last().unwrap();
-    splinegpu::cpu::evaluate_into(&small.job, &mut samples, 2);
-    assert_eq!(samples, splinegpu::cpu::evaluate(&small.job));
+    splinegpu::evaluate_cpu_into(&small.job, &mut samples, 2);
+    assert_eq!(samples, splinegpu::evaluate_reference(&small.job));
 }

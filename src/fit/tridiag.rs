@@ -32,12 +32,6 @@ impl Tridiagonal {
     pub fn len(&self) -> usize {
         self.diag.len()
     }
-
-    /// True when there are no rows.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.diag.is_empty()
-    }
 }
 
 /// Solves `A X = B` in place for `cols` right-hand sides: `rhs` holds B row-major (row i is

@@ -5,9 +5,9 @@ use std::sync::{PoisonError, mpsc};
 use wgpu::util::DeviceExt;
 
 use super::GpuContext;
-use super::layout::{self, BatchLimits, Packed, Params, Run};
+use super::pack::{self, BatchLimits, Packed, Params, check_size};
 use super::shader::WG_SIZE;
-use crate::error::GpuError;
+use crate::error::{GpuError, TargetError};
 use crate::job::EvalJob;
 use crate::samples::Samples;
 
@@ -86,26 +86,10 @@ impl GpuContext {
         timed: bool,
         samples: &mut Samples<f32>,
     ) -> Result<Option<DeviceTime>, GpuError> {
-        if samples.value_offset(job.len()) == 0 {
+        if job.layout().values() == 0 {
             return Ok(None);
         }
-        let planes = job.derivatives().order() as u64 + 1;
-        let packed = self.pack_checked(job, self.max_dispatch_values)?;
-        // The GPU's output plane: each curve's samples start at a multiple of 4 floats.
-        let gpu_total = packed.curve_offsets[job.len()] as u64;
-        let download_bytes = gpu_total * planes * F32;
-        check_size(
-            "output",
-            download_bytes,
-            self.device.limits().max_buffer_size,
-        )?;
-        // One output buffer, reused by every batch: each batch's copy-out is recorded before
-        // the next batch's dispatch, and wgpu orders the two.
-        let plane_stride = (packed.batches.iter())
-            .map(|b| b.values.len().next_multiple_of(4))
-            .max()
-            .unwrap_or(0) as u64;
-
+        let packed = self.pack(job)?;
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         // Pooled buffers are taken out for this evaluation and given back at its end.
@@ -122,14 +106,16 @@ impl GpuContext {
             self.queue.write_buffer(&buffer, 0, contents);
             buffer
         });
+        // One output buffer, reused by every batch: each batch's copy-out is recorded before
+        // the next batch's dispatch, and wgpu orders the two.
         let output = take(
             ("samples", 0),
-            plane_stride * planes * F32,
+            packed.dispatch_output_bytes(),
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
         let download = take(
             ("download", 0),
-            download_bytes,
+            packed.output_bytes(),
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         );
         drop(pool);
@@ -142,43 +128,45 @@ impl GpuContext {
             (timed && has_timestamps).then(|| Timestamps::new(&self.device, packed.batches.len()));
         let mut waited = 0.0;
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        for b in 0..packed.batches.len() {
-            let target = Target {
-                binding: output.as_entire_buffer_binding(),
-                out_base: 0,
-                plane_stride: plane_stride as u32,
-            };
-            self.dispatch(
-                &mut encoder,
-                job,
-                &packed,
-                &tables,
-                b,
-                &target,
-                stamps.as_ref(),
-            );
-            if timed && stamps.is_none() {
-                // No timestamps: this dispatch goes alone, and we wait for it.
-                let start = std::time::Instant::now();
-                self.queue.submit([encoder.finish()]);
-                self.device
-                    .poll(wgpu::PollType::wait_indefinitely())
-                    .map_err(|e| GpuError::Device(e.to_string()))?;
-                waited += start.elapsed().as_secs_f64();
-                encoder = self.device.create_command_encoder(&Default::default());
-            }
-            // Plane p of this batch lands at plane p's place in the download buffer.
-            let values = &packed.batches[b].values;
-            for p in 0..planes {
-                encoder.copy_buffer_to_buffer(
-                    &output,
-                    p * plane_stride * F32,
-                    &download,
-                    (p * gpu_total + values.start as u64) * F32,
-                    values.len() as u64 * F32,
-                );
-            }
-        }
+        let target = |_: &pack::Batch| Target {
+            binding: output.as_entire_buffer_binding(),
+            out_base: 0,
+            plane_stride: packed.plane_stride as u32,
+        };
+        self.encode(
+            &mut encoder,
+            &packed,
+            &tables,
+            target,
+            stamps.as_ref(),
+            |encoder, b| {
+                if timed && stamps.is_none() {
+                    // No timestamps: this dispatch goes alone, and we wait for it.
+                    let start = std::time::Instant::now();
+                    let done = std::mem::replace(
+                        encoder,
+                        self.device.create_command_encoder(&Default::default()),
+                    );
+                    self.queue.submit([done.finish()]);
+                    self.device
+                        .poll(wgpu::PollType::wait_indefinitely())
+                        .map_err(|e| GpuError::Device(e.to_string()))?;
+                    waited += start.elapsed().as_secs_f64();
+                }
+                // Plane p of this batch lands at plane p's place in the download buffer.
+                let values = &packed.batches[b].values;
+                for p in 0..packed.planes as u64 {
+                    encoder.copy_buffer_to_buffer(
+                        &output,
+                        p * packed.plane_stride as u64 * F32,
+                        &download,
+                        (p * packed.device_values as u64 + values.start as u64) * F32,
+                        values.len() as u64 * F32,
+                    );
+                }
+                Ok(())
+            },
+        )?;
         if let Some(stamps) = &stamps {
             stamps.resolve(&mut encoder);
         }
@@ -189,7 +177,9 @@ impl GpuContext {
         if let Some(e) = pollster::block_on(validation.pop()) {
             return Err(GpuError::Device(e.to_string()));
         }
-        read_back(&self.device, &download, &packed.curve_offsets, samples)?;
+        map_read(&self.device, &download, |bytes| {
+            unpack_device_planes(bytemuck::cast_slice(bytes), samples);
+        })?;
         let mut pool = self.pool.lock().unwrap_or_else(PoisonError::into_inner);
         for (role, buffer) in taken {
             pool.give(role, buffer);
@@ -210,7 +200,7 @@ impl GpuContext {
     /// Where [`GpuContext::record_into`] puts `job`'s samples, to size the caller's buffer.
     #[must_use]
     pub fn output_layout(&self, job: &EvalJob) -> OutputLayout {
-        OutputLayout::new(job, &layout::curve_offsets(job))
+        OutputLayout::new(job)
     }
 
     /// Records the evaluation of `job` into the caller's `encoder`, writing the f32 samples
@@ -222,10 +212,10 @@ impl GpuContext {
     /// so the call may be repeated before the encoder is submitted.
     ///
     /// # Errors
-    /// `buffer` without `STORAGE` usage, too small from `offset`, or `offset` not a multiple
-    /// of the device's `min_storage_buffer_offset_alignment` ([`GpuError::Device`]); the job's
-    /// output larger than one storage binding ([`GpuError::TooLarge`]); a value outside the f32
-    /// range ([`GpuError::OutOfRange`]).
+    /// [`GpuError::Target`] when `buffer` lacks `STORAGE` usage, is too small from `offset`, or
+    /// `offset` is not a multiple of the device's `min_storage_buffer_offset_alignment`; the
+    /// job's output larger than one storage binding ([`GpuError::TooLarge`]); a value outside
+    /// the f32 range ([`GpuError::OutOfRange`]).
     pub fn record_into(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -233,8 +223,7 @@ impl GpuContext {
         buffer: &wgpu::Buffer,
         offset: u64,
     ) -> Result<OutputLayout, GpuError> {
-        let packed = self.pack_checked(job, self.max_dispatch_values)?;
-        let layout = OutputLayout::new(job, &packed.curve_offsets);
+        let layout = OutputLayout::new(job);
         let limits = self.device.limits();
         check_size(
             "output",
@@ -242,94 +231,76 @@ impl GpuContext {
             limits.max_storage_buffer_binding_size,
         )?;
         let alignment = u64::from(limits.min_storage_buffer_offset_alignment);
-        let problem = if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
-            Some("the target buffer needs STORAGE usage".to_string())
-        } else if !offset.is_multiple_of(alignment) {
-            Some(format!(
-                "the offset {offset} is not a multiple of {alignment}"
-            ))
-        } else if offset + layout.bytes > buffer.size() {
-            Some(format!(
-                "the target buffer holds {} bytes from offset {offset}; the job needs {}",
-                buffer.size().saturating_sub(offset),
-                layout.bytes
-            ))
-        } else {
-            None
-        };
-        if let Some(problem) = problem {
-            return Err(GpuError::Device(problem));
+        if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(TargetError::MissingStorageUsage.into());
+        }
+        if !offset.is_multiple_of(alignment) {
+            return Err(TargetError::MisalignedOffset { offset, alignment }.into());
+        }
+        if offset.saturating_add(layout.bytes) > buffer.size() {
+            return Err(TargetError::TooSmall {
+                available: buffer.size().saturating_sub(offset),
+                needed: layout.bytes,
+            }
+            .into());
         }
         if layout.bytes == 0 {
             return Ok(layout);
         }
+        let packed = self.pack(job)?;
         let tables = Tables::upload(&packed, |role, contents| {
             self.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(role.0),
-                    // A binding is never empty: an empty table binds 16 zero bytes.
-                    contents: if contents.is_empty() {
-                        &[0; 16]
-                    } else {
-                        contents
-                    },
+                    contents,
                     usage: wgpu::BufferUsages::STORAGE,
                 })
         });
-        let target = |b: &layout::Batch| Target {
+        let target = |b: &pack::Batch| Target {
             binding: wgpu::BufferBinding {
                 buffer,
                 offset,
                 size: std::num::NonZeroU64::new(layout.bytes),
             },
             out_base: b.values.start as u32,
-            plane_stride: (layout.plane_bytes / F32) as u32,
+            plane_stride: packed.device_values as u32,
         };
-        for (b, batch) in packed.batches.iter().enumerate() {
-            self.dispatch(encoder, job, &packed, &tables, b, &target(batch), None);
-        }
+        self.encode(encoder, &packed, &tables, target, None, |_, _| Ok(()))?;
         Ok(layout)
     }
 
-    /// Packs `job` and checks that its tables fit the device's bindings.
-    fn pack_checked(&self, job: &EvalJob, max_values: usize) -> Result<Packed, GpuError> {
-        let planes = job.derivatives().order() as u64 + 1;
+    /// Packs `job` for this context's kernel shape and checks it against the device's limits.
+    fn pack(&self, job: &EvalJob) -> Result<Packed, GpuError> {
         let limits = self.device.limits();
-        let max_binding = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        let batch_limits = BatchLimits {
-            values: ((max_binding / F32 / planes) as usize).min(max_values),
-            runs: (max_binding / size_of::<Run>() as u64) as usize,
-        };
-        let packed = layout::pack(job, self.shape, batch_limits)?;
-        check_size(
-            "segment",
-            size_of_val(packed.segments.as_slice()) as u64,
-            max_binding,
-        )?;
-        check_size(
-            "coefficient",
-            size_of_val(packed.coeffs.as_slice()) as u64,
-            max_binding,
-        )?;
-        check_size(
-            "sample place",
-            size_of_val(packed.locs.as_slice()) as u64,
-            max_binding,
-        )?;
+        let planes = job.derivatives().order() + 1;
+        let batch_limits = BatchLimits::for_device(&limits, planes, self.max_dispatch_values);
+        let packed = pack::pack(job, self.shape, batch_limits)?;
+        packed.check(&limits)?;
         Ok(packed)
     }
 
+    /// Records every dispatch of `packed` into `encoder`, batch `b` writing into
+    /// `target(batch)`, and calls `after(encoder, b)` after each.
+    fn encode<'t>(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        packed: &Packed,
+        tables: &Tables,
+        target: impl Fn(&pack::Batch) -> Target<'t>,
+        stamps: Option<&Timestamps>,
+        mut after: impl FnMut(&mut wgpu::CommandEncoder, usize) -> Result<(), GpuError>,
+    ) -> Result<(), GpuError> {
+        for (b, batch) in packed.batches.iter().enumerate() {
+            self.dispatch(encoder, packed, tables, b, &target(batch), stamps);
+            after(encoder, b)?;
+        }
+        Ok(())
+    }
+
     /// Records dispatch `b` of `packed`, writing into `target`.
-    #[allow(
-        clippy::too_many_arguments,
-        reason = "one dispatch needs every one of these"
-    )]
     fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        job: &EvalJob,
         packed: &Packed,
         tables: &Tables,
         b: usize,
@@ -345,7 +316,7 @@ impl GpuContext {
             run_count: batch.runs.len() as u32,
             row_width: groups_x * WG_SIZE,
             plane_stride: target.plane_stride,
-            derivatives: job.derivatives().order() as u32,
+            derivatives: (packed.planes - 1) as u32,
             out_base: target.out_base,
             _padding: [0; 3],
         };
@@ -402,12 +373,27 @@ struct Tables {
     runs: Vec<wgpu::Buffer>,
 }
 
+/// What an empty table binds: a binding is never empty, and must hold at least its
+/// `min_binding_size` (the largest is a `Run`'s 32 bytes).
+const EMPTY_TABLE: [u8; 32] = [0; 32];
+
 impl Tables {
-    /// Uploads the tables through `upload(role, bytes)`.
+    /// Uploads the tables through `upload(role, bytes)`; an empty table uploads
+    /// [`EMPTY_TABLE`].
     fn upload(
         packed: &Packed,
         mut upload: impl FnMut((&'static str, usize), &[u8]) -> wgpu::Buffer,
     ) -> Self {
+        let mut upload = |role, bytes: &[u8]| {
+            upload(
+                role,
+                if bytes.is_empty() {
+                    &EMPTY_TABLE
+                } else {
+                    bytes
+                },
+            )
+        };
         Self {
             segments: upload(("segments", 0), bytemuck::cast_slice(&packed.segments)),
             coeffs: upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs)),
@@ -437,7 +423,7 @@ pub struct OutputLayout {
     /// Byte offset of each curve's first sample, relative to the write's `offset`.
     pub curve_starts: Vec<u64>,
     /// Samples of each curve.
-    pub counts: Vec<u32>,
+    pub counts: Vec<u64>,
     /// Coordinates per sample of each curve.
     pub dims: Vec<u32>,
     /// Bytes from one plane to the next (positions, dP/dt, d2P/dt2).
@@ -447,30 +433,21 @@ pub struct OutputLayout {
 }
 
 impl OutputLayout {
-    fn new(job: &EvalJob, curve_offsets: &[usize]) -> Self {
-        let plane_bytes = curve_offsets[job.len()] as u64 * F32;
+    /// The device planes of `job`'s layout, in bytes.
+    fn new(job: &EvalJob) -> Self {
+        let layout = job.layout();
+        let plane_bytes = layout.device_values() as u64 * F32;
         Self {
-            curve_starts: curve_offsets[..job.len()]
-                .iter()
-                .map(|&o| o as u64 * F32)
+            curve_starts: (0..job.len())
+                .map(|c| layout.device_start(c) as u64 * F32)
                 .collect(),
-            counts: (0..job.len()).map(|c| job.plan(c).len() as u32).collect(),
-            dims: (0..job.len()).map(|c| job.table(c).dim() as u32).collect(),
+            counts: (0..job.len())
+                .map(|c| layout.samples_of(c).len() as u64)
+                .collect(),
+            dims: (0..job.len()).map(|c| layout.dim(c) as u32).collect(),
             plane_bytes,
             bytes: plane_bytes * (job.derivatives().order() as u64 + 1),
         }
-    }
-}
-
-fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<(), GpuError> {
-    if bytes > limit {
-        Err(GpuError::TooLarge {
-            table,
-            bytes,
-            limit,
-        })
-    } else {
-        Ok(())
     }
 }
 
@@ -539,31 +516,22 @@ impl Timestamps {
     }
 }
 
-/// Maps `download` (planes in the GPU's layout, curve c from `curve_offsets[c]` on) and copies
-/// every curve's values into `samples`, whose planes are packed.
-fn read_back(
-    device: &wgpu::Device,
-    download: &wgpu::Buffer,
-    curve_offsets: &[usize],
-    samples: &mut Samples<f32>,
-) -> Result<(), GpuError> {
-    let curves = curve_offsets.len() - 1;
-    let gpu_total = curve_offsets[curves];
-    let host_offsets: Vec<usize> = (0..=curves).map(|c| samples.value_offset(c)).collect();
-    map_read(device, download, |bytes| {
-        let values: &[f32] = bytemuck::cast_slice(bytes);
-        for (p, plane) in samples.planes_mut().into_iter().enumerate() {
-            if plane.is_empty() {
-                continue;
-            }
-            let gpu_plane = &values[p * gpu_total..(p + 1) * gpu_total];
-            for c in 0..curves {
-                let (from, to) = (host_offsets[c], host_offsets[c + 1]);
-                let at = curve_offsets[c];
-                plane[from..to].copy_from_slice(&gpu_plane[at..at + (to - from)]);
-            }
+/// Copies every curve's values from planes in the device layout (`values`, plane after plane,
+/// each the job layout's `device_values()` long) into `samples`, whose planes are packed.
+pub(crate) fn unpack_device_planes(values: &[f32], samples: &mut Samples<f32>) {
+    let (layout, planes) = samples.layout_and_planes_mut();
+    let device_values = layout.device_values();
+    for (p, plane) in planes.into_iter().enumerate() {
+        if plane.is_empty() {
+            continue;
         }
-    })
+        let device_plane = &values[p * device_values..(p + 1) * device_values];
+        for c in 0..layout.len() {
+            let host = layout.values_of(c);
+            let at = layout.device_start(c);
+            plane[host.clone()].copy_from_slice(&device_plane[at..at + host.len()]);
+        }
+    }
 }
 
 /// The readback sequence, written once: map_async on the whole buffer, poll the device until

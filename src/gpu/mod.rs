@@ -5,9 +5,10 @@
 //! [`GpuContext::evaluate`] (in `eval.rs`) runs a job and reads the samples back.
 
 mod eval;
-pub mod layout;
-pub mod preview;
-pub mod shader;
+pub(crate) mod interpret;
+pub(crate) mod pack;
+pub(crate) mod preview;
+pub(crate) mod shader;
 
 pub use eval::{DeviceTime, OutputLayout, TimingMethod};
 
@@ -18,9 +19,10 @@ use crate::error::GpuError;
 /// A job is cut into runs of at most `run_len` consecutive samples (of one segment, or of
 /// several short consecutive segments of one curve); `lanes` invocations share a run, each
 /// taking every `lanes`-th sample (or group of 4). On a CPU adapter (lavapipe) one invocation
-/// looping over a long run is fastest (`lanes = 1`; measured there: 155 M samples/s with runs
-/// of 32 samples, 462 M with runs of 256); a GPU wants one sample per invocation so that
-/// neighbouring invocations write neighbouring addresses (`lanes = run_len`).
+/// looping over a long run is fastest (`lanes = 1`: long runs amortise the per-segment
+/// coefficient loads, which dominate there); a GPU wants one sample per invocation so that
+/// neighbouring invocations write neighbouring addresses (`lanes = run_len`). The README's
+/// bench table has the current figures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct KernelShape {
     /// Invocations per run (>= 1).
@@ -52,6 +54,10 @@ impl KernelShape {
 }
 
 /// A device, its queue and the compiled evaluation pipeline.
+///
+/// `GpuContext` is `Send + Sync`: one context may serve many threads at once. Each evaluation
+/// takes its own buffers out of the context's pool (and gives them back when it is done), so
+/// concurrent calls never share a buffer; wgpu orders their submissions on the queue.
 #[derive(Debug)]
 pub struct GpuContext {
     device: wgpu::Device,
@@ -109,33 +115,37 @@ impl BufferPool {
     }
 }
 
-/// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role).
-const BINDINGS: [(wgpu::BufferBindingType, &str); 7] = [
-    (wgpu::BufferBindingType::Uniform, "params"),
-    (
-        wgpu::BufferBindingType::Storage { read_only: true },
-        "segments",
-    ),
-    (
-        wgpu::BufferBindingType::Storage { read_only: true },
-        "coeffs",
-    ),
-    (wgpu::BufferBindingType::Storage { read_only: true }, "runs"),
-    (
-        wgpu::BufferBindingType::Storage { read_only: false },
-        "samples",
-    ),
-    (wgpu::BufferBindingType::Storage { read_only: true }, "locs"),
-    // The coefficients again, as floats.
-    (
-        wgpu::BufferBindingType::Storage { read_only: true },
-        "coeff_floats",
-    ),
-];
+/// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role, the least bytes
+/// a binding holds: the uniform struct's size, or one element of a storage array). A test
+/// checks these against the shader's declarations through naga.
+pub const BINDINGS: [(wgpu::BufferBindingType, &str, u64); 7] = {
+    use pack::{GpuLoc, GpuSegment, Params, Run};
+    const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+    [
+        (
+            wgpu::BufferBindingType::Uniform,
+            "params",
+            size_of::<Params>() as u64,
+        ),
+        (READ, "segments", size_of::<GpuSegment>() as u64),
+        (READ, "coeffs", size_of::<[f32; 4]>() as u64),
+        (READ, "runs", size_of::<Run>() as u64),
+        (
+            wgpu::BufferBindingType::Storage { read_only: false },
+            "samples",
+            size_of::<[f32; 4]>() as u64,
+        ),
+        (READ, "locs", size_of::<GpuLoc>() as u64),
+        // The coefficients again, as floats.
+        (READ, "coeff_floats", size_of::<f32>() as u64),
+    ]
+};
 
 impl GpuContext {
-    /// A context on the adapter named by `WGPU_ADAPTER_NAME` (a case-insensitive substring, as
-    /// wgpu's examples use it), or else the default high-performance adapter.
+    /// A context on the adapter wgpu's environment conventions pick: `WGPU_BACKEND` limits the
+    /// backends, `WGPU_ADAPTER_NAME` (a case-insensitive substring of the adapter's name)
+    /// picks one by name, and otherwise `WGPU_POWER_PREF` (`low`, `high` or `none`; default
+    /// `high`) guides wgpu's choice.
     ///
     /// # Errors
     /// [`GpuError::NoAdapter`] when there is none (or none matches the name);
@@ -144,20 +154,29 @@ impl GpuContext {
         let instance = new_instance();
         let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
             Ok(name) => {
+                // wgpu's helper panics when the name matches nothing: that is an error here.
                 let wanted = name.to_lowercase();
-                pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
-                    .into_iter()
-                    .find(|a| a.get_info().name.to_lowercase().contains(&wanted))
-                    .ok_or_else(|| {
-                        GpuError::NoAdapter(format!("no adapter matches WGPU_ADAPTER_NAME={name}"))
-                    })?
+                let adapters =
+                    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+                if !adapters
+                    .iter()
+                    .any(|a| a.get_info().name.to_lowercase().contains(&wanted))
+                {
+                    return Err(GpuError::NoAdapter(format!(
+                        "no adapter matches WGPU_ADAPTER_NAME={name}"
+                    )));
+                }
+                pollster::block_on(wgpu::util::initialize_adapter_from_env(&instance, None))
             }
-            Err(_) => pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::HighPerformance,
-                ..Default::default()
-            }))
-            .map_err(|e| GpuError::NoAdapter(e.to_string()))?,
-        };
+            Err(_) => pollster::block_on(
+                instance.request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::from_env()
+                        .unwrap_or(wgpu::PowerPreference::HighPerformance),
+                    ..Default::default()
+                }),
+            ),
+        }
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         Self::from_adapter(&adapter)
     }
 
@@ -193,13 +212,13 @@ impl GpuContext {
         let entries: Vec<_> = BINDINGS
             .iter()
             .enumerate()
-            .map(|(i, (ty, _))| wgpu::BindGroupLayoutEntry {
+            .map(|(i, (ty, _, min_size))| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
                 visibility: wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Buffer {
                     ty: *ty,
                     has_dynamic_offset: false,
-                    min_binding_size: None,
+                    min_binding_size: std::num::NonZeroU64::new(*min_size),
                 },
                 count: None,
             })

@@ -21,7 +21,7 @@ const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// The view uniform. WGSL twin: `View` in `shaders/lines.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
-pub struct View {
+pub struct LineView {
     /// Clip position = sample.xy · scale + offset.
     pub scale: [f32; 2],
     /// See `scale`.
@@ -30,7 +30,7 @@ pub struct View {
     pub color: [f32; 4],
 }
 
-impl View {
+impl LineView {
     /// The view that maps the rectangle [x0, x1] × [y0, y1] of sample space onto the image
     /// (y up), drawing in `color`.
     #[must_use]
@@ -111,7 +111,7 @@ impl LinePreview {
         buffer: &wgpu::Buffer,
         offset: u64,
         layout: &OutputLayout,
-        view: View,
+        view: LineView,
     ) {
         for &dim in &layout.dims {
             let stride = 4 * u64::from(dim);
@@ -156,8 +156,9 @@ impl LinePreview {
             let stride = 4 * u64::from(dim);
             let start = offset + layout.curve_starts[c];
             pass.set_pipeline(&self.pipelines[&stride]);
-            pass.set_vertex_buffer(0, buffer.slice(start..start + u64::from(count) * stride));
-            pass.draw(0..count, 0..1);
+            pass.set_vertex_buffer(0, buffer.slice(start..start + count * stride));
+            // A curve's samples fit one storage binding (record_into checks), so well within u32.
+            pass.draw(0..u32::try_from(count).unwrap_or(u32::MAX), 0..1);
         }
     }
 

@@ -6,7 +6,7 @@
 
 use std::sync::OnceLock;
 
-use splinegpu::accuracy::gpu_bound;
+use splinegpu::gpu_bound;
 use splinegpu::{EvalJob, GpuContext, Samples};
 
 /// The context every GPU test of this binary shares, or `None` on a developer's machine without
@@ -96,7 +96,7 @@ pub fn compare(job: &EvalJob, cpu: &Samples<f64>, gpu: &Samples<f32>) -> Worst {
 /// worst ratio seen. Returns `None` when there is no GPU (outside CI).
 pub fn assert_gpu_matches_cpu(job: &EvalJob) -> Option<Worst> {
     let context = gpu()?;
-    let cpu = splinegpu::cpu::evaluate(job);
+    let cpu = splinegpu::evaluate_reference(job);
     let gpu = context.evaluate(job).expect("GPU evaluation");
     let worst = compare(job, &cpu, &gpu);
     assert!(
@@ -132,7 +132,7 @@ pub fn cpu_at(curve: &splinegpu::Curve, ts: &[f64]) -> Samples<f64> {
     let mut job = EvalJob::new(splinegpu::Derivatives::Second);
     job.push(curve, &splinegpu::Sampling::At(ts.to_vec()))
         .unwrap();
-    splinegpu::cpu::evaluate(&job)
+    splinegpu::evaluate_reference(&job)
 }
 
 /// Asserts |a - b| <= tol elementwise, naming `what`.

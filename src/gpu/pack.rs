@@ -1,8 +1,10 @@
 //! The buffers shared with `shaders/eval.wgsl`: Pod twins of its structs, and `pack`, which
-//! turns an [`EvalJob`] into segment, coefficient and run tables split into dispatches.
+//! turns an [`EvalJob`] into segment, coefficient and run tables split into dispatches, with
+//! every size the GPU path needs computed once ([`Packed`]).
 //!
 //! Each struct here has a twin of the same field order in the WGSL file; `tests/shader.rs`
-//! compares their sizes and offsets through naga.
+//! compares their sizes and offsets through naga. Where the samples go is the job's
+//! [`JobLayout`](crate::JobLayout) (device planes): nothing here recomputes it.
 
 use std::ops::Range;
 
@@ -11,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use super::KernelShape;
 use crate::error::GpuError;
 use crate::job::EvalJob;
-use crate::sampling::SamplePlan;
+use crate::sampling::{Grid, Plan, SamplePlan};
 
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
 pub const TERMS: usize = 5;
@@ -116,7 +118,29 @@ pub struct BatchLimits {
     pub runs: usize,
 }
 
-/// A job as the kernel reads it.
+impl BatchLimits {
+    /// What one dispatch of a job with `planes` output planes may hold on a device with
+    /// `limits`, and at most `max_values` output floats per plane.
+    #[must_use]
+    pub fn for_device(limits: &wgpu::Limits, planes: usize, max_values: usize) -> Self {
+        let binding = max_binding(limits);
+        Self {
+            values: ((binding / F32 / planes as u64) as usize).min(max_values),
+            runs: (binding / size_of::<Run>() as u64) as usize,
+        }
+    }
+}
+
+const F32: u64 = size_of::<f32>() as u64;
+
+/// The largest storage binding (and buffer) the device allows.
+fn max_binding(limits: &wgpu::Limits) -> u64 {
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
+/// A job as the kernel reads it, and every size its buffers need.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Packed {
     /// Every curve's segments, curve after curve.
@@ -129,9 +153,65 @@ pub struct Packed {
     pub locs: Vec<GpuLoc>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
-    /// Where each curve's samples start in the GPU output plane (a multiple of 4 floats, so
-    /// that vector runs are aligned), and, last, the plane's length.
-    pub curve_offsets: Vec<usize>,
+    /// Output planes: 1 + the derivative order.
+    pub planes: usize,
+    /// Floats per plane of the whole job's device output (the job layout's
+    /// [`device_values`](crate::JobLayout::device_values)).
+    pub device_values: usize,
+    /// Floats per plane of the output one dispatch writes: its largest batch, a multiple of 4.
+    pub plane_stride: usize,
+}
+
+impl Packed {
+    /// Bytes of the output one dispatch writes (all its planes).
+    #[must_use]
+    pub fn dispatch_output_bytes(&self) -> u64 {
+        (self.plane_stride * self.planes) as u64 * F32
+    }
+
+    /// Bytes of the whole job's output in the device layout (all planes).
+    #[must_use]
+    pub fn output_bytes(&self) -> u64 {
+        (self.device_values * self.planes) as u64 * F32
+    }
+
+    /// Checks every table against the device's binding limit, and the whole output against
+    /// its buffer limit.
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`] naming the first table that does not fit.
+    pub fn check(&self, limits: &wgpu::Limits) -> Result<(), GpuError> {
+        let binding = max_binding(limits);
+        check_size(
+            "segment",
+            size_of_val(self.segments.as_slice()) as u64,
+            binding,
+        )?;
+        check_size(
+            "coefficient",
+            size_of_val(self.coeffs.as_slice()) as u64,
+            binding,
+        )?;
+        check_size(
+            "sample place",
+            size_of_val(self.locs.as_slice()) as u64,
+            binding,
+        )?;
+        check_size("output", self.output_bytes(), limits.max_buffer_size)
+    }
+}
+
+/// `Err(TooLarge)` when `bytes` exceed `limit`.
+pub(crate) fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<(), GpuError> {
+    if bytes > limit {
+        Err(GpuError::TooLarge {
+            table,
+            bytes,
+            limit,
+        })
+    } else {
+        Ok(())
+    }
 }
 
 /// Packs `job` into runs of at most `shape.run_len` samples, and cuts them into dispatches that
@@ -145,9 +225,13 @@ pub struct Packed {
 /// # Errors
 /// A coefficient, or 1/Δ, outside the f32 range ([`GpuError::OutOfRange`]).
 pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Packed, GpuError> {
-    let mut packed = Packed::default();
+    let layout = job.layout();
+    let mut packed = Packed {
+        planes: job.derivatives().order() + 1,
+        device_values: layout.device_values(),
+        ..Packed::default()
+    };
     let mut all_runs = Vec::new();
-    let mut value_base = 0usize;
     for c in 0..job.len() {
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
@@ -156,7 +240,6 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
         for s in 0..table.len() {
             let segment = table.segment(s);
             let inv_dt = (1.0 / segment.dt()) as f32;
-            check_f32(c, "1/Δ of a segment", inv_dt)?;
             packed.segments.push(GpuSegment {
                 coeff_offset: packed.coeffs.len() as u32,
                 dim: dim as u32,
@@ -181,6 +264,12 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
                 }
             }
             block[TERMS * dim] = inv_dt;
+            if !inv_dt.is_finite() {
+                return Err(GpuError::OutOfRange {
+                    curve: c,
+                    what: "1/Δ of a segment",
+                });
+            }
             if block.iter().any(|v| !v.is_finite()) {
                 return Err(GpuError::OutOfRange {
                     curve: c,
@@ -188,33 +277,24 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
                 });
             }
         }
-        push_runs(
-            &mut all_runs,
-            &mut packed.locs,
-            plan,
+        let runs = CurveRuns {
+            runs: &mut all_runs,
             first_segment,
-            value_base,
+            value_base: layout.device_start(c),
             dim,
             shape,
-        );
-        value_base = (value_base + plan.len() * dim).next_multiple_of(4);
+        };
+        match &plan.0 {
+            Plan::Grid(grid) => runs.grid(grid),
+            Plan::At(_) => runs.explicit(plan, &mut packed.locs),
+        }
     }
-    packed.curve_offsets = curve_offsets(job);
-    debug_assert_eq!(packed.curve_offsets[job.len()], value_base);
     cut_batches(&mut packed, &all_runs, limits);
+    packed.plane_stride = (packed.batches.iter())
+        .map(|b| b.values.len().next_multiple_of(4))
+        .max()
+        .unwrap_or(0);
     Ok(packed)
-}
-
-/// Where each curve's samples start in the GPU's output plane: each at a multiple of 4 floats
-/// (so that vector runs are aligned), and, last, the plane's length.
-#[must_use]
-pub fn curve_offsets(job: &EvalJob) -> Vec<usize> {
-    let mut offsets = vec![0];
-    for c in 0..job.len() {
-        let end = offsets[c] + job.plan(c).len() * job.table(c).dim();
-        offsets.push(end.next_multiple_of(4));
-    }
-    offsets
 }
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, each starting
@@ -261,24 +341,22 @@ fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: Ba
 }
 
 /// Appends one curve's runs as (run, first float, end float) with absolute float offsets.
-///
-/// Each chunk of at most `run_len` samples of a segment is split into a head of fewer than 4
-/// samples, after which the floats start at a multiple of 4, then (for dim <= 4) a body of
-/// whole groups of 4 samples written as vec4s, then a tail.
-fn push_runs(
-    runs: &mut Vec<(Run, usize, usize)>,
-    locs: &mut Vec<GpuLoc>,
-    plan: &SamplePlan,
+struct CurveRuns<'a> {
+    runs: &'a mut Vec<(Run, usize, usize)>,
     first_segment: u32,
+    /// The float where the curve's first sample goes in each device plane.
     value_base: usize,
     dim: usize,
     shape: KernelShape,
-) {
-    let run_len = shape.run_len;
-    if let SamplePlan::At(places) = plan {
-        // Explicit t: runs of up to run_len samples, each with its own segment and u.
-        for (c, chunk) in places.chunks(run_len as usize).enumerate() {
-            let begin = value_base + c * run_len as usize * dim;
+}
+
+impl CurveRuns<'_> {
+    /// Explicit t: runs of up to run_len samples, each with its own segment and u.
+    fn explicit(self, plan: &SamplePlan, locs: &mut Vec<GpuLoc>) {
+        let run_len = self.shape.run_len as usize;
+        let Plan::At(places) = &plan.0 else { return };
+        for (c, chunk) in places.chunks(run_len).enumerate() {
+            let begin = self.value_base + c * run_len * self.dim;
             let run = Run {
                 segment: 0,
                 segments: 1,
@@ -290,62 +368,97 @@ fn push_runs(
                 first_loc: locs.len() as u32,
             };
             locs.extend(chunk.iter().map(|l| GpuLoc {
-                segment: first_segment + l.segment as u32,
+                segment: self.first_segment + l.segment as u32,
                 u: l.u as f32,
             }));
-            runs.push((run, begin, begin + chunk.len() * dim));
+            self.runs.push((run, begin, begin + chunk.len() * self.dim));
         }
-        return;
     }
-    if let SamplePlan::PerSegment { k, knots, closing } = plan {
-        let (segments, k) = (knots.len() - 1, *k);
-        // Short segments whose blocks all stay vec4-aligned share runs, several segments
-        // each, so that one looping invocation writes up to `run_len` samples.
-        let per_run = (run_len / k) as usize;
-        if shape.lanes == 1
-            && dim <= 4
-            && k % 4 == 0
+
+    /// A window of the per-segment grid: a partial first segment, whole segments, a partial
+    /// last segment, and the final point, in output order.
+    fn grid(mut self, grid: &Grid) {
+        let k = grid.k as usize;
+        let closing = grid.closing();
+        let (g0, g1) = (grid.first, grid.first + grid.len);
+        let grid_end = g1.min(closing);
+        // Whole segments s_a..s_b lie inside the window.
+        let (s_a, s_b) = (g0.div_ceil(k), grid_end / k);
+        if s_a > s_b {
+            // The window lies inside one segment.
+            let s = g0 / k;
+            if g0 < grid_end {
+                self.segment_part(s, g0 - s * k..grid_end - s * k, g0, k);
+            }
+        } else {
+            if g0 < s_a * k {
+                self.segment_part(s_a - 1, g0 % k..k, g0, k);
+            }
+            self.whole_segments(s_a..s_b, g0, k);
+            if s_b * k < grid_end {
+                self.segment_part(s_b, 0..grid_end - s_b * k, g0, k);
+            }
+        }
+        if g1 > closing {
+            // The final point, u = 1 on the last segment, on its own.
+            self.push_scalar(grid.segments() - 1, closing - g0, 1, 1.0, 0.0);
+        }
+    }
+
+    /// Whole segments `segments`, the window starting at grid sample `g0`.
+    ///
+    /// Short segments whose blocks all stay vec4-aligned share runs, several segments each,
+    /// so that one looping invocation writes up to `run_len` samples.
+    fn whole_segments(&mut self, segments: Range<usize>, g0: usize, k: usize) {
+        let per_run = self.shape.run_len as usize / k;
+        let begin = self.value_base + (segments.start * k - g0) * self.dim;
+        if self.shape.lanes == 1
+            && self.dim <= 4
+            && k.is_multiple_of(4)
             && per_run >= 2
-            && value_base.is_multiple_of(4)
+            && begin.is_multiple_of(4)
         {
-            let mut s = 0;
-            while s < segments {
-                let n = per_run.min(segments - s);
-                let begin = value_base + s * k as usize * dim;
+            let mut s = segments.start;
+            while s < segments.end {
+                let n = per_run.min(segments.end - s);
+                let begin = self.value_base + (s * k - g0) * self.dim;
                 let run = Run {
-                    segment: first_segment + s as u32,
+                    segment: self.first_segment + s as u32,
                     segments: n as u32,
                     out_offset: 0,
-                    count: k,
+                    count: k as u32,
                     mode: MODE_VECTOR,
                     u0: 0.0,
-                    du: (1.0 / f64::from(k)) as f32,
+                    du: (1.0 / k as f64) as f32,
                     first_loc: 0,
                 };
-                runs.push((run, begin, begin + n * k as usize * dim));
+                self.runs.push((run, begin, begin + n * k * self.dim));
                 s += n;
             }
-            if !closing {
-                return;
+        } else {
+            for s in segments {
+                self.segment_part(s, 0..k, g0, k);
             }
-            // The final point, u = 1 on the last segment, on its own.
-            let begin = value_base + segments * k as usize * dim;
-            let run = Run {
-                segment: first_segment + segments as u32 - 1,
-                segments: 1,
-                out_offset: 0,
-                count: 1,
-                mode: MODE_SCALAR,
-                u0: 1.0,
-                du: 0.0,
-                first_loc: 0,
-            };
-            runs.push((run, begin, begin + dim));
-            return;
         }
     }
-    let mut push = |segment: usize, sample: usize, count: u32, u0: f64, du: f64| {
-        let begin = value_base + sample * dim;
+
+    /// Grid samples `j` of segment `s` (local indices, u = j/k), in runs of at most `run_len`.
+    fn segment_part(&mut self, s: usize, j: Range<usize>, g0: usize, k: usize) {
+        let run_len = self.shape.run_len as usize;
+        for j0 in j.clone().step_by(run_len) {
+            let count = run_len.min(j.end - j0);
+            let (kf, j0f) = (k as f64, j0 as f64);
+            self.push_scalar(s, s * k + j0 - g0, count as u32, j0f / kf, 1.0 / kf);
+        }
+    }
+
+    /// `count` samples of segment `segment` at u = u0 + j·du, written from the curve's sample
+    /// `sample` on: a head of fewer than 4 samples, after which the floats start at a multiple
+    /// of 4, then (for dim <= 4) a body of whole groups of 4 samples written as vec4s, then a
+    /// tail.
+    fn push_scalar(&mut self, segment: usize, sample: usize, count: u32, u0: f64, du: f64) {
+        let dim = self.dim;
+        let begin = self.value_base + sample * dim;
         let head = (0..4u32.min(count + 1))
             .find(|&j| (begin + j as usize * dim).is_multiple_of(4))
             .unwrap_or(count);
@@ -361,7 +474,7 @@ fn push_runs(
             }
             let first = begin + j0 as usize * dim;
             let run = Run {
-                segment: first_segment + segment as u32,
+                segment: self.first_segment + segment as u32,
                 segments: 1,
                 out_offset: 0,
                 count: n,
@@ -370,39 +483,7 @@ fn push_runs(
                 du: du as f32,
                 first_loc: 0,
             };
-            runs.push((run, first, first + n as usize * dim));
+            self.runs.push((run, first, first + n as usize * dim));
         }
-    };
-    match plan {
-        SamplePlan::PerSegment { k, knots, closing } => {
-            let segments = knots.len() - 1;
-            let k = *k;
-            for s in 0..segments {
-                for j0 in (0..k).step_by(run_len as usize) {
-                    let count = run_len.min(k - j0);
-                    let sample = s * k as usize + j0 as usize;
-                    push(
-                        s,
-                        sample,
-                        count,
-                        f64::from(j0) / f64::from(k),
-                        1.0 / f64::from(k),
-                    );
-                }
-            }
-            if *closing {
-                push(segments - 1, segments * k as usize, 1, 1.0, 0.0);
-            }
-        }
-        // Explicit plans returned above.
-        SamplePlan::At(_) => {}
-    }
-}
-
-fn check_f32(curve: usize, what: &'static str, v: f32) -> Result<(), GpuError> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(GpuError::OutOfRange { curve, what })
     }
 }
