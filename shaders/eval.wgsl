@@ -12,9 +12,9 @@ struct Params {
     plane_stride: u32,
     // 0, 1 or 2.
     derivatives: u32,
-    // Float where this dispatch's output starts in the bound buffer (a multiple of 4): 0 when
-    // each dispatch has a buffer of its own, the dispatch's place when a job is written whole
-    // into a caller's buffer.
+    // Float the runs' out_offsets count from in the bound buffer (a multiple of 4): 0 when each
+    // dispatch has a buffer of its own, the dispatch's base (gpu::pack::Batch::base) when a job
+    // is written whole into a caller's buffer.
     out_base: u32,
     _padding0: u32,
     _padding1: u32,

@@ -5,7 +5,8 @@ mod common;
 
 use common::gpu;
 use splinegpu::{
-    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuError, Points, Sampling, TargetError,
+    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, GpuError, Points, Sampling,
+    TargetError,
 };
 use splinegpu::{LinePreview, LineView};
 
@@ -48,7 +49,29 @@ fn recorded_samples_follow_the_output_layout() {
         &Sampling::PerSegment(5),
     )
     .unwrap();
-    let layout = context.output_layout(&job);
+    // 5-D samples, 3 per segment: runs that start between vec4s.
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let coords = (0..30).map(|v| f64::from(v % 7) - 3.0).collect();
+    job.push(
+        &Curve::new(kind, Points::new(5, coords).unwrap()).unwrap(),
+        &Sampling::PerSegment(3),
+    )
+    .unwrap();
+    // The job whole, and cut into dispatches of 24 floats that start wherever a run does.
+    let cut = GpuContext::from_device(device, queue).with_max_dispatch_values(24);
+    for context in [context, &cut] {
+        check_recorded_samples(context, &job);
+    }
+}
+
+/// Records `job` into a buffer at an offset, reads it back, and compares every curve's planes
+/// with `evaluate`'s samples where the output layout puts them.
+fn check_recorded_samples(context: &GpuContext, job: &EvalJob) {
+    let (device, queue) = (context.device(), context.queue());
+    let layout = context.output_layout(job);
     let offset = 256;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("vertices"),
@@ -61,7 +84,7 @@ fn recorded_samples_follow_the_output_layout() {
     let mut encoder = device.create_command_encoder(&Default::default());
     assert_eq!(
         context
-            .record_into(&mut encoder, &job, &buffer, offset)
+            .record_into(&mut encoder, job, &buffer, offset)
             .unwrap(),
         layout
     );
@@ -79,7 +102,7 @@ fn recorded_samples_follow_the_output_layout() {
     rx.recv().unwrap().unwrap();
     let bytes = download.get_mapped_range(..).unwrap();
     let floats: &[f32] = bytemuck::cast_slice(&bytes);
-    let expected = context.evaluate(&job).unwrap();
+    let expected = context.evaluate(job).unwrap();
     for c in 0..job.len() {
         let e = expected.curve(c);
         let n = layout.counts[c] as usize * layout.dims[c] as usize;

@@ -3,7 +3,7 @@
 
 use std::mem::{offset_of, size_of};
 
-use splinegpu::internals::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+use splinegpu::internals::{BINDINGS, ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
 use splinegpu::internals::{GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo) {
@@ -137,4 +137,45 @@ fn lanes_is_an_override() {
             .iter()
             .any(|(_, o)| o.name.as_deref() == Some(LANES_CONSTANT))
     );
+}
+
+#[test]
+fn bindings_match_the_rust_binding_list() {
+    let (module, _) = module();
+    let mut declared: Vec<(u32, String, naga::AddressSpace, u32)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, var)| {
+            let binding = var.binding.as_ref()?;
+            assert_eq!(binding.group, 0, "one bind group");
+            // The bytes one binding holds at least: the struct's size, or one array element's.
+            let least = match &module.types[var.ty].inner {
+                naga::TypeInner::Array { stride, .. } => *stride,
+                naga::TypeInner::Struct { span, .. } => *span,
+                other => panic!("binding {} of type {other:?}", binding.binding),
+            };
+            let name = var.name.clone().unwrap();
+            Some((binding.binding, name, var.space, least))
+        })
+        .collect();
+    declared.sort_by_key(|d| d.0);
+    assert_eq!(declared.len(), BINDINGS.len(), "{declared:?}");
+    for (i, ((binding, name, space, least), (ty, role, min_size))) in
+        declared.into_iter().zip(BINDINGS).enumerate()
+    {
+        assert_eq!(binding as usize, i, "bindings numbered 0, 1, ... in order");
+        assert_eq!(name, role, "binding {i}");
+        let expected = match ty {
+            wgpu::BufferBindingType::Uniform => naga::AddressSpace::Uniform,
+            wgpu::BufferBindingType::Storage { read_only } => naga::AddressSpace::Storage {
+                access: if read_only {
+                    naga::StorageAccess::LOAD
+                } else {
+                    naga::StorageAccess::LOAD | naga::StorageAccess::STORE
+                },
+            },
+        };
+        assert_eq!(space, expected, "binding {i} ({role})");
+        assert_eq!(u64::from(least), min_size, "min_binding_size of {role}");
+    }
 }

@@ -153,12 +153,14 @@ impl GpuContext {
                         .map_err(|e| GpuError::Device(e.to_string()))?;
                     waited += start.elapsed().as_secs_f64();
                 }
-                // Plane p of this batch lands at plane p's place in the download buffer.
-                let values = &packed.batches[b].values;
+                // Plane p of this batch (its own floats, from its base on) lands at plane p's
+                // place in the download buffer.
+                let batch = &packed.batches[b];
+                let (values, skip) = (&batch.values, (batch.values.start - batch.base) as u64);
                 for p in 0..packed.planes as u64 {
                     encoder.copy_buffer_to_buffer(
                         &output,
-                        p * packed.plane_stride as u64 * F32,
+                        (p * packed.plane_stride as u64 + skip) * F32,
                         &download,
                         (p * packed.device_values as u64 + values.start as u64) * F32,
                         values.len() as u64 * F32,
@@ -262,7 +264,7 @@ impl GpuContext {
                 offset,
                 size: std::num::NonZeroU64::new(layout.bytes),
             },
-            out_base: b.values.start as u32,
+            out_base: b.base as u32,
             plane_stride: packed.device_values as u32,
         };
         self.encode(encoder, &packed, &tables, target, None, |_, _| Ok(()))?;

@@ -63,8 +63,9 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> Vec<f32> {
             kernel.main(index);
         }
         let floats: &[f32] = bytemuck::cast_slice(&output);
+        let skip = batch.values.start - batch.base;
         for p in 0..packed.planes {
-            let from = &floats[p * packed.plane_stride..][..batch.values.len()];
+            let from = &floats[p * packed.plane_stride + skip..][..batch.values.len()];
             download[p * packed.device_values + batch.values.start..][..batch.values.len()]
                 .copy_from_slice(from);
         }

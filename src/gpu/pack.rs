@@ -42,7 +42,8 @@ pub struct Params {
     pub plane_stride: u32,
     /// 0, 1 or 2.
     pub derivatives: u32,
-    /// Float where this dispatch's output starts in the bound buffer (a multiple of 4).
+    /// Float the runs' `out_offset`s count from in the bound buffer (a multiple of 4): 0 for
+    /// a buffer of the dispatch's own, [`Batch::base`] in a whole job's buffer.
     pub out_base: u32,
     /// WGSL uniform structs are padded to 16 bytes.
     pub _padding: [u32; 3],
@@ -105,8 +106,12 @@ pub struct GpuLoc {
 pub struct Batch {
     /// Indices into [`Packed::runs`].
     pub runs: Range<usize>,
-    /// Floats (of each output plane) this dispatch writes; starts at a multiple of 4.
+    /// Floats (of each device plane) this dispatch writes.
     pub values: Range<usize>,
+    /// `values.start` rounded down to a multiple of 4: the float its runs' `out_offset`s count
+    /// from, so that a vector run's vec4 stores stay aligned whichever run a dispatch starts
+    /// with. Floats of `base..values.start` belong to the dispatch before.
+    pub base: usize,
 }
 
 /// How much one dispatch may hold.
@@ -158,7 +163,8 @@ pub struct Packed {
     /// Floats per plane of the whole job's device output (the job layout's
     /// [`device_values`](crate::JobLayout::device_values)).
     pub device_values: usize,
-    /// Floats per plane of the output one dispatch writes: its largest batch, a multiple of 4.
+    /// Floats per plane of the output one dispatch writes: its largest batch (from its
+    /// [`Batch::base`]), a multiple of 4.
     pub plane_stride: usize,
 }
 
@@ -215,8 +221,7 @@ pub(crate) fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<
 }
 
 /// Packs `job` into runs of at most `shape.run_len` samples, and cuts them into dispatches that
-/// stay within `limits` (`limits.values` should hold several runs: 2 · 4 · `run_len` · 64
-/// floats always suffice).
+/// stay within `limits` (a run holds at most `run_len` · 64 floats per plane).
 ///
 /// The power coefficients are rounded to f32 only here, after M·X was formed in f64; D is
 /// split as d_hi = f32(D), d_lo = f32(D − d_hi), so a curve far from the origin keeps its
@@ -291,50 +296,37 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
     }
     cut_batches(&mut packed, &all_runs, limits);
     packed.plane_stride = (packed.batches.iter())
-        .map(|b| b.values.len().next_multiple_of(4))
+        .map(|b| (b.values.end - b.base).next_multiple_of(4))
         .max()
         .unwrap_or(0);
     Ok(packed)
 }
 
-/// Cuts the runs (with absolute float offsets) into dispatches within `limits`, each starting
-/// at an aligned run, and makes `out_offset` relative to its dispatch's first float.
+/// Cuts the runs (with absolute float offsets) into dispatches within `limits`, and makes
+/// `out_offset` relative to each dispatch's [`Batch::base`]. A dispatch may start at any run;
+/// only a single run larger than `limits.values` exceeds them.
 fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: BatchLimits) {
     let mut start = 0;
     while start < all_runs.len() {
         let first_value = all_runs[start].1;
-        debug_assert_eq!(first_value % 4, 0, "dispatches start at aligned runs");
-        // Extend to the last run that fits; then back off to just before an aligned run.
+        let base = first_value / 4 * 4;
         let mut end = start + 1;
         while end < all_runs.len()
             && end - start < limits.runs
-            && all_runs[end].2 - first_value <= limits.values
+            && all_runs[end].2 - base <= limits.values
         {
             end += 1;
         }
-        if end < all_runs.len() {
-            match (start + 1..=end)
-                .rev()
-                .find(|&i| all_runs[i].1.is_multiple_of(4))
-            {
-                Some(aligned) => end = aligned,
-                // Only a head run begins unaligned, and the run after it is aligned.
-                None => {
-                    while end < all_runs.len() && !all_runs[end].1.is_multiple_of(4) {
-                        end += 1;
-                    }
-                }
-            }
-        }
         for (run, begin, _) in &all_runs[start..end] {
             packed.runs.push(Run {
-                out_offset: (begin - first_value) as u32,
+                out_offset: (begin - base) as u32,
                 ..*run
             });
         }
         packed.batches.push(Batch {
             runs: start..end,
             values: first_value..all_runs[end - 1].2,
+            base,
         });
         start = end;
     }
@@ -484,6 +476,165 @@ impl CurveRuns<'_> {
                 first_loc: 0,
             };
             self.runs.push((run, first, first + n as usize * dim));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Basis, Curve, CurveKind, Derivatives, Ends, Points, Sampling};
+
+    /// Curves of 1 to 6 dimensions, per-segment (k from 1 to 9) and explicit samplings.
+    fn mixed_job() -> EvalJob {
+        let mut job = EvalJob::new(Derivatives::First);
+        for i in 0..24usize {
+            let dim = 1 + i % 6;
+            let n = 4 + i % 5;
+            let coords = (0..n * dim).map(|v| ((v * 7 + i) % 11) as f64).collect();
+            let kind = CurveKind::Uniform {
+                basis: Basis::CatmullRom,
+                ends: Ends::Repeat,
+            };
+            let curve = Curve::new(kind, Points::new(dim, coords).unwrap()).unwrap();
+            let sampling = if i % 4 == 3 {
+                Sampling::At(vec![0.5, 1.0, 0.0, 2.25])
+            } else {
+                Sampling::PerSegment(1 + (i % 9) as u32)
+            };
+            job.push(&curve, &sampling).unwrap();
+        }
+        job
+    }
+
+    /// Floats a run writes, from its out_offset on.
+    fn run_floats(packed: &Packed, run: &Run) -> usize {
+        let dim = packed.segments[run.segment as usize].dim as usize;
+        let dim = if run.mode == MODE_EXPLICIT {
+            packed.segments[packed.locs[run.first_loc as usize].segment as usize].dim as usize
+        } else {
+            dim
+        };
+        run.segments as usize * run.count as usize * dim
+    }
+
+    /// Checks that the runs write every float of every curve's device range exactly once, and
+    /// nothing else, in dispatches that start aligned and stay within `limits`.
+    fn assert_covers_exactly(job: &EvalJob, shape: KernelShape, limits: BatchLimits) {
+        let packed = pack(job, shape, limits).unwrap();
+        let layout = job.layout();
+        let mut writes = vec![0u8; layout.device_values()];
+        for batch in &packed.batches {
+            assert_eq!(batch.base % 4, 0, "{shape:?}: dispatch based aligned");
+            assert!(batch.runs.len() <= limits.runs);
+            for run in &packed.runs[batch.runs.clone()] {
+                let start = batch.base + run.out_offset as usize;
+                let end = start + run_floats(&packed, run);
+                assert!(
+                    start >= batch.values.start && end <= batch.values.end,
+                    "{shape:?}: run inside its dispatch"
+                );
+                if run.mode == MODE_VECTOR {
+                    assert_eq!(start % 4, 0, "{shape:?}: vector runs aligned");
+                }
+                for w in &mut writes[start..end] {
+                    *w += 1;
+                }
+            }
+            // Within limits, unless one run alone is larger (a run is never split).
+            assert!(
+                batch.values.end - batch.base <= limits.values || batch.runs.len() == 1,
+                "{shape:?}: within limits: {batch:?}"
+            );
+        }
+        for c in 0..job.len() {
+            let start = layout.device_start(c);
+            let end = start + layout.values_of(c).len();
+            assert!(
+                writes[start..end].iter().all(|&w| w == 1),
+                "{shape:?}: curve {c}"
+            );
+            let next = if c + 1 < job.len() {
+                layout.device_start(c + 1)
+            } else {
+                layout.device_values()
+            };
+            assert!(
+                writes[end..next].iter().all(|&w| w == 0),
+                "{shape:?}: padding"
+            );
+        }
+        assert_eq!(packed.plane_stride % 4, 0);
+        assert_eq!(packed.device_values, layout.device_values());
+    }
+
+    const SHAPES: [KernelShape; 4] = [
+        KernelShape::LOOPING,
+        KernelShape::PER_SAMPLE,
+        KernelShape {
+            lanes: 4,
+            run_len: 7,
+        },
+        KernelShape {
+            lanes: 1,
+            run_len: 1,
+        },
+    ];
+
+    #[test]
+    fn runs_write_every_float_of_every_curve_once() {
+        let job = mixed_job();
+        for shape in SHAPES {
+            for limits in [
+                BatchLimits {
+                    values: usize::MAX,
+                    runs: usize::MAX,
+                },
+                BatchLimits {
+                    values: 40,
+                    runs: 5,
+                },
+            ] {
+                assert_covers_exactly(&job, shape, limits);
+            }
+        }
+    }
+
+    #[test]
+    fn chunks_cut_inside_segments_are_covered_too() {
+        let job = mixed_job();
+        for max in [1, 3, 10, 17] {
+            for chunk in job.chunks(max) {
+                for shape in SHAPES {
+                    let limits = BatchLimits {
+                        values: 64,
+                        runs: 4,
+                    };
+                    assert_covers_exactly(&chunk.job, shape, limits);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn coefficients_outside_f32_are_refused_with_the_curve() {
+        let mut job = EvalJob::new(Derivatives::None);
+        for scale in [1.0, 1e300] {
+            let coords = vec![0.0, scale, 2.0 * scale, 3.0 * scale];
+            let kind = CurveKind::Uniform {
+                basis: Basis::BSpline,
+                ends: Ends::Control,
+            };
+            let curve = Curve::new(kind, Points::new(1, coords).unwrap()).unwrap();
+            job.push(&curve, &Sampling::PerSegment(2)).unwrap();
+        }
+        let limits = BatchLimits {
+            values: usize::MAX,
+            runs: usize::MAX,
+        };
+        match pack(&job, KernelShape::LOOPING, limits) {
+            Err(GpuError::OutOfRange { curve: 1, .. }) => {}
+            other => panic!("expected curve 1 out of range, got {other:?}"),
         }
     }
 }
