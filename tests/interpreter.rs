@@ -104,7 +104,9 @@ fn job_of(dim: usize, derivatives: Derivatives, sampling: impl Fn(&Curve) -> Sam
 
 /// The samplings tested: per segment (1, 4, 7 and 32 samples) and explicit t (knots, ends,
 /// random values, repeats, out of order).
-fn samplings() -> Vec<(&'static str, Box<dyn Fn(&Curve) -> Sampling>)> {
+type SamplingOf = Box<dyn Fn(&Curve) -> Sampling>;
+
+fn samplings() -> Vec<(&'static str, SamplingOf)> {
     let explicit = |curve: &Curve| {
         let (lo, hi) = curve.t_range();
         let mut rng = Rng(5);
