@@ -377,6 +377,41 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
         r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]], "sampling": {"arc_length": 1}}]}"#,
         &["curve 0:", "\"arc_length\""],
     ),
+    // A key given twice is an error at every level, never last-wins.
+    (
+        r#"{"derivatives": 1, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}], "derivatives": 2}"#,
+        &["document:", "\"derivatives\"", "twice"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "bspline", "kind": "bezier", "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 1:", "\"kind\"", "twice"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]], "sampling": {"per_segment": 2, "per_segment": 3}}]}"#,
+        &["curve 0:", "\"per_segment\"", "twice"],
+    ),
+    // Values whose samples overflow float64 are the input's fault.
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "bspline", "points": [[1e308], [-1e308], [1e308], [-1e308]]}]}"#,
+        &["curve 1:", "\"points\"", "float64"],
+    ),
+    (
+        r#"{"derivatives": 2, "curves": [{"kind": "natural", "t": [0, 1e-300, 1], "points": [[0], [1e10], [0]]}]}"#,
+        &["curve 0:", "\"points\"", "float64"],
+    ),
+    (
+        r#"{"derivatives": 2, "curves": [{"kind": "natural", "t": [0, 1e-200, 2e-200], "points": [[0], [1], [0]]}]}"#,
+        &["curve 0:", "\"points\"", "second derivatives"],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]], "ends": [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]}]}"#,
+        &["document:", "line 1"],
+    ),
+    (r#"[1, 2]"#, &["document:", "JSON object", "[1,2]"]),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]} trailing"#,
+        &["document:", "line 1"],
+    ),
 ];
 
 #[test]
@@ -470,4 +505,45 @@ fn features_not_built_yet_exit_1_after_checking_the_input() {
         assert_eq!(run.stdout, "");
     }
     assert!(!out.exists());
+}
+
+#[test]
+fn bench_json_lines_carry_the_float_field() {
+    let run = splinegpu(&["bench", "--workload", "fit-1m", "--json"], None);
+    assert_eq!(run.status, 0, "{}", run.stderr);
+    let lines: Vec<serde_json::Value> = run
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(lines.len() >= 2, "{}", run.stdout);
+    for line in &lines {
+        let path = line["path"].as_str().unwrap();
+        match path {
+            "memset" => assert!(line.get("float").is_none(), "{line}"),
+            _ => assert!(
+                matches!(line["float"].as_str(), Some("f32" | "f64")),
+                "{path}: {line}"
+            ),
+        }
+        for key in [
+            "workload",
+            "seconds",
+            "min_seconds",
+            "max_seconds",
+            "samples",
+            "bytes",
+            "gbps",
+        ] {
+            assert!(line.get(key).is_some(), "{key} in {line}");
+        }
+    }
+}
+
+#[test]
+fn derivatives_not_asked_for_may_exceed_float64() {
+    // Knots 1e-200 apart: positions and dP/dt are finite, d2P/dt2 is not.
+    let doc = r#"{"derivatives": 1, "curves": [{"kind": "natural", "t": [0, 1e-200, 2e-200], "points": [[0], [1], [0]]}]}"#;
+    let run = splinegpu(&["tessellate", "-", "--backend", "cpu"], Some(doc));
+    assert_eq!(run.status, 0, "{}", run.stderr);
 }

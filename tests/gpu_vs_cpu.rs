@@ -1,11 +1,12 @@
 //! The f32 GPU evaluator against the f64 CPU reference, under the contract's accuracy promise
-//! (`splinegpu::accuracy`). Runs on whatever adapter wgpu finds; in CI that is lavapipe.
+//! (`splinegpu::gpu_bound`). Runs on whatever adapter wgpu finds; in CI that is lavapipe.
 
 mod common;
 
 use common::{Rng, assert_gpu_matches_cpu, compare, gpu};
 use splinegpu::{
-    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, KernelShape, Points, Sampling,
+    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, KernelShape, Points, Samples,
+    Sampling,
 };
 
 const DIMS: [usize; 6] = [1, 2, 3, 4, 6, 30];
@@ -331,25 +332,43 @@ fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
     }
 }
 
+/// Job `i` of the concurrency test: its own families, dimensions, sampling and derivatives.
+fn thread_job(i: usize) -> EvalJob {
+    use splinegpu::EndCondition;
+    let mut rng = Rng(500 + i as u64);
+    let derivatives = [Derivatives::None, Derivatives::First, Derivatives::Second][i % 3];
+    let mut job = EvalJob::new(derivatives);
+    let bases = bases();
+    for c in 0..40 + 10 * i {
+        let dim = [1, 2, 3, 4, 5, 7, 30, 64][(i + c) % 8];
+        let n = 5 + (c + i) % 9;
+        let kind = match (c + i) % 4 {
+            0 => CurveKind::Bezier,
+            1 => CurveKind::Interpolating {
+                condition: EndCondition::Natural,
+                t: None,
+            },
+            _ => CurveKind::Uniform {
+                basis: bases[(c + i) % bases.len()].clone(),
+                ends: [Ends::Control, Ends::Repeat, Ends::Closed][c % 3],
+            },
+        };
+        let n = if kind == CurveKind::Bezier { 7 } else { n };
+        let curve = Curve::new(kind, rng.points(n, dim, -1.0, 1.0)).unwrap();
+        let sampling = if (c + i) % 3 == 0 {
+            Sampling::At(explicit_ts(&mut rng, &curve))
+        } else {
+            Sampling::PerSegment(1 + ((c * 7 + i) % 40) as u32)
+        };
+        job.push(&curve, &sampling).unwrap();
+    }
+    job
+}
+
 #[test]
-fn concurrent_evaluations_on_one_context_do_not_share_buffers() {
+fn eight_threads_on_one_context_each_get_what_they_get_alone() {
     let Some(context) = gpu() else { return };
-    let jobs: Vec<EvalJob> = (0..4)
-        .map(|i| {
-            let mut rng = Rng(500 + i);
-            let mut job = EvalJob::new(Derivatives::First);
-            for _ in 0..50 {
-                let kind = CurveKind::Uniform {
-                    basis: Basis::CatmullRom,
-                    ends: Ends::Closed,
-                };
-                let curve = Curve::new(kind, rng.points(10 + i as usize, 3, -1.0, 1.0)).unwrap();
-                job.push(&curve, &Sampling::PerSegment(8 + i as u32))
-                    .unwrap();
-            }
-            job
-        })
-        .collect();
+    let jobs: Vec<EvalJob> = (0..8).map(thread_job).collect();
     let alone: Vec<_> = jobs
         .iter()
         .map(|job| context.evaluate(job).unwrap())
@@ -357,8 +376,11 @@ fn concurrent_evaluations_on_one_context_do_not_share_buffers() {
     std::thread::scope(|s| {
         for (job, expected) in jobs.iter().zip(&alone) {
             s.spawn(move || {
-                for _ in 0..5 {
+                let mut reused = Samples::for_job(&EvalJob::new(Derivatives::None));
+                for _ in 0..4 {
                     assert_eq!(&context.evaluate(job).unwrap(), expected);
+                    context.evaluate_into(job, &mut reused).unwrap();
+                    assert_eq!(&reused, expected);
                 }
             });
         }

@@ -72,6 +72,12 @@ pub struct GpuContext {
     pool: std::sync::Mutex<BufferPool>,
 }
 
+// One context serves many threads (see its docs): checked at compile time.
+const _: fn() = || {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<GpuContext>();
+};
+
 /// Device buffers by role, kept between evaluations and grown when a job needs more. Fresh
 /// memory is expensive on CPU adapters (lavapipe backs buffers with host pages that fault in
 /// on first touch, about 1.6 GB/s here against 25 GB/s for touched memory). An evaluation
