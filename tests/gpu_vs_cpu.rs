@@ -355,7 +355,7 @@ fn thread_job(i: usize) -> EvalJob {
         };
         let n = if kind == CurveKind::Bezier { 7 } else { n };
         let curve = Curve::new(kind, rng.points(n, dim, -1.0, 1.0)).unwrap();
-        let sampling = if (c + i) % 3 == 0 {
+        let sampling = if (c + i).is_multiple_of(3) {
             Sampling::At(explicit_ts(&mut rng, &curve))
         } else {
             Sampling::PerSegment(1 + ((c * 7 + i) % 40) as u32)
