@@ -225,7 +225,8 @@ pub enum CurveKind {
     /// from points 3i..3i+3 over t in [i, i + 1].
     Bezier,
     /// An interpolating spline through every point, solved on the host
-    /// ([`crate::fit::interp`]); segment i spans [t_i, t_{i+1}].
+    /// (natural, clamped, periodic or not-a-knot ends; see [`EndCondition`]); segment i spans
+    /// [t_i, t_{i+1}].
     Interpolating {
         /// The end condition.
         condition: EndCondition,
@@ -262,7 +263,8 @@ impl Curve {
     /// # Errors
     /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), a basis
     /// parameter that is out of its domain (see [`Basis::try_rows`]), or interpolation data
-    /// that break a rule of [`interp::check`].
+    /// that break a rule of interpolation (t strictly increasing and one per point, enough
+    /// points for the end condition, periodic ends equal, clamped derivatives of D values).
     pub fn new(kind: CurveKind, points: Points) -> Result<Self, InputError> {
         let n = points.len();
         let fit = match &kind {

@@ -156,8 +156,8 @@ pub mod internals {
     pub use crate::gpu::BINDINGS;
     pub use crate::gpu::interpret::evaluate_interpreted;
     pub use crate::gpu::pack::{
-        BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, Packed, Params,
-        Run, block_vec4s, pack,
+        Batch, BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, Packed,
+        Params, Run, block_vec4s, pack,
     };
     pub use crate::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
 

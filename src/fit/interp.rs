@@ -214,7 +214,8 @@ impl Fitter {
     /// machine's threads.
     ///
     /// # Errors
-    /// The data break a rule of [`check`].
+    /// The data break a rule of interpolation (t strictly increasing and one per point, enough
+    /// points for the end condition, periodic ends equal, clamped derivatives of D values).
     pub fn fit_into(
         &mut self,
         t: &[f64],
