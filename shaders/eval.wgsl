@@ -1,7 +1,8 @@
 // Evaluates runs of cubic samples, and their t-derivatives, from power-form coefficients.
-// Rust twins of the structs: src/gpu/layout.rs. CPU twin of the arithmetic: src/cpu.rs.
+// Rust twins of the structs: src/gpu/pack.rs. CPU twin, line by line in f32 (same names, loop
+// order and arithmetic): src/gpu/interpret.rs. (src/cpu.rs is the f64 reference, not a twin.)
 
-// Rust twin: gpu::layout::Params.
+// Rust twin: gpu::pack::Params.
 struct Params {
     // Runs in this dispatch.
     run_count: u32,
@@ -21,9 +22,9 @@ struct Params {
     _padding2: u32,
 }
 
-// Rust twin: gpu::layout::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
+// Rust twin: gpu::pack::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
 // the floats a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/(t_{i+1} - t_i),
-// end to end (gpu::layout::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
+// end to end (gpu::pack::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
 // in f64 on the host, d_hi = f32(D) and d_lo = f32(D - d_hi), so that large coordinates keep
 // their low bits.
 struct Segment {
@@ -31,7 +32,7 @@ struct Segment {
     dim: u32,
 }
 
-// Rust twin: gpu::layout::Run. `segments` consecutive segments from `segment` on, `count`
+// Rust twin: gpu::pack::Run. `segments` consecutive segments from `segment` on, `count`
 // samples of each at u = u0 + j*du, written `dim` floats apart from float out_offset on, one
 // segment's block after the other. Modes: MODE_SCALAR writes each float on its own;
 // MODE_VECTOR (dim <= 4, out_offset and count*dim multiples of 4, count a multiple of 4)
@@ -48,7 +49,7 @@ struct Run {
     first_loc: u32,
 }
 
-// Rust twin: gpu::layout::GpuLoc. An explicitly placed sample.
+// Rust twin: gpu::pack::GpuLoc. An explicitly placed sample.
 struct Loc {
     segment: u32,
     u: f32,

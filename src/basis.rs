@@ -1,7 +1,7 @@
 //! The 4x4 basis matrices of the uniform cubic families, in f64.
 //!
-//! Every matrix here is written by rows, as the memo (seed 000, Smith, "Spline Tutorial Notes")
-//! writes it, and is used as
+//! Every matrix here is written by rows, as the memo (A. R. Smith, "Spline Tutorial Notes",
+//! Lucasfilm Technical Memo 77) writes it, and is used as
 //!
 //! ```text
 //! P(u) = [u^3 u^2 u 1] · M · [P_i, P_i+1, P_i+2, P_i+3]^T,   u in [0, 1],

@@ -206,9 +206,9 @@ impl SegmentTable {
     /// The uniform cubic B-spline control points B_0..B_n of the curve (flat, `dim` values
     /// each), when its knots are evenly spaced (within 1e-12 relative): every C2 cubic spline
     /// on uniform knots is a uniform B-spline. Segment i's Bezier points are
-    /// (S_i, 2/3 B_i + 1/3 B_{i+1}, 1/3 B_i + 2/3 B_{i+1}, S_{i+1}) (seed 001 §4), so
-    /// B_i = 2 P1_i − P2_i and B_n = 2 P2_{n−1} − P1_{n−1}. For a natural spline this is seed
-    /// 001's relaxed B-spline, with B_0 = S_0 and B_n = S_n.
+    /// (S_i, 2/3 B_i + 1/3 B_{i+1}, 1/3 B_i + 2/3 B_{i+1}, S_{i+1}) (the course notes "Cubic spline curves", §4), so
+    /// B_i = 2 P1_i − P2_i and B_n = 2 P2_{n−1} − P1_{n−1}. For a natural spline this is those
+    /// notes' relaxed B-spline, with B_0 = S_0 and B_n = S_n.
     ///
     /// `None` for uneven knots, or for a curve that is only C1 (then no B-spline matches every
     /// segment, and the points returned would describe another curve).
@@ -244,7 +244,8 @@ impl SegmentTable {
 }
 
 impl Segment<'_> {
-    /// The coefficients as seed 002 writes them, in t rather than u:
+    /// The coefficients as Eberly writes them ("Fitting a Natural Spline to Samples of the Form
+    /// (t, f(t))"), in t rather than u:
     /// S_i(t) = a + b (t − t_i) + c (t − t_i)² + d (t − t_i)³, i.e. a = D, b = C/Δ, c = B/Δ²,
     /// d = A/Δ³. Returns [a, b, c, d], `dim` values each.
     #[must_use]

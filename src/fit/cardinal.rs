@@ -1,4 +1,5 @@
-//! Cardinal basis functions of interpolating splines that share their knots (seed 001 §8).
+//! Cardinal basis functions of interpolating splines that share their knots (the course notes
+//! "Cubic spline curves", §8).
 //!
 //! An interpolating spline is linear in its data, so for fixed knots t and end condition there
 //! are functions f_0..f_{m−1} with P(t) = Σ_j f_j(t) S_j, where f_j is the spline through the

@@ -2,21 +2,22 @@
 //! not-a-knot ends, any strictly increasing knots, solved in f64 in O(n) time and memory.
 //!
 //! The unknowns are the slopes m_i = S'(t_i). With Δ_i = t_{i+1} − t_i and
-//! q_i = (f_{i+1} − f_i)/Δ_i, C2 continuity at an interior knot reads (seed 002, eq. 26 with
-//! its index typo corrected)
+//! q_i = (f_{i+1} − f_i)/Δ_i, C2 continuity at an interior knot reads (D. Eberly, "Fitting a
+//! Natural Spline to Samples of the Form (t, f(t))", eq. 26 with its index typo corrected)
 //!
 //! ```text
 //! Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1} = 3(Δ_i q_{i−1} + Δ_{i−1} q_i)
 //! ```
 //!
 //! and the ends add one row each:
-//! - natural (seed 002 §2, "free"): S''(t_0) = 0 gives 2m_0 + m_1 = 3q_0; likewise at the end;
-//! - clamped (seed 002 §3): m_0 = σ_0 and m_{n−1} = σ_1, derivatives with respect to t;
-//! - not-a-knot (seed 001 §9): S''' continuous at t_1 and t_{n−2}, which gives
+//! - natural (Eberly §2, "free"): S''(t_0) = 0 gives 2m_0 + m_1 = 3q_0; likewise at the end;
+//! - clamped (Eberly §3): m_0 = σ_0 and m_{n−1} = σ_1, derivatives with respect to t;
+//! - not-a-knot (the course notes "Cubic spline curves", §9): S''' continuous at t_1 and
+//!   t_{n−2}, which gives
 //!   Δ_1 m_0 + (Δ_0 + Δ_1) m_1 = ((Δ_0 + 2(Δ_0 + Δ_1)) Δ_1 q_0 + Δ_0² q_1)/(Δ_0 + Δ_1)
 //!   and its mirror image;
-//! - periodic (seed 002 §4): f_{n−1} = f_0, and the interior row also holds at t_0 with the
-//!   indices taken cyclically over the n − 1 segments. Seed 002 notes that eliminating its
+//! - periodic (Eberly §4): f_{n−1} = f_0, and the interior row also holds at t_0 with the
+//!   indices taken cyclically over the n − 1 segments. Eberly notes that eliminating its
 //!   block system directly is ill-conditioned; here the cyclic tridiagonal slope system, which
 //!   is strictly diagonally dominant, goes through Sherman–Morrison ([`solve_cyclic`]).
 //!
