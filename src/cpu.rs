@@ -10,7 +10,7 @@
 
 use crate::job::EvalJob;
 use crate::samples::{SampleFloat, Samples};
-use crate::sampling::{Plan, SamplePlan};
+use crate::sampling::{LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
 /// Evaluates every curve of `job` in f64 on one thread, sample by sample through
@@ -199,13 +199,30 @@ fn curve_range<F: SampleFloat>(
                 g += us.len();
             }
         }
-        Plan::At(locs) => {
-            for i in range.clone() {
-                let at = (i - range.start) * dim..(i - range.start + 1) * dim;
+        Plan::At(locs) => at_places(table, &locs[range], [points, d1, d2]),
+        // Arc length and tolerance: places computed block by block.
+        _ => {
+            let mut locs = Vec::with_capacity(LOC_BLOCK);
+            for start in range.clone().step_by(LOC_BLOCK) {
+                let end = (start + LOC_BLOCK).min(range.end);
+                locs.clear();
+                plan.locs_into(start..end, &mut locs);
+                let at = (start - range.start) * dim..(end - range.start) * dim;
                 let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
-                segment_block(&table.segment(locs[i].segment), &[locs[i].u], parts);
+                at_places(table, &locs, parts);
             }
         }
+    }
+}
+
+/// Samples at `locs` into `out`, one after the other.
+fn at_places<F: SampleFloat>(table: &SegmentTable, locs: &[SampleLoc], out: [&mut [F]; 3]) {
+    let dim = table.dim();
+    let [points, d1, d2] = out;
+    for (i, loc) in locs.iter().enumerate() {
+        let at = i * dim..(i + 1) * dim;
+        let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
+        segment_block(&table.segment(loc.segment), &[loc.u], parts);
     }
 }
 

@@ -26,17 +26,6 @@ use crate::job::{Derivatives, EvalJob};
 use crate::sampling::{SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 
-/// Why a document cannot be evaluated.
-#[derive(Debug, PartialEq, Eq, thiserror::Error)]
-pub enum DocumentError {
-    /// The document breaks a rule of the contract (CLI exit status 2).
-    #[error(transparent)]
-    Input(#[from] InputError),
-    /// The document is valid but asks for something this build does not do yet (exit 1).
-    #[error("not supported yet: {0}")]
-    Unsupported(String),
-}
-
 /// Every kind the contract names.
 const KINDS: [&str; 11] = [
     "cardinal",
@@ -58,10 +47,9 @@ const DOCUMENT_KEYS: [&str; 3] = ["sampling", "derivatives", "curves"];
 /// Parses and checks a document held in memory, fits its curves and resolves their sampling.
 ///
 /// # Errors
-/// [`DocumentError::Input`] for the first rule broken (JSON syntax errors give line and
-/// column); [`DocumentError::Unsupported`] when the document is valid but needs a feature
-/// not built yet.
-pub fn parse_document(text: &str) -> Result<EvalJob, DocumentError> {
+/// The first rule broken, placed at the document (JSON syntax errors give line and column) or
+/// at a curve.
+pub fn parse_document(text: &str) -> Result<EvalJob, InputError> {
     parse(&mut serde_json::Deserializer::from_str(text))
 }
 
@@ -71,20 +59,20 @@ pub fn parse_document(text: &str) -> Result<EvalJob, DocumentError> {
 ///
 /// # Errors
 /// As [`parse_document`]; a read error is reported as a document error.
-pub fn parse_document_from_reader(reader: impl io::Read) -> Result<EvalJob, DocumentError> {
+pub fn parse_document_from_reader(reader: impl io::Read) -> Result<EvalJob, InputError> {
     parse(&mut serde_json::Deserializer::from_reader(reader))
 }
 
 fn parse<'de, R: serde_json::de::Read<'de>>(
     de: &mut serde_json::Deserializer<R>,
-) -> Result<EvalJob, DocumentError> {
+) -> Result<EvalJob, InputError> {
     let located = Located::default();
     let parsed = DocumentSeed(&located)
         .deserialize(&mut *de)
         .and_then(|doc| de.end().map(|()| doc));
     match parsed {
         Ok(doc) => doc.into_job(),
-        Err(e) => Err(located.0.into_inner().unwrap_or_else(|| syntax(&e)).into()),
+        Err(e) => Err(located.0.into_inner().unwrap_or_else(|| syntax(&e))),
     }
 }
 
@@ -119,16 +107,9 @@ impl Located {
     }
 }
 
-/// A "sampling" object as written: arc-length sampling is checked but not built yet.
-#[derive(Clone, Debug, PartialEq)]
-enum SamplingSpec {
-    Plan(Sampling),
-    ArcLength,
-}
-
 /// What the document's visitor gathers; curves are already fitted.
 struct ParsedDocument {
-    sampling: Option<SamplingSpec>,
+    sampling: Option<Sampling>,
     derivatives: Derivatives,
     curves: Option<Vec<ParsedCurve>>,
 }
@@ -136,42 +117,28 @@ struct ParsedDocument {
 /// One fitted curve, with its own sampling if it has one.
 struct ParsedCurve {
     table: SegmentTable,
-    sampling: Option<SamplingSpec>,
+    sampling: Option<Sampling>,
 }
 
 impl ParsedDocument {
     /// The job: each curve's plan from its sampling or the document's.
-    fn into_job(self) -> Result<EvalJob, DocumentError> {
+    fn into_job(self) -> Result<EvalJob, InputError> {
         let curves = self
             .curves
             .ok_or_else(|| InputError::field("curves", "is missing").in_document())?;
         if curves.is_empty() {
-            return Err(InputError::field("curves", "must not be empty")
-                .in_document()
-                .into());
+            return Err(InputError::field("curves", "must not be empty").in_document());
         }
-        let default = self
-            .sampling
-            .unwrap_or(SamplingSpec::Plan(Sampling::default()));
+        let default = self.sampling.unwrap_or_default();
         let mut job = EvalJob::new(self.derivatives);
-        let mut unsupported = None;
         for (i, curve) in curves.into_iter().enumerate() {
             let place = |e: InputError| e.in_curve(i);
             curve.table.check_range(self.derivatives).map_err(place)?;
-            match curve.sampling.as_ref().unwrap_or(&default) {
-                SamplingSpec::Plan(sampling) => {
-                    let plan = SamplePlan::new(&curve.table, sampling).map_err(place)?;
-                    job.push_table(curve.table, plan).map_err(place)?;
-                }
-                SamplingSpec::ArcLength => {
-                    unsupported.get_or_insert_with(|| "\"arc_length\" sampling".to_string());
-                }
-            }
+            let sampling = curve.sampling.as_ref().unwrap_or(&default);
+            let plan = SamplePlan::new(&curve.table, sampling).map_err(place)?;
+            job.push_table(curve.table, plan).map_err(place)?;
         }
-        match unsupported {
-            Some(what) => Err(DocumentError::Unsupported(what)),
-            None => Ok(job),
-        }
+        Ok(job)
     }
 }
 
@@ -505,38 +472,46 @@ impl<'de> Visitor<'de> for SamplingSeed<'_> {
     reject_seq!();
 }
 
+/// The samplings, as a "sampling" object names them.
+const SAMPLINGS: &str = "per_segment, at, arc_length or tolerance";
+
 /// The sampling a "sampling" object's entries ask for.
-fn sampling_spec(entries: &[(String, Value)]) -> Result<SamplingSpec, InputError> {
+fn sampling_spec(entries: &[(String, Value)]) -> Result<Sampling, InputError> {
     let [(key, v)] = entries else {
         return Err(InputError::field(
             "sampling",
             format!(
-                "must have exactly one key (per_segment, at or arc_length), got {}",
+                "must have exactly one key ({SAMPLINGS}), got {}",
                 entries.len()
             ),
         ));
     };
     match key.as_str() {
         "per_segment" => match v.as_u64() {
-            Some(k) if k >= 1 && k <= u64::from(u32::MAX) => {
-                Ok(SamplingSpec::Plan(Sampling::PerSegment(k as u32)))
-            }
+            Some(k) if k >= 1 && k <= u64::from(u32::MAX) => Ok(Sampling::PerSegment(k as u32)),
             _ => Err(InputError::field(
                 "per_segment",
                 format!("must be an integer from 1 to 2^32 - 1, got {}", describe(v)),
             )),
         },
-        "at" => Ok(SamplingSpec::Plan(Sampling::At(number_array(v, "at")?))),
+        "at" => Ok(Sampling::At(number_array(v, "at")?)),
         "arc_length" => match v.as_u64() {
-            Some(m) if m >= 2 && m <= u64::from(u32::MAX) => Ok(SamplingSpec::ArcLength),
+            Some(m) if m >= 2 && m <= u64::from(u32::MAX) => Ok(Sampling::ArcLength(m as u32)),
             _ => Err(InputError::field(
                 "arc_length",
-                format!("must be an integer >= 2, got {}", describe(v)),
+                format!("must be an integer from 2 to 2^32 - 1, got {}", describe(v)),
+            )),
+        },
+        "tolerance" => match v.as_f64() {
+            Some(tol) if tol > 0.0 => Ok(Sampling::Tolerance(tol)),
+            _ => Err(InputError::field(
+                "tolerance",
+                format!("must be a number > 0, got {}", describe(v)),
             )),
         },
         other => Err(InputError::field(
             "sampling",
-            format!("has an unknown key \"{other}\" (expected per_segment, at or arc_length)"),
+            format!("has an unknown key \"{other}\" (expected {SAMPLINGS})"),
         )),
     }
 }

@@ -185,6 +185,8 @@ impl EvalJob {
                 (table.slice(segments), SamplePlan(Plan::Grid(part)))
             }
             Plan::At(locs) => (table.clone(), SamplePlan(Plan::At(locs[range].to_vec()))),
+            Plan::Arc(w) => (table.clone(), SamplePlan(Plan::Arc(w.slice(range)))),
+            Plan::Tolerance(w) => (table.clone(), SamplePlan(Plan::Tolerance(w.slice(range)))),
         }
     }
 }

@@ -99,11 +99,13 @@
 //!   bytemuck and pollster.
 
 mod accuracy;
+mod arclen;
 mod basis;
 mod cpu;
 mod curve;
 mod error;
 mod fit;
+mod flatten;
 mod gpu;
 mod job;
 mod layout;
@@ -126,6 +128,7 @@ pub use accuracy::{
     CPU_TOLERANCE, DERIVATIVE_TOLERANCE, POSITION_TOLERANCE, cpu_bound, gpu_bound, promise_scale,
     ulp_f32,
 };
+pub use arclen::DEFAULT_ARCLEN_ACCURACY;
 pub use basis::{
     Basis, Rows, beta_rows, bezier_rows, bspline_rows, cardinal_rows, tensioned_bspline_rows,
 };
@@ -134,6 +137,7 @@ pub use curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
 pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
+pub use flatten::{MAX_SAMPLES_PER_SEGMENT, wang_count};
 pub use gpu::preview::{LinePreview, LineView};
 pub use gpu::{
     DeviceTime, GpuContext, KernelShape, OutputLayout, TimingMethod, adapters, hardware_adapter,
@@ -146,7 +150,7 @@ pub use sampling::{SampleLoc, SamplePlan, Sampling};
 pub use segment::{Segment, SegmentTable};
 
 #[cfg(feature = "cli")]
-pub use doc::{DocumentError, parse_document, parse_document_from_reader};
+pub use doc::{parse_document, parse_document_from_reader};
 
 /// Internals for the `splinegpu` binary, the tests, the benches and the examples: the GPU's Pod
 /// records and shader constants, the kernel's f32 CPU twin, and the CLI's machinery. Not a

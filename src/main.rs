@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::internals::output::{self, OutputError};
 use splinegpu::internals::{bench, stream};
-use splinegpu::{DocumentError, EvalJob, GpuContext, GpuError, Samples};
+use splinegpu::{EvalJob, GpuContext, GpuError, Samples};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
 #[derive(Parser)]
@@ -241,10 +241,7 @@ fn read_document(input: &str) -> Result<EvalJob, Failure> {
             .map_err(|e| Failure::input(format!("document: cannot read input \"{input}\": {e}")))?;
         splinegpu::parse_document_from_reader(io::BufReader::with_capacity(1 << 16, file))
     };
-    parsed.map_err(|e| match e {
-        DocumentError::Input(e) => Failure::input(e),
-        DocumentError::Unsupported(_) => Failure::other(e),
-    })
+    parsed.map_err(Failure::input)
 }
 
 fn format_of(output: Option<&Path>) -> Format {

@@ -1,7 +1,12 @@
 //! Where a curve is sampled: the contract's sampling rules turned into a `SamplePlan` of
 //! (segment, local u, t) triples, all resolved in f64 on the host.
 
+use std::ops::Range;
+use std::sync::Arc;
+
+use crate::arclen::{self, ArcTable};
 use crate::error::InputError;
+use crate::flatten::{self, MAX_SAMPLES_PER_SEGMENT, Placement};
 use crate::segment::SegmentTable;
 
 /// How to sample a curve (contract: "sampling").
@@ -14,6 +19,16 @@ pub enum Sampling {
     /// At an interior knot the segment that starts there is used; at the end of the range, the
     /// last segment at u = 1.
     At(Vec<f64>),
+    /// m >= 2 points evenly spaced by arc length along the whole curve, the first and the last
+    /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-10 L, L the curve's length (lengths to
+    /// [`DEFAULT_ARCLEN_ACCURACY`](crate::DEFAULT_ARCLEN_ACCURACY) of L, by adaptive Gauss–Legendre
+    /// quadrature; see [`SegmentTable::arclen`]).
+    ArcLength(u32),
+    /// Per segment, as few samples as this method guarantees such that the polyline through
+    /// them stays within `tol` (> 0, in the curve's units and D dimensions) of the curve; never
+    /// more than Wang's count. Every segment starts with a sample at u = 0; the curve ends with
+    /// its final point.
+    Tolerance(f64),
 }
 
 impl Default for Sampling {
@@ -52,6 +67,170 @@ pub(crate) enum Plan {
     Grid(Grid),
     /// Explicit samples.
     At(Vec<SampleLoc>),
+    /// Samples `first .. first + len` of a curve's arc-length sampling.
+    Arc(Window<ArcSamples>),
+    /// Samples `first .. first + len` of a curve's tolerance sampling.
+    Tolerance(Window<ToleranceSamples>),
+}
+
+/// Samples `first .. first + len` of a sampling whose samples are computed on demand from
+/// per-curve data (shared by every window of the curve).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Window<T> {
+    pub data: Arc<T>,
+    pub first: usize,
+    pub len: usize,
+}
+
+/// A curve's arc-length sampling: m points at lengths j L/(m − 1).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ArcSamples {
+    m: usize,
+    /// The length where each segment starts, and, last, the curve's length L.
+    starts: Vec<f64>,
+    tables: Vec<ArcTable>,
+    knots: Vec<f64>,
+    /// Absolute accuracy of the inverse, in length.
+    accuracy: f64,
+}
+
+impl ArcSamples {
+    fn new(table: &SegmentTable, m: usize) -> Self {
+        let length = table.arclen(arclen::DEFAULT_ARCLEN_ACCURACY);
+        // Each segment's share of the accuracy; the inverse to the same absolute accuracy.
+        let accuracy = arclen::DEFAULT_ARCLEN_ACCURACY * length;
+        let per_segment = accuracy / table.len() as f64;
+        let tables: Vec<ArcTable> = (0..table.len())
+            .map(|i| ArcTable::new(&table.segment(i), per_segment))
+            .collect();
+        let mut starts = vec![0.0];
+        for t in &tables {
+            starts.push(starts[starts.len() - 1] + t.length());
+        }
+        Self {
+            m,
+            starts,
+            tables,
+            knots: table.knots().to_vec(),
+            accuracy,
+        }
+    }
+
+    fn loc(&self, j: usize) -> SampleLoc {
+        let segments = self.tables.len();
+        if j == 0 {
+            return SampleLoc {
+                segment: 0,
+                u: 0.0,
+                t: self.knots[0],
+            };
+        }
+        if j + 1 == self.m {
+            return SampleLoc {
+                segment: segments - 1,
+                u: 1.0,
+                t: self.knots[segments],
+            };
+        }
+        let length = self.starts[segments];
+        let target = length * j as f64 / (self.m - 1) as f64;
+        let segment = (self.starts.partition_point(|&s| s <= target).max(1) - 1).min(segments - 1);
+        let u = self.tables[segment].inverse(target - self.starts[segment], self.accuracy);
+        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
+        let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
+        SampleLoc { segment, u, t }
+    }
+}
+
+/// A curve's tolerance sampling: each segment's placement, recomputed on demand.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ToleranceSamples {
+    table: SegmentTable,
+    placements: Vec<Placement>,
+    /// The index of each segment's first sample, and, last, of the final point.
+    offsets: Vec<usize>,
+}
+
+impl ToleranceSamples {
+    fn new(table: &SegmentTable, tol: f64) -> Result<Self, InputError> {
+        let mut placements = Vec::with_capacity(table.len());
+        let mut offsets = vec![0];
+        for i in 0..table.len() {
+            let placement = flatten::place(&table.segment(i), tol).map_err(|count| {
+                InputError::field(
+                    "sampling",
+                    format!(
+                        "tolerance {tol} needs {count} samples on segment {i}, more than \
+                         {MAX_SAMPLES_PER_SEGMENT} (2^20)"
+                    ),
+                )
+            })?;
+            offsets.push(offsets[i] + placement.count as usize);
+            placements.push(placement);
+        }
+        Ok(Self {
+            table: table.clone(),
+            placements,
+            offsets,
+        })
+    }
+
+    fn len(&self) -> usize {
+        self.offsets[self.placements.len()] + 1
+    }
+
+    fn t(&self, segment: usize, u: f64) -> f64 {
+        let knots = self.table.knots();
+        let (t0, t1) = (knots[segment], knots[segment + 1]);
+        if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
+    }
+
+    fn loc(&self, g: usize) -> SampleLoc {
+        let segments = self.placements.len();
+        if g == self.offsets[segments] {
+            return SampleLoc {
+                segment: segments - 1,
+                u: 1.0,
+                t: self.t(segments - 1, 1.0),
+            };
+        }
+        let segment = self.offsets.partition_point(|&o| o <= g) - 1;
+        let j = (g - self.offsets[segment]) as u32;
+        let u = flatten::u_of(&self.table.segment(segment), self.placements[segment], j);
+        SampleLoc {
+            segment,
+            u,
+            t: self.t(segment, u),
+        }
+    }
+
+    /// Samples `range` (of the whole curve), segment by segment.
+    fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+        let segments = self.placements.len();
+        let mut us = Vec::new();
+        let mut g = range.start;
+        while g < range.end {
+            if g == self.offsets[segments] {
+                out.push(self.loc(g));
+                g += 1;
+                continue;
+            }
+            let segment = self.offsets.partition_point(|&o| o <= g) - 1;
+            flatten::us_into(
+                &self.table.segment(segment),
+                self.placements[segment],
+                &mut us,
+            );
+            let first = g - self.offsets[segment];
+            let end = us.len().min(first + range.end - g);
+            out.extend(us[first..end].iter().map(|&u| SampleLoc {
+                segment,
+                u,
+                t: self.t(segment, u),
+            }));
+            g += end - first;
+        }
+    }
 }
 
 /// A window of the per-segment sample grid (see [`Plan::Grid`]).
@@ -157,6 +336,35 @@ impl SamplePlan {
                     .collect::<Result<_, _>>()?;
                 Ok(SamplePlan(Plan::At(locs)))
             }
+            &Sampling::ArcLength(m) => {
+                if m < 2 {
+                    return Err(InputError::field(
+                        "arc_length",
+                        format!("must be an integer >= 2, got {m}"),
+                    ));
+                }
+                let data = ArcSamples::new(table, m as usize);
+                Ok(SamplePlan(Plan::Arc(Window {
+                    data: Arc::new(data),
+                    first: 0,
+                    len: m as usize,
+                })))
+            }
+            &Sampling::Tolerance(tol) => {
+                if !(tol.is_finite() && tol > 0.0) {
+                    return Err(InputError::field(
+                        "tolerance",
+                        format!("must be a finite number > 0, got {tol}"),
+                    ));
+                }
+                let data = ToleranceSamples::new(table, tol)?;
+                let len = data.len();
+                Ok(SamplePlan(Plan::Tolerance(Window {
+                    data: Arc::new(data),
+                    first: 0,
+                    len,
+                })))
+            }
         }
     }
 
@@ -166,6 +374,8 @@ impl SamplePlan {
         match &self.0 {
             Plan::Grid(grid) => grid.len,
             Plan::At(locs) => locs.len(),
+            Plan::Arc(w) => w.len,
+            Plan::Tolerance(w) => w.len,
         }
     }
 
@@ -187,6 +397,33 @@ impl SamplePlan {
         match &self.0 {
             Plan::Grid(grid) => out.extend(range.map(|i| grid.loc(grid.first + i).t)),
             Plan::At(locs) => out.extend(locs[range].iter().map(|l| l.t)),
+            _ => {
+                let mut locs = Vec::new();
+                for start in (range.start..range.end).step_by(LOC_BLOCK) {
+                    locs.clear();
+                    self.locs_into(start..(start + LOC_BLOCK).min(range.end), &mut locs);
+                    out.extend(locs.iter().map(|l| l.t));
+                }
+            }
+        }
+    }
+
+    /// Appends the places of samples `range` to `out` (any plan; per-segment plans too).
+    ///
+    /// # Panics
+    /// If the range reaches past the plan's end.
+    pub(crate) fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+        assert!(
+            range.end <= self.len(),
+            "samples {range:?} past the plan's end"
+        );
+        match &self.0 {
+            Plan::Grid(grid) => out.extend(range.map(|i| grid.loc(grid.first + i))),
+            Plan::At(locs) => out.extend_from_slice(&locs[range]),
+            Plan::Arc(w) => out.extend(range.map(|i| w.data.loc(w.first + i))),
+            Plan::Tolerance(w) => w
+                .data
+                .locs_into(w.first + range.start..w.first + range.end, out),
         }
     }
 
@@ -200,6 +437,23 @@ impl SamplePlan {
         match &self.0 {
             Plan::Grid(grid) => grid.loc(grid.first + i),
             Plan::At(locs) => locs[i],
+            Plan::Arc(w) => w.data.loc(w.first + i),
+            Plan::Tolerance(w) => w.data.loc(w.first + i),
+        }
+    }
+}
+
+/// Sample places computed at once by the writers and evaluators of computed plans (arc length,
+/// tolerance), so that their memory stays bounded.
+pub(crate) const LOC_BLOCK: usize = 8192;
+
+impl<T> Window<T> {
+    /// Samples `range` of this window, as a window of its own.
+    pub fn slice(&self, range: Range<usize>) -> Self {
+        Self {
+            data: Arc::clone(&self.data),
+            first: self.first + range.start,
+            len: range.len(),
         }
     }
 }

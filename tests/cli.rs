@@ -488,23 +488,65 @@ fn unwritable_output_exits_1() {
     assert_eq!(run.status, 1, "{}", run.stderr);
 }
 
+/// The t column and the rows of the CSV `text`.
+fn t_column(text: &str) -> Vec<u64> {
+    let (_, rows) = parse_csv(text);
+    rows.iter()
+        .map(|r| r[2].as_deref().unwrap().parse::<f64>().unwrap().to_bits())
+        .collect()
+}
+
 #[test]
-fn features_not_built_yet_exit_1_after_checking_the_input() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.npz");
-    let cases: [(&str, &[&str]); 1] = [(
-        r#"{"sampling": {"arc_length": 10}, "curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}]}"#,
-        &[],
-    )];
-    for (doc, extra) in cases {
-        let mut args = vec!["tessellate", "-", "--backend", "cpu"];
-        args.extend_from_slice(extra);
-        let run = splinegpu(&args, Some(doc));
-        assert_eq!(run.status, 1, "{doc}: {}", run.stderr);
-        assert!(run.stderr.contains("not supported yet"), "{}", run.stderr);
-        assert_eq!(run.stdout, "");
+fn arc_length_and_tolerance_sampling_give_the_same_t_on_both_backends() {
+    let docs = [
+        r#"{"sampling": {"arc_length": 50}, "derivatives": 1, "curves": [
+            {"kind": "catmull-rom", "ends": "closed", "points": [[0, 0], [4, 0], [4, 3], [0, 3]]},
+            {"kind": "natural", "t": [0, 0.001, 3], "points": [[0, 0, 0], [1, 2, 0], [3, 1, 1]]}]}"#,
+        r#"{"sampling": {"tolerance": 0.01}, "curves": [
+            {"kind": "bspline", "ends": "repeat", "points": [[0, 0], [4, 0], [4, 3], [0, 3]]},
+            {"kind": "bezier", "points": [[0, 0, 0], [1, 2, 0], [3, 2, 1], [4, 0, 1]]}]}"#,
+    ];
+    for doc in docs {
+        let cpu = splinegpu(&["tessellate", "-", "--backend", "cpu"], Some(doc));
+        assert_eq!(cpu.status, 0, "{}", cpu.stderr);
+        let gpu = splinegpu(&["tessellate", "-", "--backend", "gpu"], Some(doc));
+        if gpu.status != 0 && !std::env::var("CI").is_ok_and(|v| v == "true") {
+            eprintln!("skipping the GPU half: {}", gpu.stderr);
+            continue;
+        }
+        assert_eq!(gpu.status, 0, "{}", gpu.stderr);
+        assert_eq!(t_column(&cpu.stdout), t_column(&gpu.stdout), "{doc}");
+        let (_, rows) = parse_csv(&cpu.stdout);
+        if doc.contains("arc_length") {
+            assert_eq!(rows.len(), 100);
+        }
     }
-    assert!(!out.exists());
+}
+
+#[test]
+fn bad_arc_length_and_tolerance_values_exit_2_naming_them() {
+    for (sampling, names) in [
+        (r#"{"arc_length": 1}"#, &["\"arc_length\"", "got 1"][..]),
+        (r#"{"arc_length": 2.5}"#, &["\"arc_length\""][..]),
+        (r#"{"tolerance": 0}"#, &["\"tolerance\"", "got 0"][..]),
+        (r#"{"tolerance": -1}"#, &["\"tolerance\""][..]),
+        (r#"{"tolerance": "fine"}"#, &["\"tolerance\"", "fine"][..]),
+        (
+            r#"{"tolerance": 1e-300}"#,
+            &["\"sampling\"", "samples on segment 0"][..],
+        ),
+    ] {
+        let doc = format!(
+            r#"{{"curves": [{{"kind": "bspline", "points": [[0], [1], [2], [3]]}},
+            {{"kind": "bspline", "points": [[0, 0], [1, 5], [2, -3], [3, 0]], "sampling": {sampling}}}]}}"#
+        );
+        let run = splinegpu(&["tessellate", "-", "--backend", "cpu"], Some(&doc));
+        assert_eq!(run.status, 2, "{sampling}: {}", run.stderr);
+        assert!(run.stderr.contains("curve 1:"), "{}", run.stderr);
+        for name in names {
+            assert!(run.stderr.contains(name), "{sampling}: {}", run.stderr);
+        }
+    }
 }
 
 #[test]

@@ -2,15 +2,14 @@
 //! parts, byte-level mutations of valid documents, and random valid curves of every family.
 //!
 //! For every input: the parser never panics; a rejection is an input error placed at the
-//! document or at a curve (the CLI exits 2 with it), or "not supported yet" for the one
-//! sampling not built; parsing from memory and from a reader agree; and an accepted document
+//! document or at a curve (the CLI exits 2 with it); parsing from memory and from a reader agree; and an accepted document
 //! evaluates to finite samples.
 //!
 //! Each property runs 10,000 cases; `PROPTEST_CASES=1000000 cargo test --release --test
 //! document_properties` is the longer run.
 
 use proptest::prelude::*;
-use splinegpu::{DocumentError, EvalJob, Location};
+use splinegpu::{EvalJob, InputError, Location};
 
 /// Cases per property: PROPTEST_CASES, or 10,000.
 fn config() -> ProptestConfig {
@@ -288,7 +287,7 @@ fn mutated(text: String, edits: Vec<(usize, u8, u8)>) -> String {
 }
 
 /// A JSON syntax error (the document's text, not its meaning).
-fn is_syntax(e: &DocumentError) -> bool {
+fn is_syntax(e: &InputError) -> bool {
     e.to_string().starts_with("document: invalid JSON at line ")
 }
 
@@ -306,7 +305,7 @@ fn check(text: &str) -> Option<EvalJob> {
     }
     match from_memory {
         Ok(job) => Some(job),
-        Err(DocumentError::Input(e)) => {
+        Err(e) => {
             assert!(
                 matches!(e.location, Location::Document | Location::Curve(_)),
                 "a document's error names the document or a curve: {e}"
@@ -316,10 +315,6 @@ fn check(text: &str) -> Option<EvalJob> {
                 message.starts_with("document: ") || message.starts_with("curve "),
                 "{message}"
             );
-            None
-        }
-        Err(DocumentError::Unsupported(what)) => {
-            assert!(text.contains("arc_length"), "unsupported {what}: {text}");
             None
         }
     }
@@ -400,7 +395,7 @@ fn duplicate_keys_are_refused_at_every_level() {
         ),
     ] {
         match splinegpu::parse_document(doc) {
-            Err(DocumentError::Input(e)) => {
+            Err(e) => {
                 let message = e.to_string();
                 assert!(
                     message.contains(key) && message.contains("twice"),

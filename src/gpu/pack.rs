@@ -13,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use super::KernelShape;
 use crate::error::GpuError;
 use crate::job::EvalJob;
-use crate::sampling::{Grid, Plan, SamplePlan};
+use crate::sampling::{Grid, Plan, SampleLoc};
 
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
 pub const TERMS: usize = 5;
@@ -291,7 +291,14 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
         };
         match &plan.0 {
             Plan::Grid(grid) => runs.grid(grid),
-            Plan::At(_) => runs.explicit(plan, &mut packed.locs),
+            Plan::At(places) => runs.explicit(places, &mut packed.locs),
+            // Arc length and tolerance: places decided on the host in f64, sampled as explicit
+            // t are.
+            _ => {
+                let mut places = Vec::with_capacity(plan.len());
+                plan.locs_into(0..plan.len(), &mut places);
+                runs.explicit(&places, &mut packed.locs);
+            }
         }
     }
     cut_batches(&mut packed, &all_runs, limits);
@@ -343,10 +350,10 @@ struct CurveRuns<'a> {
 }
 
 impl CurveRuns<'_> {
-    /// Explicit t: runs of up to run_len samples, each with its own segment and u.
-    fn explicit(self, plan: &SamplePlan, locs: &mut Vec<GpuLoc>) {
+    /// Samples at places of their own: runs of up to run_len samples, each with its own
+    /// segment and u.
+    fn explicit(self, places: &[SampleLoc], locs: &mut Vec<GpuLoc>) {
         let run_len = self.shape.run_len as usize;
-        let Plan::At(places) = &plan.0 else { return };
         for (c, chunk) in places.chunks(run_len).enumerate() {
             let begin = self.value_base + c * run_len * self.dim;
             let run = Run {

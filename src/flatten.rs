@@ -1,0 +1,241 @@
+//! Tolerance sampling: as few samples per segment as this method can guarantee, such that the
+//! polyline through them stays within `tol` of the curve (contract: "tolerance").
+//!
+//! **Placement.** For a circle arc the distance from a chord of length h to the arc is about
+//! κh²/8, so a chord is within tol when h·sqrt(κ) <= sqrt(8 tol). Placing samples so that each
+//! interval carries an equal share of ∫ sqrt(κ) ds equidistributes the error (R. Levien,
+//! "Flattening quadratic Béziers", 2019, and kurbo's `flatten`). In any dimension
+//! sqrt(κ) ds = (G/Q)^(1/4) du with Q = |P'|², G = |P'|²|P''|² − (P'·P'')², that is
+//! sqrt(|P''⊥|) du with P''⊥ the part of P'' normal to the tangent: no angles needed. The count
+//! starts at ∫ (G/Q)^(1/4) du / sqrt(8 tol), and each u_k inverts the tabulated integral.
+//!
+//! **Guarantee.** The estimate is asymptotic, so every interval [u_a, u_b] is then checked with
+//! a bound that holds exactly. Let e be the chord's direction and Δ = u_b − u_a. The residual
+//! r(u) = (P(u) − P(u_a)) minus its component along e vanishes at both ends and r'' is the part
+//! of P'' normal to e, an affine function of u, so |r| <= Δ²/8 · max(|P''⊥e(u_a)|, |P''⊥e(u_b)|).
+//! That is the distance to the chord's line; it is the distance to the chord itself when the
+//! curve's projection on e moves forward throughout (P'·e > 0 on the interval). Otherwise the
+//! bound used is Δ²/8 · max |P''| over the interval, the interpolation bound that Wang's formula
+//! rests on (|P(u) − L(u)| for the chord's linear interpolant L). If an interval fails, the
+//! count grows by an eighth and the placement is redone; at Wang's count n_W =
+//! max(1, ceil(sqrt(M/(8 tol)))), M = max |P''| on the segment, uniform placement always passes,
+//! so the count never exceeds n_W.
+
+use crate::segment::Segment;
+
+/// The most samples a segment may need: more is bad input.
+pub const MAX_SAMPLES_PER_SEGMENT: u64 = 1 << 20;
+
+/// Intervals of the tabulated placement integral.
+const TABLE: usize = 32;
+
+/// How a segment is sampled: `count` samples at u_0 = 0 < u_1 < ... (the next segment's first
+/// sample, or the curve's final point, closes the last interval).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Placement {
+    /// Samples on the segment (>= 1).
+    pub count: u32,
+    /// Uniform placement (u_k = k / count), used at Wang's count.
+    pub uniform: bool,
+}
+
+/// A segment's cubic as plain vectors, for the bounds.
+struct Cubic<'a> {
+    a: &'a [f64],
+    b: &'a [f64],
+    c: &'a [f64],
+    d: &'a [f64],
+}
+
+impl<'a> Cubic<'a> {
+    fn of(segment: &'a Segment<'a>) -> Self {
+        let [a, b, c, d] = segment.power();
+        Self { a, b, c, d }
+    }
+
+    fn dim(&self) -> usize {
+        self.a.len()
+    }
+
+    fn point(&self, u: f64, k: usize) -> f64 {
+        crate::segment::position(self.a[k], self.b[k], self.c[k], self.d[k], u)
+    }
+
+    fn d1(&self, u: f64, k: usize) -> f64 {
+        self.c[k] + u * (2.0 * self.b[k] + 3.0 * u * self.a[k])
+    }
+
+    fn d2(&self, u: f64, k: usize) -> f64 {
+        2.0 * self.b[k] + 6.0 * u * self.a[k]
+    }
+
+    /// max |P''| over [u_a, u_b]: P'' is affine, so its norm is largest at an end.
+    fn max_d2(&self, ua: f64, ub: f64) -> f64 {
+        let norm = |u: f64| (0..self.dim()).map(|k| self.d2(u, k).powi(2)).sum::<f64>();
+        norm(ua).max(norm(ub)).sqrt()
+    }
+
+    /// sqrt(|P''⊥|) at u, the part of P'' normal to the tangent: (G/Q)^(1/4).
+    fn density(&self, u: f64) -> f64 {
+        let (mut q, mut dd, mut pd) = (0.0, 0.0, 0.0);
+        for k in 0..self.dim() {
+            let (p1, p2) = (self.d1(u, k), self.d2(u, k));
+            q += p1 * p1;
+            dd += p2 * p2;
+            pd += p1 * p2;
+        }
+        // Where the speed vanishes, the whole of P'' counts.
+        let normal = if q > 1e-24 * dd {
+            (dd - pd * pd / q).max(0.0)
+        } else {
+            dd
+        };
+        normal.sqrt().sqrt()
+    }
+
+    /// A bound on the distance from the curve on [u_a, u_b] to the chord P(u_a)P(u_b) (see the
+    /// module docs): it holds exactly, up to rounding.
+    fn chord_bound(&self, ua: f64, ub: f64) -> f64 {
+        let dim = self.dim();
+        let h = ub - ua;
+        let full = h * h / 8.0 * self.max_d2(ua, ub);
+        let chord: Vec<f64> = (0..dim)
+            .map(|k| self.point(ub, k) - self.point(ua, k))
+            .collect();
+        let len = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if len == 0.0 {
+            return full;
+        }
+        let e: Vec<f64> = chord.iter().map(|v| v / len).collect();
+        // P'·e is a quadratic in u: forward throughout when positive at both ends and at its
+        // vertex (if inside).
+        let along = |u: f64| (0..dim).map(|k| self.d1(u, k) * e[k]).sum::<f64>();
+        let (qa, qb) = (
+            (0..dim).map(|k| 3.0 * self.a[k] * e[k]).sum::<f64>(),
+            (0..dim).map(|k| 2.0 * self.b[k] * e[k]).sum::<f64>(),
+        );
+        let mut forward = along(ua) > 0.0 && along(ub) > 0.0;
+        if qa != 0.0 {
+            let vertex = -qb / (2.0 * qa);
+            if vertex > ua && vertex < ub {
+                forward &= along(vertex) > 0.0;
+            }
+        }
+        if !forward {
+            return full;
+        }
+        let normal = |u: f64| {
+            let d2: Vec<f64> = (0..dim).map(|k| self.d2(u, k)).collect();
+            let t: f64 = d2.iter().zip(&e).map(|(x, y)| x * y).sum();
+            d2.iter()
+                .zip(&e)
+                .map(|(x, y)| (x - t * y).powi(2))
+                .sum::<f64>()
+        };
+        (h * h / 8.0 * normal(ua).max(normal(ub)).sqrt()).min(full)
+    }
+}
+
+/// Wang's count for `segment` at `tol`: max(1, ceil(sqrt(M / (8 tol)))), M = max |P''| (at an
+/// end of the segment). As f64, since it may be huge.
+#[must_use]
+pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
+    let m = Cubic::of(segment).max_d2(0.0, 1.0);
+    (m / (8.0 * tol)).sqrt().ceil().max(1.0)
+}
+
+/// The placement of `segment` at `tol`.
+///
+/// # Errors
+/// The count the segment needs, when that exceeds [`MAX_SAMPLES_PER_SEGMENT`].
+pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
+    let cubic = Cubic::of(segment);
+    let wang = wang_count(segment, tol);
+    let table = integral_table(&cubic);
+    let estimate = (table[TABLE] / (8.0 * tol).sqrt()).ceil().max(1.0);
+    if estimate.min(wang) > MAX_SAMPLES_PER_SEGMENT as f64 {
+        return Err(estimate.min(wang) as u64);
+    }
+    let wang = wang as u32;
+    let mut count = (estimate as u32).min(wang);
+    let mut us = Vec::new();
+    while count < wang {
+        let placement = Placement {
+            count,
+            uniform: false,
+        };
+        placed(&table, placement, &mut us);
+        us.push(1.0);
+        if us.windows(2).all(|w| cubic.chord_bound(w[0], w[1]) <= tol) {
+            return Ok(placement);
+        }
+        count += (count / 8).max(1);
+    }
+    if u64::from(wang) > MAX_SAMPLES_PER_SEGMENT {
+        return Err(u64::from(wang));
+    }
+    Ok(Placement {
+        count: wang,
+        uniform: true,
+    })
+}
+
+/// The samples' u of `segment` placed as `placement` says, appended to `out` (`count` values,
+/// from 0).
+pub(crate) fn us_into(segment: &Segment<'_>, placement: Placement, out: &mut Vec<f64>) {
+    out.clear();
+    if placement.uniform {
+        let n = f64::from(placement.count);
+        out.extend((0..placement.count).map(|j| f64::from(j) / n));
+    } else {
+        placed(&integral_table(&Cubic::of(segment)), placement, out);
+    }
+}
+
+/// Sample `j`'s u of `segment` placed as `placement` says (as [`us_into`] gives it).
+pub(crate) fn u_of(segment: &Segment<'_>, placement: Placement, j: u32) -> f64 {
+    if placement.uniform {
+        return f64::from(j) / f64::from(placement.count);
+    }
+    let table = integral_table(&Cubic::of(segment));
+    inverse(&table, f64::from(j) / f64::from(placement.count))
+}
+
+/// ∫ sqrt(|P''⊥|) du from 0 to k/TABLE, k = 0..=TABLE, by Simpson's rule on each interval.
+fn integral_table(cubic: &Cubic<'_>) -> [f64; TABLE + 1] {
+    let mut table = [0.0; TABLE + 1];
+    let h = 1.0 / TABLE as f64;
+    let mut left = cubic.density(0.0);
+    for k in 0..TABLE {
+        let (a, b) = (k as f64 * h, (k + 1) as f64 * h);
+        let (mid, right) = (cubic.density(0.5 * (a + b)), cubic.density(b));
+        table[k + 1] = table[k] + h / 6.0 * (left + 4.0 * mid + right);
+        left = right;
+    }
+    table
+}
+
+/// The u where the tabulated integral reaches the fraction `f` of its total (linear within a
+/// table interval; a flat stretch maps to its start).
+fn inverse(table: &[f64; TABLE + 1], f: f64) -> f64 {
+    let total = table[TABLE];
+    if total <= 0.0 || f <= 0.0 {
+        return f.clamp(0.0, 1.0);
+    }
+    let target = f * total;
+    let k = (table.partition_point(|&x| x < target).max(1) - 1).min(TABLE - 1);
+    let (lo, hi) = (table[k], table[k + 1]);
+    let within = if hi > lo {
+        (target - lo) / (hi - lo)
+    } else {
+        0.0
+    };
+    (k as f64 + within) / TABLE as f64
+}
+
+/// The non-uniform placement: u_j inverts the integral at j / count.
+fn placed(table: &[f64; TABLE + 1], placement: Placement, out: &mut Vec<f64>) {
+    out.clear();
+    let n = f64::from(placement.count);
+    out.extend((0..placement.count).map(|j| inverse(table, f64::from(j) / n)));
+}
