@@ -30,14 +30,17 @@ pub enum BenchError {
 pub const REPETITIONS: usize = 5;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 5] = ["w1", "w1-b", "w1-d", "fit-1m", "eval-at"];
+pub const WORKLOADS: [&str; 7] = [
+    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at",
+];
 
 /// One measurement: a contract `--json` line.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measurement {
     /// The workload's name.
     pub workload: &'static str,
-    /// "gpu-device", "gpu-end-to-end", "cpu-1t", "cpu-all", "memset" or "fit".
+    /// "gpu-device", "gpu-end-to-end", "gpu-first-call", "cpu-1t", "cpu-all", "memset",
+    /// "fit", or w1-tol's "wang".
     pub path: &'static str,
     /// Median seconds.
     pub seconds: f64,
@@ -137,25 +140,59 @@ impl Rng {
     }
 }
 
-/// w1 (`basis` Catmull-Rom), w1-b (B-spline), w1-d (w1 with derivatives): 10,000 curves of 34
-/// control points in 3-D with "control" ends, 32 samples per segment plus the end point:
-/// 10,000 × (31 × 32 + 1) = 9,930,000 samples.
-#[must_use]
-pub fn w1_job(basis: Basis, derivatives: Derivatives) -> EvalJob {
+/// w1's 10,000 curves: 34 control points in 3-D in ±100, "control" ends.
+fn w1_curves(basis: &Basis) -> impl Iterator<Item = Curve> + '_ {
     let mut rng = Rng(1);
-    let mut job = EvalJob::new(derivatives);
-    for _ in 0..10_000 {
+    (0..10_000).map(move |_| {
         let points = Points::new(3, (0..34 * 3).map(|_| rng.range(-100.0, 100.0)).collect())
             .expect("finite points");
         let kind = CurveKind::Uniform {
             basis: basis.clone(),
             ends: Ends::Control,
         };
-        let curve = Curve::new(kind, points).expect("34 points");
-        job.push(&curve, &Sampling::PerSegment(32))
-            .expect("per-segment sampling");
+        Curve::new(kind, points).expect("34 points")
+    })
+}
+
+/// w1 (`basis` Catmull-Rom), w1-b (B-spline), w1-d (w1 with derivatives): w1's curves, 32
+/// samples per segment plus the end point: 10,000 × (31 × 32 + 1) = 9,930,000 samples.
+#[must_use]
+pub fn w1_job(basis: Basis, derivatives: Derivatives) -> EvalJob {
+    w1_job_sampled(&basis, derivatives, |_| Sampling::PerSegment(32))
+}
+
+/// w1's Catmull-Rom curves, each sampled as `sampling(curve)` says.
+fn w1_job_sampled(
+    basis: &Basis,
+    derivatives: Derivatives,
+    sampling: impl Fn(&Curve) -> Sampling,
+) -> EvalJob {
+    let mut job = EvalJob::new(derivatives);
+    for curve in w1_curves(basis) {
+        job.push(&curve, &sampling(&curve)).expect("valid sampling");
     }
     job
+}
+
+/// w1-arc: w1's curves at 993 points evenly spaced by arc length (w1's 9,930,000 samples).
+#[must_use]
+pub fn w1_arc_job() -> EvalJob {
+    w1_job_sampled(&Basis::CatmullRom, Derivatives::None, |_| {
+        Sampling::ArcLength(993)
+    })
+}
+
+/// The tolerance of w1-tol's curves: 1e-3 of each one's extent.
+fn w1_tolerance(curve: &Curve) -> f64 {
+    1e-3 * curve.points().extent()
+}
+
+/// w1-tol: w1's curves, each at a tolerance of 1e-3 of its own extent.
+#[must_use]
+pub fn w1_tol_job() -> EvalJob {
+    w1_job_sampled(&Basis::CatmullRom, Derivatives::None, |curve| {
+        Sampling::Tolerance(w1_tolerance(curve))
+    })
 }
 
 /// fit-1m's data: 1,000,000 non-uniform knots (spacings within a factor of 100) and 3-D points.
@@ -230,6 +267,11 @@ pub fn run(
                 gpu,
                 &mut report,
             )?,
+            "w1-arc" => evaluation(name, &w1_arc_job(), gpu, &mut report)?,
+            "w1-tol" => {
+                evaluation(name, &w1_tol_job(), gpu, &mut report)?;
+                wang(&mut report);
+            }
             "w1-d" => evaluation(
                 name,
                 &w1_job(Basis::CatmullRom, Derivatives::Second),
@@ -245,6 +287,39 @@ pub fn run(
         }
     }
     Ok(())
+}
+
+/// w1-tol's "wang" path: Wang's count for the same curves and tolerances (its "samples"), and
+/// the time to count.
+fn wang(report: &mut impl FnMut(&Measurement)) {
+    let curves: Vec<(SegmentTable, f64)> = w1_curves(&Basis::CatmullRom)
+        .map(|c| (c.fit(), w1_tolerance(&c)))
+        .collect();
+    let mut samples = 0u64;
+    let (seconds, min_seconds, max_seconds) = time(|| {
+        // Per curve, Wang's count on every segment, then the final point.
+        samples = curves
+            .iter()
+            .map(|(table, tol)| {
+                let segments: u64 = (0..table.len())
+                    .map(|s| crate::flatten::wang_count(&table.segment(s), *tol) as u64)
+                    .sum();
+                segments + 1
+            })
+            .sum();
+        black_box(samples);
+        None
+    });
+    report(&Measurement {
+        workload: "w1-tol",
+        path: "wang",
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples,
+        bytes: 0,
+        float: None,
+    });
 }
 
 fn fit_1m(report: &mut impl FnMut(&Measurement)) {

@@ -36,6 +36,12 @@ enum Command {
         backend: Backend,
     },
     /// Run the named benchmark workloads.
+    ///
+    /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
+    /// Catmull-Rom with two derivatives), w1-arc (w1's curves at 993 points by arc length),
+    /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at. Paths: memset,
+    /// gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit, and w1-tol's "wang"
+    /// (Wang's count for the same curves; its time is the time to count).
     Bench {
         /// A workload to run (may repeat; default: all).
         #[arg(long = "workload")]
