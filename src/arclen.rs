@@ -237,8 +237,10 @@ impl ArcTable {
 
     /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]),
     /// within `accuracy` in length: Newton's method on the length inside the piece that holds
-    /// `s`, falling back to bisection of that piece when the speed vanishes or a step leaves
-    /// the bracket.
+    /// `s`, from a first step along the tangent at the piece's start, falling back to
+    /// bisection of the piece when the speed vanishes or a step leaves the bracket. The answer
+    /// depends on `s` alone (not on earlier calls), so every chunking of a sampling gives the
+    /// same t.
     pub fn inverse(&self, s: f64, accuracy: f64) -> f64 {
         let length = self.length();
         if s <= 0.0 {
@@ -251,16 +253,16 @@ impl ArcTable {
         let k = (self.s.partition_point(|&x| x < s).max(1) - 1).min(self.u.len() - 2);
         let (mut lo, mut hi) = (self.u[k], self.u[k + 1]);
         let (s0, s1) = (self.s[k], self.s[k + 1]);
+        let (from, target) = (lo, s - s0);
         let speed = &self.speed;
-        let target = s - s0;
-        // Start where the length grows linearly across the piece.
-        let mut u = if s1 > s0 {
-            lo + (hi - lo) * (target / (s1 - s0))
+        let v = speed.at(from);
+        let mut u = if v > 0.0 && from + target / v < hi {
+            from + target / v
         } else {
-            lo
+            lo + (hi - lo) * (target / (s1 - s0).max(f64::MIN_POSITIVE)).min(1.0)
         };
         for _ in 0..100 {
-            let f = speed.gl8(self.u[k], u) - target;
+            let f = speed.gl8(from, u) - target;
             if f.abs() <= accuracy {
                 return u;
             }

@@ -31,12 +31,14 @@ const TABLE: usize = 32;
 
 /// How a segment is sampled: `count` samples at u_0 = 0 < u_1 < ... (the next segment's first
 /// sample, or the curve's final point, closes the last interval).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Placement {
     /// Samples on the segment (>= 1).
     pub count: u32,
     /// Uniform placement (u_k = k / count), used at Wang's count.
     pub uniform: bool,
+    /// ∫ sqrt(|P''⊥|) du from 0 to k/32, k = 0..=32: u_j inverts it at j / count.
+    integral: [f64; TABLE + 1],
 }
 
 /// A segment's cubic as plain vectors, for the bounds.
@@ -157,48 +159,44 @@ pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
         return Err(estimate.min(wang) as u64);
     }
     let wang = wang as u32;
-    let mut count = (estimate as u32).min(wang);
+    let mut placement = Placement {
+        count: (estimate as u32).min(wang),
+        uniform: false,
+        integral: table,
+    };
     let mut us = Vec::new();
-    while count < wang {
-        let placement = Placement {
-            count,
-            uniform: false,
-        };
-        placed(&table, placement, &mut us);
+    while placement.count < wang {
+        placement.us_into(&mut us);
         us.push(1.0);
         if us.windows(2).all(|w| cubic.chord_bound(w[0], w[1]) <= tol) {
             return Ok(placement);
         }
-        count += (count / 8).max(1);
+        placement.count += (placement.count / 8).max(1);
     }
     if u64::from(wang) > MAX_SAMPLES_PER_SEGMENT {
         return Err(u64::from(wang));
     }
-    Ok(Placement {
-        count: wang,
-        uniform: true,
-    })
+    placement.count = wang;
+    placement.uniform = true;
+    Ok(placement)
 }
 
-/// The samples' u of `segment` placed as `placement` says, appended to `out` (`count` values,
-/// from 0).
-pub(crate) fn us_into(segment: &Segment<'_>, placement: Placement, out: &mut Vec<f64>) {
-    out.clear();
-    if placement.uniform {
-        let n = f64::from(placement.count);
-        out.extend((0..placement.count).map(|j| f64::from(j) / n));
-    } else {
-        placed(&integral_table(&Cubic::of(segment)), placement, out);
+impl Placement {
+    /// The samples' u, into `out` (`count` values, from 0).
+    pub fn us_into(&self, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend((0..self.count).map(|j| self.u(j)));
     }
-}
 
-/// Sample `j`'s u of `segment` placed as `placement` says (as [`us_into`] gives it).
-pub(crate) fn u_of(segment: &Segment<'_>, placement: Placement, j: u32) -> f64 {
-    if placement.uniform {
-        return f64::from(j) / f64::from(placement.count);
+    /// Sample `j`'s u.
+    pub fn u(&self, j: u32) -> f64 {
+        let f = f64::from(j) / f64::from(self.count);
+        if self.uniform {
+            f
+        } else {
+            inverse(&self.integral, f)
+        }
     }
-    let table = integral_table(&Cubic::of(segment));
-    inverse(&table, f64::from(j) / f64::from(placement.count))
 }
 
 /// ∫ sqrt(|P''⊥|) du from 0 to k/TABLE, k = 0..=TABLE, by Simpson's rule on each interval.
@@ -231,11 +229,4 @@ fn inverse(table: &[f64; TABLE + 1], f: f64) -> f64 {
         0.0
     };
     (k as f64 + within) / TABLE as f64
-}
-
-/// The non-uniform placement: u_j inverts the integral at j / count.
-fn placed(table: &[f64; TABLE + 1], placement: Placement, out: &mut Vec<f64>) {
-    out.clear();
-    let n = f64::from(placement.count);
-    out.extend((0..placement.count).map(|j| inverse(table, f64::from(j) / n)));
 }

@@ -142,10 +142,11 @@ impl ArcSamples {
     }
 }
 
-/// A curve's tolerance sampling: each segment's placement, recomputed on demand.
+/// A curve's tolerance sampling: each segment's placement (its count and the table its u are
+/// computed from on demand).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct ToleranceSamples {
-    table: SegmentTable,
+    knots: Vec<f64>,
     placements: Vec<Placement>,
     /// The index of each segment's first sample, and, last, of the final point.
     offsets: Vec<usize>,
@@ -169,7 +170,7 @@ impl ToleranceSamples {
             placements.push(placement);
         }
         Ok(Self {
-            table: table.clone(),
+            knots: table.knots().to_vec(),
             placements,
             offsets,
         })
@@ -180,8 +181,7 @@ impl ToleranceSamples {
     }
 
     fn t(&self, segment: usize, u: f64) -> f64 {
-        let knots = self.table.knots();
-        let (t0, t1) = (knots[segment], knots[segment + 1]);
+        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
         if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
     }
 
@@ -196,7 +196,7 @@ impl ToleranceSamples {
         }
         let segment = self.offsets.partition_point(|&o| o <= g) - 1;
         let j = (g - self.offsets[segment]) as u32;
-        let u = flatten::u_of(&self.table.segment(segment), self.placements[segment], j);
+        let u = self.placements[segment].u(j);
         SampleLoc {
             segment,
             u,
@@ -216,11 +216,7 @@ impl ToleranceSamples {
                 continue;
             }
             let segment = self.offsets.partition_point(|&o| o <= g) - 1;
-            flatten::us_into(
-                &self.table.segment(segment),
-                self.placements[segment],
-                &mut us,
-            );
+            self.placements[segment].us_into(&mut us);
             let first = g - self.offsets[segment];
             let end = us.len().min(first + range.end - g);
             out.extend(us[first..end].iter().map(|&u| SampleLoc {
