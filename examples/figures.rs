@@ -1,0 +1,193 @@
+//! Draws the README's figures with the crate itself, as SVG: every family on the same control
+//! polygon (as the memo draws them), and one curve sampled per segment, by arc length and by
+//! tolerance, side by side.
+//!
+//! `cargo run --example figures -- docs` writes `docs/families.svg` and `docs/samplings.svg`.
+
+use std::error::Error;
+use std::fmt::Write as _;
+
+use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, Points, Sampling};
+
+/// One panel: a title, the control polygon (if any) and the samples to draw.
+struct Panel {
+    title: String,
+    polygon: Vec<[f64; 2]>,
+    samples: Vec<[f64; 2]>,
+    /// Draw each sample as a dot.
+    dots: bool,
+}
+
+/// The control polygon every family is drawn on.
+const POLYGON: [[f64; 2]; 7] = [
+    [0.0, 0.0],
+    [1.0, 2.0],
+    [2.5, 2.2],
+    [3.0, 0.4],
+    [4.5, 0.2],
+    [5.0, 2.0],
+    [6.2, 1.6],
+];
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let dir = std::env::args().nth(1).unwrap_or_else(|| "docs".to_string());
+    std::fs::create_dir_all(&dir)?;
+
+    // 1. Every family on the same polygon ("repeat" ends, so each starts and ends near it).
+    let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
+    let families: Vec<(&str, CurveKind)> = vec![
+        ("cardinal, tension 0.2", uniform(Basis::Cardinal { tension: 0.2 })),
+        ("Catmull-Rom (cardinal 0.5)", uniform(Basis::CatmullRom)),
+        ("uniform B-spline", uniform(Basis::BSpline)),
+        (
+            "tensioned B-spline, a = 0.5",
+            uniform(Basis::TensionedBSpline { tension: 0.5 }),
+        ),
+        (
+            "Beta-spline, bias 1, tension 10",
+            uniform(Basis::Beta {
+                bias: 1.0,
+                tension: 10.0,
+            }),
+        ),
+        (
+            "Beta-spline, bias 3, tension 0",
+            uniform(Basis::Beta {
+                bias: 3.0,
+                tension: 0.0,
+            }),
+        ),
+        ("Bezier (2 segments)", CurveKind::Bezier),
+        (
+            "natural interpolating",
+            CurveKind::Interpolating {
+                condition: splinegpu::EndCondition::Natural,
+                t: None,
+            },
+        ),
+        (
+            "not-a-knot interpolating",
+            CurveKind::Interpolating {
+                condition: splinegpu::EndCondition::NotAKnot,
+                t: None,
+            },
+        ),
+    ];
+    let mut panels = Vec::new();
+    for (title, kind) in families {
+        let curve = Curve::new(kind, Points::new(2, coords.clone())?)?;
+        panels.push(Panel {
+            title: title.to_string(),
+            polygon: POLYGON.to_vec(),
+            samples: sample(&curve, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
+    std::fs::write(format!("{dir}/families.svg"), svg(&panels, 3))?;
+
+    // 2. One curve, three samplings with about the same number of points.
+    let curve = Curve::new(uniform(Basis::CatmullRom), Points::new(2, coords)?)?;
+    let per_segment = sample(&curve, &Sampling::PerSegment(4))?;
+    let n = per_segment.len() as u32;
+    let by_length = sample(&curve, &Sampling::ArcLength(n))?;
+    let by_tolerance = sample(&curve, &Sampling::Tolerance(0.03))?;
+    let panels = [
+        ("per segment, 4 each", per_segment),
+        ("arc length, same count", by_length),
+        ("tolerance 0.03", by_tolerance),
+    ]
+    .map(|(title, samples)| Panel {
+        title: format!("{title}: {} points", samples.len()),
+        polygon: Vec::new(),
+        samples,
+        dots: true,
+    });
+    std::fs::write(format!("{dir}/samplings.svg"), svg(&panels, 3))?;
+    println!("wrote {dir}/families.svg and {dir}/samplings.svg");
+    Ok(())
+}
+
+fn uniform(basis: Basis) -> CurveKind {
+    CurveKind::Uniform {
+        basis,
+        ends: Ends::Repeat,
+    }
+}
+
+/// The curve's samples as 2-D points (the f64 reference).
+fn sample(curve: &Curve, sampling: &Sampling) -> Result<Vec<[f64; 2]>, Box<dyn Error>> {
+    let mut job = EvalJob::new(Derivatives::None);
+    job.push(curve, sampling)?;
+    let samples = splinegpu::evaluate_reference(&job);
+    Ok(samples
+        .curve(0)
+        .points
+        .chunks_exact(2)
+        .map(|p| [p[0], p[1]])
+        .collect())
+}
+
+/// The panels in a grid of `columns`, each fitted to the same box, y up.
+fn svg(panels: &[Panel], columns: usize) -> String {
+    let (w, h, pad): (f64, f64, f64) = (300.0, 170.0, 22.0);
+    let rows = panels.len().div_ceil(columns);
+    let (lo, hi): ([f64; 2], [f64; 2]) = ([-0.3, -0.6], [6.5, 2.8]);
+    let scale = ((w - 2.0 * pad) / (hi[0] - lo[0])).min((h - 2.0 * pad) / (hi[1] - lo[1]));
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" \
+         font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" \
+         fill=\"white\"/>\n",
+        w * columns as f64,
+        h * rows as f64
+    );
+    for (i, panel) in panels.iter().enumerate() {
+        let (x0, y0) = ((i % columns) as f64 * w, (i / columns) as f64 * h);
+        let at = |p: &[f64; 2]| {
+            (
+                x0 + pad + (p[0] - lo[0]) * scale,
+                y0 + h - pad - (p[1] - lo[1]) * scale,
+            )
+        };
+        let path = |points: &[[f64; 2]]| {
+            points
+                .iter()
+                .map(|p| {
+                    let (x, y) = at(p);
+                    format!("{x:.2},{y:.2}")
+                })
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let _ = writeln!(
+            out,
+            "<text x=\"{:.1}\" y=\"{:.1}\">{}</text>",
+            x0 + 8.0,
+            y0 + 16.0,
+            panel.title
+        );
+        if !panel.polygon.is_empty() {
+            let _ = writeln!(
+                out,
+                "<polyline fill=\"none\" stroke=\"#999\" stroke-dasharray=\"4 3\" points=\"{}\"/>",
+                path(&panel.polygon)
+            );
+            for p in &panel.polygon {
+                let (x, y) = at(p);
+                let _ = writeln!(out, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.5\" fill=\"#999\"/>");
+            }
+        }
+        let _ = writeln!(
+            out,
+            "<polyline fill=\"none\" stroke=\"#d1495b\" stroke-width=\"1.6\" points=\"{}\"/>",
+            path(&panel.samples)
+        );
+        if panel.dots {
+            for p in &panel.samples {
+                let (x, y) = at(p);
+                let _ = writeln!(out, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.2\" fill=\"#00798c\"/>");
+            }
+        }
+    }
+    out.push_str("</svg>\n");
+    out
+}
