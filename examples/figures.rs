@@ -30,13 +30,18 @@ const POLYGON: [[f64; 2]; 7] = [
 ];
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let dir = std::env::args().nth(1).unwrap_or_else(|| "docs".to_string());
+    let dir = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "docs".to_string());
     std::fs::create_dir_all(&dir)?;
 
     // 1. Every family on the same polygon ("repeat" ends, so each starts and ends near it).
     let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
     let families: Vec<(&str, CurveKind)> = vec![
-        ("cardinal, tension 0.2", uniform(Basis::Cardinal { tension: 0.2 })),
+        (
+            "cardinal, tension 0.2",
+            uniform(Basis::Cardinal { tension: 0.2 }),
+        ),
         ("Catmull-Rom (cardinal 0.5)", uniform(Basis::CatmullRom)),
         ("uniform B-spline", uniform(Basis::BSpline)),
         (
@@ -173,7 +178,10 @@ fn svg(panels: &[Panel], columns: usize) -> String {
             );
             for p in &panel.polygon {
                 let (x, y) = at(p);
-                let _ = writeln!(out, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.5\" fill=\"#999\"/>");
+                let _ = writeln!(
+                    out,
+                    "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.5\" fill=\"#999\"/>"
+                );
             }
         }
         let _ = writeln!(
@@ -184,7 +192,10 @@ fn svg(panels: &[Panel], columns: usize) -> String {
         if panel.dots {
             for p in &panel.samples {
                 let (x, y) = at(p);
-                let _ = writeln!(out, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.2\" fill=\"#00798c\"/>");
+                let _ = writeln!(
+                    out,
+                    "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.2\" fill=\"#00798c\"/>"
+                );
             }
         }
     }

@@ -13,6 +13,7 @@ use crate::job::{EvalJob, Piece};
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::{self, OutputError};
 use crate::samples::{SampleFloat, Samples};
+use crate::sampling::SamplePlan;
 
 /// An output format of the CLI contract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +74,22 @@ pub fn write<F: SampleFloat>(
     Ok(())
 }
 
+/// Hands `write` the t of `plan`'s samples in blocks of at most `block` (numbered from 0),
+/// filled into `t`, so that no more than a block is held.
+fn for_each_t_block(
+    plan: &SamplePlan,
+    block: usize,
+    t: &mut Vec<f64>,
+    mut write: impl FnMut(usize, &[f64]) -> io::Result<()>,
+) -> io::Result<()> {
+    for (i, start) in (0..plan.len()).step_by(block).enumerate() {
+        t.clear();
+        plan.extend_t(start..(start + block).min(plan.len()), t);
+        write(i, t)?;
+    }
+    Ok(())
+}
+
 type Run<'a, F> = dyn FnMut(&EvalJob, &[Piece], &mut Samples<F>) -> Result<(), OutputError> + 'a;
 
 /// The contract's JSON, one curve at a time, each plane of a curve chunk by chunk.
@@ -88,11 +105,9 @@ fn write_json<F: SampleFloat>(
     for c in 0..job.len() {
         let plan = job.plan(c);
         write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
-        for (i, start) in (0..plan.len()).step_by(chunk_samples).enumerate() {
-            t.clear();
-            plan.extend_t(start..(start + chunk_samples).min(plan.len()), &mut t);
-            output::write_json_numbers(&t, i == 0, out)?;
-        }
+        for_each_t_block(plan, chunk_samples, &mut t, |i, t| {
+            output::write_json_numbers(t, i == 0, out)
+        })?;
         write!(out, "]")?;
         let mut one = EvalJob::new(job.derivatives());
         one.push_table(job.table(c).clone(), plan.clone())
@@ -143,12 +158,9 @@ fn write_npz<F: SampleFloat>(
     npz.begin("t", Dtype::F64, &[n])?;
     let mut t = Vec::new();
     for c in 0..job.len() {
-        let plan = job.plan(c);
-        for start in (0..plan.len()).step_by(chunk_samples) {
-            t.clear();
-            plan.extend_t(start..(start + chunk_samples).min(plan.len()), &mut t);
-            npz.write(bytemuck::cast_slice(&t))?;
-        }
+        for_each_t_block(job.plan(c), chunk_samples, &mut t, |_, t| {
+            npz.write(bytemuck::cast_slice(t))
+        })?;
     }
     npz.end()?;
     // points, evaluated; the derivatives wait in temporary files.

@@ -29,6 +29,20 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// `splinegpu tessellate INPUT -o OUTPUT` with the given backend (none: auto).
+fn tessellate_to(input: &Path, output: &Path, backend: Option<&str>, stdout: Stdio) -> Child {
+    let mut args = vec![
+        "tessellate",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ];
+    if let Some(backend) = backend {
+        args.extend(["--backend", backend]);
+    }
+    spawn(&args, stdout)
+}
+
 fn spawn(args: &[&str], stdout: Stdio) -> Child {
     Command::new(BIN)
         .args(args)
@@ -147,17 +161,7 @@ fn a_device_node_as_output_is_written_in_place_never_replaced() {
         return;
     }
     let input = write(dir.path(), "doc.json", &document(3, 10));
-    let mut child = spawn(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            node.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        Stdio::null(),
-    );
+    let mut child = tessellate_to(&input, &node, Some("cpu"), Stdio::null());
     let stderr = stderr_of(&mut child);
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(1), "{stderr}");
@@ -189,17 +193,7 @@ fn a_fifo_as_output_is_written_in_place_and_its_reader_gets_everything() {
         let fifo = fifo.clone();
         std::thread::spawn(move || fs::read(fifo).unwrap())
     };
-    let mut child = spawn(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            fifo.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        Stdio::null(),
-    );
+    let mut child = tessellate_to(&input, &fifo, Some("cpu"), Stdio::null());
     let stderr = stderr_of(&mut child);
     assert!(child.wait().unwrap().success(), "{stderr}");
     assert_eq!(reader.join().unwrap(), expected);
@@ -260,17 +254,7 @@ fn an_unwritable_directory_exits_1_and_leaves_nothing() {
         locked.join("out.csv")
     };
     let before = names_in(dir.path());
-    let mut child = spawn(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        Stdio::null(),
-    );
+    let mut child = tessellate_to(&input, &out, Some("cpu"), Stdio::null());
     let stderr = stderr_of(&mut child);
     assert_eq!(child.wait().unwrap().code(), Some(1), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
@@ -321,17 +305,7 @@ fn signals_remove_the_temporary_file() {
         // Two billion samples: it is still writing when the signal comes.
         let input = write(dir.path(), "doc.json", &document(1, 500_000_000));
         let out = dir.path().join("out.csv");
-        let mut child = spawn(
-            &[
-                "tessellate",
-                input.to_str().unwrap(),
-                "-o",
-                out.to_str().unwrap(),
-                "--backend",
-                "cpu",
-            ],
-            Stdio::null(),
-        );
+        let mut child = tessellate_to(&input, &out, Some("cpu"), Stdio::null());
         wait_for_temporary_file(dir.path(), &mut child);
         signal(&child, name);
         let status = child.wait().unwrap();
@@ -349,15 +323,7 @@ fn billions_of_samples_in_one_segment_stream_in_bounded_memory() {
     let input = write(dir.path(), "doc.json", doc);
     for format in ["npz", "csv", "json"] {
         let out = dir.path().join(format!("out.{format}"));
-        let mut child = spawn(
-            &[
-                "tessellate",
-                input.to_str().unwrap(),
-                "-o",
-                out.to_str().unwrap(),
-            ],
-            Stdio::null(),
-        );
+        let mut child = tessellate_to(&input, &out, None, Stdio::null());
         wait_for_temporary_file(dir.path(), &mut child);
         // Let it write 64 MB, then look at its peak memory.
         let start = Instant::now();
@@ -419,17 +385,7 @@ fn a_256_mb_document_is_accepted_with_peak_memory_under_2_5_times_its_size() {
     let size = text.len() as u64;
     drop(text);
     let out = dir.path().join("out.npz");
-    let mut child = spawn(
-        &[
-            "tessellate",
-            input.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--backend",
-            "cpu",
-        ],
-        Stdio::null(),
-    );
+    let mut child = tessellate_to(&input, &out, Some("cpu"), Stdio::null());
     // VmHWM only grows; the last reading before the process ends is its peak (the output is
     // streamed after the whole document is held, so the peak comes well before the end).
     let mut peak = 0;

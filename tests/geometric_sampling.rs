@@ -89,17 +89,9 @@ fn lengths_at(table: &SegmentTable, ts: &[f64], tol: f64) -> Vec<f64> {
 }
 
 fn uniform_kinds() -> Vec<CurveKind> {
-    let bases = [
-        Basis::Cardinal { tension: 0.3 },
-        Basis::CatmullRom,
-        Basis::BSpline,
-        Basis::TensionedBSpline { tension: 0.6 },
-        Basis::Beta {
-            bias: 1.7,
-            tension: 3.0,
-        },
-        Basis::Matrix(splinegpu::bezier_rows()),
-    ];
+    let mut bases = common::bases();
+    // A Bezier matrix on sliding windows: segments that do not join.
+    bases.push(Basis::Matrix(splinegpu::bezier_rows()));
     let mut kinds = Vec::new();
     for basis in bases {
         for ends in [Ends::Control, Ends::Repeat, Ends::Closed] {

@@ -3,32 +3,13 @@
 
 mod common;
 
-use common::{Rng, assert_gpu_matches_cpu, compare, gpu};
+use common::{Rng, SHAPES, assert_gpu_matches_cpu, bases, compare, gpu};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, KernelShape, Points, Samples,
     Sampling,
 };
 
 const DIMS: [usize; 6] = [1, 2, 3, 4, 6, 30];
-
-fn bases() -> Vec<Basis> {
-    vec![
-        Basis::Cardinal { tension: 0.3 },
-        Basis::CatmullRom,
-        Basis::BSpline,
-        Basis::TensionedBSpline { tension: 0.6 },
-        Basis::Beta {
-            bias: 1.7,
-            tension: 3.0,
-        },
-        Basis::Matrix([
-            [1.0, -2.0, 0.5, 0.0],
-            [0.0, 3.0, -1.0, 0.25],
-            [2.0, 0.0, 0.0, 1.0],
-            [0.1, 0.2, 0.3, 0.4],
-        ]),
-    ]
-}
 
 /// Every family with every end convention, and Bezier, in every dimension of `DIMS`, with
 /// points at `center` ± `span`.
@@ -178,19 +159,7 @@ fn every_kernel_shape_meets_the_promise() {
     }
     let job = medium_job();
     let cpu = splinegpu::evaluate_reference(&job);
-    let shapes = [
-        KernelShape::LOOPING,
-        KernelShape::PER_SAMPLE,
-        KernelShape {
-            lanes: 4,
-            run_len: 7,
-        },
-        KernelShape {
-            lanes: 1,
-            run_len: 1,
-        },
-    ];
-    for shape in shapes {
+    for shape in SHAPES {
         let context = GpuContext::new().unwrap().with_shape(shape);
         let worst = compare(&job, &cpu, &context.evaluate(&job).unwrap());
         assert!(worst.ratio <= 1.0, "{shape:?}: {worst:?}");

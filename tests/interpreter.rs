@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{Rng, compare, gpu};
+use common::{Rng, SHAPES, bases, compare, gpu};
 use splinegpu::internals::{BatchLimits, evaluate_interpreted};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, KernelShape,
@@ -13,24 +13,6 @@ use splinegpu::{
 };
 
 const DIMS: [usize; 6] = [1, 3, 4, 5, 30, 64];
-
-/// Shapes a GPU or CPU adapter gets, and awkward ones: runs not a multiple of 4, one sample.
-const SHAPES: [KernelShape; 5] = [
-    KernelShape::LOOPING,
-    KernelShape::PER_SAMPLE,
-    KernelShape {
-        lanes: 4,
-        run_len: 7,
-    },
-    KernelShape {
-        lanes: 1,
-        run_len: 1,
-    },
-    KernelShape {
-        lanes: 8,
-        run_len: 64,
-    },
-];
 
 /// No limit on a dispatch: the whole job in one.
 const UNLIMITED: BatchLimits = BatchLimits {
@@ -40,22 +22,7 @@ const UNLIMITED: BatchLimits = BatchLimits {
 
 fn every_kind(rng: &mut Rng, dim: usize) -> Vec<CurveKind> {
     let mut kinds = Vec::new();
-    for basis in [
-        Basis::Cardinal { tension: 0.3 },
-        Basis::CatmullRom,
-        Basis::BSpline,
-        Basis::TensionedBSpline { tension: 0.6 },
-        Basis::Beta {
-            bias: 1.7,
-            tension: 3.0,
-        },
-        Basis::Matrix([
-            [1.0, -2.0, 0.5, 0.0],
-            [0.0, 3.0, -1.0, 0.25],
-            [2.0, 0.0, 0.0, 1.0],
-            [0.1, 0.2, 0.3, 0.4],
-        ]),
-    ] {
+    for basis in bases() {
         for ends in [Ends::Control, Ends::Repeat, Ends::Closed] {
             kinds.push(CurveKind::Uniform {
                 basis: basis.clone(),

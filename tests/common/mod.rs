@@ -162,3 +162,43 @@ pub fn run_cli(args: &[&str], envs: &[(&str, &str)], stdin: &str) -> std::proces
     let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
     child.wait_with_output().unwrap()
 }
+
+/// Every kind of basis matrix, with parameters away from the defaults.
+pub fn bases() -> Vec<splinegpu::Basis> {
+    use splinegpu::Basis;
+    vec![
+        Basis::Cardinal { tension: 0.3 },
+        Basis::CatmullRom,
+        Basis::BSpline,
+        Basis::TensionedBSpline { tension: 0.6 },
+        Basis::Beta {
+            bias: 1.7,
+            tension: 3.0,
+        },
+        Basis::Matrix([
+            [1.0, -2.0, 0.5, 0.0],
+            [0.0, 3.0, -1.0, 0.25],
+            [2.0, 0.0, 0.0, 1.0],
+            [0.1, 0.2, 0.3, 0.4],
+        ]),
+    ]
+}
+
+/// Kernel shapes a GPU or a CPU adapter gets, and awkward ones: runs not a multiple of 4, one
+/// sample per run.
+pub const SHAPES: [splinegpu::KernelShape; 5] = [
+    splinegpu::KernelShape::LOOPING,
+    splinegpu::KernelShape::PER_SAMPLE,
+    splinegpu::KernelShape {
+        lanes: 4,
+        run_len: 7,
+    },
+    splinegpu::KernelShape {
+        lanes: 1,
+        run_len: 1,
+    },
+    splinegpu::KernelShape {
+        lanes: 8,
+        run_len: 64,
+    },
+];
