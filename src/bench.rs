@@ -267,10 +267,14 @@ pub fn run(
                 gpu,
                 &mut report,
             )?,
-            "w1-arc" => evaluation(name, &w1_arc_job(), gpu, &mut report)?,
+            "w1-arc" => {
+                evaluation(name, &w1_arc_job(), gpu, &mut report)?;
+                kurbo_arclen(&mut report);
+            }
             "w1-tol" => {
                 evaluation(name, &w1_tol_job(), gpu, &mut report)?;
                 wang(&mut report);
+                kurbo_flatten(&mut report);
             }
             "w1-d" => evaluation(
                 name,
@@ -287,6 +291,127 @@ pub fn run(
         }
     }
     Ok(())
+}
+
+/// The (x, y) projection of w1's first 100 curves: each as our fitted curve and as kurbo's
+/// cubic Béziers (the projection of a Catmull-Rom curve is the Catmull-Rom curve of the
+/// projected points).
+fn projected_w1() -> Vec<(Curve, Vec<kurbo::CubicBez>)> {
+    w1_curves(&Basis::CatmullRom)
+        .take(100)
+        .map(|curve| {
+            let xy: Vec<f64> = curve
+                .points()
+                .coords()
+                .chunks_exact(3)
+                .flat_map(|p| [p[0], p[1]])
+                .collect();
+            let kind = curve.kind().clone();
+            let projected = Curve::new(kind, Points::new(2, xy).expect("finite")).expect("valid");
+            let table = projected.fit();
+            let beziers = (0..table.len())
+                .map(|i| {
+                    let [p0, p1, p2, p3] = table.segment(i).bezier_points();
+                    let pt = |p: &[f64]| kurbo::Point::new(p[0], p[1]);
+                    kurbo::CubicBez::new(pt(&p0), pt(&p1), pt(&p2), pt(&p3))
+                })
+                .collect();
+            (projected, beziers)
+        })
+        .collect()
+}
+
+/// One timed run of `run` (for the anchors, slow by design), returning its samples.
+fn once(run: impl FnOnce() -> u64) -> (f64, u64) {
+    let start = Instant::now();
+    let samples = black_box(run());
+    (start.elapsed().as_secs_f64(), samples)
+}
+
+/// A one-run measurement of `samples` 2-D f64 points.
+fn anchor(workload: &'static str, path: &'static str, seconds: f64, samples: u64) -> Measurement {
+    Measurement {
+        workload,
+        path,
+        seconds,
+        min_seconds: seconds,
+        max_seconds: seconds,
+        samples,
+        bytes: samples * 16,
+        float: Some("f64"),
+    }
+}
+
+/// w1-arc's anchor: kurbo's `inv_arclen` placing 993 points by arc length on each of the 100
+/// projected curves (to 1e-10 of the length, the contract's CPU target being 1e-4), one
+/// thread, one run ("kurbo-arclen"); beside it ours on the same curves ("ours-arclen-1t").
+fn kurbo_arclen(report: &mut impl FnMut(&Measurement)) {
+    use kurbo::ParamCurveArclen;
+    let curves = projected_w1();
+    let m = 993;
+    let (seconds, samples) = once(|| {
+        let mut placed = 0u64;
+        for (_, beziers) in &curves {
+            let rough: f64 = beziers.iter().map(|b| b.arclen(1e-6)).sum();
+            let accuracy = 1e-10 * rough;
+            let lengths: Vec<f64> = beziers.iter().map(|b| b.arclen(accuracy)).collect();
+            let total: f64 = lengths.iter().sum();
+            let (mut segment, mut start) = (0, 0.0);
+            for j in 0..m {
+                let target = total * j as f64 / (m - 1) as f64;
+                while segment + 1 < beziers.len() && start + lengths[segment] < target {
+                    start += lengths[segment];
+                    segment += 1;
+                }
+                black_box(beziers[segment].inv_arclen(target - start, accuracy));
+                placed += 1;
+            }
+        }
+        placed
+    });
+    report(&anchor("w1-arc", "kurbo-arclen", seconds, samples));
+    let (seconds, samples) = once(|| {
+        let mut job = EvalJob::new(Derivatives::None);
+        for (curve, _) in &curves {
+            job.push(curve, &Sampling::ArcLength(m as u32))
+                .expect("valid");
+        }
+        let mut out = crate::Samples::<f64>::for_job(&job);
+        crate::evaluate_cpu_into(&job, &mut out, 1);
+        job.sample_count() as u64
+    });
+    report(&anchor("w1-arc", "ours-arclen-1t", seconds, samples));
+}
+
+/// w1-tol's anchor: kurbo's `flatten` of the 100 projected curves, each at 1e-3 of its
+/// extent, its points counted ("kurbo-flatten", one run); beside it ours on the same curves
+/// and tolerances ("ours-flatten").
+fn kurbo_flatten(report: &mut impl FnMut(&Measurement)) {
+    let curves = projected_w1();
+    let (seconds, samples) = once(|| {
+        let mut points = 0u64;
+        for (curve, beziers) in &curves {
+            let mut path = kurbo::BezPath::new();
+            path.move_to(beziers[0].p0);
+            for b in beziers {
+                path.curve_to(b.p1, b.p2, b.p3);
+            }
+            kurbo::flatten(path, w1_tolerance(curve), |_| points += 1);
+        }
+        points
+    });
+    report(&anchor("w1-tol", "kurbo-flatten", seconds, samples));
+    let (seconds, samples) = once(|| {
+        let mut job = EvalJob::new(Derivatives::None);
+        for (curve, _) in &curves {
+            job.push(curve, &Sampling::Tolerance(w1_tolerance(curve)))
+                .expect("valid");
+        }
+        let mut out = crate::Samples::<f64>::for_job(&job);
+        crate::evaluate_cpu_into(&job, &mut out, 1);
+        job.sample_count() as u64
+    });
+    report(&anchor("w1-tol", "ours-flatten", seconds, samples));
 }
 
 /// w1-tol's "wang" path: Wang's count for the same curves and tolerances (its "samples"), and
