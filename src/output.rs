@@ -164,17 +164,18 @@ pub fn write_output<E: From<io::Error>>(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<(), E>,
 ) -> Result<(), E> {
-    let path = follow_links(path)?;
-    match fs::metadata(&path) {
+    // What the path opens to, links followed: a device, a FIFO or a socket is written in
+    // place through the path itself, as a shell's `>` would (so `/dev/stdout`, a link to a
+    // link to a pipe that has no path of its own, works too).
+    match fs::metadata(path) {
         Ok(meta) if !meta.is_file() && !meta.is_dir() => {
-            // A device, a FIFO or a socket: written in place, as a shell's `>` would.
-            let file = fs::OpenOptions::new().write(true).open(&path)?;
+            let file = fs::OpenOptions::new().write(true).open(path)?;
             let mut out = io::BufWriter::new(&file);
             write(&mut out)?;
             out.flush()?;
             Ok(())
         }
-        _ => write_atomically(&path, write),
+        _ => write_atomically(&follow_links(path)?, write),
     }
 }
 

@@ -202,6 +202,24 @@ fn a_fifo_as_output_is_written_in_place_and_its_reader_gets_everything() {
 }
 
 #[test]
+fn a_link_to_a_pipe_as_output_is_written_through() {
+    // `-o /dev/stdout` with stdout a pipe: /dev/stdout -> /proc/self/fd/1 -> pipe:[N], a link
+    // whose target is no path. The test's own link in its folder stands in for /dev/stdout.
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "doc.json", &document(3, 5));
+    let expected = regular_output(dir.path(), &input);
+    let link = dir.path().join("stdout");
+    std::os::unix::fs::symlink("/proc/self/fd/1", &link).unwrap();
+    let mut child = tessellate_to(&input, &link, Some("cpu"), Stdio::piped());
+    let mut got = Vec::new();
+    child.stdout.take().unwrap().read_to_end(&mut got).unwrap();
+    let stderr = stderr_of(&mut child);
+    assert!(child.wait().unwrap().success(), "{stderr}");
+    assert_eq!(got, expected);
+    assert_eq!(names_in(dir.path()), ["doc.json", "stdout"]);
+}
+
+#[test]
 fn a_symbolic_link_as_output_is_followed_to_its_file() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "doc.json", &document(4, 8));
