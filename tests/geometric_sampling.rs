@@ -402,3 +402,103 @@ fn geometric_samplings_chunk_and_evaluate_on_the_gpu_within_the_promise() {
     assert_eq!(fast, whole);
     assert_gpu_matches_cpu(&job);
 }
+
+mod random_curves {
+    //! Random curves of every family: spacing within 1e-10 of the length against the
+    //! independent quadrature; every tolerance chord within tol; no segment above Wang's count.
+    //! 16 arc-length cases (each integrates its curve densely for the reference: about 2 s a
+    //! case) and 64 tolerance cases here; PROPTEST_CASES sets both for a longer run.
+
+    use super::*;
+    use proptest::prelude::*;
+
+    fn config(default_cases: u32) -> ProptestConfig {
+        let cases = std::env::var("PROPTEST_CASES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default_cases);
+        ProptestConfig {
+            cases,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        }
+    }
+
+    /// A random curve: a family (every uniform kind, Bezier, and the interpolating ends),
+    /// D in {1, 2, 3, 5}, 4 to 9 points in ±10 (shifted to near 1e5 one time in four).
+    fn curve() -> impl Strategy<Value = Curve> {
+        (
+            0usize..24,
+            0usize..4,
+            4usize..10,
+            any::<bool>(),
+            prop::collection::vec(-10.0f64..10.0, 64 * 5),
+        )
+            .prop_map(|(family, d, n, far, pool)| {
+                let dim = [1, 2, 3, 5][d];
+                let shift = if far && family % 4 == 0 { 1e5 } else { 0.0 };
+                let coords = |n: usize| -> Vec<f64> {
+                    (0..n * dim).map(|i| pool[i % pool.len()] + shift).collect()
+                };
+                let kinds = uniform_kinds();
+                if family < kinds.len() {
+                    let kind = kinds[family].clone();
+                    let n = if kind == CurveKind::Bezier {
+                        3 * (n / 3) + 1
+                    } else {
+                        n
+                    };
+                    return Curve::new(kind, Points::new(dim, coords(n)).unwrap()).unwrap();
+                }
+                let mut knots = vec![0.0];
+                for i in 1..n {
+                    knots.push(knots[i - 1] + 10f64.powf(pool[i] / 4.0));
+                }
+                let condition = match family % 3 {
+                    0 => EndCondition::Natural,
+                    1 => EndCondition::NotAKnot,
+                    _ => EndCondition::Clamped {
+                        start: coords(1),
+                        end: coords(1),
+                    },
+                };
+                let kind = CurveKind::Interpolating {
+                    condition,
+                    t: Some(knots),
+                };
+                Curve::new(kind, Points::new(dim, coords(n)).unwrap()).unwrap()
+            })
+    }
+
+    proptest! {
+        #![proptest_config(config(16))]
+
+        #[test]
+        fn arc_length_spacing_meets_1e_10_of_the_length(curve in curve(), m in 2u32..60) {
+            let mut job = EvalJob::new(Derivatives::None);
+            job.push(&curve, &Sampling::ArcLength(m)).unwrap();
+            let table = job.table(0);
+            let ts: Vec<f64> = (0..m as usize).map(|j| job.plan(0).loc(j).t).collect();
+            let (t0, t1) = table.t_range();
+            let total = lengths_at(table, &[t0, t1], 1e-15)[1];
+            let s = lengths_at(table, &ts, 1e-15 * total.max(1e-300));
+            for (j, s_j) in s.iter().enumerate() {
+                let want = total * j as f64 / f64::from(m - 1);
+                prop_assert!((s_j - want).abs() <= 1e-10 * total, "sample {j}: {s_j} vs {want}");
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(config(64))]
+
+        #[test]
+        fn tolerance_chords_meet_tol_and_counts_never_exceed_wang(
+            curve in curve(),
+            relative in 1e-3f64..1e-1,
+        ) {
+            let (n, w) = check_tolerance(&curve, relative * size(&curve));
+            prop_assert!(n <= w);
+        }
+    }
+}
