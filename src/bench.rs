@@ -328,6 +328,18 @@ fn once(run: impl FnOnce() -> u64) -> (f64, u64) {
     (start.elapsed().as_secs_f64(), samples)
 }
 
+/// Ours beside an anchor: the curves sampled as `sampling` says, planned and evaluated in f64
+/// on one thread; returns the samples.
+fn ours_1t(curves: &[(Curve, Vec<kurbo::CubicBez>)], sampling: impl Fn(&Curve) -> Sampling) -> u64 {
+    let mut job = EvalJob::new(Derivatives::None);
+    for (curve, _) in curves {
+        job.push(curve, &sampling(curve)).expect("valid");
+    }
+    let mut out = crate::Samples::<f64>::for_job(&job);
+    crate::evaluate_cpu_into(&job, &mut out, 1);
+    job.sample_count() as u64
+}
+
 /// A one-run measurement of `samples` 2-D f64 points.
 fn anchor(workload: &'static str, path: &'static str, seconds: f64, samples: u64) -> Measurement {
     Measurement {
@@ -370,16 +382,7 @@ fn kurbo_arclen(report: &mut impl FnMut(&Measurement)) {
         placed
     });
     report(&anchor("w1-arc", "kurbo-arclen", seconds, samples));
-    let (seconds, samples) = once(|| {
-        let mut job = EvalJob::new(Derivatives::None);
-        for (curve, _) in &curves {
-            job.push(curve, &Sampling::ArcLength(m as u32))
-                .expect("valid");
-        }
-        let mut out = crate::Samples::<f64>::for_job(&job);
-        crate::evaluate_cpu_into(&job, &mut out, 1);
-        job.sample_count() as u64
-    });
+    let (seconds, samples) = once(|| ours_1t(&curves, |_| Sampling::ArcLength(m as u32)));
     report(&anchor("w1-arc", "ours-arclen-1t", seconds, samples));
 }
 
@@ -401,16 +404,8 @@ fn kurbo_flatten(report: &mut impl FnMut(&Measurement)) {
         points
     });
     report(&anchor("w1-tol", "kurbo-flatten", seconds, samples));
-    let (seconds, samples) = once(|| {
-        let mut job = EvalJob::new(Derivatives::None);
-        for (curve, _) in &curves {
-            job.push(curve, &Sampling::Tolerance(w1_tolerance(curve)))
-                .expect("valid");
-        }
-        let mut out = crate::Samples::<f64>::for_job(&job);
-        crate::evaluate_cpu_into(&job, &mut out, 1);
-        job.sample_count() as u64
-    });
+    let (seconds, samples) =
+        once(|| ours_1t(&curves, |curve| Sampling::Tolerance(w1_tolerance(curve))));
     report(&anchor("w1-tol", "ours-flatten", seconds, samples));
 }
 
