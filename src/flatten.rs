@@ -19,12 +19,19 @@
 //! rests on (|P(u) − L(u)| for the chord's linear interpolant L). If an interval fails, the
 //! count grows by an eighth and the placement is redone; at Wang's count n_W =
 //! max(1, ceil(sqrt(M/(8 tol)))), M = max |P''| on the segment, uniform placement always passes,
-//! so the count never exceeds n_W.
+//! so the count never exceeds n_W. (Past 2^16 samples on a segment the search stops and n_W is
+//! used at once.)
 
+use crate::curve::MAX_DIM;
 use crate::segment::Segment;
 
 /// The most samples a segment may need: more is bad input.
 pub const MAX_SAMPLES_PER_SEGMENT: u64 = 1 << 20;
+
+/// Up to this many samples on a segment the placement is searched for the fewest that pass;
+/// past it, Wang's uniform count is used at once (it always passes), so that a tolerance near
+/// the limit costs no repeated checks of a million chords.
+const SEARCHED_SAMPLES: u32 = 1 << 16;
 
 /// Intervals of the tabulated placement integral.
 const TABLE: usize = 32;
@@ -101,14 +108,18 @@ impl<'a> Cubic<'a> {
         let dim = self.dim();
         let h = ub - ua;
         let full = h * h / 8.0 * self.max_d2(ua, ub);
-        let chord: Vec<f64> = (0..dim)
-            .map(|k| self.point(ub, k) - self.point(ua, k))
-            .collect();
-        let len = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
+        // The chord's direction e, on the stack (this runs for every interval placed).
+        let mut e = [0.0; MAX_DIM];
+        for (k, v) in e.iter_mut().enumerate().take(dim) {
+            *v = self.point(ub, k) - self.point(ua, k);
+        }
+        let len = e[..dim].iter().map(|v| v * v).sum::<f64>().sqrt();
         if len == 0.0 {
             return full;
         }
-        let e: Vec<f64> = chord.iter().map(|v| v / len).collect();
+        for v in &mut e[..dim] {
+            *v /= len;
+        }
         // P'·e is a quadratic in u: forward throughout when positive at both ends and at its
         // vertex (if inside).
         let along = |u: f64| (0..dim).map(|k| self.d1(u, k) * e[k]).sum::<f64>();
@@ -127,11 +138,9 @@ impl<'a> Cubic<'a> {
             return full;
         }
         let normal = |u: f64| {
-            let d2: Vec<f64> = (0..dim).map(|k| self.d2(u, k)).collect();
-            let t: f64 = d2.iter().zip(&e).map(|(x, y)| x * y).sum();
-            d2.iter()
-                .zip(&e)
-                .map(|(x, y)| (x - t * y).powi(2))
+            let t: f64 = (0..dim).map(|k| self.d2(u, k) * e[k]).sum();
+            (0..dim)
+                .map(|k| (self.d2(u, k) - t * e[k]).powi(2))
                 .sum::<f64>()
         };
         (h * h / 8.0 * normal(ua).max(normal(ub)).sqrt()).min(full)
@@ -165,7 +174,7 @@ pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
         integral: table,
     };
     let mut us = Vec::new();
-    while placement.count < wang {
+    while placement.count < wang && placement.count <= SEARCHED_SAMPLES {
         placement.us_into(&mut us);
         us.push(1.0);
         if us.windows(2).all(|w| cubic.chord_bound(w[0], w[1]) <= tol) {
