@@ -51,18 +51,31 @@ const MAX_DEPTH: u32 = 40;
 /// coefficients serve only to find its critical points.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Speed {
-    /// (a_k, b_k, c_k) for each coordinate k.
+    /// (a_k, b_k, c_k) for each coordinate k, divided by `scale`.
     terms: Vec<[f64; 3]>,
+    /// A power of two near the largest coefficient: the squares of scaled terms neither
+    /// overflow nor underflow, whatever the curve's size (points near 1e200 included).
+    scale: f64,
 }
 
 impl Speed {
     /// The derivative's coefficients of `segment`.
     pub fn of(segment: &Segment<'_>) -> Self {
         let [pa, pb, pc, _] = segment.power();
+        let largest = (0..pa.len())
+            .map(|k| {
+                (3.0 * pa[k])
+                    .abs()
+                    .max((2.0 * pb[k]).abs())
+                    .max(pc[k].abs())
+            })
+            .fold(0.0f64, f64::max);
+        let scale = power_of_two_near(largest);
         Self {
             terms: (0..pa.len())
-                .map(|k| [3.0 * pa[k], 2.0 * pb[k], pc[k]])
+                .map(|k| [3.0 * pa[k] / scale, 2.0 * pb[k] / scale, pc[k] / scale])
                 .collect(),
+            scale,
         }
     }
 
@@ -77,6 +90,7 @@ impl Speed {
             })
             .sum::<f64>()
             .sqrt()
+            * self.scale
     }
 
     /// Q(u) = |P'(u)|² = (a·a) u⁴ + 2(a·b) u³ + (b·b + 2 a·c) u² + 2(b·c) u + c·c, as
@@ -150,6 +164,15 @@ impl Speed {
     }
 }
 
+/// 2^e with 2^e <= `x` < 2^(e+1) for a finite positive `x`, else 1: dividing by it is exact.
+pub(crate) fn power_of_two_near(x: f64) -> f64 {
+    if x.is_finite() && x > 0.0 {
+        2f64.powi(x.log2().floor() as i32)
+    } else {
+        1.0
+    }
+}
+
 /// The real roots of a x² + b x + c (none, one or two; `a` may be 0), computed without
 /// cancellation.
 fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
@@ -207,7 +230,9 @@ impl ArcTable {
         // A tolerance below a few ulps of the piece's own length only chases rounding: it
         // would split without end, and the sum of the many pieces would gather the rounding.
         let tol = tol.max(4.0 * f64::EPSILON * (left + right));
-        if depth >= MAX_DEPTH || (left + right - whole).abs() <= tol {
+        // A non-finite estimate cannot improve by splitting: stop rather than split 2^40 ways.
+        let settled = !(left + right).is_finite() || (left + right - whole).abs() <= tol;
+        if depth >= MAX_DEPTH || settled {
             // Both halves are kept: their sum is the better estimate.
             let s = self.s[self.s.len() - 1];
             self.u.extend([mid, b]);

@@ -48,34 +48,48 @@ pub(crate) struct Placement {
     integral: [f64; TABLE + 1],
 }
 
-/// A segment's cubic as plain vectors, for the bounds.
+/// A segment's cubic as plain vectors, for the bounds, divided by `1/inv` (a power of two
+/// near its largest coefficient, so that squares neither overflow nor underflow); distances and
+/// tolerances are measured in the same units.
 struct Cubic<'a> {
     a: &'a [f64],
     b: &'a [f64],
     c: &'a [f64],
-    d: &'a [f64],
+    inv: f64,
 }
 
 impl<'a> Cubic<'a> {
     fn of(segment: &'a Segment<'a>) -> Self {
-        let [a, b, c, d] = segment.power();
-        Self { a, b, c, d }
+        let [a, b, c, _] = segment.power();
+        let largest = [a, b, c]
+            .iter()
+            .flat_map(|v| v.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let inv = 1.0 / crate::arclen::power_of_two_near(largest);
+        Self { a, b, c, inv }
+    }
+
+    /// A tolerance in the curve's units, in this cubic's.
+    fn scaled(&self, tol: f64) -> f64 {
+        tol * self.inv
     }
 
     fn dim(&self) -> usize {
         self.a.len()
     }
 
+    /// P(u) − D, scaled: the constant term cancels in every difference taken here.
     fn point(&self, u: f64, k: usize) -> f64 {
-        crate::segment::position(self.a[k], self.b[k], self.c[k], self.d[k], u)
+        let inv = self.inv;
+        crate::segment::position(self.a[k] * inv, self.b[k] * inv, self.c[k] * inv, 0.0, u)
     }
 
     fn d1(&self, u: f64, k: usize) -> f64 {
-        self.c[k] + u * (2.0 * self.b[k] + 3.0 * u * self.a[k])
+        (self.c[k] + u * (2.0 * self.b[k] + 3.0 * u * self.a[k])) * self.inv
     }
 
     fn d2(&self, u: f64, k: usize) -> f64 {
-        2.0 * self.b[k] + 6.0 * u * self.a[k]
+        (2.0 * self.b[k] + 6.0 * u * self.a[k]) * self.inv
     }
 
     /// max |P''| over [u_a, u_b]: P'' is affine, so its norm is largest at an end.
@@ -99,6 +113,7 @@ impl<'a> Cubic<'a> {
         } else {
             dd
         };
+        let normal = if normal.is_finite() { normal } else { dd };
         normal.sqrt().sqrt()
     }
 
@@ -151,8 +166,9 @@ impl<'a> Cubic<'a> {
 /// end of the segment). As f64, since it may be huge.
 #[must_use]
 pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
-    let m = Cubic::of(segment).max_d2(0.0, 1.0);
-    (m / (8.0 * tol)).sqrt().ceil().max(1.0)
+    let cubic = Cubic::of(segment);
+    let m = cubic.max_d2(0.0, 1.0);
+    (m / (8.0 * cubic.scaled(tol))).sqrt().ceil().max(1.0)
 }
 
 /// The placement of `segment` at `tol`.
@@ -162,6 +178,7 @@ pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
 pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
     let cubic = Cubic::of(segment);
     let wang = wang_count(segment, tol);
+    let tol = cubic.scaled(tol);
     let table = integral_table(&cubic);
     let estimate = (table[TABLE] / (8.0 * tol).sqrt()).ceil().max(1.0);
     if estimate.min(wang) > MAX_SAMPLES_PER_SEGMENT as f64 {
@@ -169,7 +186,7 @@ pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
     }
     let wang = wang as u32;
     let mut placement = Placement {
-        count: (estimate as u32).min(wang),
+        count: (estimate as u32).clamp(1, wang),
         uniform: false,
         integral: table,
     };
