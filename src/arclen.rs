@@ -17,7 +17,10 @@
 //! u = 0 to any u is the length of the pieces before it plus one 8-point rule inside its piece,
 //! and the inverse (the u at a given length) is a safeguarded Newton iteration inside the
 //! piece that holds the length (bisection where the speed vanishes or Newton leaves the
-//! bracket).
+//! bracket), started from the quintic Hermite interpolant of u(s) on the piece (its ends' u,
+//! du/ds and d²u/ds²) and stopped by a bound rather than one more quadrature: a Newton
+//! step of δ in u from a point whose length error is known leaves an error of at most
+//! ½ max|P''| δ², since |d speed/du| = |P'·P''|/|P'| <= |P''|.
 
 use crate::segment::{Segment, SegmentTable};
 
@@ -93,6 +96,20 @@ impl Speed {
             * self.scale
     }
 
+    /// The speed and its derivative P'·P''/|P'| at u (0 where the speed vanishes).
+    #[inline]
+    pub fn with_slope(&self, u: f64) -> (f64, f64) {
+        let (mut q, mut dot) = (0.0, 0.0);
+        for [a, b, c] in &self.terms {
+            let d = c + u * (b + u * a);
+            q += d * d;
+            dot += d * (b + 2.0 * u * a);
+        }
+        let v = q.sqrt();
+        let slope = if v > 0.0 { dot / v * self.scale } else { 0.0 };
+        (v * self.scale, slope)
+    }
+
     /// Q(u) = |P'(u)|² = (a·a) u⁴ + 2(a·b) u³ + (b·b + 2 a·c) u² + 2(b·c) u + c·c, as
     /// [q0, q1, q2, q3, q4].
     fn quartic(&self) -> [f64; 5] {
@@ -152,6 +169,15 @@ impl Speed {
         roots
     }
 
+    /// max |P''(u)| over [0, 1]: P'' = 2a u + b is linear, and a norm is convex, so the
+    /// largest is at an end.
+    pub fn bend(&self) -> f64 {
+        let norm = |f: &dyn Fn(&[f64; 3]) -> f64| {
+            self.terms.iter().map(|t| f(t) * f(t)).sum::<f64>().sqrt()
+        };
+        norm(&|[_, b, _]| *b).max(norm(&|[a, b, _]| 2.0 * a + b)) * self.scale
+    }
+
     /// The 8-point Gauss–Legendre rule for ∫ speed over [a, b].
     #[inline]
     pub fn gl8(&self, a: f64, b: f64) -> f64 {
@@ -197,6 +223,10 @@ pub(crate) struct ArcTable {
     speed: Speed,
     u: Vec<f64>,
     s: Vec<f64>,
+    /// The speed at each `u`, and its derivative.
+    v: Vec<(f64, f64)>,
+    /// [`Speed::bend`]: bounds how fast the speed changes.
+    bend: f64,
 }
 
 impl ArcTable {
@@ -208,6 +238,8 @@ impl ArcTable {
             speed: speed.clone(),
             u: vec![0.0],
             s: vec![0.0],
+            v: vec![speed.with_slope(0.0)],
+            bend: speed.bend(),
         };
         // Between consecutive critical points of Q the speed is monotone, so a zero of the
         // speed (a kink of |P'|) can only be an end of a part: a kink strictly inside a piece
@@ -237,6 +269,7 @@ impl ArcTable {
             let s = self.s[self.s.len() - 1];
             self.u.extend([mid, b]);
             self.s.extend([s + left, s + left + right]);
+            self.v.extend([speed.with_slope(mid), speed.with_slope(b)]);
             return;
         }
         self.subdivide(speed, a, mid, left, 0.5 * tol, depth + 1);
@@ -262,10 +295,9 @@ impl ArcTable {
 
     /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]),
     /// within `accuracy` in length: Newton's method on the length inside the piece that holds
-    /// `s`, from a first step along the tangent at the piece's start, falling back to
-    /// bisection of the piece when the speed vanishes or a step leaves the bracket. The answer
-    /// depends on `s` alone (not on earlier calls), so every chunking of a sampling gives the
-    /// same t.
+    /// `s`, from the piece's quintic Hermite interpolant of u(s), falling back to bisection of
+    /// the piece when the speed vanishes or a step leaves the bracket. The answer depends on
+    /// `s` alone (not on earlier calls), so every chunking of a sampling gives the same t.
     pub fn inverse(&self, s: f64, accuracy: f64) -> f64 {
         let length = self.length();
         if s <= 0.0 {
@@ -277,15 +309,9 @@ impl ArcTable {
         // The first piece whose end reaches s.
         let k = (self.s.partition_point(|&x| x < s).max(1) - 1).min(self.u.len() - 2);
         let (mut lo, mut hi) = (self.u[k], self.u[k + 1]);
-        let (s0, s1) = (self.s[k], self.s[k + 1]);
-        let (from, target) = (lo, s - s0);
+        let (from, target) = (lo, s - self.s[k]);
         let speed = &self.speed;
-        let v = speed.at(from);
-        let mut u = if v > 0.0 && from + target / v < hi {
-            from + target / v
-        } else {
-            lo + (hi - lo) * (target / (s1 - s0).max(f64::MIN_POSITIVE)).min(1.0)
-        };
+        let mut u = self.first_guess(k, target);
         for _ in 0..100 {
             let f = speed.gl8(from, u) - target;
             if f.abs() <= accuracy {
@@ -297,17 +323,55 @@ impl ArcTable {
                 hi = u;
             }
             let v = speed.at(u);
-            let newton = u - f / v;
-            u = if v > 0.0 && newton > lo && newton < hi {
-                newton
+            let step = f / v;
+            let newton = u - step;
+            if v > 0.0 && newton > lo && newton < hi {
+                // The length at `newton` is off by at most f's quadrature error (as an
+                // accepted f is) plus the Newton remainder, ½ max|speed'| step².
+                if 0.5 * self.bend * step * step <= accuracy {
+                    return newton;
+                }
+                u = newton;
             } else {
-                0.5 * (lo + hi)
-            };
+                u = 0.5 * (lo + hi);
+            }
             if hi - lo <= f64::EPSILON * hi.max(1e-300) {
                 return u;
             }
         }
         u
+    }
+
+    /// A first u for length `target` past the start of piece `k`, strictly inside the piece:
+    /// the quintic Hermite interpolant of u(s) through the piece's ends, with du/ds = 1/v and
+    /// d²u/ds² = −v'/v³ there (v the speed, v' its derivative in u), or, where the speed
+    /// vanishes at an end, the linear one.
+    fn first_guess(&self, k: usize, target: f64) -> f64 {
+        let (u0, u1) = (self.u[k], self.u[k + 1]);
+        let ((v0, w0), (v1, w1)) = (self.v[k], self.v[k + 1]);
+        let h = self.s[k + 1] - self.s[k];
+        let x = (target / h.max(f64::MIN_POSITIVE)).min(1.0);
+        let linear = u0 + (u1 - u0) * x;
+        if !(v0 > 0.0 && v1 > 0.0) {
+            return linear;
+        }
+        // Slopes and curvatures in x = (s − s_k)/h.
+        let (m0, m1) = (h / v0, h / v1);
+        let (a0, a1) = (-h * h * w0 / (v0 * v0 * v0), -h * h * w1 / (v1 * v1 * v1));
+        let (x2, x3) = (x * x, x * x * x);
+        let (x4, x5) = (x3 * x, x3 * x2);
+        let end = 10.0 * x3 - 15.0 * x4 + 6.0 * x5;
+        let quintic = u0 * (1.0 - end)
+            + u1 * end
+            + m0 * (x - 6.0 * x3 + 8.0 * x4 - 3.0 * x5)
+            + m1 * (-4.0 * x3 + 7.0 * x4 - 3.0 * x5)
+            + a0 * 0.5 * (x2 - 3.0 * x3 + 3.0 * x4 - x5)
+            + a1 * 0.5 * (x3 - 2.0 * x4 + x5);
+        if quintic > u0 && quintic < u1 {
+            quintic
+        } else {
+            linear
+        }
     }
 }
 
@@ -338,13 +402,21 @@ impl SegmentTable {
     /// Each segment's arc length, together within `accuracy` times the curve's length.
     #[must_use]
     pub fn segment_arclens(&self, accuracy: f64) -> Vec<f64> {
+        self.arc_tables(accuracy)
+            .iter()
+            .map(ArcTable::length)
+            .collect()
+    }
+
+    /// Each segment's [`ArcTable`], together within `accuracy` times the curve's length.
+    pub(crate) fn arc_tables(&self, accuracy: f64) -> Vec<ArcTable> {
         // A first estimate of the length scales the absolute accuracy.
         let rough: f64 = (0..self.len())
             .map(|i| Speed::of(&self.segment(i)).gl8(0.0, 1.0))
             .sum();
         let per_segment = accuracy * rough / self.len() as f64;
         (0..self.len())
-            .map(|i| ArcTable::new(&self.segment(i), per_segment).length())
+            .map(|i| ArcTable::new(&self.segment(i), per_segment))
             .collect()
     }
 

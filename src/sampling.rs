@@ -96,17 +96,13 @@ pub(crate) struct ArcSamples {
 
 impl ArcSamples {
     fn new(table: &SegmentTable, m: usize) -> Self {
-        let length = table.arclen(arclen::DEFAULT_ARCLEN_ACCURACY);
-        // Each segment's share of the accuracy; the inverse to the same absolute accuracy.
-        let accuracy = arclen::DEFAULT_ARCLEN_ACCURACY * length;
-        let per_segment = accuracy / table.len() as f64;
-        let tables: Vec<ArcTable> = (0..table.len())
-            .map(|i| ArcTable::new(&table.segment(i), per_segment))
-            .collect();
+        let tables = table.arc_tables(arclen::DEFAULT_ARCLEN_ACCURACY);
         let mut starts = vec![0.0];
         for t in &tables {
             starts.push(starts[starts.len() - 1] + t.length());
         }
+        // The inverse to the accuracy the lengths have together.
+        let accuracy = arclen::DEFAULT_ARCLEN_ACCURACY * starts[tables.len()];
         Self {
             m,
             starts,
@@ -379,6 +375,12 @@ impl SamplePlan {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// True for the plans whose places are computed sample by sample (arc length, tolerance),
+    /// false for those that read them off (a grid, explicit t).
+    pub(crate) fn is_computed(&self) -> bool {
+        matches!(self.0, Plan::Arc(_) | Plan::Tolerance(_))
     }
 
     /// Appends the t of samples `range` to `out`, as [`SamplePlan::loc`] gives them.
