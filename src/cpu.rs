@@ -50,9 +50,9 @@ pub fn available_threads() -> usize {
 /// Evaluates `job` into `samples` (laid out for it first, reusing its memory) on `threads`
 /// threads. With `F = f64` the values equal [`evaluate_reference`]'s exactly.
 pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, samples: &mut Samples<F>, threads: usize) {
-    samples.prepare(job);
-    let [points, d1, d2] = samples.planes_mut();
-    evaluate_cpu_values_into(job, [points, d1, d2], threads);
+    samples.prepare_planes(job);
+    let (t, planes) = samples.t_and_planes_mut();
+    evaluate_on_threads(job, t, planes, threads);
 }
 
 /// Evaluates `job` into a caller's planes, laid out as the job's
@@ -68,6 +68,16 @@ pub fn evaluate_cpu_values_into<F: SampleFloat>(
     planes: [&mut [F]; 3],
     threads: usize,
 ) {
+    evaluate_on_threads(job, &mut [], planes, threads);
+}
+
+/// [`evaluate_cpu_values_into`], writing each sample's t into `t` too unless it is empty.
+fn evaluate_on_threads<F: SampleFloat>(
+    job: &EvalJob,
+    mut params: &mut [f64],
+    planes: [&mut [F]; 3],
+    threads: usize,
+) {
     let layout = job.layout();
     let (total, values) = (layout.samples(), layout.values());
     let order = job.derivatives().order();
@@ -79,6 +89,11 @@ pub fn evaluate_cpu_values_into<F: SampleFloat>(
             plane.len()
         );
     }
+    assert!(
+        params.is_empty() || params.len() == total,
+        "t holds {} of {total} samples",
+        params.len()
+    );
     let threads = threads.clamp(1, total.max(1));
     let [mut points, mut d1, mut d2] = planes;
     std::thread::scope(|scope| {
@@ -87,7 +102,8 @@ pub fn evaluate_cpu_values_into<F: SampleFloat>(
             let end = total * (t + 1) / threads;
             let n = layout.value_of_sample(end) - layout.value_of_sample(start);
             let parts = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, n));
-            let work = move || evaluate_range(job, start..end, parts);
+            let params = take_front(&mut params, end - start);
+            let work = move || evaluate_range(job, start..end, params, parts);
             if t + 1 == threads {
                 work();
             } else {
@@ -116,10 +132,11 @@ fn sub<F>(plane: &mut [F], range: std::ops::Range<usize>) -> &mut [F] {
 }
 
 /// Evaluates the job's samples `range` into `out` (each plane starting at the range's first
-/// value).
+/// value), and their parameters into `t` unless it is empty.
 fn evaluate_range<F: SampleFloat>(
     job: &EvalJob,
     range: std::ops::Range<usize>,
+    t: &mut [f64],
     mut out: [&mut [F]; 3],
 ) {
     if range.is_empty() {
@@ -145,6 +162,7 @@ fn evaluate_range<F: SampleFloat>(
             table,
             job.plan(c),
             lo - samples.start..hi - samples.start,
+            sub(t, lo - range.start..hi - range.start),
             parts,
         );
         written += values;
@@ -154,15 +172,22 @@ fn evaluate_range<F: SampleFloat>(
 /// The most local parameters of a segment held at once (64 KiB).
 const CACHED_US: usize = 8192;
 
-/// Samples `range` of one curve into `out`, segment by segment with the coefficients hoisted.
+/// Samples `range` of one curve into `out`, segment by segment with the coefficients hoisted,
+/// and their parameters into `t` unless it is empty.
 fn curve_range<F: SampleFloat>(
     table: &SegmentTable,
     plan: &SamplePlan,
     range: std::ops::Range<usize>,
+    t: &mut [f64],
     out: [&mut [F]; 3],
 ) {
     let dim = table.dim();
     let [points, d1, d2] = out;
+    if !t.is_empty() && !plan.is_computed() {
+        for (t, i) in t.iter_mut().zip(range.clone()) {
+            *t = plan.loc(i).t;
+        }
+    }
     match &plan.0 {
         Plan::Grid(grid) => {
             let k = grid.k as usize;
@@ -207,6 +232,12 @@ fn curve_range<F: SampleFloat>(
                 let end = (start + LOC_BLOCK).min(range.end);
                 locs.clear();
                 plan.locs_into(start..end, &mut locs);
+                if !t.is_empty() {
+                    let at = start - range.start..end - range.start;
+                    for (t, loc) in t[at].iter_mut().zip(&locs) {
+                        *t = loc.t;
+                    }
+                }
                 let at = (start - range.start) * dim..(end - range.start) * dim;
                 let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
                 at_places(table, &locs, parts);

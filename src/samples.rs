@@ -98,14 +98,21 @@ impl<F: Copy + Default> Samples<F> {
     /// plans, and the value planes are resized (new values are zero, the others keep whatever
     /// they held until they are overwritten).
     pub fn prepare(&mut self, job: &EvalJob) {
-        self.layout.clone_from(job.layout());
-        self.derivatives = job.derivatives();
+        self.prepare_planes(job);
         self.t.clear();
-        self.t.reserve(self.layout.samples());
         for c in 0..job.len() {
             let plan = job.plan(c);
             plan.extend_t(0..plan.len(), &mut self.t);
         }
+    }
+
+    /// [`Samples::prepare`] for a writer that fills in `t` itself: `t` is resized to the job's
+    /// samples, not computed (computing the places of arc-length and tolerance samples is most
+    /// of their work: an evaluator that computes them anyway writes their t as it goes).
+    pub(crate) fn prepare_planes(&mut self, job: &EvalJob) {
+        self.layout.clone_from(job.layout());
+        self.derivatives = job.derivatives();
+        self.t.resize(self.layout.samples(), 0.0);
         let values = self.layout.values();
         let order = self.derivatives.order();
         for (o, plane) in [&mut self.points, &mut self.d1, &mut self.d2]
@@ -156,9 +163,19 @@ impl<F> Samples<F> {
         }
     }
 
+    /// Every sample's t, curve after curve.
+    pub(crate) fn t(&self) -> &[f64] {
+        &self.t
+    }
+
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
     pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]
+    }
+
+    /// The parameters and the mutable planes, for an evaluator that writes both.
+    pub(crate) fn t_and_planes_mut(&mut self) -> (&mut [f64], [&mut [F]; 3]) {
+        (&mut self.t, [&mut self.points, &mut self.d1, &mut self.d2])
     }
 
     /// The layout with the mutable planes, for writers that place values by it.

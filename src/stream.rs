@@ -1,9 +1,9 @@
 //! Output that streams: a job evaluated chunk by chunk ([`EvalJob::chunks`]) and written as it
 //! goes, so that memory stays bounded however many samples there are.
 //!
-//! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `t` comes
-//! from the plans without evaluating, `points` is written while the chunks are evaluated, and
-//! the derivatives wait in temporary files for their turn. JSON writes each curve's t, then its
+//! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `points` is
+//! written while the chunks are evaluated, and `t` and the derivatives, computed with them, wait
+//! in temporary files for their turn. JSON writes each curve's t, then its
 //! points, then each derivative, evaluating the curve chunk by chunk once per plane.
 
 use std::io::{self, Read, Seek, Write};
@@ -154,33 +154,31 @@ fn write_npz<F: SampleFloat>(
     let n = layout.samples() as u64;
     let order = job.derivatives().order();
     let mut npz = NpzWriter::new(out);
-    // t, from the plans alone, in pieces of at most chunk_samples.
-    npz.begin("t", Dtype::F64, &[n])?;
-    let mut t = Vec::new();
-    for c in 0..job.len() {
-        for_each_t_block(job.plan(c), chunk_samples, &mut t, |_, t| {
-            npz.write(bytemuck::cast_slice(t))
-        })?;
-    }
-    npz.end()?;
-    // points, evaluated; the derivatives wait in temporary files.
-    let mut later: Vec<io::BufWriter<std::fs::File>> = (0..order)
+    // points, evaluated; t (computed with them: for arc length and tolerance computing the
+    // places is most of the work) and the derivatives wait in temporary files.
+    let mut later: Vec<io::BufWriter<std::fs::File>> = (0..=order)
         .map(|_| tempfile::tempfile().map(io::BufWriter::new))
         .collect::<Result<_, _>>()?;
     npz.begin("points", dtype, &[n, dim as u64])?;
     for chunk in job.chunks(chunk_samples) {
         run(&chunk.job, &chunk.pieces, samples)?;
+        later[0].write_all(bytemuck::cast_slice(samples.t()))?;
         let [points, d1, d2] = samples.planes_mut();
         npz.write(bytemuck::cast_slice(points))?;
-        for (file, plane) in later.iter_mut().zip([d1, d2]) {
+        for (file, plane) in later[1..].iter_mut().zip([d1, d2]) {
             file.write_all(bytemuck::cast_slice(plane))?;
         }
     }
     npz.end()?;
-    for (name, file) in ["d1", "d2"].into_iter().zip(later) {
+    let arrays = [
+        ("t", Dtype::F64, vec![n]),
+        ("d1", dtype, vec![n, dim as u64]),
+        ("d2", dtype, vec![n, dim as u64]),
+    ];
+    for ((name, dtype, shape), file) in arrays.into_iter().zip(later) {
         let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
         file.rewind()?;
-        npz.begin(name, dtype, &[n, dim as u64])?;
+        npz.begin(name, dtype, &shape)?;
         let mut block = vec![0u8; 1 << 20];
         loop {
             let got = file.read(&mut block)?;
