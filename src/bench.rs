@@ -13,6 +13,7 @@ use crate::error::GpuError;
 use crate::fit::interp::{EndCondition, Fitter};
 use crate::job::{Derivatives, EvalJob};
 use crate::segment::SegmentTable;
+use crate::stream;
 use crate::{Basis, GpuContext, Sampling};
 
 /// Why a bench run stopped.
@@ -24,14 +25,17 @@ pub enum BenchError {
     /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// cli-w1's document or output failed.
+    #[error("cli-w1: {0}")]
+    Cli(String),
 }
 
 /// Timed runs per measurement, after the warm-up.
 pub const REPETITIONS: usize = 5;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 7] = [
-    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at",
+pub const WORKLOADS: [&str; 8] = [
+    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "cli-w1",
 ];
 
 /// One measurement: a contract `--json` line.
@@ -260,6 +264,7 @@ pub fn run(
     for name in names {
         match name {
             "fit-1m" => fit_1m(&mut report),
+            "cli-w1" => cli_w1(gpu, &mut report)?,
             "eval-at" => evaluation(name, &eval_at_job(), gpu, &mut report)?,
             "w1-b" => evaluation(
                 name,
@@ -471,6 +476,147 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         bytes: bytes as u64,
         float: Some("f64"),
     });
+}
+
+/// w1 as the contract's document: the same curves (their coordinates as the shortest text
+/// that round-trips them), "control" ends by default, 32 samples per segment.
+#[must_use]
+pub fn w1_document() -> Vec<u8> {
+    let mut rng = Rng(1);
+    let mut text = zmij::Buffer::new();
+    let mut doc = br#"{"sampling": {"per_segment": 32}, "curves": ["#.to_vec();
+    for c in 0..10_000 {
+        doc.extend_from_slice(if c > 0 { b",\n" } else { b"\n" });
+        doc.extend_from_slice(br#"{"kind": "catmull-rom", "points": ["#);
+        for p in 0..34 {
+            doc.extend_from_slice(if p > 0 { b", [" } else { b"[" });
+            for k in 0..3 {
+                if k > 0 {
+                    doc.extend_from_slice(b", ");
+                }
+                doc.extend_from_slice(text.format(rng.range(-100.0, 100.0)).as_bytes());
+            }
+            doc.push(b']');
+        }
+        doc.extend_from_slice(b"]}");
+    }
+    doc.extend_from_slice(b"\n]}\n");
+    doc
+}
+
+/// `splinegpu tessellate`'s work on `document` into the file `target`: parse, fit, evaluate
+/// on `gpu` or the CPU backend, write as `format` (a temporary file renamed onto `target`).
+fn tessellate_document(
+    document: &[u8],
+    target: &std::path::Path,
+    format: stream::Format,
+    gpu: Option<&GpuContext>,
+) -> Result<(), BenchError> {
+    let job =
+        crate::parse_document_from_reader(document).map_err(|e| BenchError::Cli(e.to_string()))?;
+    crate::output::write_output(target, |out| {
+        let mut out = out;
+        stream::write_on(
+            &job,
+            format,
+            stream::CHUNK_SAMPLES,
+            gpu,
+            &mut out,
+            &mut |_| {},
+        )
+    })
+    .map_err(|e| BenchError::Cli(e.to_string()))
+}
+
+/// cli-w1: w1's document through the tessellate path into a file in a temporary folder, as
+/// CSV and NPZ from each backend; and "floor-cpu", the least any output path can cost: the
+/// document parsed, fitted and evaluated by the CPU backend into reused memory, plus a memset
+/// of the NPZ file's size. Each repetition does the whole work (nothing is cached).
+fn cli_w1(
+    gpu: Option<&GpuContext>,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), BenchError> {
+    let document = w1_document();
+    let folder = tempfile::tempdir().map_err(|e| BenchError::Cli(e.to_string()))?;
+    let samples = 9_930_000u64;
+    let values = samples * 3;
+    let npz_bytes = {
+        let target = folder.path().join("size.npz");
+        tessellate_document(&document, &target, stream::Format::Npz, None)?;
+        std::fs::metadata(&target)
+            .map_err(|e| BenchError::Cli(e.to_string()))?
+            .len()
+    };
+    report(&memset("cli-w1", npz_bytes as usize));
+    let paths = [
+        ("csv-cpu", stream::Format::Csv, "csv", false),
+        ("csv-gpu", stream::Format::Csv, "csv", true),
+        ("npz-cpu", stream::Format::Npz, "npz", false),
+        ("npz-gpu", stream::Format::Npz, "npz", true),
+    ];
+    for (path, format, extension, on_gpu) in paths {
+        let context = if on_gpu {
+            match gpu {
+                Some(gpu) => Some(gpu),
+                None => continue,
+            }
+        } else {
+            None
+        };
+        let target = folder.path().join(format!("w1.{extension}"));
+        let mut failure = None;
+        let (seconds, min_seconds, max_seconds) = time(|| {
+            if let Err(e) = tessellate_document(&document, &target, format, context) {
+                failure = Some(e);
+            }
+            None
+        });
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        let float = if on_gpu { "f32" } else { "f64" };
+        report(&Measurement {
+            workload: "cli-w1",
+            path,
+            seconds,
+            min_seconds,
+            max_seconds,
+            samples,
+            bytes: values * if on_gpu { 4 } else { 8 },
+            float: Some(float),
+        });
+    }
+    let mut samples_f64 = crate::Samples::<f64>::for_job(&EvalJob::new(Derivatives::None));
+    let mut file = vec![1u8; npz_bytes as usize];
+    let mut failure = None;
+    let (seconds, min_seconds, max_seconds) = time(|| {
+        match crate::parse_document_from_reader(&document[..]) {
+            Ok(job) => crate::evaluate_cpu_into(&job, &mut samples_f64, available_threads()),
+            Err(e) => failure = Some(BenchError::Cli(e.to_string())),
+        }
+        let chunk = file.len().div_ceil(available_threads()).max(1);
+        std::thread::scope(|s| {
+            for part in file.chunks_mut(chunk) {
+                s.spawn(move || part.fill(0));
+            }
+        });
+        black_box((&samples_f64, &file));
+        None
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    report(&Measurement {
+        workload: "cli-w1",
+        path: "floor-cpu",
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples,
+        bytes: values * 8,
+        float: Some("f64"),
+    });
+    Ok(())
 }
 
 fn evaluation(

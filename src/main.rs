@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::internals::output::{self, OutputError};
 use splinegpu::internals::{bench, stream};
-use splinegpu::{EvalJob, GpuContext, GpuError, Samples};
+use splinegpu::{EvalJob, GpuContext};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
 #[derive(Parser)]
@@ -39,9 +39,12 @@ enum Command {
     ///
     /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
     /// Catmull-Rom with two derivatives), w1-arc (w1's curves at 993 points by arc length),
-    /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at. Paths: memset,
-    /// gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit, and w1-tol's "wang"
-    /// (Wang's count for the same curves; its time is the time to count).
+    /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at, cli-w1 (w1's document
+    /// through tessellate into a temporary file). Paths: memset, gpu-first-call, gpu-device,
+    /// gpu-end-to-end, cpu-1t, cpu-all, fit, w1-tol's "wang" (Wang's count for the same curves;
+    /// its time is the time to count), w1-arc's and w1-tol's kurbo anchors, cli-w1's csv-cpu,
+    /// csv-gpu, npz-cpu, npz-gpu and floor-cpu (parse, fit and evaluate into reused memory plus
+    /// a memset of the NPZ file's size).
     Bench {
         /// A workload to run (may repeat; default: all).
         #[arg(long = "workload")]
@@ -196,25 +199,14 @@ fn tessellate(
     let mut progress = |n: u64| bar.inc(n);
     let mut emit = |out: &mut dyn Write| -> Result<(), OutputError> {
         let mut out = out;
-        match &context {
-            Some(gpu) => stream::write(
-                &job,
-                format,
-                chunk,
-                |j, s: &mut Samples<f32>| gpu.evaluate_into(j, s),
-                &mut out,
-                &mut progress,
-            ),
-            None => {
-                // The fast evaluator: f64 on every thread, equal to the reference bit for bit.
-                let threads = splinegpu::available_threads();
-                let cpu = |j: &EvalJob, s: &mut Samples<f64>| -> Result<(), GpuError> {
-                    splinegpu::evaluate_cpu_into(j, s, threads);
-                    Ok(())
-                };
-                stream::write(&job, format, chunk, cpu, &mut out, &mut progress)
-            }
-        }
+        stream::write_on(
+            &job,
+            format,
+            chunk,
+            context.as_ref(),
+            &mut out,
+            &mut progress,
+        )
     };
     let result = match output {
         None => {

@@ -163,11 +163,6 @@ impl<F> Samples<F> {
         }
     }
 
-    /// Every sample's t, curve after curve.
-    pub(crate) fn t(&self) -> &[f64] {
-        &self.t
-    }
-
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
     pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]

@@ -1,13 +1,15 @@
 //! Output that streams: a job evaluated chunk by chunk ([`EvalJob::chunks`]) and written as it
 //! goes, so that memory stays bounded however many samples there are.
 //!
-//! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `points` is
-//! written while the chunks are evaluated, and `t` and the derivatives, computed with them, wait
+//! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `t` first
+//! when the plans give it without evaluating, `points` while the chunks are evaluated, then the
+//! derivatives (and an arc-length or tolerance job's `t`, computed with the points), which wait
 //! in temporary files for their turn. JSON writes each curve's t, then its
 //! points, then each derivative, evaluating the curve chunk by chunk once per plane.
 
 use std::io::{self, Read, Seek, Write};
 
+use crate::GpuContext;
 use crate::error::GpuError;
 use crate::job::{EvalJob, Piece};
 use crate::npz::{Dtype, NpzWriter};
@@ -37,7 +39,7 @@ pub const CHUNK_SAMPLES: usize = 1 << 20;
 /// [`OutputError::Gpu`] from `evaluate`, [`OutputError::NonFinite`] naming the first sample
 /// that overflowed (its curve and sample numbers in the whole job), or an I/O error. For NPZ,
 /// curves of different dimensions are an error ([`OutputError::MixedDimensions`]).
-pub fn write<F: SampleFloat>(
+pub fn write<F: SampleFloat + zmij::Float>(
     job: &EvalJob,
     format: Format,
     chunk_samples: usize,
@@ -74,6 +76,39 @@ pub fn write<F: SampleFloat>(
     Ok(())
 }
 
+/// [`write`] with `gpu`'s evaluator (f32 samples) or, without a context, the fast CPU evaluator
+/// on every thread (f64, equal to the reference bit for bit): what `splinegpu tessellate` runs.
+///
+/// # Errors
+/// As [`write`].
+pub fn write_on(
+    job: &EvalJob,
+    format: Format,
+    chunk_samples: usize,
+    gpu: Option<&GpuContext>,
+    out: &mut impl Write,
+    progress: &mut dyn FnMut(u64),
+) -> Result<(), OutputError> {
+    match gpu {
+        Some(gpu) => write(
+            job,
+            format,
+            chunk_samples,
+            |j, s: &mut Samples<f32>| gpu.evaluate_into(j, s),
+            out,
+            progress,
+        ),
+        None => {
+            let threads = crate::available_threads();
+            let cpu = |j: &EvalJob, s: &mut Samples<f64>| -> Result<(), GpuError> {
+                crate::evaluate_cpu_into(j, s, threads);
+                Ok(())
+            };
+            write(job, format, chunk_samples, cpu, out, progress)
+        }
+    }
+}
+
 /// Hands `write` the t of `plan`'s samples in blocks of at most `block` (numbered from 0),
 /// filled into `t`, so that no more than a block is held.
 fn for_each_t_block(
@@ -93,7 +128,7 @@ fn for_each_t_block(
 type Run<'a, F> = dyn FnMut(&EvalJob, &[Piece], &mut Samples<F>) -> Result<(), OutputError> + 'a;
 
 /// The contract's JSON, one curve at a time, each plane of a curve chunk by chunk.
-fn write_json<F: SampleFloat>(
+fn write_json<F: SampleFloat + zmij::Float>(
     job: &EvalJob,
     chunk_samples: usize,
     samples: &mut Samples<F>,
@@ -154,28 +189,51 @@ fn write_npz<F: SampleFloat>(
     let n = layout.samples() as u64;
     let order = job.derivatives().order();
     let mut npz = NpzWriter::new(out);
-    // points, evaluated; t (computed with them: for arc length and tolerance computing the
-    // places is most of the work) and the derivatives wait in temporary files.
-    let mut later: Vec<io::BufWriter<std::fs::File>> = (0..=order)
-        .map(|_| tempfile::tempfile().map(io::BufWriter::new))
-        .collect::<Result<_, _>>()?;
-    npz.begin("points", dtype, &[n, dim as u64])?;
-    for chunk in job.chunks(chunk_samples) {
-        run(&chunk.job, &chunk.pieces, samples)?;
-        later[0].write_all(bytemuck::cast_slice(samples.t()))?;
-        let [points, d1, d2] = samples.planes_mut();
-        npz.write(bytemuck::cast_slice(points))?;
-        for (file, plane) in later[1..].iter_mut().zip([d1, d2]) {
-            file.write_all(bytemuck::cast_slice(plane))?;
+    // t first, from the plans, when they give it for nothing (a grid, explicit t); where
+    // computing the places is most of the work (arc length, tolerance), t is computed with
+    // the points and waits in a temporary file, as the derivatives do.
+    let t_later = (0..job.len()).any(|c| job.plan(c).is_computed());
+    if !t_later {
+        npz.begin("t", Dtype::F64, &[n])?;
+        let mut t = Vec::new();
+        for c in 0..job.len() {
+            for_each_t_block(job.plan(c), chunk_samples, &mut t, |_, t| {
+                npz.write(bytemuck::cast_slice(t))
+            })?;
         }
+        npz.end()?;
     }
-    npz.end()?;
     let arrays = [
         ("t", Dtype::F64, vec![n]),
         ("d1", dtype, vec![n, dim as u64]),
         ("d2", dtype, vec![n, dim as u64]),
     ];
-    for ((name, dtype, shape), file) in arrays.into_iter().zip(later) {
+    let later_arrays: Vec<_> = arrays
+        .into_iter()
+        .enumerate()
+        .filter(|&(i, _)| (i == 0 && t_later) || (i > 0 && i <= order))
+        .map(|(_, array)| array)
+        .collect();
+    let mut later: Vec<io::BufWriter<std::fs::File>> = (0..later_arrays.len())
+        .map(|_| tempfile::tempfile().map(io::BufWriter::new))
+        .collect::<Result<_, _>>()?;
+    npz.begin("points", dtype, &[n, dim as u64])?;
+    for chunk in job.chunks(chunk_samples) {
+        run(&chunk.job, &chunk.pieces, samples)?;
+        let (t, [points, d1, d2]) = samples.t_and_planes_mut();
+        npz.write(bytemuck::cast_slice(points))?;
+        let waiting: [&[u8]; 3] = [
+            bytemuck::cast_slice(t),
+            bytemuck::cast_slice(d1),
+            bytemuck::cast_slice(d2),
+        ];
+        let waiting = waiting.into_iter().skip(usize::from(!t_later));
+        for (file, bytes) in later.iter_mut().zip(waiting) {
+            file.write_all(bytes)?;
+        }
+    }
+    npz.end()?;
+    for ((name, dtype, shape), file) in later_arrays.into_iter().zip(later) {
         let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
         file.rewind()?;
         npz.begin(name, dtype, &shape)?;

@@ -271,3 +271,139 @@ fn samples_reused_across_chunks_do_not_leak_between_them() {
     splinegpu::evaluate_cpu_into(&small.job, &mut samples, 2);
     assert_eq!(samples, splinegpu::evaluate_reference(&small.job));
 }
+
+/// Values of every class a float type has: zeros of both signs, subnormals (the smallest
+/// included), the smallest normal, integers, values with exponent-form text, the largest.
+fn value_classes<F: Copy>(
+    max: F,
+    min_positive: F,
+    smallest: F,
+    more: &[F],
+    neg: impl Fn(F) -> F,
+) -> Vec<F> {
+    let mut values = vec![
+        max,
+        neg(max),
+        min_positive,
+        neg(min_positive),
+        smallest,
+        neg(smallest),
+    ];
+    values.extend_from_slice(more);
+    values.extend(more.iter().map(|&v| neg(v)));
+    values
+}
+
+/// Writes `values` (cycled) as the points of a job whose curves have 3 and 2 coordinates and
+/// enough rows for several blocks on every thread, and checks that every field of every row
+/// parses back to the value it came from, bit for bit, with the rows in order.
+fn csv_round_trip<F>(values: &[F])
+where
+    F: splinegpu::SampleFloat + std::str::FromStr + zmij::Float,
+    <F as std::str::FromStr>::Err: std::fmt::Debug,
+{
+    let mut job = EvalJob::new(Derivatives::First);
+    let mut rng = Rng(9);
+    let bezier = CurveKind::Bezier;
+    for (dim, k) in [(3, 100_000), (2, 70_001)] {
+        job.push(
+            &Curve::new(bezier.clone(), rng.points(4, dim, -1.0, 1.0)).unwrap(),
+            &Sampling::PerSegment(k),
+        )
+        .unwrap();
+    }
+    let mut samples = Samples::<F>::for_job(&job);
+    for plane in samples.planes_mut() {
+        for (i, v) in plane.iter_mut().enumerate() {
+            *v = values[i % values.len()];
+        }
+    }
+    let pieces: Vec<splinegpu::Piece> = (0..job.len())
+        .map(|curve| splinegpu::Piece {
+            curve,
+            first_sample: 0,
+        })
+        .collect();
+    let mut text = Vec::new();
+    splinegpu::internals::output::write_csv_rows(&samples, &pieces, 3, &mut text).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    let mut lines = text.lines();
+    for c in 0..job.len() {
+        let s = samples.curve(c);
+        for i in 0..s.t.len() {
+            let line = lines.next().expect("a row per sample");
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), 3 + 2 * 3, "{line}");
+            assert_eq!((fields[0], fields[1]), (&*c.to_string(), &*i.to_string()));
+            assert_eq!(
+                fields[2].parse::<f64>().unwrap().to_bits(),
+                s.t[i].to_bits()
+            );
+            for (p, plane) in [s.points, s.d1.unwrap()].iter().enumerate() {
+                for k in 0..3 {
+                    let field = fields[3 + 3 * p + k];
+                    if k >= s.dim {
+                        assert_eq!(field, "", "padding of a {}-D curve", s.dim);
+                        continue;
+                    }
+                    let v = plane[i * s.dim + k];
+                    let back: F = field.parse().unwrap();
+                    assert_eq!(
+                        bytemuck::bytes_of(&back),
+                        bytemuck::bytes_of(&v),
+                        "{field} for {v:?}"
+                    );
+                    // As short as Rust's own shortest round-trip text (exponent aside).
+                    let debug = format!("{v:?}");
+                    assert!(field.len() <= debug.len() + 2, "{field} vs {debug}");
+                }
+            }
+        }
+    }
+    assert_eq!(lines.next(), None);
+}
+
+#[test]
+fn csv_text_round_trips_every_f64_value_class() {
+    csv_round_trip(&value_classes(
+        f64::MAX,
+        f64::MIN_POSITIVE,
+        f64::from_bits(1),
+        &[
+            0.0,
+            1e-300,
+            2.2e-310,
+            1.0,
+            3.0,
+            9_007_199_254_740_992.0,
+            1e16,
+            0.1,
+            3.4e38,
+            1e-7,
+            123.456,
+        ],
+        |v: f64| -v,
+    ));
+}
+
+#[test]
+fn csv_text_round_trips_every_f32_value_class() {
+    csv_round_trip(&value_classes(
+        f32::MAX,
+        f32::MIN_POSITIVE,
+        f32::from_bits(1),
+        &[
+            0.0,
+            1e-40,
+            1.0,
+            7.0,
+            16_777_216.0,
+            3.4e38,
+            0.1,
+            1e-7,
+            1e10,
+            123.456,
+        ],
+        |v: f32| -v,
+    ));
+}
