@@ -132,6 +132,12 @@ impl SegmentTable {
         self.len() == 0
     }
 
+    /// Every segment's power-form coefficients, segment after segment, each as A, B, C, D
+    /// (`dim` values each): what [`Segment::power`] slices.
+    pub(crate) fn power_coefficients(&self) -> &[f64] {
+        &self.coeffs
+    }
+
     /// The knots t_0 < t_1 < ... < t_len.
     #[must_use]
     pub fn knots(&self) -> &[f64] {
