@@ -99,6 +99,11 @@ impl<F: Copy + Default> Samples<F> {
     /// they held until they are overwritten).
     pub fn prepare(&mut self, job: &EvalJob) {
         self.prepare_planes(job);
+        self.fill_t(job);
+    }
+
+    /// Fills in `t` from `job`'s plans (`self` laid out for it already).
+    pub(crate) fn fill_t(&mut self, job: &EvalJob) {
         self.t.clear();
         for c in 0..job.len() {
             let plan = job.plan(c);

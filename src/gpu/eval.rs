@@ -42,8 +42,8 @@ impl GpuContext {
     /// A value outside the f32 range ([`GpuError::OutOfRange`]), a segment table larger than
     /// one binding ([`GpuError::TooLarge`]), or a device failure ([`GpuError::Device`]).
     pub fn evaluate(&self, job: &EvalJob) -> Result<Samples<f32>, GpuError> {
-        let mut samples = Samples::for_job(job);
-        self.run(job, false, &mut samples)?;
+        let mut samples = Samples::for_job(&EvalJob::new(job.derivatives()));
+        self.evaluate_into(job, &mut samples)?;
         Ok(samples)
     }
 
@@ -54,7 +54,7 @@ impl GpuContext {
     /// # Errors
     /// As [`GpuContext::evaluate`].
     pub fn evaluate_into(&self, job: &EvalJob, samples: &mut Samples<f32>) -> Result<(), GpuError> {
-        samples.prepare(job);
+        samples.prepare_planes(job);
         self.run(job, false, samples)?;
         Ok(())
     }
@@ -70,7 +70,7 @@ impl GpuContext {
         job: &EvalJob,
         samples: &mut Samples<f32>,
     ) -> Result<DeviceTime, GpuError> {
-        samples.prepare(job);
+        samples.prepare_planes(job);
         let time = self.run(job, true, samples)?;
         // A job without samples dispatches nothing: zero seconds.
         Ok(time.unwrap_or(DeviceTime {
@@ -79,7 +79,8 @@ impl GpuContext {
         }))
     }
 
-    /// Evaluates `job` into `samples` (already laid out for it).
+    /// Evaluates `job` into `samples` (its planes laid out for it; its t are filled in here,
+    /// on the host while the device works).
     fn run(
         &self,
         job: &EvalJob,
@@ -87,6 +88,7 @@ impl GpuContext {
         samples: &mut Samples<f32>,
     ) -> Result<Option<DeviceTime>, GpuError> {
         if job.layout().values() == 0 {
+            samples.fill_t(job);
             return Ok(None);
         }
         let packed = self.pack(job)?;
@@ -173,6 +175,7 @@ impl GpuContext {
             stamps.resolve(&mut encoder);
         }
         self.queue.submit([encoder.finish()]);
+        samples.fill_t(job);
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::Device(e.to_string()));
         }
@@ -186,6 +189,8 @@ impl GpuContext {
         for (role, buffer) in taken {
             pool.give(role, buffer);
         }
+        drop(pool);
+        self.keep_packing(packed);
         let time = match stamps {
             Some(stamps) => Some(DeviceTime {
                 seconds: stamps.read(&self.device, self.queue.get_timestamp_period())?,
@@ -268,17 +273,35 @@ impl GpuContext {
             plane_stride: packed.device_values as u32,
         };
         self.encode(encoder, &packed, &tables, target, None, |_, _| Ok(()))?;
+        self.keep_packing(packed);
         Ok(layout)
     }
 
-    /// Packs `job` for this context's kernel shape and checks it against the device's limits.
+    /// Packs `job` for this context's kernel shape, into a packing kept from an earlier call
+    /// when there is one, and checks it against the device's limits. Hand it back with
+    /// [`GpuContext::keep_packing`].
     fn pack(&self, job: &EvalJob) -> Result<Packed, GpuError> {
         let limits = self.device.limits();
         let planes = job.derivatives().order() + 1;
         let batch_limits = BatchLimits::for_device(&limits, planes, self.max_dispatch_values);
-        let packed = pack::pack(job, self.shape, batch_limits)?;
+        let kept = self
+            .packings
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .pop();
+        let mut packed = kept.unwrap_or_default();
+        pack::pack_into(job, self.shape, batch_limits, &mut packed)?;
         packed.check(&limits)?;
         Ok(packed)
+    }
+
+    /// Keeps `packed`'s memory for a later call.
+    fn keep_packing(&self, packed: Packed) {
+        let mut kept = self.packings.lock().unwrap_or_else(PoisonError::into_inner);
+        // As many as calls ran at once; a few at most.
+        if kept.len() < 8 {
+            kept.push(packed);
+        }
     }
 
     /// Records every dispatch of `packed` into `encoder`, batch `b` writing into
@@ -523,16 +546,37 @@ impl Timestamps {
 pub(crate) fn unpack_device_planes(values: &[f32], samples: &mut Samples<f32>) {
     let (layout, planes) = samples.layout_and_planes_mut();
     let device_values = layout.device_values();
-    for (p, plane) in planes.into_iter().enumerate() {
+    let threads = crate::available_threads().min(layout.len()).max(1);
+    for (p, mut plane) in planes.into_iter().enumerate() {
         if plane.is_empty() {
             continue;
         }
         let device_plane = &values[p * device_values..(p + 1) * device_values];
-        for c in 0..layout.len() {
-            let host = layout.values_of(c);
-            let at = layout.device_start(c);
-            plane[host.clone()].copy_from_slice(&device_plane[at..at + host.len()]);
-        }
+        // Curves split evenly between the threads, each copying its own.
+        std::thread::scope(|scope| {
+            let mut first = 0;
+            for k in 0..threads {
+                let end = layout.len() * (k + 1) / threads;
+                let host_end = if end == layout.len() {
+                    layout.values()
+                } else {
+                    layout.values_of(end).start
+                };
+                let host_start = layout.values_of(first).start.min(host_end);
+                let (part, rest) = std::mem::take(&mut plane).split_at_mut(host_end - host_start);
+                plane = rest;
+                let curves = first..end;
+                scope.spawn(move || {
+                    for c in curves {
+                        let host = layout.values_of(c);
+                        let at = layout.device_start(c);
+                        part[host.start - host_start..host.end - host_start]
+                            .copy_from_slice(&device_plane[at..at + host.len()]);
+                    }
+                });
+                first = end;
+            }
+        });
     }
 }
 

@@ -70,6 +70,8 @@ pub struct GpuContext {
     pipeline: wgpu::ComputePipeline,
     /// Buffers kept between calls, so that repeated jobs neither allocate nor page-fault.
     pool: std::sync::Mutex<BufferPool>,
+    /// Host-side packings kept between calls, for the same reason (one per concurrent call).
+    packings: std::sync::Mutex<Vec<pack::Packed>>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -243,6 +245,7 @@ impl GpuContext {
             bind_group_layout,
             pipeline,
             pool: std::sync::Mutex::default(),
+            packings: std::sync::Mutex::default(),
         }
     }
 

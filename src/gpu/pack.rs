@@ -166,6 +166,9 @@ pub struct Packed {
     /// Floats per plane of the output one dispatch writes: its largest batch (from its
     /// [`Batch::base`]), a multiple of 4.
     pub plane_stride: usize,
+    /// [`pack_into`]'s runs with absolute float offsets, before they are cut into batches:
+    /// kept only for their memory.
+    all_runs: Vec<(Run, usize, usize)>,
 }
 
 impl Packed {
@@ -230,13 +233,32 @@ pub(crate) fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<
 /// # Errors
 /// A coefficient, or 1/Δ, outside the f32 range ([`GpuError::OutOfRange`]).
 pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Packed, GpuError> {
+    let mut packed = Packed::default();
+    pack_into(job, shape, limits, &mut packed)?;
+    Ok(packed)
+}
+
+/// [`pack`] into `packed`, reusing its memory: a caller packing jobs of similar size again and
+/// again allocates nothing and pays no page faults after the first call.
+///
+/// # Errors
+/// As [`pack`].
+pub fn pack_into(
+    job: &EvalJob,
+    shape: KernelShape,
+    limits: BatchLimits,
+    packed: &mut Packed,
+) -> Result<(), GpuError> {
     let layout = job.layout();
-    let mut packed = Packed {
-        planes: job.derivatives().order() + 1,
-        device_values: layout.device_values(),
-        ..Packed::default()
-    };
-    let mut all_runs = Vec::new();
+    packed.planes = job.derivatives().order() + 1;
+    packed.device_values = layout.device_values();
+    let mut all_runs = std::mem::take(&mut packed.all_runs);
+    all_runs.clear();
+    packed.segments.clear();
+    packed.coeffs.clear();
+    packed.runs.clear();
+    packed.locs.clear();
+    packed.batches.clear();
     for c in 0..job.len() {
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
@@ -301,12 +323,13 @@ pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Pa
             }
         }
     }
-    cut_batches(&mut packed, &all_runs, limits);
+    cut_batches(packed, &all_runs, limits);
+    packed.all_runs = all_runs;
     packed.plane_stride = (packed.batches.iter())
         .map(|b| (b.values.end - b.base).next_multiple_of(4))
         .max()
         .unwrap_or(0);
-    Ok(packed)
+    Ok(())
 }
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, and makes
