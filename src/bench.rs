@@ -11,6 +11,7 @@ use crate::cpu::{available_threads, evaluate_cpu_values_into};
 use crate::curve::{Curve, CurveKind, Ends, Points};
 use crate::error::GpuError;
 use crate::fit::interp::{EndCondition, Fitter};
+use crate::gpu::ceiling::STORE_CEILING_RUN;
 use crate::job::{Derivatives, EvalJob};
 use crate::segment::SegmentTable;
 use crate::stream;
@@ -34,8 +35,8 @@ pub enum BenchError {
 pub const REPETITIONS: usize = 5;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 8] = [
-    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "cli-w1",
+pub const WORKLOADS: [&str; 9] = [
+    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "cli-w1", "w1-x10",
 ];
 
 /// One measurement: a contract `--json` line.
@@ -146,8 +147,13 @@ impl Rng {
 
 /// w1's 10,000 curves: 34 control points in 3-D in ±100, "control" ends.
 fn w1_curves(basis: &Basis) -> impl Iterator<Item = Curve> + '_ {
+    curves_like_w1(basis, 10_000)
+}
+
+/// `count` curves made as w1's are (w1's own first, for any count >= 10,000).
+fn curves_like_w1(basis: &Basis, count: usize) -> impl Iterator<Item = Curve> + '_ {
     let mut rng = Rng(1);
-    (0..10_000).map(move |_| {
+    (0..count).map(move |_| {
         let points = Points::new(3, (0..34 * 3).map(|_| rng.range(-100.0, 100.0)).collect())
             .expect("finite points");
         let kind = CurveKind::Uniform {
@@ -174,6 +180,18 @@ fn w1_job_sampled(
     let mut job = EvalJob::new(derivatives);
     for curve in w1_curves(basis) {
         job.push(&curve, &sampling(&curve)).expect("valid sampling");
+    }
+    job
+}
+
+/// w1-x10: 100,000 curves made as w1's (99.3 M samples, 1.19 GB of f32 positions), so that
+/// on a GPU the timed region dwarfs launch overhead.
+#[must_use]
+pub fn w1_x10_job() -> EvalJob {
+    let mut job = EvalJob::new(Derivatives::None);
+    for curve in curves_like_w1(&Basis::CatmullRom, 100_000) {
+        job.push(&curve, &Sampling::PerSegment(32))
+            .expect("valid sampling");
     }
     job
 }
@@ -265,6 +283,7 @@ pub fn run(
         match name {
             "fit-1m" => fit_1m(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
+            "w1-x10" => evaluation(name, &w1_x10_job(), gpu, &mut report)?,
             "eval-at" => evaluation(name, &eval_at_job(), gpu, &mut report)?,
             "w1-b" => evaluation(
                 name,
@@ -665,6 +684,26 @@ fn evaluation(
             None
         });
         report(&measurement("gpu-end-to-end", end_to_end, 4));
+        if matches!(workload, "w1" | "w1-x10") {
+            // What any kernel writing these bytes can reach on this device: one vec4 per
+            // invocation, and the looping shape's runs of vec4s.
+            let bytes = values * 4;
+            for (path, run) in [("gpu-memset", 1), ("gpu-store-ceiling", STORE_CEILING_RUN)] {
+                let kernel = gpu.store_kernel(bytes, run)?;
+                let mut failure = None;
+                let seconds = time(|| match kernel.time(gpu) {
+                    Ok(s) => Some(s),
+                    Err(e) => {
+                        failure = Some(e);
+                        Some(0.0)
+                    }
+                });
+                if let Some(e) = failure {
+                    return Err(e);
+                }
+                report(&measurement(path, seconds, 4));
+            }
+        }
     }
     // The fast CPU evaluator into already-touched memory, as `--backend auto` uses it without
     // a GPU: f32 on one thread and on all, then f64 on all.

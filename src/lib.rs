@@ -158,6 +158,7 @@ pub use doc::{parse_document, parse_document_from_reader};
 #[doc(hidden)]
 pub mod internals {
     pub use crate::gpu::BINDINGS;
+    pub use crate::gpu::ceiling::{STORE_CEILING_RUN, StoreKernel};
     pub use crate::gpu::interpret::evaluate_interpreted;
     pub use crate::gpu::pack::{
         Batch, BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, Packed,

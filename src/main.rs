@@ -40,11 +40,14 @@ enum Command {
     /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
     /// Catmull-Rom with two derivatives), w1-arc (w1's curves at 993 points by arc length),
     /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at, cli-w1 (w1's document
-    /// through tessellate into a temporary file). Paths: memset, gpu-first-call, gpu-device,
-    /// gpu-end-to-end, cpu-1t, cpu-all, fit, w1-tol's "wang" (Wang's count for the same curves;
-    /// its time is the time to count), w1-arc's and w1-tol's kurbo anchors, cli-w1's csv-cpu,
-    /// csv-gpu, npz-cpu, npz-gpu and floor-cpu (parse, fit and evaluate into reused memory plus
-    /// a memset of the NPZ file's size).
+    /// through tessellate into a temporary file), w1-x10 (100,000 curves made as w1's, for
+    /// GPUs). Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit;
+    /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
+    /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
+    /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),
+    /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu and
+    /// floor-cpu (parse, fit and evaluate into reused memory plus a memset of the NPZ file's
+    /// size).
     Bench {
         /// A workload to run (may repeat; default: all).
         #[arg(long = "workload")]
@@ -286,7 +289,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
     let mut memset_gbps = f64::NAN;
     if !json {
         println!(
-            "{:<8} {:<15} {:>10} {:>10} {:>10} {:>11} {:>10} {:>8} {:>9}",
+            "{:<8} {:<17} {:>10} {:>10} {:>10} {:>11} {:>10} {:>8} {:>9}",
             "workload",
             "path",
             "median ms",
@@ -306,7 +309,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                 memset_gbps = m.gbps();
             }
             println!(
-                "{:<8} {:<15} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}",
+                "{:<8} {:<17} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}",
                 m.workload,
                 m.path,
                 m.seconds * 1e3,

@@ -477,7 +477,7 @@ impl OutputLayout {
 }
 
 /// A timestamp at the start and the end of each dispatch's compute pass.
-struct Timestamps {
+pub(super) struct Timestamps {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     download: wgpu::Buffer,
@@ -485,7 +485,7 @@ struct Timestamps {
 }
 
 impl Timestamps {
-    fn new(device: &wgpu::Device, dispatches: usize) -> Self {
+    pub(super) fn new(device: &wgpu::Device, dispatches: usize) -> Self {
         let count = 2 * dispatches as u32;
         let bytes = u64::from(count) * size_of::<u64>() as u64;
         let buffer = |label, usage| {
@@ -515,7 +515,7 @@ impl Timestamps {
     }
 
     /// The pass timestamps of dispatch `b`.
-    fn writes(&self, b: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+    pub(super) fn writes(&self, b: usize) -> wgpu::ComputePassTimestampWrites<'_> {
         wgpu::ComputePassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(2 * b as u32),
@@ -523,13 +523,13 @@ impl Timestamps {
         }
     }
 
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(super) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.resolve_query_set(&self.queries, 0..self.count, &self.resolve, 0);
         encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.download, 0, self.resolve.size());
     }
 
     /// Seconds between each pass's two timestamps, summed; `period` is nanoseconds per tick.
-    fn read(&self, device: &wgpu::Device, period: f32) -> Result<f64, GpuError> {
+    pub(super) fn read(&self, device: &wgpu::Device, period: f32) -> Result<f64, GpuError> {
         let ticks: Vec<u64> = map_read(device, &self.download, |bytes| {
             bytemuck::cast_slice(bytes).to_vec()
         })?;

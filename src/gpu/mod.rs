@@ -4,6 +4,7 @@
 //! [`GpuContext::from_device`] takes a caller's device and queue, and
 //! [`GpuContext::evaluate`] (in `eval.rs`) runs a job and reads the samples back.
 
+pub(crate) mod ceiling;
 mod eval;
 pub(crate) mod interpret;
 pub(crate) mod pack;
