@@ -638,72 +638,105 @@ fn cli_w1(
     Ok(())
 }
 
+/// A measurement of `job`'s evaluation: its samples, and its values (every plane) at
+/// `bytes_per_value` each (4 for f32, 8 for f64).
+fn measured(
+    workload: &'static str,
+    job: &EvalJob,
+    path: &'static str,
+    (seconds, min_seconds, max_seconds): (f64, f64, f64),
+    bytes_per_value: u64,
+) -> Measurement {
+    let values = job.layout().values() as u64 * (job.derivatives().order() as u64 + 1);
+    Measurement {
+        workload,
+        path,
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: job.sample_count() as u64,
+        bytes: values * bytes_per_value,
+        float: Some(if bytes_per_value == 4 { "f32" } else { "f64" }),
+    }
+}
+
+/// The GPU paths of an evaluation workload. A job larger than the device binds at once (w1-x10's
+/// coefficient table on lavapipe) skips them with a note on stderr rather than ending the run.
+fn gpu_paths(
+    workload: &'static str,
+    job: &EvalJob,
+    gpu: &GpuContext,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), GpuError> {
+    let values = job.layout().values() as u64 * (job.derivatives().order() as u64 + 1);
+    let measurement =
+        |path, times, bytes_per_value| measured(workload, job, path, times, bytes_per_value);
+    // Host memory is reused between runs, as a caller tessellating every frame would.
+    let mut samples = crate::Samples::for_job(job);
+    // The first call on a context pays what later calls do not (pipeline compilation on
+    // lavapipe, buffer allocation): measured once, on its own.
+    let start = Instant::now();
+    match gpu.evaluate_into(job, &mut samples) {
+        Err(e @ GpuError::TooLarge { .. }) => {
+            eprintln!("splinegpu: {workload}: GPU paths skipped: {e}");
+            return Ok(());
+        }
+        other => other?,
+    }
+    let first = start.elapsed().as_secs_f64();
+    report(&measurement("gpu-first-call", (first, first, first), 4));
+    let mut failure = None;
+    let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
+        Ok(time) => Some(time.seconds),
+        Err(e) => {
+            failure = Some(e);
+            Some(0.0)
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    report(&measurement("gpu-device", device, 4));
+    let end_to_end = time(|| {
+        black_box(gpu.evaluate_into(job, &mut samples).ok());
+        None
+    });
+    report(&measurement("gpu-end-to-end", end_to_end, 4));
+    if matches!(workload, "w1" | "w1-x10") {
+        // What any kernel writing these bytes can reach on this device: one vec4 per
+        // invocation, and the looping shape's runs of vec4s.
+        let bytes = values * 4;
+        for (path, run) in [("gpu-memset", 1), ("gpu-store-ceiling", STORE_CEILING_RUN)] {
+            let kernel = gpu.store_kernel(bytes, run)?;
+            let mut failure = None;
+            let seconds = time(|| match kernel.time(gpu) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    failure = Some(e);
+                    Some(0.0)
+                }
+            });
+            if let Some(e) = failure {
+                return Err(e);
+            }
+            report(&measurement(path, seconds, 4));
+        }
+    }
+    Ok(())
+}
+
 fn evaluation(
     workload: &'static str,
     job: &EvalJob,
     gpu: Option<&GpuContext>,
     report: &mut impl FnMut(&Measurement),
 ) -> Result<(), GpuError> {
-    let samples = job.sample_count() as u64;
     let values = job.layout().values() as u64 * (job.derivatives().order() as u64 + 1);
     let measurement =
-        |path, (seconds, min_seconds, max_seconds), bytes_per_value: u64| Measurement {
-            workload,
-            path,
-            seconds,
-            min_seconds,
-            max_seconds,
-            samples,
-            bytes: values * bytes_per_value,
-            float: Some(if bytes_per_value == 4 { "f32" } else { "f64" }),
-        };
+        |path, times, bytes_per_value| measured(workload, job, path, times, bytes_per_value);
     report(&memset(workload, (values * 4) as usize));
     if let Some(gpu) = gpu {
-        // Host memory is reused between runs, as a caller tessellating every frame would.
-        let mut samples = crate::Samples::for_job(job);
-        // The first call on a context pays what later calls do not (pipeline compilation on
-        // lavapipe, buffer allocation): measured once, on its own.
-        let start = Instant::now();
-        gpu.evaluate_into(job, &mut samples)?;
-        let first = start.elapsed().as_secs_f64();
-        report(&measurement("gpu-first-call", (first, first, first), 4));
-        let mut failure = None;
-        let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
-            Ok(time) => Some(time.seconds),
-            Err(e) => {
-                failure = Some(e);
-                Some(0.0)
-            }
-        });
-        if let Some(e) = failure {
-            return Err(e);
-        }
-        report(&measurement("gpu-device", device, 4));
-        let end_to_end = time(|| {
-            black_box(gpu.evaluate_into(job, &mut samples).ok());
-            None
-        });
-        report(&measurement("gpu-end-to-end", end_to_end, 4));
-        if matches!(workload, "w1" | "w1-x10") {
-            // What any kernel writing these bytes can reach on this device: one vec4 per
-            // invocation, and the looping shape's runs of vec4s.
-            let bytes = values * 4;
-            for (path, run) in [("gpu-memset", 1), ("gpu-store-ceiling", STORE_CEILING_RUN)] {
-                let kernel = gpu.store_kernel(bytes, run)?;
-                let mut failure = None;
-                let seconds = time(|| match kernel.time(gpu) {
-                    Ok(s) => Some(s),
-                    Err(e) => {
-                        failure = Some(e);
-                        Some(0.0)
-                    }
-                });
-                if let Some(e) = failure {
-                    return Err(e);
-                }
-                report(&measurement(path, seconds, 4));
-            }
-        }
+        gpu_paths(workload, job, gpu, report)?;
     }
     // The fast CPU evaluator into already-touched memory, as `--backend auto` uses it without
     // a GPU: f32 on one thread and on all, then f64 on all.

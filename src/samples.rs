@@ -29,6 +29,7 @@ pub trait SampleFloat:
 impl SampleFloat for f32 {
     const NAME: &'static str = "f32";
 
+    #[inline(always)]
     fn from_f64(v: f64) -> Self {
         v as f32
     }
@@ -41,6 +42,7 @@ impl SampleFloat for f32 {
 impl SampleFloat for f64 {
     const NAME: &'static str = "f64";
 
+    #[inline(always)]
     fn from_f64(v: f64) -> Self {
         v
     }
