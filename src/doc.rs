@@ -18,28 +18,12 @@ use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 
-use crate::basis::Basis;
 use crate::curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
 use crate::error::{InputError, Location};
-use crate::fit::interp::EndCondition;
 use crate::job::{Derivatives, EvalJob};
+use crate::kinds::{KindFields, kind_fields, not_a_field};
 use crate::sampling::{SamplePlan, Sampling};
 use crate::segment::SegmentTable;
-
-/// Every kind the contract names.
-const KINDS: [&str; 11] = [
-    "cardinal",
-    "catmull-rom",
-    "bspline",
-    "tensioned-bspline",
-    "beta",
-    "matrix",
-    "bezier",
-    "natural",
-    "clamped",
-    "periodic",
-    "not-a-knot",
-];
 
 /// The document's top-level keys.
 const DOCUMENT_KEYS: [&str; 3] = ["sampling", "derivatives", "curves"];
@@ -528,128 +512,48 @@ fn fit_curve(
     let kind = kind.as_str().ok_or_else(|| {
         InputError::field("kind", format!("must be a string, got {}", describe(kind)))
     })?;
-    if !KINDS.contains(&kind) {
-        return Err(InputError::field(
-            "kind",
-            format!(
-                "is unknown: \"{kind}\" (expected one of {})",
-                KINDS.join(", ")
-            ),
-        ));
+    let Some(allowed) = kind_fields(kind) else {
+        // CurveKind::named words the unknown name's error.
+        return Err(CurveKind::named(kind, KindFields::default()).expect_err("unknown kind"));
+    };
+    let key_ok =
+        |key: &str| ["kind", "points", "sampling"].contains(&key) || allowed.contains(&key);
+    if let Some(key) = keys.iter().find(|k| !key_ok(k)) {
+        return Err(not_a_field(kind, key));
     }
-    let owner = format!("a \"{kind}\" curve");
-    let check_keys = |extra: &[&str]| -> Result<(), InputError> {
-        let mut allowed = vec!["kind", "points", "sampling"];
-        allowed.extend_from_slice(extra);
-        match keys.iter().find(|k| !allowed.contains(&k.as_str())) {
-            None => Ok(()),
-            Some(key) => Err(InputError::field(
-                key.clone(),
-                format!(
-                    "is not a field of {owner} (allowed: {})",
-                    allowed.join(", ")
-                ),
-            )),
-        }
+    let number_field = |field: &str| fields.get(field).map(|v| number(v, field)).transpose();
+    let array_field = |field: &str| {
+        fields
+            .get(field)
+            .map(|v| number_array(v, field))
+            .transpose()
     };
-    let uniform = |basis: Basis, extra: &[&str]| -> Result<CurveKind, InputError> {
-        let mut allowed = vec!["ends"];
-        allowed.extend_from_slice(extra);
-        check_keys(&allowed)?;
-        Ok(CurveKind::Uniform {
-            basis,
-            ends: parse_ends(fields.get("ends"))?,
-        })
+    let kind_fields = KindFields {
+        ends: fields.get("ends").map(parse_ends).transpose()?,
+        tension: number_field("tension")?,
+        bias: number_field("bias")?,
+        matrix: fields.get("matrix").map(parse_matrix).transpose()?,
+        t: array_field("t")?,
+        start_derivative: array_field("start_derivative")?,
+        end_derivative: array_field("end_derivative")?,
     };
-    let number_or = |field: &str, default: f64| match fields.get(field) {
-        None => Ok(default),
-        Some(v) => number(v, field),
-    };
-    let kind = match kind {
-        "cardinal" => uniform(
-            Basis::Cardinal {
-                tension: number_or("tension", 0.5)?,
-            },
-            &["tension"],
-        )?,
-        "catmull-rom" => uniform(Basis::CatmullRom, &[])?,
-        "bspline" => uniform(Basis::BSpline, &[])?,
-        "tensioned-bspline" => uniform(
-            Basis::TensionedBSpline {
-                tension: number_or("tension", 1.0)?,
-            },
-            &["tension"],
-        )?,
-        "beta" => uniform(
-            Basis::Beta {
-                bias: number_or("bias", 1.0)?,
-                tension: number_or("tension", 0.0)?,
-            },
-            &["bias", "tension"],
-        )?,
-        "matrix" => {
-            let m = fields
-                .get("matrix")
-                .ok_or_else(|| InputError::field("matrix", "is missing"))?;
-            uniform(Basis::Matrix(parse_matrix(m)?), &["matrix"])?
-        }
-        "bezier" => {
-            check_keys(&[])?;
-            CurveKind::Bezier
-        }
-        interpolating => {
-            let mut extra = vec!["t"];
-            if interpolating == "clamped" {
-                extra.extend(["start_derivative", "end_derivative"]);
-            }
-            check_keys(&extra)?;
-            interpolating_kind(fields, interpolating)?
-        }
-    };
+    let kind = CurveKind::named(kind, kind_fields)?;
     let points = points.ok_or_else(|| InputError::field("points", "is missing"))?;
     Ok(Curve::new(kind, points)?.fit())
 }
 
-/// An interpolating curve's kind from its fields ("t", and for clamped ends the two
-/// derivatives); the data themselves are checked by `Curve::new`.
-fn interpolating_kind(fields: &Map<String, Value>, kind: &str) -> Result<CurveKind, InputError> {
-    let derivative = |field: &str| -> Result<Vec<f64>, InputError> {
-        let v = fields.get(field).ok_or_else(|| {
-            InputError::field(
-                field,
-                "is missing (a clamped spline needs both end derivatives)",
-            )
-        })?;
-        number_array(v, field)
-    };
-    let condition = match kind {
-        "natural" => EndCondition::Natural,
-        "periodic" => EndCondition::Periodic,
-        "not-a-knot" => EndCondition::NotAKnot,
-        _ => EndCondition::Clamped {
-            start: derivative("start_derivative")?,
-            end: derivative("end_derivative")?,
-        },
-    };
-    let t = fields.get("t").map(|v| number_array(v, "t")).transpose()?;
-    Ok(CurveKind::Interpolating { condition, t })
-}
-
-fn parse_ends(value: Option<&Value>) -> Result<Ends, InputError> {
-    match value {
-        None => Ok(Ends::default()),
-        Some(v) => match v.as_str() {
-            Some("control") => Ok(Ends::Control),
-            Some("repeat") => Ok(Ends::Repeat),
-            Some("closed") => Ok(Ends::Closed),
-            _ => Err(InputError::field(
-                "ends",
-                format!(
-                    "must be \"control\", \"repeat\" or \"closed\", got {}",
-                    describe(v)
-                ),
-            )),
-        },
+fn parse_ends(v: &Value) -> Result<Ends, InputError> {
+    match v.as_str() {
+        Some("control") => Ok(Ends::Control),
+        Some("repeat") => Ok(Ends::Repeat),
+        Some("closed") => Ok(Ends::Closed),
+        _ => Err(InputError::field(
+            "ends",
+            format!(
+                "must be \"control\", \"repeat\" or \"closed\", got {}",
+                describe(v)
+            ),
+        )),
     }
 }
 

@@ -108,6 +108,7 @@ mod fit;
 mod flatten;
 mod gpu;
 mod job;
+mod kinds;
 mod layout;
 mod samples;
 mod sampling;
@@ -144,6 +145,7 @@ pub use gpu::{
     new_instance,
 };
 pub use job::{Chunk, Derivatives, EvalJob, Piece};
+pub use kinds::{KIND_NAMES, KindFields, kind_fields};
 pub use layout::JobLayout;
 pub use samples::{CurveSamples, SampleFloat, Samples};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};
