@@ -52,7 +52,7 @@ pub fn available_threads() -> usize {
 pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, samples: &mut Samples<F>, threads: usize) {
     samples.prepare_planes(job);
     let (t, planes) = samples.t_and_planes_mut();
-    evaluate_on_threads(job, t, planes, threads);
+    evaluate_cpu_planes_into(job, t, planes, threads);
 }
 
 /// Evaluates `job` into a caller's planes, laid out as the job's
@@ -68,11 +68,17 @@ pub fn evaluate_cpu_values_into<F: SampleFloat>(
     planes: [&mut [F]; 3],
     threads: usize,
 ) {
-    evaluate_on_threads(job, &mut [], planes, threads);
+    evaluate_cpu_planes_into(job, &mut [], planes, threads);
 }
 
-/// [`evaluate_cpu_values_into`], writing each sample's t into `t` too unless it is empty.
-fn evaluate_on_threads<F: SampleFloat>(
+/// [`evaluate_cpu_values_into`], writing each sample's t into `t` too (the job's
+/// [`samples`](crate::JobLayout::samples) long) unless it is empty: for callers who own the
+/// memory of both (the Python bindings write into NumPy arrays). An arc-length or tolerance
+/// sample's place is computed once for both.
+///
+/// # Panics
+/// If a plane the job needs, or a non-empty `t`, has the wrong length.
+pub fn evaluate_cpu_planes_into<F: SampleFloat>(
     job: &EvalJob,
     mut params: &mut [f64],
     planes: [&mut [F]; 3],

@@ -133,7 +133,10 @@ pub use arclen::DEFAULT_ARCLEN_ACCURACY;
 pub use basis::{
     Basis, Rows, beta_rows, bezier_rows, bspline_rows, cardinal_rows, tensioned_bspline_rows,
 };
-pub use cpu::{available_threads, evaluate_cpu_into, evaluate_cpu_values_into, evaluate_reference};
+pub use cpu::{
+    available_threads, evaluate_cpu_into, evaluate_cpu_planes_into, evaluate_cpu_values_into,
+    evaluate_reference,
+};
 pub use curve::{Curve, CurveKind, Ends, MAX_DIM, Points};
 pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;

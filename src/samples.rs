@@ -170,6 +170,13 @@ impl<F> Samples<F> {
         }
     }
 
+    /// The memory itself: every sample's t, then the planes (positions, d1, d2; empty when not
+    /// computed), laid out as [`Samples::layout`] says; for handing the values on without a copy.
+    #[must_use]
+    pub fn into_parts(self) -> (JobLayout, Vec<f64>, [Vec<F>; 3]) {
+        (self.layout, self.t, [self.points, self.d1, self.d2])
+    }
+
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
     pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]

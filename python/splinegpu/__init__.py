@@ -1,0 +1,338 @@
+"""Cubic splines fitted in float64 and evaluated in bulk on the GPU or on every CPU thread.
+
+    >>> import numpy as np, splinegpu
+    >>> ctx = splinegpu.Context("cpu")
+    >>> curves = np.random.default_rng(0).uniform(-1, 1, (100, 10, 3))
+    >>> r = ctx.tessellate(curves, kind="catmull-rom", per_segment=16)
+    >>> r.points.shape, r.curve_offsets[:3]
+    ((11300, 3), array([  0, 113, 226]))
+
+The curve kinds, their fields and the four samplings are those of the `splinegpu` command line
+(see the README's "Input document"); results hold the same numbers as its NPZ output: float32
+from the GPU backend, float64 from the CPU backend, t always float64.
+
+`CubicSpline` follows `scipy.interpolate.CubicSpline` for the cases it covers.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from typing import Any, Optional, Sequence
+
+# Mesa's device-select Vulkan layer prints XDG_RUNTIME_DIR warnings on headless machines unless
+# this is set before the first Vulkan instance exists (as the command line does).
+os.environ.setdefault("NODEVICE_SELECT", "1")
+
+import numpy as np  # noqa: E402
+
+from . import _native  # noqa: E402
+
+__all__ = ["Context", "Tessellation", "CubicSpline", "CubicSplines", "KIND_NAMES"]
+
+KIND_NAMES: tuple = tuple(_native.KIND_NAMES)
+
+_SAMPLINGS = ("per_segment", "at", "arc_length", "tolerance")
+
+
+class Tessellation:
+    """The samples of a `Context.tessellate` call.
+
+    Attributes: `t` (N,) float64; `points` (N, D); `d1`, `d2` (N, D) or None when not asked
+    for; `curve_offsets` (C + 1,) int64: curve c owns rows curve_offsets[c]:curve_offsets[c+1].
+    """
+
+    __slots__ = ("t", "points", "d1", "d2", "curve_offsets")
+
+    def __init__(self, t, points, d1, d2, curve_offsets):
+        self.t = t
+        self.points = points
+        self.d1 = d1
+        self.d2 = d2
+        self.curve_offsets = curve_offsets
+
+    def curve(self, c: int) -> "Tessellation":
+        """Curve c's rows (views, no copy)."""
+        a, b = self.curve_offsets[c], self.curve_offsets[c + 1]
+        pick = lambda x: None if x is None else x[a:b]  # noqa: E731
+        return Tessellation(self.t[a:b], self.points[a:b], pick(self.d1), pick(self.d2),
+                            np.array([0, b - a], dtype=np.int64))
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def __repr__(self) -> str:
+        return (f"Tessellation({len(self.curve_offsets) - 1} curves, {len(self.t)} samples, "
+                f"points {self.points.dtype} {self.points.shape})")
+
+
+def _aligned(a) -> np.ndarray:
+    """`a` as an aligned, C-contiguous float64 array (itself where it already is one): arrays
+    unpickled from a network buffer (Dask) may be misaligned."""
+    return np.require(np.asarray(a, dtype=np.float64), requirements=["C", "A"])
+
+
+def _curves(points):
+    """A (C, n, D) array (passed whole) or a list of (n_i, D) arrays (each made C-contiguous)."""
+    if isinstance(points, np.ndarray):
+        if points.ndim != 3:
+            raise ValueError(f"points: must be a (C, n, D) array or a list of (n_i, D) arrays, "
+                             f"got an array of shape {points.shape}")
+        return _aligned(points)
+    out = []
+    for c, p in enumerate(points):
+        a = np.asarray(p, dtype=np.float64)
+        if a.ndim == 1:
+            a = a[:, None]
+        if a.ndim != 2:
+            raise ValueError(f"curve {c}: \"points\" must be an (n, D) array, got shape {a.shape}")
+        out.append(_aligned(a))
+    return out
+
+
+def _per_curve(name: str, value, curves: int, ndim: int) -> Optional[list]:
+    """A per-curve argument (t, at, derivatives): one array for all curves, a 2-D array of one
+    row per curve, or a list of arrays (ragged)."""
+    if value is None:
+        return None
+    if isinstance(value, np.ndarray) and value.ndim == ndim:
+        value = [value] * curves
+    elif isinstance(value, np.ndarray) and value.ndim == ndim + 1:
+        value = list(value)
+    value = list(value)
+    if value and np.ndim(value[0]) == 0 and ndim == 1:
+        value = [np.asarray(value, dtype=np.float64)] * curves
+    if len(value) != curves:
+        raise ValueError(f"{name}: {len(value)} entries for {curves} curves")
+    return [None if v is None else _flat(v) for v in value]
+
+
+def _flat(v) -> np.ndarray:
+    """`v` as an aligned, contiguous 1-D float64 array (a view where it already is one)."""
+    return _aligned(np.asarray(v, dtype=np.float64).ravel())
+
+
+def _rows(name: str, value, curves: int):
+    """Per-curve 1-D arrays for the native side: a (C, k) array whole, else a list."""
+    if isinstance(value, np.ndarray) and value.ndim == 2:
+        if len(value) != curves:
+            raise ValueError(f"{name}: {len(value)} rows for {curves} curves")
+        return _aligned(value)
+    if isinstance(value, np.ndarray) and value.ndim == 1:
+        return _aligned(np.broadcast_to(value, (curves, len(value))))
+    return _per_curve(name, value, curves, 1)
+
+
+class Context:
+    """Where splines are evaluated: made once and reused (threads may share it).
+
+    `backend`: "auto" (a hardware GPU when there is one, else the CPU), "gpu" (any adapter,
+    lavapipe included; RuntimeError without one) or "cpu" (float64 on every thread).
+    """
+
+    def __init__(self, backend: str = "auto"):
+        self._native = _native.Context(backend)
+
+    @property
+    def info(self) -> str:
+        """The adapter (or the CPU) this context evaluates on."""
+        return self._native.info
+
+    @property
+    def backend(self) -> str:
+        """"gpu" or "cpu"."""
+        return self._native.backend
+
+    def __repr__(self) -> str:
+        return f"splinegpu.Context({self.info!r})"
+
+    def tessellate(self, points, kind: str = "catmull-rom", *, ends: Optional[str] = None,
+                   tension: Optional[float] = None, bias: Optional[float] = None,
+                   matrix=None, t=None, start_derivative=None, end_derivative=None,
+                   per_segment: Optional[int] = None, at=None, arc_length: Optional[int] = None,
+                   tolerance: Optional[float] = None, derivatives: int = 0,
+                   out: Optional[Tessellation] = None) -> Tessellation:
+        """Fits and samples a batch of curves of one kind.
+
+        `points`: a (C, n, D) array or a list of (n_i, D) arrays (ragged). `kind` and its fields
+        are the command line's (KIND_NAMES); `t`, `at` and the clamped derivatives are one array
+        for every curve, a 2-D array with a row per curve, or a list (ragged). One sampling:
+        `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`.
+        `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same shape, whose
+        arrays are filled again instead of new ones.
+
+        Raises ValueError naming the curve, field and value for bad input.
+        """
+        curves = _curves(points)
+        given = [(name, v) for name, v in
+                 (("per_segment", per_segment), ("at", at), ("arc_length", arc_length),
+                  ("tolerance", tolerance)) if v is not None]
+        if len(given) > 1:
+            raise ValueError(f"sampling: give one of {', '.join(_SAMPLINGS)}, got "
+                             f"{', '.join(n for n, _ in given)}")
+        name, value = given[0] if given else ("per_segment", 16)
+        if name == "at":
+            value = _rows("at", value, len(curves))
+        elif name in ("per_segment", "arc_length"):
+            if isinstance(value, bool) or int(value) != value:
+                raise ValueError(f"{name}: must be an integer, got {value!r}")
+            if value < 0:
+                raise ValueError(f"{name}: must be >= 1, got {value}")
+            value = int(value)
+        else:
+            value = float(value)
+        fields = {
+            "ends": ends,
+            "tension": None if tension is None else float(tension),
+            "bias": None if bias is None else float(bias),
+            "matrix": None if matrix is None else np.asarray(matrix, dtype=np.float64).tolist(),
+            "t": _per_curve("t", t, len(curves), 1),
+            "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
+            "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
+        }
+        reuse = None
+        if out is not None:
+            reuse = (out.t, out.points, out.d1, out.d2, out.curve_offsets)
+        result = self._native.tessellate(curves, kind, fields, (name, value), int(derivatives),
+                                         reuse)
+        return Tessellation(*result)
+
+
+_shared_cpu: Optional[Context] = None
+_shared_lock = threading.Lock()
+
+
+def _default_context() -> Context:
+    global _shared_cpu
+    with _shared_lock:
+        if _shared_cpu is None:
+            _shared_cpu = Context("cpu")
+        return _shared_cpu
+
+
+def _bc(bc_type, trailing: tuple):
+    """SciPy's bc_type as (name, start, end) for the native fit; derivative values broadcast to
+    y's trailing shape, flattened as y is."""
+    if isinstance(bc_type, str):
+        return bc_type, None, None
+    try:
+        (o0, v0), (o1, v1) = bc_type
+    except (TypeError, ValueError):
+        raise ValueError(f"bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\" "
+                         f"or ((1, v0), (1, vn)), got {bc_type!r}") from None
+    if o0 != 1 or o1 != 1:
+        raise ValueError(f"bc_type: only first-derivative ends (order 1) are supported, got "
+                         f"orders {o0} and {o1}")
+    start = np.broadcast_to(np.asarray(v0, dtype=np.float64), trailing).ravel().tolist()
+    end = np.broadcast_to(np.asarray(v1, dtype=np.float64), trailing).ravel().tolist()
+    return "clamped", start, end
+
+
+class CubicSpline:
+    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot")` for the cases it
+    covers: bc_type "not-a-knot", "natural", "clamped", "periodic" or ((1, v0), (1, vn)).
+
+    Fitted in float64 on the host (O(n)); evaluated through `context` (None: a shared CPU
+    context, float64; a GPU context gives float32 values within the crate's promise).
+    Differences from SciPy: no extrapolation (x outside [x[0], x[-1]] raises ValueError naming
+    it), nu <= 2, second-derivative ends not supported.
+    """
+
+    def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,
+                 context: Optional[Context] = None):
+        if extrapolate not in (None, False):
+            raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
+        x = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+        y = np.asarray(y, dtype=np.float64)
+        if x.ndim != 1:
+            raise ValueError(f"x: must be 1-D, got shape {x.shape}")
+        y = np.moveaxis(y, axis, 0)
+        if y.shape[0] != x.shape[0]:
+            raise ValueError(f"y: {y.shape[0]} values along axis {axis} for {x.shape[0]} x")
+        self._trailing = y.shape[1:]
+        y2 = np.ascontiguousarray(y.reshape(y.shape[0], -1))
+        name, start, end = _bc(bc_type, self._trailing)
+        self._native = _native.fit([x], [y2], name, start, end)
+        self.x = x
+        self.axis = axis
+        self.context = context
+
+    @property
+    def c(self) -> np.ndarray:
+        """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes."""
+        c = self._native.coefficients(0)
+        return c.reshape((4, c.shape[1]) + self._trailing)
+
+    def __call__(self, x, nu: int = 0) -> np.ndarray:
+        """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
+        `axis` as SciPy does)."""
+        x = np.asarray(x, dtype=np.float64)
+        flat = _flat(x)
+        ctx = self.context or _default_context()
+        values, _ = self._native.evaluate(ctx._native, [flat], int(nu))
+        out = values.reshape(x.shape + self._trailing)
+        if self.axis != 0 and x.ndim > 0:
+            out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
+        return out
+
+    def derivative(self, nu: int = 1) -> "_Derivative":
+        """The nu-th derivative as a callable with `.x` and `.c` (SciPy returns a PPoly)."""
+        return _Derivative(self, nu)
+
+
+class _Derivative:
+    """A derivative of a `CubicSpline`: evaluated through its spline."""
+
+    def __init__(self, spline: CubicSpline, nu: int):
+        if nu < 0 or nu > 2:
+            raise ValueError(f"nu: must be 0, 1 or 2, got {nu}")
+        self._spline, self._nu = spline, nu
+        self.x = spline.x
+
+    @property
+    def c(self) -> np.ndarray:
+        c = self._spline.c
+        for _ in range(self._nu):
+            k = c.shape[0]
+            powers = np.arange(k - 1, 0, -1).reshape((k - 1,) + (1,) * (c.ndim - 1))
+            c = c[:-1] * powers
+        return c
+
+    def __call__(self, x, nu: int = 0) -> np.ndarray:
+        return self._spline(x, self._nu + nu)
+
+
+class CubicSplines:
+    """Many cubic splines with their own knots, fitted and evaluated in one batch.
+
+    `xs`: a list of 1-D knot arrays (or a 2-D array, one row per spline); `ys`: matching
+    (n_i, m) arrays. Calling with one array of x per spline returns (values (N, m),
+    offsets (S + 1,)): spline i's values are rows offsets[i]:offsets[i+1].
+    """
+
+    def __init__(self, xs, ys, bc_type="not-a-knot", context: Optional[Context] = None):
+        if isinstance(xs, np.ndarray) and xs.ndim == 2:
+            xs = _aligned(xs)
+        else:
+            xs = [_flat(x) for x in xs]
+        if isinstance(ys, np.ndarray) and ys.ndim >= 2:
+            trailing = ys.shape[2:]
+            ys2 = _aligned(np.asarray(ys, dtype=np.float64).reshape(ys.shape[0], ys.shape[1], -1))
+        else:
+            trailing = np.asarray(ys[0]).shape[1:] if len(ys) else ()
+            ys2 = [_aligned(np.asarray(y, dtype=np.float64).reshape(len(y), -1)) for y in ys]
+        name, start, end = _bc(bc_type, trailing)
+        self._native = _native.fit(xs, ys2, name, start, end)
+        self.context = context
+
+    def __len__(self) -> int:
+        return len(self._native)
+
+    def __call__(self, xs: Sequence[Any], nu: int = 0):
+        """Spline i at xs[i] (a list of arrays, or a (S, k) array) -> (values, offsets)."""
+        if isinstance(xs, np.ndarray) and xs.ndim == 2:
+            flat = _aligned(xs)
+        else:
+            flat = [_flat(x) for x in xs]
+        ctx = self.context or _default_context()
+        return self._native.evaluate(ctx._native, flat, int(nu))

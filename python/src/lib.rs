@@ -1,0 +1,679 @@
+//! `splinegpu._native`: the Rust half of the Python package. The Python half
+//! (`python/splinegpu/__init__.py`) turns NumPy-shaped arguments (a (C, n, D) array or a list of
+//! (n_i, D) arrays, SciPy's `bc_type`) into the plain per-curve lists taken here, and wraps the
+//! results.
+//!
+//! Errors: a bad argument raises `ValueError` with the crate's located message (curve index,
+//! field, value); a GPU failure raises `RuntimeError`. The GIL is released while fitting and
+//! evaluating. Results come back without a copy where the crate's buffers allow it: a fresh
+//! result's arrays take over the evaluator's vectors (NumPy owns them from then on); with `out=`
+//! the CPU backend evaluates straight into the given arrays, while the GPU backend copies its
+//! readback into them (the mapped GPU buffer cannot outlive the call).
+
+use numpy::{
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadonlyArray3, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use splinegpu::{
+    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, KindFields,
+    Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+};
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+fn runtime_error(e: impl std::fmt::Display) -> PyErr {
+    PyRuntimeError::new_err(e.to_string())
+}
+
+/// A batch of (n, D) arrays: one C-contiguous (C, n, D) array, or a list of (n_i, D) arrays.
+#[derive(FromPyObject)]
+enum Stack2<'py> {
+    Dense(PyReadonlyArray3<'py, f64>),
+    Ragged(Vec<PyReadonlyArray2<'py, f64>>),
+}
+
+impl Stack2<'_> {
+    /// Each array's D and values.
+    fn items(&self) -> PyResult<Vec<(usize, &[f64])>> {
+        match self {
+            Stack2::Dense(a) => {
+                let shape = a.shape();
+                let per = shape[1] * shape[2];
+                let all = a.as_slice()?;
+                Ok((0..shape[0])
+                    .map(|c| (shape[2], &all[c * per..(c + 1) * per]))
+                    .collect())
+            }
+            Stack2::Ragged(list) => list
+                .iter()
+                .map(|a| Ok((a.shape()[1], a.as_slice()?)))
+                .collect(),
+        }
+    }
+}
+
+/// A batch of 1-D arrays: one C-contiguous (C, k) array, or a list of 1-D arrays.
+#[derive(FromPyObject)]
+enum Stack1<'py> {
+    Dense(PyReadonlyArray2<'py, f64>),
+    Ragged(Vec<PyReadonlyArray1<'py, f64>>),
+}
+
+impl Stack1<'_> {
+    fn items(&self) -> PyResult<Vec<&[f64]>> {
+        match self {
+            Stack1::Dense(a) => {
+                let k = a.shape()[1];
+                Ok(a.as_slice()?
+                    .chunks_exact(k.max(1))
+                    .take(a.shape()[0])
+                    .collect())
+            }
+            Stack1::Ragged(list) => list.iter().map(|a| Ok(a.as_slice()?)).collect(),
+        }
+    }
+}
+
+/// `make(c)` for every c < n, on every thread, in order; the first error in curve order wins.
+fn on_threads<T: Send>(
+    n: usize,
+    make: impl Fn(usize) -> Result<T, InputError> + Sync,
+) -> Result<Vec<T>, InputError> {
+    let threads = splinegpu::available_threads().clamp(1, n.max(1));
+    let parts: Vec<Result<Vec<T>, InputError>> = std::thread::scope(|scope| {
+        let make = &make;
+        let handles: Vec<_> = (0..threads)
+            .map(|k| {
+                scope.spawn(move || (n * k / threads..n * (k + 1) / threads).map(make).collect())
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a builder thread panicked"))
+            .collect()
+    });
+    let mut all = Vec::with_capacity(n);
+    for part in parts {
+        all.extend(part?);
+    }
+    Ok(all)
+}
+
+/// A job of `n` curves, each fitted and planned on every thread (`make(c)` gives curve c's
+/// table and plan), then pushed in order; errors name their curve.
+fn job_on_threads(
+    n: usize,
+    derivatives: Derivatives,
+    make: impl Fn(usize) -> Result<(SegmentTable, SamplePlan), InputError> + Sync,
+) -> Result<EvalJob, InputError> {
+    let parts = on_threads(n, |c| make(c).map_err(|e| e.in_curve(c)))?;
+    let mut job = EvalJob::new(derivatives);
+    for (c, (table, plan)) in parts.into_iter().enumerate() {
+        job.push_table(table, plan).map_err(|e| e.in_curve(c))?;
+    }
+    Ok(job)
+}
+
+/// A device (or the CPU) made once and reused: `Context(backend="auto" | "gpu" | "cpu")`.
+#[pyclass(frozen, module = "splinegpu._native")]
+struct Context {
+    gpu: Option<GpuContext>,
+    info: String,
+}
+
+#[pymethods]
+impl Context {
+    #[new]
+    #[pyo3(signature = (backend = "auto"))]
+    fn new(py: Python<'_>, backend: &str) -> PyResult<Self> {
+        let gpu = match backend {
+            "cpu" => None,
+            "gpu" => Some(py.detach(GpuContext::new).map_err(runtime_error)?),
+            "auto" => match py.detach(splinegpu::hardware_adapter) {
+                Some(adapter) => Some(
+                    py.detach(|| GpuContext::from_adapter(&adapter))
+                        .map_err(runtime_error)?,
+                ),
+                None => None,
+            },
+            other => {
+                return Err(value_error(format!(
+                    "backend: must be \"auto\", \"gpu\" or \"cpu\", got \"{other}\""
+                )));
+            }
+        };
+        let info = match &gpu {
+            Some(gpu) => {
+                let info = gpu.adapter_info();
+                format!(
+                    "gpu: {} ({:?}, {:?}; driver {})",
+                    info.name, info.device_type, info.backend, info.driver_info
+                )
+            }
+            None => format!("cpu: f64 on {} threads", splinegpu::available_threads()),
+        };
+        Ok(Self { gpu, info })
+    }
+
+    /// The adapter (or "cpu: ...") this context evaluates on.
+    #[getter]
+    fn info(&self) -> &str {
+        &self.info
+    }
+
+    /// "gpu" or "cpu".
+    #[getter]
+    fn backend(&self) -> &str {
+        if self.gpu.is_some() { "gpu" } else { "cpu" }
+    }
+
+    /// Tessellates curves given as plain per-curve lists (see `splinegpu.Context.tessellate`).
+    /// Returns (t, points, d1, d2, curve_offsets); d1 and d2 are None when not asked for.
+    #[pyo3(signature = (points, kind, fields, sampling, derivatives, out))]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the Python call's arguments, one each"
+    )]
+    fn tessellate<'py>(
+        &self,
+        py: Python<'py>,
+        points: Stack2<'py>,
+        kind: &str,
+        fields: CurveFields<'py>,
+        sampling: SamplingArg<'py>,
+        derivatives: u64,
+        out: Option<Out<'py>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let derivatives = Derivatives::from_order(derivatives).ok_or_else(|| {
+            value_error(format!("derivatives: must be 0, 1 or 2, got {derivatives}"))
+        })?;
+        let points = points.items()?;
+        let kinds = kinds(points.len(), kind, &fields)?;
+        let samplings = sampling.per_curve(points.len())?;
+        let job = py
+            .detach(|| {
+                job_on_threads(points.len(), derivatives, |c| {
+                    let (dim, coords) = points[c];
+                    let curve = Curve::new(kinds[c].clone(), Points::new(dim, coords.to_vec())?)?;
+                    let table = curve.fit();
+                    table.check_range(derivatives)?;
+                    let plan = SamplePlan::new(&table, &samplings[c])?;
+                    Ok((table, plan))
+                })
+            })
+            .map_err(value_error)?;
+        let offsets = offsets(&job);
+        match (&self.gpu, out) {
+            (None, None) => {
+                let mut samples = Samples::<f64>::for_job(&EvalJob::new(derivatives));
+                py.detach(|| {
+                    splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads())
+                });
+                fresh(py, samples, offsets)
+            }
+            (Some(gpu), None) => {
+                let mut samples = Samples::<f32>::for_job(&EvalJob::new(derivatives));
+                py.detach(|| gpu.evaluate_into(&job, &mut samples))
+                    .map_err(runtime_error)?;
+                fresh(py, samples, offsets)
+            }
+            (gpu, Some(out)) => out.fill(py, &job, gpu.as_ref(), offsets),
+        }
+    }
+}
+
+/// Per-curve kind fields, as the Python side normalises them (each list has one entry per
+/// curve, or is None).
+#[derive(FromPyObject)]
+struct CurveFields<'py> {
+    #[pyo3(item)]
+    ends: Option<String>,
+    #[pyo3(item)]
+    tension: Option<f64>,
+    #[pyo3(item)]
+    bias: Option<f64>,
+    #[pyo3(item)]
+    matrix: Option<[[f64; 4]; 4]>,
+    #[pyo3(item)]
+    t: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    start_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    end_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+}
+
+/// The sampling: its contract name and value; "at" holds one array per curve.
+#[derive(FromPyObject)]
+enum SamplingArg<'py> {
+    At(String, Stack1<'py>),
+    Count(String, u64),
+    Tolerance(String, f64),
+}
+
+impl SamplingArg<'_> {
+    fn per_curve(&self, curves: usize) -> PyResult<Vec<Sampling>> {
+        let count = |name: &str, v: u64| -> PyResult<u32> {
+            u32::try_from(v).map_err(|_| value_error(format!("{name}: {v} is too large")))
+        };
+        Ok(match self {
+            SamplingArg::At(name, at) if name == "at" => {
+                let at = at.items()?;
+                if at.len() != curves {
+                    return Err(value_error(format!(
+                        "at: {} arrays for {curves} curves",
+                        at.len()
+                    )));
+                }
+                at.iter().map(|a| Sampling::At(a.to_vec())).collect()
+            }
+            SamplingArg::Count(name, v) if name == "per_segment" => {
+                vec![Sampling::PerSegment(count(name, *v)?); curves]
+            }
+            SamplingArg::Count(name, v) if name == "arc_length" => {
+                vec![Sampling::ArcLength(count(name, *v)?); curves]
+            }
+            SamplingArg::Tolerance(name, v) if name == "tolerance" => {
+                vec![Sampling::Tolerance(*v); curves]
+            }
+            SamplingArg::Count(name, v) if name == "tolerance" => {
+                vec![Sampling::Tolerance(*v as f64); curves]
+            }
+            SamplingArg::At(name, _)
+            | SamplingArg::Count(name, _)
+            | SamplingArg::Tolerance(name, _) => {
+                return Err(value_error(format!(
+                    "sampling: \"{name}\" is not one of per_segment, at, arc_length, tolerance"
+                )));
+            }
+        })
+    }
+}
+
+/// Each curve's kind (its own t and end derivatives), checked, with its index in errors.
+fn kinds(n: usize, kind: &str, fields: &CurveFields<'_>) -> PyResult<Vec<CurveKind>> {
+    let ends = match fields.ends.as_deref() {
+        None => None,
+        Some("control") => Some(Ends::Control),
+        Some("repeat") => Some(Ends::Repeat),
+        Some("closed") => Some(Ends::Closed),
+        Some(other) => {
+            return Err(value_error(format!(
+                "\"ends\" must be \"control\", \"repeat\" or \"closed\", got \"{other}\""
+            )));
+        }
+    };
+    let per_curve = |list: &Option<Vec<Option<PyReadonlyArray1<'_, f64>>>>, c: usize| {
+        list.as_ref()
+            .and_then(|l| l.get(c))
+            .and_then(Option::as_ref)
+            .map(|a| a.as_slice().map(<[f64]>::to_vec))
+            .transpose()
+    };
+    (0..n)
+        .map(|c| {
+            let kind_fields = KindFields {
+                ends,
+                tension: fields.tension,
+                bias: fields.bias,
+                matrix: fields.matrix,
+                t: per_curve(&fields.t, c)?,
+                start_derivative: per_curve(&fields.start_derivative, c)?,
+                end_derivative: per_curve(&fields.end_derivative, c)?,
+            };
+            CurveKind::named(kind, kind_fields).map_err(|e| value_error(e.in_curve(c)))
+        })
+        .collect()
+}
+
+/// curve_offsets: curve c owns rows offsets[c]..offsets[c + 1].
+fn offsets(job: &EvalJob) -> Vec<i64> {
+    let layout = job.layout();
+    std::iter::once(0)
+        .chain((0..job.len()).map(|c| layout.samples_of(c).end as i64))
+        .collect()
+}
+
+/// A result whose arrays take over `samples`' vectors (no copy).
+fn fresh<'py, F: SampleFloat + numpy::Element>(
+    py: Python<'py>,
+    samples: Samples<F>,
+    offsets: Vec<i64>,
+) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+    let order = samples.derivatives().order();
+    let (layout, t, [points, d1, d2]) = samples.into_parts();
+    let dim = if layout.is_empty() {
+        0
+    } else {
+        layout.max_dim()
+    };
+    let rows = layout.samples();
+    let plane = |v: Vec<F>| -> PyResult<Py<PyAny>> {
+        Ok(PyArray1::from_vec(py, v)
+            .reshape([rows, dim])?
+            .into_any()
+            .unbind())
+    };
+    let d1 = if order >= 1 { plane(d1)? } else { py.None() };
+    let d2 = if order >= 2 { plane(d2)? } else { py.None() };
+    (
+        PyArray1::from_vec(py, t),
+        plane(points)?,
+        d1,
+        d2,
+        PyArray1::from_vec(py, offsets),
+    )
+        .into_pyobject(py)
+}
+
+/// The arrays of an earlier result, reused (`out=`): t, points, d1, d2, curve_offsets.
+#[derive(FromPyObject)]
+struct Out<'py>(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAny>>,
+    Bound<'py, PyArray1<i64>>,
+);
+
+impl<'py> Out<'py> {
+    /// Evaluates `job` into these arrays and returns them.
+    fn fill(
+        self,
+        py: Python<'py>,
+        job: &EvalJob,
+        gpu: Option<&GpuContext>,
+        offsets: Vec<i64>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let layout = job.layout();
+        let rows = layout.samples();
+        let dim = if job.is_empty() { 0 } else { layout.max_dim() };
+        let order = job.derivatives().order();
+        if (0..job.len()).any(|c| layout.dim(c) != dim) {
+            return Err(value_error(
+                "out: curves of different dimensions have no (N, D) arrays to reuse",
+            ));
+        }
+        let Out(t, points, d1, d2, curve_offsets) = self;
+        let wrong =
+            |what: &str| value_error(format!("out: {what} does not match this call's result"));
+        if t.len() != rows || curve_offsets.len() != offsets.len() {
+            return Err(wrong("t or curve_offsets"));
+        }
+        let planes: Vec<Bound<'py, PyAny>> = [Some(points), d1, d2]
+            .into_iter()
+            .take(order + 1)
+            .map(|p| p.ok_or_else(|| wrong("a derivative array")))
+            .collect::<PyResult<_>>()?;
+        curve_offsets
+            .readwrite()
+            .as_slice_mut()?
+            .copy_from_slice(&offsets);
+        let mut t_view = t.readwrite();
+        let t_slice = t_view.as_slice_mut()?;
+        match gpu {
+            None => {
+                let arrays: Vec<Bound<'py, PyArray2<f64>>> = (planes.iter())
+                    .map(|p| {
+                        p.cast::<PyArray2<f64>>()
+                            .cloned()
+                            .map_err(|_| wrong("float64 arrays"))
+                    })
+                    .collect::<PyResult<_>>()?;
+                let mut views: Vec<_> = arrays.iter().map(|a| a.readwrite()).collect();
+                let mut slices: Vec<&mut [f64]> = views
+                    .iter_mut()
+                    .map(|v| v.as_slice_mut())
+                    .collect::<Result<_, _>>()?;
+                if slices.iter().any(|s| s.len() != rows * dim) {
+                    return Err(wrong("an (N, D) array"));
+                }
+                slices.resize_with(3, || &mut []);
+                let mut it = slices.into_iter();
+                let planes = [it.next().unwrap(), it.next().unwrap(), it.next().unwrap()];
+                py.detach(|| {
+                    splinegpu::evaluate_cpu_planes_into(
+                        job,
+                        t_slice,
+                        planes,
+                        splinegpu::available_threads(),
+                    );
+                });
+            }
+            Some(gpu) => {
+                let mut samples = Samples::<f32>::for_job(&EvalJob::new(job.derivatives()));
+                py.detach(|| gpu.evaluate_into(job, &mut samples))
+                    .map_err(runtime_error)?;
+                let (_, t_values, values) = samples.into_parts();
+                t_slice.copy_from_slice(&t_values);
+                for (p, plane) in planes.iter().enumerate() {
+                    let array = plane
+                        .cast::<PyArray2<f32>>()
+                        .map_err(|_| wrong("float32 arrays"))?;
+                    let mut view = array.readwrite();
+                    let slice = view.as_slice_mut()?;
+                    if slice.len() != values[p].len() {
+                        return Err(wrong("an (N, D) array"));
+                    }
+                    slice.copy_from_slice(&values[p]);
+                }
+            }
+        }
+        drop(t_view);
+        let mut items: Vec<Py<PyAny>> = vec![t.into_any().unbind()];
+        for p in 0..3 {
+            items.push(
+                planes
+                    .get(p)
+                    .map_or_else(|| py.None(), |a| a.clone().unbind()),
+            );
+        }
+        items.push(curve_offsets.into_any().unbind());
+        pyo3::types::PyTuple::new(py, items)
+    }
+}
+
+/// One fitted interpolating spline, or many: what `splinegpu.CubicSpline` holds.
+#[pyclass(frozen, module = "splinegpu._native")]
+struct Splines {
+    tables: Vec<SegmentTable>,
+}
+
+/// The end condition of SciPy's `bc_type` names: "not-a-knot", "natural", "periodic",
+/// "clamped" (first derivative zero), or first derivatives given at both ends.
+fn condition(
+    bc: &str,
+    start: Option<Vec<f64>>,
+    end: Option<Vec<f64>>,
+    dim: usize,
+) -> PyResult<EndCondition> {
+    Ok(match bc {
+        "not-a-knot" => EndCondition::NotAKnot,
+        "natural" => EndCondition::Natural,
+        "periodic" => EndCondition::Periodic,
+        "clamped" => EndCondition::Clamped {
+            start: start.unwrap_or_else(|| vec![0.0; dim]),
+            end: end.unwrap_or_else(|| vec![0.0; dim]),
+        },
+        other => {
+            return Err(value_error(format!(
+                "bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\" or ((1, v0), (1, vn)), got \"{other}\""
+            )));
+        }
+    })
+}
+
+/// Fits one spline per (x, y) pair: y an (n, m) array at the n strictly increasing x.
+#[pyfunction]
+#[pyo3(signature = (xs, ys, bc_type, start = None, end = None))]
+fn fit<'py>(
+    py: Python<'py>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    bc_type: &str,
+    start: Option<Vec<f64>>,
+    end: Option<Vec<f64>>,
+) -> PyResult<Splines> {
+    let (xs, ys) = (xs.items()?, ys.items()?);
+    if xs.len() != ys.len() {
+        return Err(value_error(format!(
+            "{} x arrays for {} y arrays",
+            xs.len(),
+            ys.len()
+        )));
+    }
+    let dim = ys.first().map_or(1, |y| y.0);
+    let condition = condition(bc_type, start, end, dim)?;
+    let tables = py
+        .detach(|| {
+            on_threads(xs.len(), |c| {
+                let (dim, y) = ys[c];
+                let kind = CurveKind::Interpolating {
+                    condition: condition.clone(),
+                    t: Some(xs[c].to_vec()),
+                };
+                let curve =
+                    Curve::new(kind, Points::new(dim, y.to_vec())?).map_err(|e| e.in_curve(c))?;
+                Ok(curve.fit())
+            })
+        })
+        .map_err(value_error)?;
+    Ok(Splines { tables })
+}
+
+#[pymethods]
+impl Splines {
+    /// Number of splines.
+    fn __len__(&self) -> usize {
+        self.tables.len()
+    }
+
+    /// Spline `i`'s coefficients as SciPy's PPoly holds them: c[k, j, :] multiplies
+    /// (x − x_j)^(3−k) on interval j, shape (4, n − 1, m).
+    fn coefficients<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let table = self
+            .tables
+            .get(i)
+            .ok_or_else(|| value_error(format!("spline {i} of {}", self.tables.len())))?;
+        let (n, m) = (table.len(), table.dim());
+        let mut c = vec![0.0; 4 * n * m];
+        for j in 0..n {
+            let segment = table.segment(j);
+            let dt = segment.dt();
+            // P(u) = A u³ + B u² + C u + D with u = (x − x_j)/Δ.
+            let [a, b, cc, d] = segment.power();
+            for k in 0..m {
+                c[j * m + k] = a[k] / (dt * dt * dt);
+                c[(n + j) * m + k] = b[k] / (dt * dt);
+                c[(2 * n + j) * m + k] = cc[k] / dt;
+                c[(3 * n + j) * m + k] = d[k];
+            }
+        }
+        PyArray1::from_vec(py, c).reshape([4, n, m])
+    }
+
+    /// Evaluates spline i at `at[i]` for every i (or the one spline at `at[0]`), derivative
+    /// `nu` (0, 1 or 2) with respect to x, on `context`. Returns (values (N, m), offsets).
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        context: &Context,
+        at: Stack1<'py>,
+        nu: u64,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let derivatives = Derivatives::from_order(nu)
+            .ok_or_else(|| value_error(format!("nu: must be 0, 1 or 2, got {nu}")))?;
+        let at = at.items()?;
+        if at.len() != self.tables.len() {
+            return Err(value_error(format!(
+                "{} arrays of x for {} splines",
+                at.len(),
+                self.tables.len()
+            )));
+        }
+        let tables = &self.tables;
+        let job = py
+            .detach(|| {
+                job_on_threads(tables.len(), derivatives, |c| {
+                    let plan = SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))?;
+                    Ok((tables[c].clone(), plan))
+                })
+            })
+            .map_err(value_error)?;
+        let offsets = offsets(&job);
+        let order = nu as usize;
+        let tuple = match &context.gpu {
+            None => {
+                let mut samples = Samples::<f64>::for_job(&EvalJob::new(derivatives));
+                py.detach(|| {
+                    splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads())
+                });
+                fresh(py, samples, offsets)?
+            }
+            Some(gpu) => {
+                let mut samples = Samples::<f32>::for_job(&EvalJob::new(derivatives));
+                py.detach(|| gpu.evaluate_into(&job, &mut samples))
+                    .map_err(runtime_error)?;
+                fresh(py, samples, offsets)?
+            }
+        };
+        (tuple.get_item(1 + order)?, tuple.get_item(4)?).into_pyobject(py)
+    }
+}
+
+/// `python -m splinegpu.bench`'s anchor: the crate's own CPU path on the same curves, from Rust
+/// in this process. Each repetition fits the curves, builds the job and evaluates it into
+/// reused f64 samples with t (what `Context.tessellate(out=...)` does); evaluation alone is
+/// timed apart. Returns the fastest of `repeats` (after one warm-up) of each, in seconds.
+#[pyfunction]
+fn time_rust_tessellate<'py>(
+    py: Python<'py>,
+    points: Stack2<'py>,
+    kind: &str,
+    per_segment: u32,
+    repeats: usize,
+) -> PyResult<(f64, f64)> {
+    let coords: Vec<(usize, Vec<f64>)> = (points.items()?.into_iter())
+        .map(|(dim, xyz)| (dim, xyz.to_vec()))
+        .collect();
+    py.detach(|| {
+        let build = || -> Result<EvalJob, InputError> {
+            let mut job = EvalJob::new(Derivatives::None);
+            for (c, (dim, xyz)) in coords.iter().enumerate() {
+                let kind = CurveKind::named(kind, KindFields::default())?;
+                let curve =
+                    Curve::new(kind, Points::new(*dim, xyz.clone())?).map_err(|e| e.in_curve(c))?;
+                job.push(&curve, &Sampling::PerSegment(per_segment))?;
+            }
+            Ok(job)
+        };
+        let threads = splinegpu::available_threads();
+        let mut samples = Samples::<f64>::for_job(&EvalJob::new(Derivatives::None));
+        let (mut whole, mut evaluation) = (f64::INFINITY, f64::INFINITY);
+        for _ in 0..=repeats {
+            let start = std::time::Instant::now();
+            let job = build()?;
+            let evaluated = std::time::Instant::now();
+            splinegpu::evaluate_cpu_into(&job, &mut samples, threads);
+            let end = std::time::Instant::now();
+            whole = whole.min((end - start).as_secs_f64());
+            evaluation = evaluation.min((end - evaluated).as_secs_f64());
+        }
+        Ok((whole, evaluation))
+    })
+    .map_err(|e: InputError| value_error(e))
+}
+
+/// The extension module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Context>()?;
+    m.add_class::<Splines>()?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
+    m.add("KIND_NAMES", splinegpu::KIND_NAMES.to_vec())?;
+    Ok(())
+}

@@ -1,0 +1,201 @@
+"""Context.tessellate: the CLI's numbers, ragged batches, every sampling, out= reuse, threads,
+and a located ValueError for every class of bad input."""
+
+import json
+import os
+import pathlib
+import subprocess
+import tempfile
+import threading
+
+import numpy as np
+import pytest
+
+import splinegpu
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def cli():
+    """The command line built by the crate's tests (cargo test) or a release build."""
+    for profile in ("debug", "release"):
+        path = ROOT / "target" / profile / "splinegpu"
+        if path.exists():
+            return path
+    if os.environ.get("CI") == "true":
+        raise AssertionError("no target/*/splinegpu: run cargo test first")
+    pytest.skip("no splinegpu binary built")
+
+
+def cli_npz(document):
+    with tempfile.TemporaryDirectory() as folder:
+        doc, out = pathlib.Path(folder, "doc.json"), pathlib.Path(folder, "out.npz")
+        doc.write_text(json.dumps(document))
+        subprocess.run([str(cli()), "tessellate", str(doc), "-o", str(out), "--backend", "cpu"],
+                       check=True, capture_output=True)
+        with np.load(out) as npz:
+            return {k: npz[k] for k in npz.files}
+
+
+CASES = [
+    # kind, fields, sampling (python keyword, document object)
+    ("catmull-rom", {}, ("per_segment", 7)),
+    ("cardinal", {"tension": 0.3, "ends": "closed"}, ("arc_length", 50)),
+    ("bspline", {"ends": "repeat"}, ("tolerance", 0.01)),
+    ("beta", {"bias": 1.5, "tension": 2.0}, ("per_segment", 3)),
+    ("tensioned-bspline", {"tension": 4.0}, ("per_segment", 5)),
+    ("bezier", {}, ("arc_length", 9)),
+    ("natural", {}, ("per_segment", 4)),
+    ("not-a-knot", {}, ("tolerance", 0.05)),
+    ("matrix", {"matrix": [[-1, 3, -3, 1], [3, -6, 3, 0], [-3, 0, 3, 0], [1, 4, 1, 0]]},
+     ("per_segment", 6)),
+]
+
+
+@pytest.mark.parametrize("kind,fields,sampling", CASES, ids=[c[0] for c in CASES])
+def test_equal_to_the_cli_npz(cpu, kind, fields, sampling):
+    rng = np.random.default_rng(1)
+    n = 10 if kind != "bezier" else 10
+    curves = [rng.uniform(-3, 3, (n, 2)) for _ in range(3)]
+    name, value = sampling
+    document = {
+        "derivatives": 2,
+        "sampling": {name: value},
+        "curves": [dict(kind=kind, points=c.tolist(), **fields) for c in curves],
+    }
+    want = cli_npz(document)
+    got = cpu.tessellate(curves, kind, derivatives=2, **{name: value}, **fields)
+    for key in ("t", "points", "d1", "d2", "curve_offsets"):
+        np.testing.assert_array_equal(getattr(got, key), want[key], err_msg=key)
+
+
+def test_interpolating_knots_and_clamped_derivatives_equal_the_cli(cpu):
+    rng = np.random.default_rng(2)
+    t = [np.cumsum(rng.uniform(0.1, 2, 6)) for _ in range(2)]
+    pts = [rng.uniform(-1, 1, (6, 3)) for _ in range(2)]
+    d0, d1 = [[1, 0, 0], [0, 1, 0]], [[0, 0, 1], [1, 1, 1]]
+    document = {"derivatives": 1, "sampling": {"at": [float(t[0][2]), float(t[0][0])]},
+                "curves": [{"kind": "clamped", "points": p.tolist(), "t": k.tolist(),
+                            "start_derivative": a, "end_derivative": b,
+                            "sampling": {"at": [float(k[1]), float(k[-1]), float(k[0])]}}
+                           for p, k, a, b in zip(pts, t, d0, d1)]}
+    want = cli_npz(document)
+    at = [[k[1], k[-1], k[0]] for k in t]
+    got = cpu.tessellate(pts, "clamped", t=t, start_derivative=d0, end_derivative=d1, at=at,
+                         derivatives=1)
+    for key in ("t", "points", "d1", "curve_offsets"):
+        np.testing.assert_array_equal(getattr(got, key), want[key], err_msg=key)
+
+
+def test_ragged_batch_is_each_curve_alone(cpu):
+    rng = np.random.default_rng(3)
+    curves = [rng.uniform(-1, 1, (n, 3)) for n in (4, 17, 6, 40)]
+    whole = cpu.tessellate(curves, "bspline", arc_length=33, derivatives=1)
+    assert whole.curve_offsets.tolist() == [0, 33, 66, 99, 132]
+    for c, points in enumerate(curves):
+        alone = cpu.tessellate([points], "bspline", arc_length=33, derivatives=1)
+        part = whole.curve(c)
+        np.testing.assert_array_equal(part.points, alone.points)
+        np.testing.assert_array_equal(part.t, alone.t)
+        np.testing.assert_array_equal(part.d1, alone.d1)
+
+
+def test_gpu_gives_float32_within_the_cpu_values(cpu, gpu):
+    rng = np.random.default_rng(4)
+    curves = rng.uniform(-1, 1, (50, 8, 3))
+    a = cpu.tessellate(curves, per_segment=10, derivatives=2)
+    b = gpu.tessellate(curves, per_segment=10, derivatives=2)
+    assert b.points.dtype == np.float32 and b.t.dtype == np.float64
+    np.testing.assert_array_equal(a.t, b.t)
+    np.testing.assert_array_equal(a.curve_offsets, b.curve_offsets)
+    assert np.max(np.abs(a.points - b.points)) < 1e-5 * 2
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+def test_out_reuses_the_arrays(cpu, gpu, backend):
+    ctx = cpu if backend == "cpu" else gpu
+    rng = np.random.default_rng(5)
+    first = ctx.tessellate(rng.uniform(-1, 1, (20, 6, 2)), per_segment=4, derivatives=1)
+    arrays = [first.t, first.points, first.d1, first.curve_offsets]
+    curves = rng.uniform(-1, 1, (20, 6, 2))
+    again = ctx.tessellate(curves, per_segment=4, derivatives=1, out=first)
+    assert [again.t, again.points, again.d1, again.curve_offsets] == arrays or all(
+        x is y for x, y in zip([again.t, again.points, again.d1, again.curve_offsets], arrays))
+    fresh = ctx.tessellate(curves, per_segment=4, derivatives=1)
+    np.testing.assert_array_equal(again.points, fresh.points)
+    np.testing.assert_array_equal(again.d1, fresh.d1)
+    np.testing.assert_array_equal(again.t, fresh.t)
+    with pytest.raises(ValueError, match="out"):
+        ctx.tessellate(curves, per_segment=5, derivatives=1, out=first)
+
+
+def test_threads_share_one_context(cpu, gpu):
+    rng = np.random.default_rng(6)
+    batches = [rng.uniform(-1, 1, (30, 7, 3)) for _ in range(8)]
+    for ctx in (cpu, gpu):
+        want = [ctx.tessellate(b, per_segment=9).points for b in batches]
+        got = [None] * len(batches)
+
+        def work(i):
+            got[i] = ctx.tessellate(batches[i], per_segment=9).points
+
+        threads = [threading.Thread(target=work, args=(i,)) for i in range(len(batches))]
+        for th in threads:
+            th.start()
+        for th in threads:
+            th.join()
+        for w, g in zip(want, got):
+            np.testing.assert_array_equal(w, g)
+
+
+BAD = [
+    (dict(kind="spiral"), r'"kind" is unknown: "spiral"'),
+    (dict(kind="bspline", tension=1.0), r'curve 0: "tension" is not a field of a "bspline"'),
+    (dict(kind="catmull-rom", ends="loop"), r'"ends" must be'),
+    (dict(kind="natural", per_segment=0), r'curve 0: "per_segment"'),
+    (dict(kind="natural", tolerance=-1.0), r'curve 0: "tolerance"'),
+    (dict(kind="natural", tolerance=float("nan")), r'curve 0: "tolerance"'),
+    (dict(kind="natural", arc_length=1), r'curve 0: "arc_length"'),
+    (dict(kind="natural", at=[[0.5], [99.0]]), r'curve 1: "at"'),
+    (dict(kind="natural", derivatives=3), r"derivatives"),
+    (dict(kind="natural", per_segment=2, at=[0.5]), r"sampling: give one of"),
+    (dict(kind="clamped"), r'"start_derivative" is missing'),
+    (dict(kind="natural", t=[[0, 1, 1, 2, 3], [0, 1, 2, 3, 4]]), r'curve 0: "t"'),
+    (dict(kind="matrix"), r'"matrix" is missing'),
+]
+
+
+@pytest.mark.parametrize("kwargs,message", BAD, ids=[m for _, m in BAD])
+def test_bad_input_raises_a_located_value_error(cpu, kwargs, message):
+    rng = np.random.default_rng(7)
+    curves = rng.uniform(-1, 1, (2, 5, 2))
+    kind = kwargs.pop("kind")
+    with pytest.raises(ValueError, match=message):
+        cpu.tessellate(curves, kind, **kwargs)
+
+
+def test_bad_points_name_their_curve(cpu):
+    good = np.zeros((5, 2))
+    bad = good.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"curve 1: .*points"):
+        cpu.tessellate([good + np.arange(5)[:, None], bad], "natural")
+    with pytest.raises(ValueError, match=r"curve 0: .*points"):
+        cpu.tessellate([np.zeros((2, 2))], "catmull-rom")
+    with pytest.raises(ValueError, match=r"points: must be"):
+        cpu.tessellate(np.zeros((4, 2)), "catmull-rom")
+
+
+def test_backends_and_bc_types_are_checked():
+    with pytest.raises(ValueError, match="backend"):
+        splinegpu.Context("tpu")
+    x = np.arange(5.0)
+    with pytest.raises(ValueError, match="bc_type"):
+        splinegpu.CubicSpline(x, x, bc_type="free")
+    with pytest.raises(ValueError, match=r'"t"'):
+        splinegpu.CubicSpline(np.array([0, 1, 1, 2, 3.0]), x)
+    spline = splinegpu.CubicSpline(x, x)
+    with pytest.raises(ValueError, match=r'"at"'):
+        spline(7.0)
+    with pytest.raises(ValueError, match="nu"):
+        spline(1.0, nu=3)
