@@ -107,8 +107,13 @@ def main(argv):
 
 def workers():
     """w1's curves x 4 on 1 and on 2 Dask worker processes of one thread each."""
+    import warnings
+
     import dask.array as da
     from distributed import Client, LocalCluster
+
+    # The curves travel inside the graph (they are made here, not on the workers): expected.
+    warnings.filterwarnings("ignore", message="Sending large graph")
 
     import splinegpu.dask
 
