@@ -192,13 +192,13 @@ impl Context {
             value_error(format!("derivatives: must be 0, 1 or 2, got {derivatives}"))
         })?;
         let points = points.items()?;
-        let kinds = kinds(points.len(), kind, &fields)?;
+        let kinds = KindSource::new(kind, &fields)?;
         let samplings = sampling.per_curve(points.len())?;
         let job = py
             .detach(|| {
                 job_on_threads(points.len(), derivatives, |c| {
                     let (dim, coords) = points[c];
-                    let curve = Curve::new(kinds[c].clone(), Points::new(dim, coords.to_vec())?)?;
+                    let curve = Curve::new(kinds.kind(c)?, Points::new(dim, coords.to_vec())?)?;
                     let table = curve.fit();
                     table.check_range(derivatives)?;
                     let plan = SamplePlan::new(&table, &samplings[c])?;
@@ -293,40 +293,67 @@ impl SamplingArg<'_> {
     }
 }
 
-/// Each curve's kind (its own t and end derivatives), checked, with its index in errors.
-fn kinds(n: usize, kind: &str, fields: &CurveFields<'_>) -> PyResult<Vec<CurveKind>> {
-    let ends = match fields.ends.as_deref() {
-        None => None,
-        Some("control") => Some(Ends::Control),
-        Some("repeat") => Some(Ends::Repeat),
-        Some("closed") => Some(Ends::Closed),
-        Some(other) => {
-            return Err(value_error(format!(
-                "\"ends\" must be \"control\", \"repeat\" or \"closed\", got \"{other}\""
-            )));
-        }
-    };
-    let per_curve = |list: &Option<Vec<Option<PyReadonlyArray1<'_, f64>>>>, c: usize| {
-        list.as_ref()
-            .and_then(|l| l.get(c))
-            .and_then(Option::as_ref)
-            .map(|a| a.as_slice().map(<[f64]>::to_vec))
-            .transpose()
-    };
-    (0..n)
-        .map(|c| {
-            let kind_fields = KindFields {
-                ends,
-                tension: fields.tension,
-                bias: fields.bias,
-                matrix: fields.matrix,
-                t: per_curve(&fields.t, c)?,
-                start_derivative: per_curve(&fields.start_derivative, c)?,
-                end_derivative: per_curve(&fields.end_derivative, c)?,
-            };
-            CurveKind::named(kind, kind_fields).map_err(|e| value_error(e.in_curve(c)))
+/// What each curve's kind is made of: the shared fields, and each curve's own t and end
+/// derivatives, read from the arrays on the calling thread so that the kinds can be made on
+/// every thread.
+struct KindSource<'a> {
+    name: &'a str,
+    ends: Option<Ends>,
+    tension: Option<f64>,
+    bias: Option<f64>,
+    matrix: Option<[[f64; 4]; 4]>,
+    t: Vec<Option<&'a [f64]>>,
+    start_derivative: Vec<Option<&'a [f64]>>,
+    end_derivative: Vec<Option<&'a [f64]>>,
+}
+
+impl<'a> KindSource<'a> {
+    fn new(name: &'a str, fields: &'a CurveFields<'_>) -> PyResult<Self> {
+        let ends = match fields.ends.as_deref() {
+            None => None,
+            Some("control") => Some(Ends::Control),
+            Some("repeat") => Some(Ends::Repeat),
+            Some("closed") => Some(Ends::Closed),
+            Some(other) => {
+                return Err(value_error(format!(
+                    "\"ends\" must be \"control\", \"repeat\" or \"closed\", got \"{other}\""
+                )));
+            }
+        };
+        let slices = |list: &'a Option<Vec<Option<PyReadonlyArray1<'_, f64>>>>| {
+            list.iter()
+                .flatten()
+                .map(|a| a.as_ref().map(|a| a.as_slice()).transpose())
+                .collect::<Result<Vec<_>, _>>()
+        };
+        Ok(Self {
+            name,
+            ends,
+            tension: fields.tension,
+            bias: fields.bias,
+            matrix: fields.matrix,
+            t: slices(&fields.t)?,
+            start_derivative: slices(&fields.start_derivative)?,
+            end_derivative: slices(&fields.end_derivative)?,
         })
-        .collect()
+    }
+
+    /// Curve c's kind.
+    fn kind(&self, c: usize) -> Result<CurveKind, InputError> {
+        let own = |list: &[Option<&[f64]>]| list.get(c).copied().flatten().map(<[f64]>::to_vec);
+        CurveKind::named(
+            self.name,
+            KindFields {
+                ends: self.ends,
+                tension: self.tension,
+                bias: self.bias,
+                matrix: self.matrix,
+                t: own(&self.t),
+                start_derivative: own(&self.start_derivative),
+                end_derivative: own(&self.end_derivative),
+            },
+        )
+    }
 }
 
 /// curve_offsets: curve c owns rows offsets[c]..offsets[c + 1].
