@@ -652,9 +652,9 @@ impl Splines {
 }
 
 /// `python -m splinegpu.bench`'s anchor: the crate's own CPU path on the same curves, from Rust
-/// in this process. Each repetition fits the curves, builds the job and evaluates it into
-/// reused f64 samples with t (what `Context.tessellate(out=...)` does); evaluation alone is
-/// timed apart. Returns the fastest of `repeats` (after one warm-up) of each, in seconds.
+/// in this process. Each repetition fits the curves and builds the job on every thread, as
+/// `Context.tessellate` does, and evaluates it into reused f64 samples with t; evaluation alone
+/// is timed apart. The difference to `tessellate(out=...)` is the bindings' own cost. Returns the fastest of `repeats` (after one warm-up) of each, in seconds.
 #[pyfunction]
 fn time_rust_tessellate<'py>(
     py: Python<'py>,
@@ -667,15 +667,15 @@ fn time_rust_tessellate<'py>(
         .map(|(dim, xyz)| (dim, xyz.to_vec()))
         .collect();
     py.detach(|| {
-        let build = || -> Result<EvalJob, InputError> {
-            let mut job = EvalJob::new(Derivatives::None);
-            for (c, (dim, xyz)) in coords.iter().enumerate() {
+        // As `tessellate` builds it: curves fitted and planned on every thread.
+        let build = || {
+            job_on_threads(coords.len(), Derivatives::None, |c| {
+                let (dim, xyz) = &coords[c];
                 let kind = CurveKind::named(kind, KindFields::default())?;
-                let curve =
-                    Curve::new(kind, Points::new(*dim, xyz.clone())?).map_err(|e| e.in_curve(c))?;
-                job.push(&curve, &Sampling::PerSegment(per_segment))?;
-            }
-            Ok(job)
+                let table = Curve::new(kind, Points::new(*dim, xyz.clone())?)?.fit();
+                let plan = SamplePlan::new(&table, &Sampling::PerSegment(per_segment))?;
+                Ok((table, plan))
+            })
         };
         let threads = splinegpu::available_threads();
         let mut samples = Samples::<f64>::for_job(&EvalJob::new(Derivatives::None));
