@@ -106,10 +106,24 @@ impl<F: Copy + Default> Samples<F> {
 
     /// Fills in `t` from `job`'s plans (`self` laid out for it already).
     pub(crate) fn fill_t(&mut self, job: &EvalJob) {
+        self.fill_t_from(job, &[]);
+    }
+
+    /// [`Samples::fill_t`], taking the t of the curves whose places are computed (arc length,
+    /// tolerance) from `computed` (theirs, curve after curve) where it holds them, rather than
+    /// computing the places again.
+    pub(crate) fn fill_t_from(&mut self, job: &EvalJob, computed: &[f64]) {
         self.t.clear();
+        let mut rest = computed;
         for c in 0..job.len() {
             let plan = job.plan(c);
-            plan.extend_t(0..plan.len(), &mut self.t);
+            if plan.is_computed() && rest.len() >= plan.len() {
+                let (own, after) = rest.split_at(plan.len());
+                self.t.extend_from_slice(own);
+                rest = after;
+            } else {
+                plan.extend_t(0..plan.len(), &mut self.t);
+            }
         }
     }
 

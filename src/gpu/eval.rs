@@ -175,7 +175,7 @@ impl GpuContext {
             stamps.resolve(&mut encoder);
         }
         self.queue.submit([encoder.finish()]);
-        samples.fill_t(job);
+        samples.fill_t_from(job, &packed.computed_t);
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::Device(e.to_string()));
         }

@@ -166,6 +166,10 @@ pub struct Packed {
     /// Floats per plane of the output one dispatch writes: its largest batch (from its
     /// [`Batch::base`]), a multiple of 4.
     pub plane_stride: usize,
+    /// The t of every sample of the curves whose places are computed (arc length, tolerance),
+    /// curve after curve: found while packing, so that the host need not compute the places
+    /// again for `Samples::t`.
+    pub computed_t: Vec<f64>,
     /// [`pack_into`]'s runs with absolute float offsets, before they are cut into batches:
     /// kept only for their memory.
     all_runs: Vec<(Run, usize, usize)>,
@@ -259,7 +263,12 @@ pub fn pack_into(
     packed.runs.clear();
     packed.locs.clear();
     packed.batches.clear();
+    packed.computed_t.clear();
+    let mut places = Vec::new();
     for c in 0..job.len() {
+        if c % PLACE_BLOCK == 0 {
+            places = computed_places(job, c..(c + PLACE_BLOCK).min(job.len()));
+        }
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
         let block_len = block_vec4s(dim);
@@ -314,12 +323,12 @@ pub fn pack_into(
         match &plan.0 {
             Plan::Grid(grid) => runs.grid(grid),
             Plan::At(places) => runs.explicit(places, &mut packed.locs),
-            // Arc length and tolerance: places decided on the host in f64, sampled as explicit
-            // t are.
+            // Arc length and tolerance: places decided on the host in f64 (on every thread,
+            // a block of curves at a time), sampled as explicit t are.
             _ => {
-                let mut places = Vec::with_capacity(plan.len());
-                plan.locs_into(0..plan.len(), &mut places);
-                runs.explicit(&places, &mut packed.locs);
+                let places = &places[c % PLACE_BLOCK];
+                packed.computed_t.extend(places.iter().map(|l| l.t));
+                runs.explicit(places, &mut packed.locs);
             }
         }
     }
@@ -330,6 +339,49 @@ pub fn pack_into(
         .max()
         .unwrap_or(0);
     Ok(())
+}
+
+/// Curves whose computed places (arc length, tolerance) are held at once while packing.
+const PLACE_BLOCK: usize = 256;
+
+/// The places of the samples of `curves` whose plans compute them (arc length, tolerance; empty
+/// for the others), computed on every thread: most of the packing time of such jobs.
+fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
+    let computed: Vec<usize> = curves
+        .clone()
+        .filter(|&c| job.plan(c).is_computed())
+        .collect();
+    let mut places = vec![Vec::new(); curves.len()];
+    if computed.is_empty() {
+        return places;
+    }
+    let threads = crate::available_threads().clamp(1, computed.len());
+    // Curve k of the block goes to thread k mod threads: neighbours differ least in size.
+    let parts: Vec<Vec<(usize, Vec<SampleLoc>)>> = std::thread::scope(|scope| {
+        let computed = &computed;
+        let handles: Vec<_> = (0..threads)
+            .map(|k| {
+                scope.spawn(move || {
+                    (computed.iter().skip(k).step_by(threads))
+                        .map(|&c| {
+                            let plan = job.plan(c);
+                            let mut locs = Vec::with_capacity(plan.len());
+                            plan.locs_into(0..plan.len(), &mut locs);
+                            (c, locs)
+                        })
+                        .collect()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a place-computing thread panicked"))
+            .collect()
+    });
+    for (c, locs) in parts.into_iter().flatten() {
+        places[c - curves.start] = locs;
+    }
+    places
 }
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, and makes
