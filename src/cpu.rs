@@ -190,9 +190,11 @@ fn curve_range<F: SampleFloat>(
     let dim = table.dim();
     let [points, d1, d2] = out;
     if !t.is_empty() && !plan.is_computed() {
-        for (t, i) in t.iter_mut().zip(range.clone()) {
-            *t = plan.loc(i).t;
-        }
+        // Read off the plan segment by segment (a grid's t per sample would cost two integer
+        // divisions each).
+        let mut parameters = Vec::with_capacity(range.len());
+        plan.extend_t(range.clone(), &mut parameters);
+        t.copy_from_slice(&parameters);
     }
     match &plan.0 {
         Plan::Grid(grid) => {
