@@ -37,7 +37,9 @@ struct Segment {
 // segment's block after the other. Modes: MODE_SCALAR writes each float on its own;
 // MODE_VECTOR (dim <= 4, out_offset and count*dim multiples of 4, count a multiple of 4)
 // writes 4 samples at a time as `dim` whole vec4s; MODE_EXPLICIT writes `count` samples whose
-// segment and u are locs[first_loc + j].
+// segment and u are locs[first_loc + j]; MODE_ARC writes samples first..first+count of the
+// arc-length sampling of the curve whose `segments` segments start at `segment`, placing each
+// from the curve's table at arcs[arc] and writing its place to locs[first_loc + j].
 struct Run {
     segment: u32,
     segments: u32,
@@ -47,6 +49,8 @@ struct Run {
     u0: f32,
     du: f32,
     first_loc: u32,
+    arc: u32,
+    first: u32,
 }
 
 // Rust twin: gpu::pack::GpuLoc. An explicitly placed sample.
@@ -57,15 +61,22 @@ struct Loc {
 
 const MODE_VECTOR: u32 = 1u;
 const MODE_EXPLICIT: u32 = 2u;
+const MODE_ARC: u32 = 3u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> segments: array<Segment>;
 @group(0) @binding(2) var<storage, read> coeffs: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> runs: array<Run>;
 @group(0) @binding(4) var<storage, read_write> samples: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read> locs: array<Loc>;
+@group(0) @binding(5) var<storage, read_write> locs: array<Loc>;
 // The buffer bound as `coeffs`, float by float: blocks of any dimension.
 @group(0) @binding(6) var<storage, read> coeff_floats: array<f32>;
+// Arc-length tables, floats as their bits (Rust twin: gpu::pack::push_arc_table): a header
+// (m - 1, 1/(m - 1)); per segment (start / L, first piece, pieces); per piece of its length
+// model three vec4s (start / L, L / length, u at its start, width in u), (c1, c2, c3, c4),
+// (c5): the length from its start over its length is c1 x + ... + c5 x^5 in
+// x = (u - start) / width.
+@group(0) @binding(7) var<storage, read> arcs: array<vec4<u32>>;
 
 const WG_SIZE: u32 = 64u;
 
@@ -234,23 +245,124 @@ fn vector_run(run: Run, lane: u32) {
     }
 }
 
-// An explicit run: each sample at its own segment and u, each float on its own.
+// One sample at its own segment and u, written from float `out` on, each float on its own.
+fn place_sample(loc: Loc, out: u32) {
+    let segment = segments[loc.segment];
+    for (var q = 0u; 4u * q < segment.dim; q++) {
+        let piece = piece_any(segment, q);
+        let last = min(segment.dim, 4u * q + 4u);
+        for (var order = 0u; order <= params.derivatives; order++) {
+            let v = horner(derive(piece, order), loc.u);
+            let plane = out + order * params.plane_stride;
+            for (var k = 4u * q; k < last; k++) {
+                samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
+            }
+        }
+    }
+}
+
+// An explicit run: each sample at its own segment and u.
 fn explicit_run(run: Run, lane: u32) {
     for (var j = lane; j < run.count; j += LANES) {
         let loc = locs[run.first_loc + j];
-        let segment = segments[loc.segment];
-        let out = run.out_offset + j * segment.dim;
-        for (var q = 0u; 4u * q < segment.dim; q++) {
-            let piece = piece_any(segment, q);
-            let last = min(segment.dim, 4u * q + 4u);
-            for (var order = 0u; order <= params.derivatives; order++) {
-                let v = horner(derive(piece, order), loc.u);
-                let plane = out + order * params.plane_stride;
-                for (var k = 4u * q; k < last; k++) {
-                    samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
-                }
-            }
+        place_sample(loc, run.out_offset + j * segments[loc.segment].dim);
+    }
+}
+
+// Steps of the safeguarded Newton iteration that solves a length model (Rust twin:
+// arclen::SOLVE_STEPS, checked by tests/shader.rs).
+const SOLVE_STEPS: u32 = 12u;
+
+// c1 x + c2 x^2 + ... + c5 x^5, and its slope.
+fn model_at(c: vec4<f32>, c5: f32, x: f32) -> f32 {
+    return x * (c.x + x * (c.y + x * (c.z + x * (c.w + x * c5))));
+}
+
+fn model_slope(c: vec4<f32>, c5: f32, x: f32) -> f32 {
+    return c.x + x * (2.0 * c.y + x * (3.0 * c.z + x * (4.0 * c.w + x * 5.0 * c5)));
+}
+
+// Sample i of an arc-length run's curve: the first at u = 0 of the first segment, the last
+// at u = 1 of the last; between them, at length i/(m - 1) of L, the segment that starts last
+// at or before it, the piece of its length model that does, and the x where the model reaches
+// it: Newton's method from the linear guess, kept inside the bracket the signs leave
+// (bisecting where a step would leave it). Rust twin of the solve: arclen::solve_model.
+fn arc_place(run: Run, i: u32) -> Loc {
+    let header = arcs[run.arc];
+    if i == 0u {
+        return Loc(run.segment, 0.0);
+    }
+    if i >= header.x {
+        return Loc(run.segment + run.segments - 1u, 1.0);
+    }
+    let at_length = f32(i) * bitcast<f32>(header.y);
+    var lo = 0u;
+    var hi = run.segments;
+    while hi - lo > 1u {
+        let mid = (lo + hi) / 2u;
+        if bitcast<f32>(arcs[run.arc + 1u + mid].x) <= at_length {
+            lo = mid;
+        } else {
+            hi = mid;
         }
+    }
+    let record = arcs[run.arc + 1u + lo];
+    var k = 0u;
+    var k_end = record.z;
+    while k_end - k > 1u {
+        let mid = (k + k_end) / 2u;
+        if bitcast<f32>(arcs[record.y + 2u * mid].x) <= at_length {
+            k = mid;
+        } else {
+            k_end = mid;
+        }
+    }
+    let piece = bitcast<vec4<f32>>(arcs[record.y + 2u * k]);
+    let c = bitcast<vec4<f32>>(arcs[record.y + 2u * k + 1u]);
+    let end = bitcast<f32>(arcs[record.y + 2u * k + 2u].x);
+    // The model's coefficients c1..c5.
+    let c14 = vec4(piece.z, piece.w, c.x, c.y);
+    let c5 = c.z;
+    let span = end - piece.x;
+    var y = 0.0;
+    if span > 0.0 {
+        y = clamp((at_length - piece.x) / span, 0.0, 1.0);
+    }
+    var x = y;
+    var x_lo = 0.0;
+    var x_hi = 1.0;
+    for (var step = 0u; step < SOLVE_STEPS; step++) {
+        let f = model_at(c14, c5, x) - y;
+        if f == 0.0 {
+            break;
+        }
+        if f < 0.0 {
+            x_lo = x;
+        } else {
+            x_hi = x;
+        }
+        let slope = model_slope(c14, c5, x);
+        let next = x - f / slope;
+        // A step below the float's resolution: converged (a bisection would undo it).
+        if next == x {
+            break;
+        }
+        if slope > 0.0 && next > x_lo && next < x_hi {
+            x = next;
+        } else {
+            x = 0.5 * (x_lo + x_hi);
+        }
+    }
+    return Loc(run.segment + lo, clamp(piece.y + x * (c.w - piece.y), 0.0, 1.0));
+}
+
+// An arc-length run: each sample placed by the curve's table, its place written for the host
+// (which forms t in f64), then evaluated there.
+fn arc_run(run: Run, lane: u32) {
+    for (var j = lane; j < run.count; j += LANES) {
+        let loc = arc_place(run, run.first + j);
+        locs[run.first_loc + j] = loc;
+        place_sample(loc, run.out_offset + j * segments[loc.segment].dim);
     }
 }
 
@@ -290,6 +402,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         vector_run(run, lane);
     } else if run.mode == MODE_EXPLICIT {
         explicit_run(run, lane);
+    } else if run.mode == MODE_ARC {
+        arc_run(run, lane);
     } else {
         var out = run.out_offset;
         for (var s = 0u; s < run.segments; s++) {

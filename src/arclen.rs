@@ -169,6 +169,15 @@ impl Speed {
         roots
     }
 
+    /// |P''(u)|.
+    pub fn bend_at(&self, u: f64) -> f64 {
+        (self.terms.iter())
+            .map(|[a, b, _]| (2.0 * a * u + b).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            * self.scale
+    }
+
     /// max |P''(u)| over [0, 1]: P'' = 2a u + b is linear, and a norm is convex, so the
     /// largest is at an end.
     pub fn bend(&self) -> f64 {
@@ -218,27 +227,64 @@ fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
 
 /// A segment's arc length as pieces of u on which the quadrature is accurate: `u[k]..u[k + 1]`
 /// has length `s[k + 1] − s[k]`; `u` runs from 0 to 1 and `s` from 0 to the segment's length.
+/// Beside them, coarser pieces on each of which a polynomial models the length (a first guess
+/// of the inverse solves it).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct ArcTable {
     speed: Speed,
     u: Vec<f64>,
     s: Vec<f64>,
-    /// The speed at each `u`, and its derivative.
-    v: Vec<(f64, f64)>,
+    /// The model's pieces: `model_u[k]..model_u[k + 1]` has length `model_s[k + 1] −
+    /// model_s[k]` (read off the quadrature's pieces).
+    model_u: Vec<f64>,
+    model_s: Vec<f64>,
+    /// Per model piece, the length from its start as c1 x + … + c5 x⁵ in
+    /// x = (u − model_u[k]) / (model_u[k + 1] − model_u[k]), within the table's model accuracy
+    /// (see [`ArcTable::new`]).
+    model: Vec<[f64; 5]>,
+    /// The accuracy of the model, in length.
+    model_accuracy: f64,
     /// [`Speed::bend`]: bounds how fast the speed changes.
     bend: f64,
 }
 
+/// The accuracy of the length model, relative to the curve's length: the GPU's inverse solves
+/// the model (its f32 arithmetic adds errors of this order), and the CPU's Newton step starts
+/// from the model's solution.
+pub(crate) const MODEL_ACCURACY: f64 = 1e-7;
+
+/// Steps of the safeguarded Newton iteration that solves a model piece: its solution moves
+/// less than the model's error after these from the linear guess (quadratic convergence), or
+/// within 2^-12 of the piece where the speed vanishes at an end.
+pub const SOLVE_STEPS: u32 = 12;
+
+/// The model's error is measured at these x of each piece (see [`ArcTable::new`]).
+const CHECK_POINTS: [f64; 2] = [0.25, 0.75];
+
 impl ArcTable {
-    /// The table of `segment`, each piece's length within its share (by its width in u) of the
-    /// absolute `accuracy`.
-    pub fn new(segment: &Segment<'_>, accuracy: f64) -> Self {
+    /// The table of `segment`: each piece's length within its share (by its width in u) of
+    /// the absolute `accuracy`, and the length model within `model_accuracy` (infinite: one
+    /// model piece per part between critical points).
+    ///
+    /// The model on a piece is the quintic Hermite interpolant of s(u) through the piece's
+    /// ends, with ds/du = v and d²s/du² = v' there (v the speed, v' its derivative in u).
+    /// Its error is x³(1−x)³ w⁶ s⁽⁶⁾(ξ)/720 on a piece of width w, largest near the middle and
+    /// shrinking 64-fold with each halving; s is as smooth as the speed, which has a kink only
+    /// where it vanishes (model pieces start as the parts between such points). The
+    /// model's length is compared with the quadrature's at x = 1/4 and 3/4 (two points, so
+    /// that an error changing sign in the middle is not missed), and the piece is halved while
+    /// either is off by more than a quarter of `model_accuracy`. A piece no longer than
+    /// `model_accuracy` needs no test: any u in it lies within its length.
+    pub fn new(segment: &Segment<'_>, accuracy: f64, model_accuracy: f64) -> Self {
         let speed = Speed::of(segment);
         let mut table = Self {
             speed: speed.clone(),
             u: vec![0.0],
             s: vec![0.0],
-            v: vec![speed.with_slope(0.0)],
+            model_u: vec![0.0],
+            model_s: vec![0.0],
+            model: Vec::new(),
+            model_accuracy,
             bend: speed.bend(),
         };
         // Between consecutive critical points of Q the speed is monotone, so a zero of the
@@ -247,16 +293,40 @@ impl ArcTable {
         let mut cuts = speed.critical_points();
         cuts.push(1.0);
         let mut a = 0.0;
-        for b in cuts {
+        for &b in &cuts {
             let tol = (accuracy * (b - a)).max(f64::MIN_POSITIVE);
-            table.subdivide(&speed, a, b, speed.gl8(a, b), tol, 0);
+            table.subdivide(a, b, speed.gl8(a, b), tol, 0);
+            a = b;
+        }
+        // The model is as smooth as the speed, which has a kink only where it vanishes: model
+        // pieces start as the parts between such critical points (or near-zeros, below 1e-9 of
+        // the fastest critical point or end).
+        let fastest = (cuts.iter().chain(&[0.0]))
+            .map(|&c| speed.at(c))
+            .fold(0.0, f64::max);
+        cuts.retain(|&c| c == 1.0 || speed.at(c) <= 1e-9 * fastest);
+        let mut a = 0.0;
+        for (i, &b) in cuts.iter().enumerate() {
+            // Away from a zero of the speed, it grows as |P''| times the distance: the slopes
+            // at a kink are the one-sided ones.
+            let mut ends = (speed.with_slope(a), speed.with_slope(b));
+            if i > 0 {
+                ends.0.1 = speed.bend_at(a);
+            }
+            if b < 1.0 {
+                ends.1.1 = -speed.bend_at(b);
+            }
+            let length = table.length_to(b) - table.length_to(a);
+            table.fit_model(a, b, length.max(0.0), ends, model_accuracy, 0);
             a = b;
         }
         table
     }
 
-    /// Appends [a, b] (whose 8-point estimate is `whole`) as accepted pieces, in order.
-    fn subdivide(&mut self, speed: &Speed, a: f64, b: f64, whole: f64, tol: f64, depth: u32) {
+    /// Appends [a, b] (whose 8-point estimate is `whole`) as quadrature pieces, split until
+    /// the quadrature is within `tol`.
+    fn subdivide(&mut self, a: f64, b: f64, whole: f64, tol: f64, depth: u32) {
+        let speed = &self.speed;
         let mid = 0.5 * (a + b);
         let (left, right) = (speed.gl8(a, mid), speed.gl8(mid, b));
         // A tolerance below a few ulps of the piece's own length only chases rounding: it
@@ -269,11 +339,50 @@ impl ArcTable {
             let s = self.s[self.s.len() - 1];
             self.u.extend([mid, b]);
             self.s.extend([s + left, s + left + right]);
-            self.v.extend([speed.with_slope(mid), speed.with_slope(b)]);
             return;
         }
-        self.subdivide(speed, a, mid, left, 0.5 * tol, depth + 1);
-        self.subdivide(speed, mid, b, right, 0.5 * tol, depth + 1);
+        self.subdivide(a, mid, left, 0.5 * tol, depth + 1);
+        self.subdivide(mid, b, right, 0.5 * tol, depth + 1);
+    }
+
+    /// Appends [a, b] of `length` (the speed and its slope at its ends in `ends`) as model
+    /// pieces, halved until each model is within `accuracy`.
+    fn fit_model(
+        &mut self,
+        a: f64,
+        b: f64,
+        length: f64,
+        ends: ((f64, f64), (f64, f64)),
+        accuracy: f64,
+        depth: u32,
+    ) {
+        let w = b - a;
+        let ((v0, dv0), (v1, dv1)) = ends;
+        let c = quintic_hermite(length, v0 * w, v1 * w, dv0 * w * w, dv1 * w * w);
+        if depth < MAX_DEPTH && length > accuracy && !self.model_fits(a, b, &c, accuracy) {
+            let mid = 0.5 * (a + b);
+            let at_mid = self.speed.with_slope(mid);
+            let left = (self.length_to(mid) - self.length_to(a)).clamp(0.0, length);
+            self.fit_model(a, mid, left, (ends.0, at_mid), accuracy, depth + 1);
+            self.fit_model(mid, b, length - left, (at_mid, ends.1), accuracy, depth + 1);
+            return;
+        }
+        let s = self.model_s[self.model_s.len() - 1];
+        self.model_u.push(b);
+        // The last piece ends at the segment's length exactly.
+        self.model_s
+            .push(if b == 1.0 { self.length() } else { s + length });
+        self.model.push(c);
+    }
+
+    /// Whether the model `c` of piece [a, b] is within a quarter of `accuracy` of the
+    /// quadrature's length at the check points.
+    fn model_fits(&self, a: f64, b: f64, c: &[f64; 5], accuracy: f64) -> bool {
+        let start = self.length_to(a);
+        CHECK_POINTS.iter().all(|&x| {
+            let s = self.length_to(a + x * (b - a)) - start;
+            (polynomial(c, x) - s).abs() <= 0.25 * accuracy
+        })
     }
 
     /// The segment's length.
@@ -281,39 +390,46 @@ impl ArcTable {
         self.s[self.s.len() - 1]
     }
 
-    /// The length from u = 0 to `u` in [0, 1].
-    #[cfg(test)]
+    /// The length from u = 0 to `u` in [0, 1]: the quadrature pieces before it, and the
+    /// 8-point rule inside its own.
+    #[inline]
     pub fn length_to(&self, u: f64) -> f64 {
-        let k = self.piece_of_u(u);
+        let k = (self.u.partition_point(|&x| x <= u).max(1) - 1).min(self.u.len() - 2);
         self.s[k] + self.speed.gl8(self.u[k], u)
     }
 
-    #[cfg(test)]
-    fn piece_of_u(&self, u: f64) -> usize {
-        (self.u.partition_point(|&x| x <= u).max(1) - 1).min(self.u.len() - 2)
+    /// The model piece that holds length `s` in (0, length), and the u where its model
+    /// reaches `s`.
+    #[inline]
+    fn guess(&self, s: f64) -> (usize, f64) {
+        let (ms, mu) = (&self.model_s, &self.model_u);
+        // The first piece whose end reaches s: ms[k] < s <= ms[k + 1], so it is not empty.
+        let k = (ms.partition_point(|&x| x < s).max(1) - 1).min(self.model.len() - 1);
+        // Solved to the model's own error, which Newton's step on the length then removes.
+        let within = self.model_accuracy;
+        let x = solve_model(&self.model[k], s - ms[k], ms[k + 1] - ms[k], within);
+        (k, mu[k] + x * (mu[k + 1] - mu[k]))
     }
 
     /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]),
-    /// within `accuracy` in length: Newton's method on the length inside the piece that holds
-    /// `s`, from the piece's quintic Hermite interpolant of u(s), falling back to bisection of
-    /// the piece when the speed vanishes or a step leaves the bracket. The answer depends on
-    /// `s` alone (not on earlier calls), so every chunking of a sampling gives the same t.
+    /// within `accuracy` in length: Newton's method on the length inside the model piece that
+    /// holds `s`, from the model's solution, falling back to bisection of the piece when the
+    /// speed vanishes or a step leaves the bracket. A step is the last when its remainder
+    /// bound says so: a step of δ in u from a point whose length error is known leaves an
+    /// error of at most ½ max|P''| δ², since |d speed/du| = |P'·P''|/|P'| <= |P''|. The answer
+    /// depends on `s` alone (not on earlier calls), so every chunking of a sampling gives the
+    /// same t.
     pub fn inverse(&self, s: f64, accuracy: f64) -> f64 {
-        let length = self.length();
         if s <= 0.0 {
             return 0.0;
         }
-        if s >= length {
+        if s >= self.length() {
             return 1.0;
         }
-        // The first piece whose end reaches s.
-        let k = (self.s.partition_point(|&x| x < s).max(1) - 1).min(self.u.len() - 2);
-        let (mut lo, mut hi) = (self.u[k], self.u[k + 1]);
-        let (from, target) = (lo, s - self.s[k]);
-        let speed = &self.speed;
-        let mut u = self.first_guess(k, target);
+        let (k, mut u) = self.guess(s);
+        let (mut lo, mut hi) = (self.model_u[k], self.model_u[k + 1]);
         for _ in 0..100 {
-            let f = speed.gl8(from, u) - target;
+            let f = self.length_to(u) - s;
             if f.abs() <= accuracy {
                 return u;
             }
@@ -322,12 +438,12 @@ impl ArcTable {
             } else {
                 hi = u;
             }
-            let v = speed.at(u);
+            let v = self.speed.at(u);
             let step = f / v;
             let newton = u - step;
             if v > 0.0 && newton > lo && newton < hi {
                 // The length at `newton` is off by at most f's quadrature error (as an
-                // accepted f is) plus the Newton remainder, ½ max|speed'| step².
+                // accepted f is) plus the Newton remainder.
                 if 0.5 * self.bend * step * step <= accuracy {
                     return newton;
                 }
@@ -342,36 +458,81 @@ impl ArcTable {
         u
     }
 
-    /// A first u for length `target` past the start of piece `k`, strictly inside the piece:
-    /// the quintic Hermite interpolant of u(s) through the piece's ends, with du/ds = 1/v and
-    /// d²u/ds² = −v'/v³ there (v the speed, v' its derivative in u), or, where the speed
-    /// vanishes at an end, the linear one.
-    fn first_guess(&self, k: usize, target: f64) -> f64 {
-        let (u0, u1) = (self.u[k], self.u[k + 1]);
-        let ((v0, w0), (v1, w1)) = (self.v[k], self.v[k + 1]);
-        let h = self.s[k + 1] - self.s[k];
-        let x = (target / h.max(f64::MIN_POSITIVE)).min(1.0);
-        let linear = u0 + (u1 - u0) * x;
-        if !(v0 > 0.0 && v1 > 0.0) {
-            return linear;
+    /// The model's pieces as (u at the start, its width in u, s at the start, its length,
+    /// the model's coefficients), for the GPU's f32 table.
+    pub fn model_pieces(&self) -> impl Iterator<Item = (f64, f64, f64, f64, &[f64; 5])> {
+        let (ms, mu) = (&self.model_s, &self.model_u);
+        self.model
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (mu[k], mu[k + 1] - mu[k], ms[k], ms[k + 1] - ms[k], c))
+    }
+}
+
+/// c1 x + c2 x² + … + c5 x⁵.
+#[inline]
+fn polynomial(c: &[f64; 5], x: f64) -> f64 {
+    x * (c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * c[4]))))
+}
+
+/// Its derivative, c1 + 2 c2 x + … + 5 c5 x⁴.
+#[inline]
+fn polynomial_slope(c: &[f64; 5], x: f64) -> f64 {
+    c[0] + x * (2.0 * c[1] + x * (3.0 * c[2] + x * (4.0 * c[3] + x * 5.0 * c[4])))
+}
+
+/// The x in [0, 1] where the model `c` of a piece of `length` reaches `s` (in [0, length]):
+/// up to [`SOLVE_STEPS`] steps of Newton's method from the linear guess s/length, each kept
+/// inside the bracket the signs so far leave (bisecting it when a step would leave it or the
+/// slope is not positive), stopping once the model is within `within` of `s` or a step no
+/// longer moves x. The GPU solves
+/// the same way in f32 (`arc_place` in `shaders/eval.wgsl`, with `within` 0).
+pub(crate) fn solve_model(c: &[f64; 5], s: f64, length: f64, within: f64) -> f64 {
+    if length <= 0.0 {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut x = (s / length).clamp(0.0, 1.0);
+    for _ in 0..SOLVE_STEPS {
+        let f = polynomial(c, x) - s;
+        if f.abs() <= within {
+            return x;
         }
-        // Slopes and curvatures in x = (s − s_k)/h.
-        let (m0, m1) = (h / v0, h / v1);
-        let (a0, a1) = (-h * h * w0 / (v0 * v0 * v0), -h * h * w1 / (v1 * v1 * v1));
-        let (x2, x3) = (x * x, x * x * x);
-        let (x4, x5) = (x3 * x, x3 * x2);
-        let end = 10.0 * x3 - 15.0 * x4 + 6.0 * x5;
-        let quintic = u0 * (1.0 - end)
-            + u1 * end
-            + m0 * (x - 6.0 * x3 + 8.0 * x4 - 3.0 * x5)
-            + m1 * (-4.0 * x3 + 7.0 * x4 - 3.0 * x5)
-            + a0 * 0.5 * (x2 - 3.0 * x3 + 3.0 * x4 - x5)
-            + a1 * 0.5 * (x3 - 2.0 * x4 + x5);
-        if quintic > u0 && quintic < u1 {
-            quintic
+        if f < 0.0 {
+            lo = x;
         } else {
-            linear
+            hi = x;
         }
+        let slope = polynomial_slope(c, x);
+        let next = x - f / slope;
+        // A step below the float's resolution: converged (a bisection would undo it).
+        if next == x {
+            return x;
+        }
+        x = if slope > 0.0 && next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+    }
+    x
+}
+
+/// The coefficients c1..c5 of the quintic p with p(0) = 0, p(1) = `dy`, slopes `m0`, `m1` and
+/// second derivatives `a0`, `a1` at 0 and 1 (Hermite's basis, expanded to powers of x). Where
+/// one is not finite, the line p = dy·x.
+fn quintic_hermite(dy: f64, m0: f64, m1: f64, a0: f64, a1: f64) -> [f64; 5] {
+    let c = [
+        m0,
+        0.5 * a0,
+        10.0 * dy - 6.0 * m0 - 4.0 * m1 - 1.5 * a0 + 0.5 * a1,
+        -15.0 * dy + 8.0 * m0 + 7.0 * m1 + 1.5 * a0 - a1,
+        6.0 * dy - 3.0 * m0 - 3.0 * m1 - 0.5 * a0 + 0.5 * a1,
+    ];
+    if c.iter().all(|v| v.is_finite()) {
+        c
+    } else {
+        [dy, 0.0, 0.0, 0.0, 0.0]
     }
 }
 
@@ -380,14 +541,14 @@ impl Segment<'_> {
     /// in the curve's units). Adaptive Gauss–Legendre quadrature; see the `arclen` module docs.
     #[must_use]
     pub fn arclen(&self, accuracy: f64) -> f64 {
-        ArcTable::new(self, accuracy).length()
+        ArcTable::new(self, accuracy, f64::INFINITY).length()
     }
 
     /// The local u in [0, 1] at which the arc length from u = 0 reaches `s` (clamped to the
     /// segment's length), within `accuracy` in length.
     #[must_use]
     pub fn inv_arclen(&self, s: f64, accuracy: f64) -> f64 {
-        ArcTable::new(self, accuracy).inverse(s, accuracy)
+        ArcTable::new(self, accuracy, f64::INFINITY).inverse(s, accuracy)
     }
 }
 
@@ -402,21 +563,28 @@ impl SegmentTable {
     /// Each segment's arc length, together within `accuracy` times the curve's length.
     #[must_use]
     pub fn segment_arclens(&self, accuracy: f64) -> Vec<f64> {
-        self.arc_tables(accuracy)
+        self.arc_tables(accuracy, false)
             .iter()
             .map(ArcTable::length)
             .collect()
     }
 
-    /// Each segment's [`ArcTable`], together within `accuracy` times the curve's length.
-    pub(crate) fn arc_tables(&self, accuracy: f64) -> Vec<ArcTable> {
+    /// Each segment's [`ArcTable`], together within `accuracy` times the curve's length; with
+    /// `with_model`, each table's length model within [`MODEL_ACCURACY`] times the length,
+    /// else none refined (the tables then serve for lengths only).
+    pub(crate) fn arc_tables(&self, accuracy: f64, with_model: bool) -> Vec<ArcTable> {
         // A first estimate of the length scales the absolute accuracy.
         let rough: f64 = (0..self.len())
             .map(|i| Speed::of(&self.segment(i)).gl8(0.0, 1.0))
             .sum();
         let per_segment = accuracy * rough / self.len() as f64;
+        let model = if with_model {
+            MODEL_ACCURACY * rough
+        } else {
+            f64::INFINITY
+        };
         (0..self.len())
-            .map(|i| ArcTable::new(&self.segment(i), per_segment))
+            .map(|i| ArcTable::new(&self.segment(i), per_segment, model))
             .collect()
     }
 
@@ -430,7 +598,7 @@ impl SegmentTable {
         for (i, length) in lengths.iter().enumerate() {
             if s < start + length || i + 1 == lengths.len() {
                 let per_segment = accuracy * total / self.len() as f64;
-                let table = ArcTable::new(&self.segment(i), per_segment);
+                let table = ArcTable::new(&self.segment(i), per_segment, f64::INFINITY);
                 let u = table.inverse(s - start, accuracy * total);
                 return knots[i] + u * (knots[i + 1] - knots[i]);
             }
@@ -459,7 +627,7 @@ mod tests {
     fn a_straight_segment_has_its_chord_length_everywhere() {
         // Bezier points evenly spaced on a line: P(u) = (3u, 4u), speed 5.
         let table = table_of(vec![0.0, 0.0, 1.0, 4.0 / 3.0, 2.0, 8.0 / 3.0, 3.0, 4.0], 2);
-        let arc = ArcTable::new(&table.segment(0), 1e-14);
+        let arc = ArcTable::new(&table.segment(0), 1e-14, f64::INFINITY);
         assert!((arc.length() - 5.0).abs() < 1e-13);
         for u in [0.0, 0.1, 0.5, 0.77, 1.0] {
             assert!((arc.length_to(u) - 5.0 * u).abs() < 1e-13);
@@ -473,10 +641,10 @@ mod tests {
         let cusp = table_of(vec![0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0], 2);
         // All four points equal: zero speed everywhere, zero length.
         let still = table_of(vec![2.0; 4], 1);
-        let arc = ArcTable::new(&still.segment(0), 1e-14);
+        let arc = ArcTable::new(&still.segment(0), 1e-14, f64::INFINITY);
         assert_eq!(arc.length(), 0.0);
         assert_eq!(arc.inverse(0.0, 1e-14), 0.0);
-        let arc = ArcTable::new(&cusp.segment(0), 1e-14);
+        let arc = ArcTable::new(&cusp.segment(0), 1e-14, f64::INFINITY);
         // Against a fine midpoint rule on chords.
         let n = 2_000_000;
         let mut chords = 0.0;

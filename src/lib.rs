@@ -162,12 +162,13 @@ pub use doc::{parse_document, parse_document_from_reader};
 /// stable API.
 #[doc(hidden)]
 pub mod internals {
+    pub use crate::arclen::SOLVE_STEPS;
     pub use crate::gpu::BINDINGS;
     pub use crate::gpu::ceiling::{STORE_CEILING_RUN, StoreKernel};
     pub use crate::gpu::interpret::evaluate_interpreted;
     pub use crate::gpu::pack::{
-        Batch, BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, Packed,
-        Params, Run, block_vec4s, pack,
+        Batch, BatchLimits, GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR,
+        Packed, Params, Run, block_vec4s, pack,
     };
     pub use crate::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
 

@@ -106,24 +106,44 @@ impl<F: Copy + Default> Samples<F> {
 
     /// Fills in `t` from `job`'s plans (`self` laid out for it already).
     pub(crate) fn fill_t(&mut self, job: &EvalJob) {
-        self.fill_t_from(job, &[]);
+        self.fill_t_from(job, &[], &[]);
     }
 
-    /// [`Samples::fill_t`], taking the t of the curves whose places are computed (arc length,
-    /// tolerance) from `computed` (theirs, curve after curve) where it holds them, rather than
-    /// computing the places again.
-    pub(crate) fn fill_t_from(&mut self, job: &EvalJob, computed: &[f64]) {
+    /// [`Samples::fill_t`], taking the t of the curves sampled by tolerance from `tolerance`
+    /// (theirs, curve after curve) and those of the curves sampled by arc length from the
+    /// places the GPU found, `arc_places` (curve after curve), where they hold them, rather
+    /// than computing the places again. A place's segment counts from the job's first
+    /// segment; t = t_i + u·Δ_i is formed in f64, t_{i+1} at u = 1.
+    pub(crate) fn fill_t_from(
+        &mut self,
+        job: &EvalJob,
+        tolerance: &[f64],
+        arc_places: &[crate::gpu::pack::GpuLoc],
+    ) {
         self.t.clear();
-        let mut rest = computed;
+        let (mut tolerance, mut arc_places) = (tolerance, arc_places);
+        let mut first_segment = 0;
         for c in 0..job.len() {
-            let plan = job.plan(c);
-            if plan.is_computed() && rest.len() >= plan.len() {
-                let (own, after) = rest.split_at(plan.len());
+            let (table, plan) = (job.table(c), job.plan(c));
+            let n = plan.len();
+            if plan.is_arc_length() && arc_places.len() >= n {
+                let (own, after) = arc_places.split_at(n);
+                let knots = table.knots();
+                self.t.extend(own.iter().map(|place| {
+                    let i = place.segment as usize - first_segment;
+                    let (t0, t1) = (knots[i], knots[i + 1]);
+                    let u = f64::from(place.u);
+                    if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
+                }));
+                arc_places = after;
+            } else if plan.is_tolerance() && tolerance.len() >= n {
+                let (own, after) = tolerance.split_at(n);
                 self.t.extend_from_slice(own);
-                rest = after;
+                tolerance = after;
             } else {
-                plan.extend_t(0..plan.len(), &mut self.t);
+                plan.extend_t(0..n, &mut self.t);
             }
+            first_segment += table.len();
         }
     }
 

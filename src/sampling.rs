@@ -96,7 +96,7 @@ pub(crate) struct ArcSamples {
 
 impl ArcSamples {
     fn new(table: &SegmentTable, m: usize) -> Self {
-        let tables = table.arc_tables(arclen::DEFAULT_ARCLEN_ACCURACY);
+        let tables = table.arc_tables(arclen::DEFAULT_ARCLEN_ACCURACY, true);
         let mut starts = vec![0.0];
         for t in &tables {
             starts.push(starts[starts.len() - 1] + t.length());
@@ -110,6 +110,21 @@ impl ArcSamples {
             knots: table.knots().to_vec(),
             accuracy,
         }
+    }
+
+    /// The number of samples, m.
+    pub fn count(&self) -> usize {
+        self.m
+    }
+
+    /// The length where each segment starts, and, last, the curve's length.
+    pub fn starts(&self) -> &[f64] {
+        &self.starts
+    }
+
+    /// Each segment's arc table.
+    pub fn tables(&self) -> &[ArcTable] {
+        &self.tables
     }
 
     fn loc(&self, j: usize) -> SampleLoc {
@@ -412,6 +427,18 @@ impl SamplePlan {
     /// false for those that read them off (a grid, explicit t).
     pub(crate) fn is_computed(&self) -> bool {
         matches!(self.0, Plan::Arc(_) | Plan::Tolerance(_))
+    }
+
+    /// True for an arc-length plan: the GPU places its samples itself (in f32, within 1e-5 of
+    /// the length), so their t differ from the CPU's in the low bits.
+    #[must_use]
+    pub fn is_arc_length(&self) -> bool {
+        matches!(self.0, Plan::Arc(_))
+    }
+
+    /// True for a tolerance plan.
+    pub(crate) fn is_tolerance(&self) -> bool {
+        matches!(self.0, Plan::Tolerance(_))
     }
 
     /// Appends the t of samples `range` to `out`, as [`SamplePlan::loc`] gives them.

@@ -496,8 +496,11 @@ fn t_column(text: &str) -> Vec<u64> {
         .collect()
 }
 
+/// Tolerance sampling's places are decided on the host: bit-identical t on both backends. The
+/// GPU places arc-length samples itself, in f32 (within 1e-5 of the length): the same count and
+/// ends, and t within a few 1e-7 of the range of the CPU's.
 #[test]
-fn arc_length_and_tolerance_sampling_give_the_same_t_on_both_backends() {
+fn tolerance_sampling_gives_the_same_t_on_both_backends_and_arc_length_nearly() {
     let docs = [
         r#"{"sampling": {"arc_length": 50}, "derivatives": 1, "curves": [
             {"kind": "catmull-rom", "ends": "closed", "points": [[0, 0], [4, 0], [4, 3], [0, 3]]},
@@ -515,10 +518,23 @@ fn arc_length_and_tolerance_sampling_give_the_same_t_on_both_backends() {
             continue;
         }
         assert_eq!(gpu.status, 0, "{}", gpu.stderr);
-        assert_eq!(t_column(&cpu.stdout), t_column(&gpu.stdout), "{doc}");
-        let (_, rows) = parse_csv(&cpu.stdout);
+        let (cpu_t, gpu_t) = (t_column(&cpu.stdout), t_column(&gpu.stdout));
         if doc.contains("arc_length") {
-            assert_eq!(rows.len(), 100);
+            assert_eq!(cpu_t.len(), 100);
+            assert_eq!(gpu_t.len(), 100);
+            for (curve, range) in [(0..50, 4.0), (50..100, 3.0)] {
+                let (c, g) = (&cpu_t[curve.clone()], &gpu_t[curve]);
+                assert_eq!((c[0], c[49]), (g[0], g[49]), "the ends are the curve's");
+                for (c, g) in c.iter().zip(g) {
+                    let (c, g) = (f64::from_bits(*c), f64::from_bits(*g));
+                    assert!(
+                        (c - g).abs() <= 1e-6 * range,
+                        "t {c} on the CPU, {g} on the GPU"
+                    );
+                }
+            }
+        } else {
+            assert_eq!(cpu_t, gpu_t, "{doc}");
         }
     }
 }

@@ -219,6 +219,54 @@ fn arc_length_samples_are_evenly_spaced_within_1e_10_of_the_length() {
 }
 
 #[test]
+fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5_of_the_length() {
+    // The kernel finds each sample's segment and u from the host's tables in f32; the host
+    // forms t from them in f64. Same curves as the CPU's 1e-10 test.
+    let Some(context) = common::gpu() else {
+        return;
+    };
+    let m = 37;
+    let mut worst = 0.0f64;
+    for dim in DIMS {
+        let mut job = EvalJob::new(Derivatives::Second);
+        for curve in curves(dim) {
+            job.push(&curve, &Sampling::ArcLength(m)).unwrap();
+        }
+        let gpu = context.evaluate(&job).unwrap();
+        for c in 0..job.len() {
+            let ts = gpu.curve(c).t;
+            let table = job.table(c);
+            let (t0, t1) = table.t_range();
+            assert_eq!(
+                (ts[0], ts[ts.len() - 1]),
+                (t0, t1),
+                "D {dim} curve {c}: ends"
+            );
+            assert!(
+                ts.windows(2).all(|w| w[0] <= w[1]),
+                "D {dim} curve {c}: order"
+            );
+            let total = lengths_at(table, &[t0, t1], 1e-15)[1];
+            let s = lengths_at(table, ts, 1e-15 * total.max(1e-300));
+            for (j, s_j) in s.iter().enumerate() {
+                let want = total * j as f64 / f64::from(m - 1);
+                let error = (s_j - want).abs() / total.max(f64::MIN_POSITIVE);
+                worst = worst.max(error);
+                assert!(
+                    error <= 1e-5,
+                    "D {dim}, curve {c}, sample {j}: {error:e} of L"
+                );
+            }
+        }
+        // The points and derivatives are those at the GPU's t, within the promise.
+        let reference = splinegpu::evaluate_reference(&job);
+        let within = common::compare(&job, &reference, &gpu);
+        assert!(within.ratio <= 1.0, "D {dim}: {within:?}");
+    }
+    eprintln!("worst GPU arc-length spacing error: {worst:.2e} of L");
+}
+
+#[test]
 fn the_parameter_at_a_length_inverts_the_length() {
     let curve = &curves(3)[1];
     let table = curve.fit();
@@ -422,7 +470,7 @@ fn geometric_samplings_chunk_and_evaluate_on_the_gpu_within_the_promise() {
 
 mod random_curves {
     //! Random curves of every family: spacing within 1e-10 of the length against the
-    //! independent quadrature; every tolerance chord within tol; no segment above Wang's count.
+    //! independent quadrature (1e-5 where the GPU places the samples); every tolerance chord within tol; no segment above Wang's count.
     //! 16 arc-length cases (each integrates its curve densely for the reference: about 2 s a
     //! case) and 64 tolerance cases here; PROPTEST_CASES sets both for a longer run.
 
@@ -502,6 +550,15 @@ mod random_curves {
             for (j, s_j) in s.iter().enumerate() {
                 let want = total * j as f64 / f64::from(m - 1);
                 prop_assert!((s_j - want).abs() <= 1e-10 * total, "sample {j}: {s_j} vs {want}");
+            }
+            // The GPU's own places, within 1e-5 of the length.
+            if let Some(context) = common::gpu() {
+                let gpu = context.evaluate(&job).unwrap();
+                let s = lengths_at(table, gpu.curve(0).t, 1e-15 * total.max(1e-300));
+                for (j, s_j) in s.iter().enumerate() {
+                    let want = total * j as f64 / f64::from(m - 1);
+                    prop_assert!((s_j - want).abs() <= 1e-5 * total, "GPU {j}: {s_j} vs {want}");
+                }
             }
         }
     }

@@ -69,8 +69,8 @@ fn job_of(dim: usize, derivatives: Derivatives, sampling: impl Fn(&Curve) -> Sam
     job
 }
 
-/// The samplings tested: per segment (1, 4, 7 and 32 samples) and explicit t (knots, ends,
-/// random values, repeats, out of order).
+/// The samplings tested: per segment (1, 4, 7 and 32 samples), explicit t (knots, ends,
+/// random values, repeats, out of order) and arc length (placed by the kernel).
 type SamplingOf = Box<dyn Fn(&Curve) -> Sampling>;
 
 fn samplings() -> Vec<(&'static str, SamplingOf)> {
@@ -99,6 +99,10 @@ fn samplings() -> Vec<(&'static str, SamplingOf)> {
             Box::new(|_: &Curve| Sampling::PerSegment(32)),
         ),
         ("at", Box::new(explicit)),
+        (
+            "arc_length 29",
+            Box::new(|_: &Curve| Sampling::ArcLength(29)),
+        ),
     ]
 }
 
@@ -153,7 +157,8 @@ fn chunks_split_anywhere_meet_the_promise_and_keep_every_sample() {
     for dim in [1, 3, 30] {
         for (name, sampling) in samplings() {
             let job = job_of(dim, Derivatives::Second, sampling);
-            let whole = splinegpu::evaluate_reference(&job);
+            // The kernel's t (the reference's, but where the kernel places arc-length samples).
+            let whole = evaluate_interpreted(&job, KernelShape::LOOPING, UNLIMITED).unwrap();
             for max in [1, 5, 33, 1000] {
                 let mut seen = vec![0usize; job.len()];
                 for chunk in job.chunks(max) {

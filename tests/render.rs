@@ -60,6 +60,17 @@ fn recorded_samples_follow_the_output_layout() {
         &Sampling::PerSegment(3),
     )
     .unwrap();
+    // Samples the kernel places itself: a dash pattern along the ring, by arc length.
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let ring_points = Points::new(2, vec![0.6, 0.0, 0.0, 0.6, -0.6, 0.0, 0.0, -0.6]).unwrap();
+    job.push(
+        &Curve::new(kind, ring_points).unwrap(),
+        &Sampling::ArcLength(41),
+    )
+    .unwrap();
     // The job whole, and cut into dispatches of 24 floats that start wherever a run does.
     let cut = GpuContext::from_device(device, queue).with_max_dispatch_values(24);
     for context in [context, &cut] {

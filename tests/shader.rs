@@ -3,8 +3,10 @@
 
 use std::mem::{offset_of, size_of};
 
-use splinegpu::internals::{BINDINGS, ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
-use splinegpu::internals::{GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
+use splinegpu::internals::{
+    BINDINGS, ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, SOLVE_STEPS, WG_SIZE,
+};
+use splinegpu::internals::{GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
 
 fn module() -> (naga::Module, naga::valid::ModuleInfo) {
     let module = naga::front::wgsl::parse_str(EVAL_WGSL).expect("eval.wgsl parses");
@@ -92,7 +94,7 @@ fn structs_match_their_rust_twins() {
         "Run",
         Run,
         [
-            segment, segments, out_offset, count, mode, u0, du, first_loc
+            segment, segments, out_offset, count, mode, u0, du, first_loc, arc, first
         ]
     );
     assert_twin!(&module, "Loc", GpuLoc, [segment, u]);
@@ -111,7 +113,7 @@ fn workgroup_size_is_wg_size() {
 }
 
 #[test]
-fn run_modes_match_the_wgsl_constants() {
+fn run_modes_and_solve_steps_match_the_wgsl_constants() {
     let (module, _) = module();
     let constant = |name: &str| {
         let (_, c) = module
@@ -126,6 +128,8 @@ fn run_modes_match_the_wgsl_constants() {
     };
     assert_eq!(constant("MODE_VECTOR"), MODE_VECTOR);
     assert_eq!(constant("MODE_EXPLICIT"), MODE_EXPLICIT);
+    assert_eq!(constant("MODE_ARC"), MODE_ARC);
+    assert_eq!(constant("SOLVE_STEPS"), SOLVE_STEPS);
 }
 
 #[test]

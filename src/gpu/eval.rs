@@ -103,7 +103,10 @@ impl GpuContext {
             buffer
         };
         let tables = Tables::upload(&packed, |role, contents| {
-            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            // COPY_SRC: the places the kernel computes are read back from `locs`.
+            let usage = wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC;
             let buffer = take(role, contents.len() as u64, usage);
             self.queue.write_buffer(&buffer, 0, contents);
             buffer
@@ -120,6 +123,16 @@ impl GpuContext {
             packed.output_bytes(),
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         );
+        // The places of arc-length samples, which the host turns into t.
+        let arc_locs = &packed.locs[packed.arc_locs..];
+        let arc_bytes = size_of_val(arc_locs) as u64;
+        let arc_download = (arc_bytes > 0).then(|| {
+            take(
+                ("arc places", 0),
+                arc_bytes,
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            )
+        });
         drop(pool);
 
         let has_timestamps = self
@@ -174,8 +187,15 @@ impl GpuContext {
         if let Some(stamps) = &stamps {
             stamps.resolve(&mut encoder);
         }
+        if let Some(arc_download) = &arc_download {
+            let from = (packed.arc_locs * size_of::<pack::GpuLoc>()) as u64;
+            encoder.copy_buffer_to_buffer(&tables.locs, from, arc_download, 0, arc_bytes);
+        }
         self.queue.submit([encoder.finish()]);
-        samples.fill_t_from(job, &packed.computed_t);
+        if arc_download.is_none() {
+            // Every t is known on the host: formed while the device works.
+            samples.fill_t_from(job, &packed.computed_t, &[]);
+        }
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::Device(e.to_string()));
         }
@@ -185,6 +205,12 @@ impl GpuContext {
         map_read(&self.device, &download, |bytes| {
             unpack_device_planes(bytemuck::cast_slice(bytes), samples);
         })?;
+        if let Some(arc_download) = &arc_download {
+            map_read(&self.device, arc_download, |bytes| {
+                let places = bytemuck::cast_slice(&bytes[..arc_bytes as usize]);
+                samples.fill_t_from(job, &packed.computed_t, places);
+            })?;
+        }
         let mut pool = self.pool.lock().unwrap_or_else(PoisonError::into_inner);
         for (role, buffer) in taken {
             pool.give(role, buffer);
@@ -360,6 +386,7 @@ impl GpuContext {
             target.binding.clone(),
             tables.locs.as_entire_buffer_binding(),
             tables.coeffs.as_entire_buffer_binding(),
+            tables.arcs.as_entire_buffer_binding(),
         ];
         let entries: Vec<_> = (resources.into_iter().enumerate())
             .map(|(i, binding)| wgpu::BindGroupEntry {
@@ -395,12 +422,13 @@ struct Tables {
     segments: wgpu::Buffer,
     coeffs: wgpu::Buffer,
     locs: wgpu::Buffer,
+    arcs: wgpu::Buffer,
     runs: Vec<wgpu::Buffer>,
 }
 
 /// What an empty table binds: a binding is never empty, and must hold at least its
-/// `min_binding_size` (the largest is a `Run`'s 32 bytes).
-const EMPTY_TABLE: [u8; 32] = [0; 32];
+/// `min_binding_size` (the largest is a `Run`'s).
+const EMPTY_TABLE: [u8; size_of::<pack::Run>()] = [0; size_of::<pack::Run>()];
 
 impl Tables {
     /// Uploads the tables through `upload(role, bytes)`; an empty table uploads
@@ -423,6 +451,7 @@ impl Tables {
             segments: upload(("segments", 0), bytemuck::cast_slice(&packed.segments)),
             coeffs: upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs)),
             locs: upload(("locs", 0), bytemuck::cast_slice(&packed.locs)),
+            arcs: upload(("arcs", 0), bytemuck::cast_slice(&packed.arcs)),
             runs: (packed.batches.iter().enumerate())
                 .map(|(b, batch)| {
                     upload(

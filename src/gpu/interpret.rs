@@ -11,8 +11,10 @@
 use super::KernelShape;
 use super::eval::unpack_device_planes;
 use super::pack::{
-    self, BatchLimits, GpuLoc, GpuSegment, MODE_EXPLICIT, MODE_VECTOR, Packed, Params, Run,
+    self, BatchLimits, GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Packed, Params,
+    Run,
 };
+use crate::arclen::SOLVE_STEPS;
 use crate::error::GpuError;
 use crate::job::EvalJob;
 use crate::samples::Samples;
@@ -30,16 +32,18 @@ pub fn evaluate_interpreted(
 ) -> Result<Samples<f32>, GpuError> {
     let packed = pack::pack(job, shape, limits)?;
     let mut samples = Samples::for_job(job);
-    let download = run_dispatches(&packed, shape.lanes);
+    let (download, locs) = run_dispatches(&packed, shape.lanes);
     unpack_device_planes(&download, &mut samples);
+    samples.fill_t_from(job, &packed.computed_t, &locs[packed.arc_locs..]);
     Ok(samples)
 }
 
 /// Every dispatch of `packed` into one output buffer (as `GpuContext::run` binds it), each
 /// dispatch's planes copied to their place in the device layout, as the download buffer
-/// receives them.
-fn run_dispatches(packed: &Packed, lanes: u32) -> Vec<f32> {
+/// receives them; and the sample places as the kernel leaves them.
+fn run_dispatches(packed: &Packed, lanes: u32) -> (Vec<f32>, Vec<GpuLoc>) {
     let mut download = vec![0.0f32; packed.device_values * packed.planes];
+    let mut locs = packed.locs.clone();
     let mut output = vec![[0.0f32; 4]; packed.plane_stride * packed.planes / 4];
     for batch in &packed.batches {
         let mut kernel = Kernel {
@@ -56,7 +60,8 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> Vec<f32> {
             coeff_floats: bytemuck::cast_slice(&packed.coeffs),
             runs: &packed.runs[batch.runs.clone()],
             samples: &mut output,
-            locs: &packed.locs,
+            locs: &mut locs,
+            arcs: &packed.arcs,
             lanes,
         };
         for index in 0..batch.runs.len() as u32 * lanes {
@@ -70,7 +75,7 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> Vec<f32> {
                 .copy_from_slice(from);
         }
     }
-    download
+    (download, locs)
 }
 
 type Vec4 = [f32; 4];
@@ -99,8 +104,9 @@ struct Kernel<'a> {
     coeffs: &'a [Vec4],
     runs: &'a [Run],
     samples: &'a mut [Vec4],
-    locs: &'a [GpuLoc],
+    locs: &'a mut [GpuLoc],
     coeff_floats: &'a [f32],
+    arcs: &'a [[u32; 4]],
     lanes: u32,
 }
 
@@ -111,6 +117,14 @@ fn scale(s: f32, v: Vec4) -> Vec4 {
 
 fn horner(p: &Cubic, u: f32) -> Vec4 {
     std::array::from_fn(|i| p.hi[i] + (p.lo[i] + u * (p.c[i] + u * (p.b[i] + u * p.a[i]))))
+}
+
+fn model_at(c: Vec4, c5: f32, x: f32) -> f32 {
+    x * (c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * c5))))
+}
+
+fn model_slope(c: Vec4, c5: f32, x: f32) -> f32 {
+    c[0] + x * (2.0 * c[1] + x * (3.0 * c[2] + x * (4.0 * c[3] + x * 5.0 * c5)))
 }
 
 fn derive(piece: &Piece, order: u32) -> Cubic {
@@ -275,25 +289,118 @@ impl Kernel<'_> {
         }
     }
 
+    fn place_sample(&mut self, loc: GpuLoc, out: u32) {
+        let segment = self.segments[loc.segment as usize];
+        let mut q = 0;
+        while 4 * q < segment.dim {
+            let piece = self.piece_any(segment, q);
+            let last = segment.dim.min(4 * q + 4);
+            for order in 0..=self.params.derivatives {
+                let v = horner(&derive(&piece, order), loc.u);
+                let plane = out + order * self.params.plane_stride;
+                for k in 4 * q..last {
+                    self.store(plane + k, v[(k - 4 * q) as usize]);
+                }
+            }
+            q += 1;
+        }
+    }
+
     fn explicit_run(&mut self, run: &Run, lane: u32) {
         let mut j = lane;
         while j < run.count {
             let loc = self.locs[(run.first_loc + j) as usize];
-            let segment = self.segments[loc.segment as usize];
-            let out = run.out_offset + j * segment.dim;
-            let mut q = 0;
-            while 4 * q < segment.dim {
-                let piece = self.piece_any(segment, q);
-                let last = segment.dim.min(4 * q + 4);
-                for order in 0..=self.params.derivatives {
-                    let v = horner(&derive(&piece, order), loc.u);
-                    let plane = out + order * self.params.plane_stride;
-                    for k in 4 * q..last {
-                        self.store(plane + k, v[(k - 4 * q) as usize]);
-                    }
-                }
-                q += 1;
+            let dim = self.segments[loc.segment as usize].dim;
+            self.place_sample(loc, run.out_offset + j * dim);
+            j += self.lanes;
+        }
+    }
+
+    fn arc_place(&self, run: &Run, i: u32) -> GpuLoc {
+        let arcs = self.arcs;
+        let float = f32::from_bits;
+        let header = arcs[run.arc as usize];
+        if i == 0 {
+            return GpuLoc {
+                segment: run.segment,
+                u: 0.0,
+            };
+        }
+        if i >= header[0] {
+            return GpuLoc {
+                segment: run.segment + run.segments - 1,
+                u: 1.0,
+            };
+        }
+        let at_length = i as f32 * float(header[1]);
+        let mut lo = 0;
+        let mut hi = run.segments;
+        while hi - lo > 1 {
+            let mid = u32::midpoint(lo, hi);
+            if float(arcs[(run.arc + 1 + mid) as usize][0]) <= at_length {
+                lo = mid;
+            } else {
+                hi = mid;
             }
+        }
+        let record = arcs[(run.arc + 1 + lo) as usize];
+        let mut k = 0;
+        let mut k_end = record[2];
+        while k_end - k > 1 {
+            let mid = u32::midpoint(k, k_end);
+            if float(arcs[(record[1] + 2 * mid) as usize][0]) <= at_length {
+                k = mid;
+            } else {
+                k_end = mid;
+            }
+        }
+        let piece = arcs[(record[1] + 2 * k) as usize].map(float);
+        let c = arcs[(record[1] + 2 * k + 1) as usize].map(float);
+        let end = float(arcs[(record[1] + 2 * k + 2) as usize][0]);
+        let c14 = [piece[2], piece[3], c[0], c[1]];
+        let c5 = c[2];
+        let span = end - piece[0];
+        let mut y = 0.0;
+        if span > 0.0 {
+            y = ((at_length - piece[0]) / span).clamp(0.0, 1.0);
+        }
+        let mut x = y;
+        let mut x_lo = 0.0;
+        let mut x_hi = 1.0;
+        for _ in 0..SOLVE_STEPS {
+            let f = model_at(c14, c5, x) - y;
+            if f == 0.0 {
+                break;
+            }
+            if f < 0.0 {
+                x_lo = x;
+            } else {
+                x_hi = x;
+            }
+            let slope = model_slope(c14, c5, x);
+            let next = x - f / slope;
+            if next == x {
+                break;
+            }
+            if slope > 0.0 && next > x_lo && next < x_hi {
+                x = next;
+            } else {
+                x = 0.5 * (x_lo + x_hi);
+            }
+        }
+        GpuLoc {
+            segment: run.segment + lo,
+            u: (piece[1] + x * (c[3] - piece[1])).clamp(0.0, 1.0),
+        }
+    }
+
+    fn arc_run(&mut self, run: &Run, lane: u32) {
+        let mut j = lane;
+        while j < run.count {
+            let loc = self.arc_place(run, run.first + j);
+            self.locs[(run.first_loc + j) as usize] = loc;
+            let dim = self.segments[loc.segment as usize].dim;
+            self.place_sample(loc, run.out_offset + j * dim);
             j += self.lanes;
         }
     }
@@ -332,6 +439,8 @@ impl Kernel<'_> {
             self.vector_run(&run, lane);
         } else if run.mode == MODE_EXPLICIT {
             self.explicit_run(&run, lane);
+        } else if run.mode == MODE_ARC {
+            self.arc_run(&run, lane);
         } else {
             let mut out = run.out_offset;
             for s in 0..run.segments {

@@ -127,7 +127,7 @@ impl BufferPool {
 /// The bindings of `shaders/eval.wgsl`, in binding order: (buffer type, role, the least bytes
 /// a binding holds: the uniform struct's size, or one element of a storage array). A test
 /// checks these against the shader's declarations through naga.
-pub const BINDINGS: [(wgpu::BufferBindingType, &str, u64); 7] = {
+pub const BINDINGS: [(wgpu::BufferBindingType, &str, u64); 8] = {
     use pack::{GpuLoc, GpuSegment, Params, Run};
     const READ: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
     [
@@ -144,9 +144,15 @@ pub const BINDINGS: [(wgpu::BufferBindingType, &str, u64); 7] = {
             "samples",
             size_of::<[f32; 4]>() as u64,
         ),
-        (READ, "locs", size_of::<GpuLoc>() as u64),
+        // Explicit places are read, arc-length places written.
+        (
+            wgpu::BufferBindingType::Storage { read_only: false },
+            "locs",
+            size_of::<GpuLoc>() as u64,
+        ),
         // The coefficients again, as floats.
         (READ, "coeff_floats", size_of::<f32>() as u64),
+        (READ, "arcs", size_of::<[u32; 4]>() as u64),
     ]
 };
 

@@ -13,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use super::KernelShape;
 use crate::error::GpuError;
 use crate::job::EvalJob;
-use crate::sampling::{Grid, Plan, SampleLoc};
+use crate::sampling::{ArcSamples, Grid, Plan, SampleLoc};
 
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
 pub const TERMS: usize = 5;
@@ -78,8 +78,13 @@ pub struct Run {
     pub u0: f32,
     /// u step between samples.
     pub du: f32,
-    /// For an explicit run, where its samples' places start in [`Packed::locs`].
+    /// For an explicit run, where its samples' places start in [`Packed::locs`]; for an
+    /// arc-length run, where the kernel writes the places it computes there.
     pub first_loc: u32,
+    /// For an arc-length run, the vec4 of [`Packed::arcs`] where its curve's table starts.
+    pub arc: u32,
+    /// For an arc-length run, the index of its first sample in its curve's sampling.
+    pub first: u32,
 }
 
 /// [`Run::mode`]: each float written on its own (any dimension and alignment).
@@ -90,6 +95,11 @@ pub const MODE_VECTOR: u32 = 1;
 /// [`Run::mode`]: `count` samples, each at its own segment and u from [`Packed::locs`]
 /// (explicit t; `segment`, `segments`, `u0` and `du` are unused).
 pub const MODE_EXPLICIT: u32 = 2;
+/// [`Run::mode`]: samples `first .. first + count` of an arc-length sampling of the curve
+/// whose `segments` segments start at `segment`, each placed by the kernel from the curve's
+/// table at [`Run::arc`] (see [`push_arc_table`]) and its place written to
+/// `locs[first_loc + j]` (`u0` and `du` are unused).
+pub const MODE_ARC: u32 = 3;
 
 /// One explicitly placed sample. WGSL twin: `Loc` in `shaders/eval.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
@@ -154,8 +164,13 @@ pub struct Packed {
     pub coeffs: Vec<[f32; 4]>,
     /// Runs; `out_offset` is relative to the start of the run's batch.
     pub runs: Vec<Run>,
-    /// The places of explicitly sampled curves' samples.
+    /// The places of explicitly sampled curves' samples, then, from [`Packed::arc_locs`] on,
+    /// room for the places the kernel computes for arc-length samples (curve after curve).
     pub locs: Vec<GpuLoc>,
+    /// Where the places of arc-length samples start in [`Packed::locs`].
+    pub arc_locs: usize,
+    /// The arc-length tables of the curves sampled by arc length ([`push_arc_table`]).
+    pub arcs: Vec<[u32; 4]>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
     /// Output planes: 1 + the derivative order.
@@ -166,9 +181,8 @@ pub struct Packed {
     /// Floats per plane of the output one dispatch writes: its largest batch (from its
     /// [`Batch::base`]), a multiple of 4.
     pub plane_stride: usize,
-    /// The t of every sample of the curves whose places are computed (arc length, tolerance),
-    /// curve after curve: found while packing, so that the host need not compute the places
-    /// again for `Samples::t`.
+    /// The t of every sample of the curves sampled by tolerance, curve after curve: found
+    /// while packing, so that the host need not compute the places again for `Samples::t`.
     pub computed_t: Vec<f64>,
     /// [`pack_into`]'s runs with absolute float offsets, before they are cut into batches:
     /// kept only for their memory.
@@ -208,6 +222,11 @@ impl Packed {
         check_size(
             "sample place",
             size_of_val(self.locs.as_slice()) as u64,
+            binding,
+        )?;
+        check_size(
+            "arc-length",
+            size_of_val(self.arcs.as_slice()) as u64,
             binding,
         )?;
         check_size("output", self.output_bytes(), limits.max_buffer_size)
@@ -262,8 +281,10 @@ pub fn pack_into(
     packed.coeffs.clear();
     packed.runs.clear();
     packed.locs.clear();
+    packed.arcs.clear();
     packed.batches.clear();
     packed.computed_t.clear();
+    let mut arc_samples = 0;
     let mut places = Vec::new();
     for c in 0..job.len() {
         if c % PLACE_BLOCK == 0 {
@@ -316,6 +337,7 @@ pub fn pack_into(
         let runs = CurveRuns {
             runs: &mut all_runs,
             first_segment,
+            segments: table.len() as u32,
             value_base: layout.device_start(c),
             dim,
             shape,
@@ -323,15 +345,32 @@ pub fn pack_into(
         match &plan.0 {
             Plan::Grid(grid) => runs.grid(grid),
             Plan::At(places) => runs.explicit(places, &mut packed.locs),
-            // Arc length and tolerance: places decided on the host in f64 (on every thread,
-            // a block of curves at a time), sampled as explicit t are.
-            _ => {
+            // Arc length: the kernel finds each sample's place from the curve's table.
+            Plan::Arc(window) => {
+                let arc = push_arc_table(&window.data, &mut packed.arcs);
+                runs.arc(window.first..window.first + window.len, arc, arc_samples);
+                arc_samples += window.len;
+            }
+            // Tolerance: places decided on the host in f64 (on every thread, a block of
+            // curves at a time, so that both backends give the same t), sampled as explicit t
+            // are.
+            Plan::Tolerance(_) => {
                 let places = &places[c % PLACE_BLOCK];
                 packed.computed_t.extend(places.iter().map(|l| l.t));
                 runs.explicit(places, &mut packed.locs);
             }
         }
     }
+    // The places of arc-length samples follow the explicit ones.
+    packed.arc_locs = packed.locs.len();
+    for (run, _, _) in &mut all_runs {
+        if run.mode == MODE_ARC {
+            run.first_loc += packed.arc_locs as u32;
+        }
+    }
+    packed
+        .locs
+        .resize(packed.arc_locs + arc_samples, GpuLoc::default());
     cut_batches(packed, &all_runs, limits);
     packed.all_runs = all_runs;
     packed.plane_stride = (packed.batches.iter())
@@ -341,15 +380,15 @@ pub fn pack_into(
     Ok(())
 }
 
-/// Curves whose computed places (arc length, tolerance) are held at once while packing.
+/// Curves whose places computed on the host (tolerance) are held at once while packing.
 const PLACE_BLOCK: usize = 256;
 
-/// The places of the samples of `curves` whose plans compute them (arc length, tolerance; empty
-/// for the others), computed on every thread: most of the packing time of such jobs.
+/// The places of the samples of `curves` sampled by tolerance (empty for the others), computed
+/// on every thread: most of the packing time of such jobs.
 fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
     let computed: Vec<usize> = curves
         .clone()
-        .filter(|&c| job.plan(c).is_computed())
+        .filter(|&c| matches!(job.plan(c).0, Plan::Tolerance(_)))
         .collect();
     let mut places = vec![Vec::new(); curves.len()];
     if computed.is_empty() {
@@ -383,6 +422,74 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
     }
     places
 }
+
+/// Appends the f32 arc-length table of a curve sampled by arc length to `arcs` and returns
+/// the vec4 where it starts. Lengths are fractions of the curve's length L, so that f32 keeps
+/// 2^-24 of L whatever the curve's size; floats are stored as their bits.
+/// - A header: (m − 1, 1/(m − 1), 0, 0).
+/// - Per segment: (its start / L, the vec4 of its first piece, its number of pieces, 0).
+/// - Per piece of the segments' length models ([`ArcTable`](crate::arclen::ArcTable)), segment
+///   after segment, two vec4s: (its start / L, u at its start, c1, c2), (c3, c4, c5, u at its
+///   end): the length from its start, as a fraction of its length, is c1 x + … + c5 x⁵ in
+///   x = (u − u at its start) / its width, within 1e-7 L. Its end / L is the next piece's start,
+///   and after the last piece comes one whose start is 1.
+///
+/// Where a piece's ends round to the same f32 (a piece of zero length, or shorter than 2^-24
+/// L), the kernel places its samples at its start, within its length. On a curve of zero
+/// length every piece is so: every sample but the last lies at u = 0 of the last segment, as
+/// the CPU places them.
+pub(crate) fn push_arc_table(data: &ArcSamples, arcs: &mut Vec<[u32; 4]>) -> u32 {
+    let at = arcs.len();
+    let bits = f32::to_bits;
+    let last = data.count() - 1;
+    arcs.push([last as u32, bits((1.0 / last as f64) as f32), 0, 0]);
+    let (starts, tables) = (data.starts(), data.tables());
+    let length = starts[tables.len()];
+    let fraction = |s: f64| {
+        if length > 0.0 {
+            (s / length) as f32
+        } else {
+            0.0
+        }
+    };
+    let records = arcs.len();
+    arcs.resize(records + tables.len(), [0; 4]);
+    for (i, table) in tables.iter().enumerate() {
+        let first_piece = arcs.len();
+        for (u, width, s, piece_length, c) in table.model_pieces() {
+            let mut model = [1.0f32, 0.0, 0.0, 0.0, 0.0];
+            if piece_length > 0.0 {
+                let normalized = c.map(|v| (v / piece_length) as f32);
+                if normalized.iter().all(|v| v.is_finite()) {
+                    model = normalized;
+                }
+            }
+            // On a curve of zero length, every piece holds u = 0 only.
+            let (u, end) = if length > 0.0 {
+                (u, u + width)
+            } else {
+                (0.0, 0.0)
+            };
+            let start = fraction(starts[i] + s);
+            arcs.push([start, u as f32, model[0], model[1]].map(bits));
+            arcs.push([model[2], model[3], model[4], end as f32].map(bits));
+        }
+        let pieces = (arcs.len() - first_piece) / ARC_PIECE_VEC4S;
+        arcs[records + i] = [
+            bits(fraction(starts[i])),
+            first_piece as u32,
+            pieces as u32,
+            0,
+        ];
+    }
+    // The end of the last piece.
+    let end = if length > 0.0 { 1.0 } else { 0.0 };
+    arcs.extend([[bits(end), 0, 0, 0], [0; 4]]);
+    at as u32
+}
+
+/// Vec4s per piece of a segment's length model in the arc-length table.
+const ARC_PIECE_VEC4S: usize = 2;
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, and makes
 /// `out_offset` relative to each dispatch's [`Batch::base`]. A dispatch may start at any run;
@@ -418,6 +525,8 @@ fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: Ba
 struct CurveRuns<'a> {
     runs: &'a mut Vec<(Run, usize, usize)>,
     first_segment: u32,
+    /// The curve's number of segments.
+    segments: u32,
     /// The float where the curve's first sample goes in each device plane.
     value_base: usize,
     dim: usize,
@@ -440,12 +549,37 @@ impl CurveRuns<'_> {
                 u0: 0.0,
                 du: 0.0,
                 first_loc: locs.len() as u32,
+                arc: 0,
+                first: 0,
             };
             locs.extend(chunk.iter().map(|l| GpuLoc {
                 segment: self.first_segment + l.segment as u32,
                 u: l.u as f32,
             }));
             self.runs.push((run, begin, begin + chunk.len() * self.dim));
+        }
+    }
+
+    /// Samples `samples` of an arc-length sampling whose table is at `arc` in `arcs`, in runs
+    /// of up to run_len samples, their places going to the arc places from `first_place` on.
+    fn arc(self, samples: Range<usize>, arc: u32, first_place: usize) {
+        let run_len = self.shape.run_len as usize;
+        for (c, first) in samples.clone().step_by(run_len).enumerate() {
+            let count = run_len.min(samples.end - first);
+            let begin = self.value_base + c * run_len * self.dim;
+            let run = Run {
+                segment: self.first_segment,
+                segments: self.segments,
+                out_offset: 0,
+                count: count as u32,
+                mode: MODE_ARC,
+                u0: 0.0,
+                du: 0.0,
+                first_loc: (first_place + c * run_len) as u32,
+                arc,
+                first: first as u32,
+            };
+            self.runs.push((run, begin, begin + count * self.dim));
         }
     }
 
@@ -505,6 +639,8 @@ impl CurveRuns<'_> {
                     u0: 0.0,
                     du: (1.0 / k as f64) as f32,
                     first_loc: 0,
+                    arc: 0,
+                    first: 0,
                 };
                 self.runs.push((run, begin, begin + n * k * self.dim));
                 s += n;
@@ -556,6 +692,8 @@ impl CurveRuns<'_> {
                 u0: (u0 + f64::from(j0) * du) as f32,
                 du: du as f32,
                 first_loc: 0,
+                arc: 0,
+                first: 0,
             };
             self.runs.push((run, first, first + n as usize * dim));
         }
@@ -567,7 +705,8 @@ mod tests {
     use super::*;
     use crate::{Basis, Curve, CurveKind, Derivatives, Ends, Points, Sampling};
 
-    /// Curves of 1 to 6 dimensions, per-segment (k from 1 to 9) and explicit samplings.
+    /// Curves of 1 to 6 dimensions, per-segment (k from 1 to 9), explicit, arc-length and
+    /// tolerance samplings.
     fn mixed_job() -> EvalJob {
         let mut job = EvalJob::new(Derivatives::First);
         for i in 0..24usize {
@@ -581,6 +720,10 @@ mod tests {
             let curve = Curve::new(kind, Points::new(dim, coords).unwrap()).unwrap();
             let sampling = if i % 4 == 3 {
                 Sampling::At(vec![0.5, 1.0, 0.0, 2.25])
+            } else if i % 6 == 1 {
+                Sampling::ArcLength(3 + i as u32)
+            } else if i % 6 == 2 {
+                Sampling::Tolerance(0.01)
             } else {
                 Sampling::PerSegment(1 + (i % 9) as u32)
             };
@@ -597,6 +740,10 @@ mod tests {
         } else {
             dim
         };
+        if run.mode == MODE_ARC {
+            // One sample after the other, whichever segments they fall on.
+            return run.count as usize * dim;
+        }
         run.segments as usize * run.count as usize * dim
     }
 

@@ -7,7 +7,7 @@
 use std::sync::OnceLock;
 
 use splinegpu::gpu_bound;
-use splinegpu::{EvalJob, GpuContext, Samples};
+use splinegpu::{EvalJob, GpuContext, SamplePlan, Samples, Sampling};
 
 /// The context every GPU test of this binary shares, or `None` on a developer's machine without
 /// an adapter. Under CI (`CI=true`) a missing adapter fails the test instead: a broken driver
@@ -45,12 +45,22 @@ pub struct Worst {
 }
 
 /// Compares GPU samples with the CPU reference, sample by sample, coordinate by coordinate,
-/// against the contract's accuracy promise, and returns the worst.
+/// against the contract's accuracy promise, and returns the worst. The t must be the same,
+/// except on curves sampled by arc length, whose places the GPU finds itself: there the
+/// reference is evaluated again at the GPU's t.
 pub fn compare(job: &EvalJob, cpu: &Samples<f64>, gpu: &Samples<f32>) -> Worst {
     let mut worst = Worst::default();
     for c in 0..job.len() {
-        let (table, plan) = (job.table(c), job.plan(c));
-        let (cc, gc) = (cpu.curve(c), gpu.curve(c));
+        let (mut table, mut plan) = (job.table(c), job.plan(c));
+        let (mut cc, gc) = (cpu.curve(c), gpu.curve(c));
+        let at_gpu_t;
+        if plan.is_arc_length() {
+            let mut job_at = EvalJob::new(job.derivatives());
+            let places = SamplePlan::new(table, &Sampling::At(gc.t.to_vec())).unwrap();
+            job_at.push_table(table.clone(), places).unwrap();
+            at_gpu_t = (splinegpu::evaluate_reference(&job_at), job_at);
+            (table, plan, cc) = (at_gpu_t.1.table(0), at_gpu_t.1.plan(0), at_gpu_t.0.curve(0));
+        }
         assert_eq!(cc.t, gc.t, "curve {c}: t differs between backends");
         let planes = [
             (cc.points, Some(gc.points)),
