@@ -16,8 +16,11 @@
 //! That is the distance to the chord's line; it is the distance to the chord itself when the
 //! curve's projection on e moves forward throughout (P'·e > 0 on the interval). Otherwise the
 //! bound used is Δ²/8 · max |P''| over the interval, the interpolation bound that Wang's formula
-//! rests on (|P(u) − L(u)| for the chord's linear interpolant L). If an interval fails, the
-//! count grows by an eighth and the placement is redone; at Wang's count n_W =
+//! rests on (|P(u) − L(u)| for the chord's linear interpolant L). Both bounds take the exact
+//! shape of r (see `residual_bound`) rather than Δ²/8 · max |r''|. If an interval fails, the
+//! count grows by an eighth and the placement is redone, and once a count passes, the counts
+//! between it and the last that failed are bisected for the fewest that passes; at Wang's
+//! count n_W =
 //! max(1, ceil(sqrt(M/(8 tol)))), M = max |P''| on the segment, uniform placement always passes,
 //! so the count never exceeds n_W. (Past 2^16 samples on a segment the search stops and n_W is
 //! used at once.)
@@ -122,7 +125,11 @@ impl<'a> Cubic<'a> {
     fn chord_bound(&self, ua: f64, ub: f64) -> f64 {
         let dim = self.dim();
         let h = ub - ua;
-        let full = h * h / 8.0 * self.max_d2(ua, ub);
+        let mut d2 = [[0.0; MAX_DIM]; 2];
+        for k in 0..dim {
+            (d2[0][k], d2[1][k]) = (self.d2(ua, k), self.d2(ub, k));
+        }
+        let full = residual_bound(&d2[0][..dim], &d2[1][..dim], h);
         // The chord's direction e, on the stack (this runs for every interval placed).
         let mut e = [0.0; MAX_DIM];
         for (k, v) in e.iter_mut().enumerate().take(dim) {
@@ -152,14 +159,52 @@ impl<'a> Cubic<'a> {
         if !forward {
             return full;
         }
-        let normal = |u: f64| {
-            let t: f64 = (0..dim).map(|k| self.d2(u, k) * e[k]).sum();
-            (0..dim)
-                .map(|k| (self.d2(u, k) - t * e[k]).powi(2))
-                .sum::<f64>()
-        };
-        (h * h / 8.0 * normal(ua).max(normal(ub)).sqrt()).min(full)
+        // The parts of P'' at the ends normal to e.
+        for end in &mut d2 {
+            let t: f64 = (0..dim).map(|k| end[k] * e[k]).sum();
+            for k in 0..dim {
+                end[k] -= t * e[k];
+            }
+        }
+        residual_bound(&d2[0][..dim], &d2[1][..dim], h).min(full)
     }
+}
+
+/// Pieces of [0, 1] over which [`residual_bound`] bounds its two factors (16: within 12 % of
+/// the largest |r|; 32 gave 0.1 % fewer samples on w1-tol).
+const RESIDUAL_PIECES: usize = 16;
+
+/// A bound on max |r| over an interval of width `h` in u, for r vanishing at both ends with r''
+/// affine, α at the start and β at the end (vectors). In x = (u − u_a)/h,
+/// r(x) = −h²/6 · x(1−x) · (α(2−x) + β(1+x)), so |r| is at most h²/6 times the largest, over
+/// sixteen pieces of [0, 1], of the largest x(1−x) on the piece (a parabola) times the largest
+/// |α(2−x) + β(1+x)| on it (a norm of an affine function: convex, so largest at an end). Never
+/// more than h²/8 · max(|α|, |β|) (Wang's form), and up to half of it where α and β differ.
+fn residual_bound(alpha: &[f64], beta: &[f64], h: f64) -> f64 {
+    let (aa, ab, bb) = alpha
+        .iter()
+        .zip(beta)
+        .fold((0.0, 0.0, 0.0), |(aa, ab, bb), (a, b)| {
+            (aa + a * a, ab + a * b, bb + b * b)
+        });
+    let norm = |x: f64| {
+        let (p, q) = (2.0 - x, 1.0 + x);
+        (aa * p * p + 2.0 * ab * p * q + bb * q * q).max(0.0).sqrt()
+    };
+    let mut largest = 0.0f64;
+    let mut at_start = norm(0.0);
+    for i in 0..RESIDUAL_PIECES {
+        let (x0, x1) = (
+            i as f64 / RESIDUAL_PIECES as f64,
+            (i + 1) as f64 / RESIDUAL_PIECES as f64,
+        );
+        let at_end = norm(x1);
+        let x = 0.5f64.clamp(x0, x1);
+        largest = largest.max(x * (1.0 - x) * at_start.max(at_end));
+        at_start = at_end;
+    }
+    let wang = 0.75 * aa.max(bb).sqrt();
+    h * h / 6.0 * largest.min(wang)
 }
 
 /// Wang's count for `segment` at `tol`: max(1, ceil(sqrt(M / (8 tol)))), M = max |P''| (at an
@@ -191,12 +236,36 @@ pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
         integral: table,
     };
     let mut us = Vec::new();
-    while placement.count < wang && placement.count <= SEARCHED_SAMPLES {
-        placement.us_into(&mut us);
+    let integral = placement.integral;
+    let mut passes = |count: u32| {
+        let trial = Placement {
+            count,
+            uniform: false,
+            integral,
+        };
+        trial.us_into(&mut us);
         us.push(1.0);
-        if us.windows(2).all(|w| cubic.chord_bound(w[0], w[1]) <= tol) {
+        us.windows(2).all(|w| cubic.chord_bound(w[0], w[1]) <= tol)
+    };
+    // The largest count seen to fail (0: none tried).
+    let mut failed = 0;
+    while placement.count < wang && placement.count <= SEARCHED_SAMPLES {
+        if passes(placement.count) {
+            // Bisect down to the last count that failed: near the fewest, counts pass or fail
+            // almost monotonically, and whichever count is kept has passed.
+            let mut passed = placement.count;
+            while passed - failed > 1 {
+                let mid = failed + (passed - failed) / 2;
+                if passes(mid) {
+                    passed = mid;
+                } else {
+                    failed = mid;
+                }
+            }
+            placement.count = passed;
             return Ok(placement);
         }
+        failed = placement.count;
         placement.count += (placement.count / 8).max(1);
     }
     if u64::from(wang) > MAX_SAMPLES_PER_SEGMENT {
@@ -255,4 +324,68 @@ fn inverse(table: &[f64; TABLE + 1], f: f64) -> f64 {
         0.0
     };
     (k as f64 + within) / TABLE as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The residual of the chord's linear interpolant, |P(u) − L(u)|, sampled densely on
+    /// cubics whose P'' at the interval's ends are random: never above the bound, and the bound
+    /// within 15 % of the largest residual seen.
+    #[test]
+    fn the_residual_bound_holds_and_is_nearly_tight() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut worst = 1.0f64;
+        for _ in 0..500 {
+            let dim = 3;
+            let (a, b, c): (Vec<f64>, Vec<f64>, Vec<f64>) = (
+                (0..dim).map(|_| next()).collect(),
+                (0..dim).map(|_| next()).collect(),
+                (0..dim).map(|_| next()).collect(),
+            );
+            let cubic = Cubic {
+                a: &a,
+                b: &b,
+                c: &c,
+                inv: 1.0,
+            };
+            let ua = 0.5 * (next() + 1.0);
+            let ub = ua + (1.0 - ua) * 0.5 * (next() + 1.0);
+            let h = ub - ua;
+            let d2 = |u: f64| (0..dim).map(|k| cubic.d2(u, k)).collect::<Vec<_>>();
+            let bound = residual_bound(&d2(ua), &d2(ub), h);
+            let mut largest = 0.0f64;
+            for i in 0..=2000 {
+                let x = f64::from(i) / 2000.0;
+                let u = ua + x * h;
+                let r: f64 = (0..dim)
+                    .map(|k| {
+                        let line =
+                            cubic.point(ua, k) + x * (cubic.point(ub, k) - cubic.point(ua, k));
+                        (cubic.point(u, k) - line).powi(2)
+                    })
+                    .sum::<f64>()
+                    .sqrt();
+                largest = largest.max(r);
+            }
+            assert!(
+                largest <= bound * (1.0 + 1e-12) + 1e-15,
+                "{largest} > {bound}"
+            );
+            worst = worst.min(largest / bound);
+            assert!(bound <= h * h / 8.0 * cubic.max_d2(ua, ub) * (1.0 + 1e-12));
+        }
+        // 16 pieces: measured no more than 12 % above the largest residual.
+        assert!(
+            worst >= 0.85,
+            "the largest residual is {worst} of the bound somewhere"
+        );
+    }
 }
