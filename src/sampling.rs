@@ -22,7 +22,8 @@ pub enum Sampling {
     /// m >= 2 points evenly spaced by arc length along the whole curve, the first and the last
     /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-10 L, L the curve's length (lengths to
     /// [`DEFAULT_ARCLEN_ACCURACY`](crate::DEFAULT_ARCLEN_ACCURACY) of L, by adaptive Gauss–Legendre
-    /// quadrature; see [`SegmentTable::arclen`]).
+    /// quadrature; see [`SegmentTable::arclen`]). The GPU places the samples itself, in f32 from
+    /// the host's per-segment length models, within 1e-5 L; its t are formed from them in f64.
     ArcLength(u32),
     /// Per segment, as few samples as this method guarantees such that the polyline through
     /// them stays within `tol` (> 0, in the curve's units and D dimensions) of the curve; never

@@ -97,7 +97,7 @@ pub const MODE_VECTOR: u32 = 1;
 pub const MODE_EXPLICIT: u32 = 2;
 /// [`Run::mode`]: samples `first .. first + count` of an arc-length sampling of the curve
 /// whose `segments` segments start at `segment`, each placed by the kernel from the curve's
-/// table at [`Run::arc`] (see [`push_arc_table`]) and its place written to
+/// table at [`Run::arc`] (see `push_arc_table`) and its place written to
 /// `locs[first_loc + j]` (`u0` and `du` are unused).
 pub const MODE_ARC: u32 = 3;
 
@@ -169,7 +169,7 @@ pub struct Packed {
     pub locs: Vec<GpuLoc>,
     /// Where the places of arc-length samples start in [`Packed::locs`].
     pub arc_locs: usize,
-    /// The arc-length tables of the curves sampled by arc length ([`push_arc_table`]).
+    /// The arc-length tables of the curves sampled by arc length (`push_arc_table`).
     pub arcs: Vec<[u32; 4]>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
