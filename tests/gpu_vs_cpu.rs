@@ -153,6 +153,36 @@ fn jobs_split_into_many_dispatches_give_the_same_samples() {
 }
 
 #[test]
+fn values_into_a_callers_planes_equal_evaluates() {
+    let Some(context) = gpu() else { return };
+    let mut job = medium_job();
+    let mut rng = Rng(78);
+    let kind = CurveKind::Uniform {
+        basis: Basis::BSpline,
+        ends: Ends::Closed,
+    };
+    let curve = Curve::new(kind, rng.points(9, 3, -1.0, 1.0)).unwrap();
+    for sampling in [
+        Sampling::ArcLength(101),
+        Sampling::Tolerance(1e-3),
+        Sampling::At(vec![0.5, 2.0, 1.25]),
+    ] {
+        job.push(&curve, &sampling).unwrap();
+    }
+    let whole = context.evaluate(&job).unwrap();
+    let values = job.layout().values();
+    let mut planes = [vec![1.0f32; values], vec![2.0; values], vec![3.0; values]];
+    let [p, d1, d2] = &mut planes;
+    context.evaluate_values_into(&job, [p, d1, d2]).unwrap();
+    for c in 0..job.len() {
+        let (curve, range) = (whole.curve(c), job.layout().values_of(c));
+        assert_eq!(&planes[0][range.clone()], curve.points, "curve {c}");
+        assert_eq!(&planes[1][range.clone()], curve.d1.unwrap(), "curve {c}");
+        assert_eq!(&planes[2][range], curve.d2.unwrap(), "curve {c}");
+    }
+}
+
+#[test]
 fn every_kernel_shape_meets_the_promise() {
     if gpu().is_none() {
         return;

@@ -9,6 +9,7 @@ use super::pack::{self, BatchLimits, Packed, Params, check_size};
 use super::shader::WG_SIZE;
 use crate::error::{GpuError, TargetError};
 use crate::job::EvalJob;
+use crate::layout::JobLayout;
 use crate::samples::Samples;
 
 const F32: u64 = size_of::<f32>() as u64;
@@ -59,6 +60,36 @@ impl GpuContext {
         Ok(())
     }
 
+    /// Evaluates `job` into a caller's planes, laid out as the job's
+    /// [`JobLayout`](crate::JobLayout) lays out host planes (as
+    /// [`evaluate_cpu_values_into`](crate::evaluate_cpu_values_into) does): positions in
+    /// `planes[0]` and, when the job asks for them, first and second derivatives in `planes[1]`
+    /// and `planes[2]` (pass empty slices otherwise). No t is formed: for a consumer that needs
+    /// only the values (t is derivable from the job's plans, [`SamplePlan::loc`](crate::SamplePlan::loc)).
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate`].
+    ///
+    /// # Panics
+    /// If a plane the job needs is not exactly as long as the job's values.
+    pub fn evaluate_values_into(
+        &self,
+        job: &EvalJob,
+        planes: [&mut [f32]; 3],
+    ) -> Result<(), GpuError> {
+        let (values, order) = (job.layout().values(), job.derivatives().order());
+        for (o, plane) in planes.iter().enumerate() {
+            let expected = if order >= o { values } else { 0 };
+            assert_eq!(plane.len(), expected, "plane {o}: {} values", plane.len());
+        }
+        let mut planes = Planes {
+            layout: job.layout(),
+            planes,
+        };
+        self.run(job, false, &mut planes)?;
+        Ok(())
+    }
+
     /// [`GpuContext::evaluate_into`], also measuring how long the dispatches ran on the device:
     /// by timestamp queries where the device has `TIMESTAMP_QUERY`, else by submitting each
     /// dispatch alone and waiting for it.
@@ -79,16 +110,16 @@ impl GpuContext {
         }))
     }
 
-    /// Evaluates `job` into `samples` (its planes laid out for it; its t are filled in here,
-    /// on the host while the device works).
+    /// Evaluates `job` into `samples` (its planes laid out for it; its t, where it keeps them,
+    /// are filled in here, on the host while the device works).
     fn run(
         &self,
         job: &EvalJob,
         timed: bool,
-        samples: &mut Samples<f32>,
+        samples: &mut impl Destination,
     ) -> Result<Option<DeviceTime>, GpuError> {
         if job.layout().values() == 0 {
-            samples.fill_t(job);
+            samples.fill_t(job, &[], &[]);
             return Ok(None);
         }
         let packed = self.pack(job)?;
@@ -194,7 +225,7 @@ impl GpuContext {
         self.queue.submit([encoder.finish()]);
         if arc_download.is_none() {
             // Every t is known on the host: formed while the device works.
-            samples.fill_t_from(job, &packed.computed_t, &[]);
+            samples.fill_t(job, &packed.computed_t, &[]);
         }
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::Device(e.to_string()));
@@ -203,12 +234,13 @@ impl GpuContext {
             return Err(GpuError::Device(e.to_string()));
         }
         map_read(&self.device, &download, |bytes| {
-            unpack_device_planes(bytemuck::cast_slice(bytes), samples);
+            let (layout, planes) = samples.layout_and_planes();
+            unpack_device_planes(bytemuck::cast_slice(bytes), layout, planes);
         })?;
         if let Some(arc_download) = &arc_download {
             map_read(&self.device, arc_download, |bytes| {
                 let places = bytemuck::cast_slice(&bytes[..arc_bytes as usize]);
-                samples.fill_t_from(job, &packed.computed_t, places);
+                samples.fill_t(job, &packed.computed_t, places);
             })?;
         }
         let mut pool = self.pool.lock().unwrap_or_else(PoisonError::into_inner);
@@ -570,10 +602,44 @@ impl Timestamps {
     }
 }
 
+/// Where [`GpuContext::run`] puts a job's samples: a [`Samples`] (t formed on the host too),
+/// or a caller's planes (values only).
+trait Destination {
+    /// Forms the t of `job`'s samples, if this destination keeps them (see
+    /// `Samples::fill_t_from`).
+    fn fill_t(&mut self, job: &EvalJob, tolerance: &[f64], arc_places: &[pack::GpuLoc]);
+    /// The host layout and the planes the values go into.
+    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]);
+}
+
+impl Destination for Samples<f32> {
+    fn fill_t(&mut self, job: &EvalJob, tolerance: &[f64], arc_places: &[pack::GpuLoc]) {
+        self.fill_t_from(job, tolerance, arc_places);
+    }
+
+    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]) {
+        self.layout_and_planes_mut()
+    }
+}
+
+/// A caller's planes, laid out as `layout` says.
+struct Planes<'a> {
+    layout: &'a JobLayout,
+    planes: [&'a mut [f32]; 3],
+}
+
+impl Destination for Planes<'_> {
+    fn fill_t(&mut self, _: &EvalJob, _: &[f64], _: &[pack::GpuLoc]) {}
+
+    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]) {
+        let [p, d1, d2] = &mut self.planes;
+        (self.layout, [&mut **p, &mut **d1, &mut **d2])
+    }
+}
+
 /// Copies every curve's values from planes in the device layout (`values`, plane after plane,
-/// each the job layout's `device_values()` long) into `samples`, whose planes are packed.
-pub(crate) fn unpack_device_planes(values: &[f32], samples: &mut Samples<f32>) {
-    let (layout, planes) = samples.layout_and_planes_mut();
+/// each the job layout's `device_values()` long) into `planes`, packed as `layout` says.
+pub(crate) fn unpack_device_planes(values: &[f32], layout: &JobLayout, planes: [&mut [f32]; 3]) {
     let device_values = layout.device_values();
     let threads = crate::available_threads().min(layout.len()).max(1);
     for (p, mut plane) in planes.into_iter().enumerate() {

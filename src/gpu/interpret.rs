@@ -33,7 +33,8 @@ pub fn evaluate_interpreted(
     let packed = pack::pack(job, shape, limits)?;
     let mut samples = Samples::for_job(job);
     let (download, locs) = run_dispatches(&packed, shape.lanes);
-    unpack_device_planes(&download, &mut samples);
+    let (layout, planes) = samples.layout_and_planes_mut();
+    unpack_device_planes(&download, layout, planes);
     samples.fill_t_from(job, &packed.computed_t, &locs[packed.arc_locs..]);
     Ok(samples)
 }
