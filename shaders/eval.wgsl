@@ -245,27 +245,56 @@ fn vector_run(run: Run, lane: u32) {
     }
 }
 
-// One sample at its own segment and u, written from float `out` on, each float on its own.
-fn place_sample(loc: Loc, out: u32) {
+// Coordinates 4q..4q+3 (those below `dim`) of one sample of `piece` at u, and its derivatives,
+// written from float `out` on, each float on its own.
+fn write_group(piece: Piece, u: f32, q: u32, dim: u32, out: u32) {
+    let last = min(dim, 4u * q + 4u);
+    for (var order = 0u; order <= params.derivatives; order++) {
+        let v = horner(derive(piece, order), u);
+        let plane = out + order * params.plane_stride;
+        for (var k = 4u * q; k < last; k++) {
+            samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
+        }
+    }
+}
+
+const NO_SEGMENT: u32 = 0xffffffffu;
+
+// The segment whose coefficients a run of samples placed one by one holds: consecutive samples
+// on one segment of at most 4 coordinates load its block once (a CPU adapter pays for every
+// float loaded).
+struct Loaded {
+    segment: u32,
+    piece: Piece,
+}
+
+fn nothing_loaded() -> Loaded {
+    let z = vec4(0.0);
+    return Loaded(NO_SEGMENT, Piece(Cubic(z, z, z, z, z), 0.0));
+}
+
+// Sample j of a run, at its own segment and u, written from float out_offset + j * dim on.
+fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>) {
     let segment = segments[loc.segment];
-    for (var q = 0u; 4u * q < segment.dim; q++) {
-        let piece = piece_any(segment, q);
-        let last = min(segment.dim, 4u * q + 4u);
-        for (var order = 0u; order <= params.derivatives; order++) {
-            let v = horner(derive(piece, order), loc.u);
-            let plane = out + order * params.plane_stride;
-            for (var k = 4u * q; k < last; k++) {
-                samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
-            }
+    let out = out_offset + j * segment.dim;
+    if segment.dim <= 4u {
+        if (*loaded).segment != loc.segment {
+            (*loaded).piece = piece_any(segment, 0u);
+            (*loaded).segment = loc.segment;
+        }
+        write_group((*loaded).piece, loc.u, 0u, segment.dim, out);
+    } else {
+        for (var q = 0u; 4u * q < segment.dim; q++) {
+            write_group(piece_any(segment, q), loc.u, q, segment.dim, out);
         }
     }
 }
 
 // An explicit run: each sample at its own segment and u.
 fn explicit_run(run: Run, lane: u32) {
+    var loaded = nothing_loaded();
     for (var j = lane; j < run.count; j += LANES) {
-        let loc = locs[run.first_loc + j];
-        place_sample(loc, run.out_offset + j * segments[loc.segment].dim);
+        place_sample(locs[run.first_loc + j], run.out_offset, j, &loaded);
     }
 }
 
@@ -282,12 +311,42 @@ fn model_slope(c: vec4<f32>, c5: f32, x: f32) -> f32 {
     return c.x + x * (2.0 * c.y + x * (3.0 * c.z + x * (4.0 * c.w + x * 5.0 * c5)));
 }
 
+// The last of `count` nondecreasing starts (the first float of arcs[first + stride * n]) that
+// is <= x, searched from `start_at` on (whose start is <= x): steps doubling from it, then halving.
+fn last_start_at_or_before(first: u32, stride: u32, start_at: u32, count: u32, x: f32) -> u32 {
+    var lo = start_at;
+    var step = 1u;
+    var hi = lo + step;
+    while hi < count && bitcast<f32>(arcs[first + stride * hi].x) <= x {
+        lo = hi;
+        step *= 2u;
+        hi = lo + step;
+    }
+    hi = min(hi, count);
+    while hi - lo > 1u {
+        let mid = (lo + hi) / 2u;
+        if bitcast<f32>(arcs[first + stride * mid].x) <= x {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// Where the last sample of an arc-length run was found (its segment, and its piece there):
+// the run's samples come in increasing length, so the next search starts there.
+struct ArcHint {
+    segment: u32,
+    piece: u32,
+}
+
 // Sample i of an arc-length run's curve: the first at u = 0 of the first segment, the last
 // at u = 1 of the last; between them, at length i/(m - 1) of L, the segment that starts last
 // at or before it, the piece of its length model that does, and the x where the model reaches
 // it: Newton's method from the linear guess, kept inside the bracket the signs leave
 // (bisecting where a step would leave it). Rust twin of the solve: arclen::solve_model.
-fn arc_place(run: Run, i: u32) -> Loc {
+fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
     let header = arcs[run.arc];
     if i == 0u {
         return Loc(run.segment, 0.0);
@@ -296,27 +355,14 @@ fn arc_place(run: Run, i: u32) -> Loc {
         return Loc(run.segment + run.segments - 1u, 1.0);
     }
     let at_length = f32(i) * bitcast<f32>(header.y);
-    var lo = 0u;
-    var hi = run.segments;
-    while hi - lo > 1u {
-        let mid = (lo + hi) / 2u;
-        if bitcast<f32>(arcs[run.arc + 1u + mid].x) <= at_length {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
+    let lo = last_start_at_or_before(run.arc + 1u, 1u, (*hint).segment, run.segments, at_length);
+    if lo != (*hint).segment {
+        (*hint).segment = lo;
+        (*hint).piece = 0u;
     }
     let record = arcs[run.arc + 1u + lo];
-    var k = 0u;
-    var k_end = record.z;
-    while k_end - k > 1u {
-        let mid = (k + k_end) / 2u;
-        if bitcast<f32>(arcs[record.y + 2u * mid].x) <= at_length {
-            k = mid;
-        } else {
-            k_end = mid;
-        }
-    }
+    let k = last_start_at_or_before(record.y, 2u, (*hint).piece, record.z, at_length);
+    (*hint).piece = k;
     let piece = bitcast<vec4<f32>>(arcs[record.y + 2u * k]);
     let c = bitcast<vec4<f32>>(arcs[record.y + 2u * k + 1u]);
     let end = bitcast<f32>(arcs[record.y + 2u * k + 2u].x);
@@ -359,10 +405,12 @@ fn arc_place(run: Run, i: u32) -> Loc {
 // An arc-length run: each sample placed by the curve's table, its place written for the host
 // (which forms t in f64), then evaluated there.
 fn arc_run(run: Run, lane: u32) {
+    var hint = ArcHint(0u, 0u);
+    var loaded = nothing_loaded();
     for (var j = lane; j < run.count; j += LANES) {
-        let loc = arc_place(run, run.first + j);
+        let loc = arc_place(run, run.first + j, &hint);
         locs[run.first_loc + j] = loc;
-        place_sample(loc, run.out_offset + j * segments[loc.segment].dim);
+        place_sample(loc, run.out_offset, j, &loaded);
     }
 }
 

@@ -98,6 +98,37 @@ struct Piece {
     inv_dt: f32,
 }
 
+const NO_SEGMENT: u32 = u32::MAX;
+
+/// WGSL `Loaded`.
+struct Loaded {
+    segment: u32,
+    piece: Piece,
+}
+
+fn nothing_loaded() -> Loaded {
+    let z = [0.0; 4];
+    Loaded {
+        segment: NO_SEGMENT,
+        piece: Piece {
+            p: Cubic {
+                a: z,
+                b: z,
+                c: z,
+                lo: z,
+                hi: z,
+            },
+            inv_dt: 0.0,
+        },
+    }
+}
+
+/// WGSL `ArcHint`.
+struct ArcHint {
+    segment: u32,
+    piece: u32,
+}
+
 /// The kernel's bindings, and its `LANES` override.
 struct Kernel<'a> {
     params: Params,
@@ -290,34 +321,77 @@ impl Kernel<'_> {
         }
     }
 
-    fn place_sample(&mut self, loc: GpuLoc, out: u32) {
-        let segment = self.segments[loc.segment as usize];
-        let mut q = 0;
-        while 4 * q < segment.dim {
-            let piece = self.piece_any(segment, q);
-            let last = segment.dim.min(4 * q + 4);
-            for order in 0..=self.params.derivatives {
-                let v = horner(&derive(&piece, order), loc.u);
-                let plane = out + order * self.params.plane_stride;
-                for k in 4 * q..last {
-                    self.store(plane + k, v[(k - 4 * q) as usize]);
-                }
+    fn write_group(&mut self, piece: &Piece, u: f32, q: u32, dim: u32, out: u32) {
+        let last = dim.min(4 * q + 4);
+        for order in 0..=self.params.derivatives {
+            let v = horner(&derive(piece, order), u);
+            let plane = out + order * self.params.plane_stride;
+            for k in 4 * q..last {
+                self.store(plane + k, v[(k - 4 * q) as usize]);
             }
-            q += 1;
+        }
+    }
+
+    fn place_sample(&mut self, loc: GpuLoc, out_offset: u32, j: u32, loaded: &mut Loaded) {
+        let segment = self.segments[loc.segment as usize];
+        let out = out_offset + j * segment.dim;
+        if segment.dim <= 4 {
+            if loaded.segment != loc.segment {
+                loaded.piece = self.piece_any(segment, 0);
+                loaded.segment = loc.segment;
+            }
+            let piece = loaded.piece;
+            self.write_group(&piece, loc.u, 0, segment.dim, out);
+        } else {
+            let mut q = 0;
+            while 4 * q < segment.dim {
+                let piece = self.piece_any(segment, q);
+                self.write_group(&piece, loc.u, q, segment.dim, out);
+                q += 1;
+            }
         }
     }
 
     fn explicit_run(&mut self, run: &Run, lane: u32) {
+        let mut loaded = nothing_loaded();
         let mut j = lane;
         while j < run.count {
             let loc = self.locs[(run.first_loc + j) as usize];
-            let dim = self.segments[loc.segment as usize].dim;
-            self.place_sample(loc, run.out_offset + j * dim);
+            self.place_sample(loc, run.out_offset, j, &mut loaded);
             j += self.lanes;
         }
     }
 
-    fn arc_place(&self, run: &Run, i: u32) -> GpuLoc {
+    fn last_start_at_or_before(
+        &self,
+        first: u32,
+        stride: u32,
+        start_at: u32,
+        count: u32,
+        x: f32,
+    ) -> u32 {
+        let start = |n: u32| f32::from_bits(self.arcs[(first + stride * n) as usize][0]);
+        let mut lo = start_at;
+        let mut step = 1;
+        let mut hi = lo + step;
+        while hi < count && start(hi) <= x {
+            lo = hi;
+            step *= 2;
+            hi = lo + step;
+        }
+        hi = hi.min(count);
+        while hi - lo > 1 {
+            let mid = u32::midpoint(lo, hi);
+            if start(mid) <= x {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    fn arc_place(&self, run: &Run, i: u32, hint: &mut ArcHint) -> GpuLoc {
         let arcs = self.arcs;
         let float = f32::from_bits;
         let header = arcs[run.arc as usize];
@@ -334,27 +408,15 @@ impl Kernel<'_> {
             };
         }
         let at_length = i as f32 * float(header[1]);
-        let mut lo = 0;
-        let mut hi = run.segments;
-        while hi - lo > 1 {
-            let mid = u32::midpoint(lo, hi);
-            if float(arcs[(run.arc + 1 + mid) as usize][0]) <= at_length {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
+        let lo =
+            self.last_start_at_or_before(run.arc + 1, 1, hint.segment, run.segments, at_length);
+        if lo != hint.segment {
+            hint.segment = lo;
+            hint.piece = 0;
         }
         let record = arcs[(run.arc + 1 + lo) as usize];
-        let mut k = 0;
-        let mut k_end = record[2];
-        while k_end - k > 1 {
-            let mid = u32::midpoint(k, k_end);
-            if float(arcs[(record[1] + 2 * mid) as usize][0]) <= at_length {
-                k = mid;
-            } else {
-                k_end = mid;
-            }
-        }
+        let k = self.last_start_at_or_before(record[1], 2, hint.piece, record[2], at_length);
+        hint.piece = k;
         let piece = arcs[(record[1] + 2 * k) as usize].map(float);
         let c = arcs[(record[1] + 2 * k + 1) as usize].map(float);
         let end = float(arcs[(record[1] + 2 * k + 2) as usize][0]);
@@ -396,12 +458,16 @@ impl Kernel<'_> {
     }
 
     fn arc_run(&mut self, run: &Run, lane: u32) {
+        let mut hint = ArcHint {
+            segment: 0,
+            piece: 0,
+        };
+        let mut loaded = nothing_loaded();
         let mut j = lane;
         while j < run.count {
-            let loc = self.arc_place(run, run.first + j);
+            let loc = self.arc_place(run, run.first + j, &mut hint);
             self.locs[(run.first_loc + j) as usize] = loc;
-            let dim = self.segments[loc.segment as usize].dim;
-            self.place_sample(loc, run.out_offset + j * dim);
+            self.place_sample(loc, run.out_offset, j, &mut loaded);
             j += self.lanes;
         }
     }
