@@ -31,6 +31,9 @@ pub enum BenchError {
     Cli(String),
 }
 
+/// w1's plain loop: 32 samples per segment, positions only.
+const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
+
 /// Timed runs per measurement, after the warm-up.
 pub const REPETITIONS: usize = 5;
 
@@ -45,7 +48,7 @@ pub struct Measurement {
     /// The workload's name.
     pub workload: &'static str,
     /// "gpu-device", "gpu-end-to-end", "gpu-first-call", "cpu-1t", "cpu-all", "memset",
-    /// "fit", or w1-tol's "wang".
+    /// "fit", "plain-loop" (the floor), or w1-tol's "wang".
     pub path: &'static str,
     /// Median seconds.
     pub seconds: f64,
@@ -283,32 +286,39 @@ pub fn run(
         match name {
             "fit-1m" => fit_1m(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
-            "w1-x10" => evaluation(name, &w1_x10_job(), gpu, &mut report)?,
-            "eval-at" => evaluation(name, &eval_at_job(), gpu, &mut report)?,
+            "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
+            "eval-at" => {
+                let job = eval_at_job();
+                let plain = Some(PlainLoop::at(&job));
+                evaluation(name, &job, plain, gpu, &mut report)?;
+            }
             "w1-b" => evaluation(
                 name,
                 &w1_job(Basis::BSpline, Derivatives::None),
+                W1_PLAIN,
                 gpu,
                 &mut report,
             )?,
             "w1-arc" => {
-                evaluation(name, &w1_arc_job(), gpu, &mut report)?;
+                evaluation(name, &w1_arc_job(), None, gpu, &mut report)?;
                 kurbo_arclen(&mut report);
             }
             "w1-tol" => {
-                evaluation(name, &w1_tol_job(), gpu, &mut report)?;
+                evaluation(name, &w1_tol_job(), None, gpu, &mut report)?;
                 wang(&mut report);
                 kurbo_flatten(&mut report);
             }
             "w1-d" => evaluation(
                 name,
                 &w1_job(Basis::CatmullRom, Derivatives::Second),
+                None,
                 gpu,
                 &mut report,
             )?,
             _ => evaluation(
                 name,
                 &w1_job(Basis::CatmullRom, Derivatives::None),
+                W1_PLAIN,
                 gpu,
                 &mut report,
             )?,
@@ -488,6 +498,32 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
     report(&Measurement {
         workload: "fit-1m",
         path: "fit",
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: t.len() as u64,
+        bytes: bytes as u64,
+        float: Some("f64"),
+    });
+    // The floor: the textbook second-derivative system by the Thomas algorithm, then the
+    // power coefficients, into reused memory.
+    let (mut m, mut scratch) = (Vec::new(), Vec::new());
+    let mut out = vec![0.0; bytes / size_of::<f64>()];
+    let (seconds, min_seconds, max_seconds) = time(|| {
+        crate::plain::natural_fit(
+            black_box(&t),
+            black_box(&values),
+            3,
+            &mut m,
+            &mut scratch,
+            &mut out,
+        );
+        black_box(&out);
+        None
+    });
+    report(&Measurement {
+        workload: "fit-1m",
+        path: "plain-loop",
         seconds,
         min_seconds,
         max_seconds,
@@ -728,9 +764,32 @@ fn gpu_paths(
     Ok(())
 }
 
+/// The plain loop that does an evaluation workload's work (see [`crate::plain`]).
+enum PlainLoop {
+    /// k samples per segment and the final point, positions only.
+    Grid(u32),
+    /// Each curve's parameters, located from scratch.
+    At(Vec<Vec<f64>>),
+}
+
+impl PlainLoop {
+    /// eval-at's: the job's parameters, read off its plans before anything is timed.
+    fn at(job: &EvalJob) -> Self {
+        Self::At(
+            (0..job.len())
+                .map(|c| {
+                    let plan = job.plan(c);
+                    (0..plan.len()).map(|i| plan.loc(i).t).collect()
+                })
+                .collect(),
+        )
+    }
+}
+
 fn evaluation(
     workload: &'static str,
     job: &EvalJob,
+    plain: Option<PlainLoop>,
     gpu: Option<&GpuContext>,
     report: &mut impl FnMut(&Measurement),
 ) -> Result<(), GpuError> {
@@ -752,6 +811,20 @@ fn evaluation(
             None
         });
         report(&measurement(path, run, 4));
+    }
+    // The floor: a plain two-line loop over the same work, f32 on all threads.
+    if let Some(plain) = plain {
+        let [p, _, _] = f32_samples.planes_mut();
+        let threads = available_threads();
+        let run = time(|| {
+            match &plain {
+                PlainLoop::Grid(k) => crate::plain::grid(job, *k, p, threads),
+                PlainLoop::At(ts) => crate::plain::at(job, ts, p, threads),
+            }
+            black_box(&p);
+            None
+        });
+        report(&measurement("plain-loop", run, 4));
     }
     drop(f32_samples);
     let mut f64_samples = crate::Samples::<f64>::for_job(job);

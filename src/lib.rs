@@ -123,6 +123,8 @@ mod npz;
 #[cfg(feature = "cli")]
 mod output;
 #[cfg(feature = "cli")]
+mod plain;
+#[cfg(feature = "cli")]
 mod stream;
 
 pub use accuracy::{
