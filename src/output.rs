@@ -209,6 +209,11 @@ pub fn write_json_points<F: SampleFloat + zmij::Float>(
     Ok(())
 }
 
+/// The buffer between the writers and an output file: each write to a file costs a system call
+/// and, as the file grows, the file system's bookkeeping (8 KiB writes of NPZ's per-curve `t`
+/// blocks took 0.7 s of system time for w1's 317 MB on ext4, 1 MiB writes a tenth of it).
+const WRITE_BUFFER: usize = 1 << 20;
+
 /// Writes the output at `path` as the contract says:
 /// - a regular file, or a new path, appears only whole: `write` fills a temporary file beside
 ///   it, which is renamed onto `path` only when `write` succeeds; on any failure the temporary
@@ -231,7 +236,7 @@ pub fn write_output<E: From<io::Error>>(
     match fs::metadata(path) {
         Ok(meta) if !meta.is_file() && !meta.is_dir() => {
             let file = fs::OpenOptions::new().write(true).open(path)?;
-            let mut out = io::BufWriter::new(&file);
+            let mut out = io::BufWriter::with_capacity(WRITE_BUFFER, &file);
             write(&mut out)?;
             out.flush()?;
             Ok(())
@@ -298,7 +303,7 @@ fn write_atomically<E: From<io::Error>>(
         .push(temp.clone());
     let result = (|| {
         {
-            let mut out = io::BufWriter::new(file.as_file());
+            let mut out = io::BufWriter::with_capacity(WRITE_BUFFER, file.as_file());
             write(&mut out)?;
             out.flush()?;
         }

@@ -215,7 +215,7 @@ fn write_npz<F: SampleFloat>(
         .map(|(_, array)| array)
         .collect();
     let mut later: Vec<io::BufWriter<std::fs::File>> = (0..later_arrays.len())
-        .map(|_| tempfile::tempfile().map(io::BufWriter::new))
+        .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
         .collect::<Result<_, _>>()?;
     npz.begin("points", dtype, &[n, dim as u64])?;
     for chunk in job.chunks(chunk_samples) {
