@@ -114,16 +114,43 @@ impl ParsedDocument {
             return Err(InputError::field("curves", "must not be empty").in_document());
         }
         let default = self.sampling.unwrap_or_default();
-        let mut job = EvalJob::new(self.derivatives);
-        for (i, curve) in curves.into_iter().enumerate() {
+        let derivatives = self.derivatives;
+        // Plans on every thread (an arc-length or tolerance plan measures its curve: most of
+        // the time of such documents), then pushed in order, the first error by curve index.
+        let plans = plan_on_every_thread(&curves, |curve| {
+            curve.table.check_range(derivatives)?;
+            SamplePlan::new(&curve.table, curve.sampling.as_ref().unwrap_or(&default))
+        });
+        let mut job = EvalJob::new(derivatives);
+        for (i, (curve, plan)) in curves.into_iter().zip(plans).enumerate() {
             let place = |e: InputError| e.in_curve(i);
-            curve.table.check_range(self.derivatives).map_err(place)?;
-            let sampling = curve.sampling.as_ref().unwrap_or(&default);
-            let plan = SamplePlan::new(&curve.table, sampling).map_err(place)?;
-            job.push_table(curve.table, plan).map_err(place)?;
+            job.push_table(curve.table, plan.map_err(place)?)
+                .map_err(place)?;
         }
         Ok(job)
     }
+}
+
+/// `plan(curve)` for every curve, in order, the curves split into one contiguous range per
+/// thread.
+fn plan_on_every_thread(
+    curves: &[ParsedCurve],
+    plan: impl Fn(&ParsedCurve) -> Result<SamplePlan, InputError> + Sync,
+) -> Vec<Result<SamplePlan, InputError>> {
+    let threads = crate::available_threads().clamp(1, curves.len().max(1));
+    let plan = &plan;
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|k| {
+                let part = &curves[curves.len() * k / threads..curves.len() * (k + 1) / threads];
+                scope.spawn(move || part.iter().map(plan).collect::<Vec<_>>())
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("a planning thread panicked"))
+            .collect()
+    })
 }
 
 /// Methods for the JSON types a visitor does not expect: each reports the value it got.
