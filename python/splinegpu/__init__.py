@@ -157,8 +157,10 @@ class Context:
         `points`: a (C, n, D) array or a list of (n_i, D) arrays (ragged). `kind` and its fields
         are the command line's (KIND_NAMES); `t`, `at` and the clamped derivatives are one array
         for every curve, a 2-D array with a row per curve, or a list (ragged). One sampling:
-        `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`.
-        `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same shape, whose
+        `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
+        (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
+        within 1e-5, so their t differ between backends in the low bits; tolerance t are the
+        same on both). `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same shape, whose
         arrays are filled again instead of new ones.
 
         Raises ValueError naming the curve, field and value for bad input.
