@@ -286,27 +286,136 @@ pub fn pack_into(
     packed.computed_t.clear();
     let mut arc_samples = 0;
     let mut places = Vec::new();
+    fill_coefficients(job, &mut packed.segments, &mut packed.coeffs)?;
+    let mut first_segment = 0;
     for c in 0..job.len() {
         if c % PLACE_BLOCK == 0 {
             places = computed_places(job, c..(c + PLACE_BLOCK).min(job.len()));
         }
         let (table, plan) = (job.table(c), job.plan(c));
         let dim = table.dim();
+        let runs = CurveRuns {
+            runs: &mut all_runs,
+            first_segment,
+            segments: table.len() as u32,
+            value_base: layout.device_start(c),
+            dim,
+            shape,
+        };
+        match &plan.0 {
+            Plan::Grid(grid) => runs.grid(grid),
+            Plan::At(places) => runs.explicit(places, &mut packed.locs),
+            // Arc length: the kernel finds each sample's place from the curve's table.
+            Plan::Arc(window) => {
+                let arc = push_arc_table(&window.data, &mut packed.arcs);
+                runs.arc(window.first..window.first + window.len, arc, arc_samples);
+                arc_samples += window.len;
+            }
+            // Tolerance: places decided on the host in f64 (on every thread, a block of
+            // curves at a time, so that both backends give the same t), sampled as explicit t
+            // are.
+            Plan::Tolerance(_) => {
+                let places = &places[c % PLACE_BLOCK];
+                packed.computed_t.extend(places.iter().map(|l| l.t));
+                runs.explicit(places, &mut packed.locs);
+            }
+        }
+        first_segment += table.len() as u32;
+    }
+    // The places of arc-length samples follow the explicit ones.
+    packed.arc_locs = packed.locs.len();
+    for (run, _, _) in &mut all_runs {
+        if run.mode == MODE_ARC {
+            run.first_loc += packed.arc_locs as u32;
+        }
+    }
+    packed
+        .locs
+        .resize(packed.arc_locs + arc_samples, GpuLoc::default());
+    cut_batches(packed, &all_runs, limits);
+    packed.all_runs = all_runs;
+    packed.plane_stride = (packed.batches.iter())
+        .map(|b| (b.values.end - b.base).next_multiple_of(4))
+        .max()
+        .unwrap_or(0);
+    Ok(())
+}
+
+/// Every curve's segments and coefficient blocks, curve after curve, filled on every thread
+/// (a contiguous range of curves each) into `segments` and `coeffs`, resized for them; the
+/// rounding to f32 is [`pack`]'s.
+///
+/// # Errors
+/// [`GpuError::OutOfRange`] for the first curve (by index) with a value outside f32.
+fn fill_coefficients(
+    job: &EvalJob,
+    segments: &mut Vec<GpuSegment>,
+    coeffs: &mut Vec<[f32; 4]>,
+) -> Result<(), GpuError> {
+    let tables: Vec<_> = (0..job.len()).map(|c| job.table(c)).collect();
+    let total_segments = tables.iter().map(|t| t.len()).sum();
+    let total_vec4s = tables.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
+    segments.clear();
+    segments.resize(total_segments, GpuSegment::default());
+    coeffs.clear();
+    coeffs.resize(total_vec4s, [0.0; 4]);
+    let threads = crate::available_threads().clamp(1, tables.len().max(1));
+    std::thread::scope(|scope| {
+        let (mut segments, mut coeffs) = (segments.as_mut_slice(), coeffs.as_mut_slice());
+        let (mut first, mut coeff_base) = (0, 0);
+        let mut handles = Vec::new();
+        for k in 0..threads {
+            let end = tables.len() * (k + 1) / threads;
+            let part = &tables[first..end];
+            let n_segments = part.iter().map(|t| t.len()).sum();
+            let n_vec4s = part.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
+            let (my_segments, rest) = std::mem::take(&mut segments).split_at_mut(n_segments);
+            segments = rest;
+            let (my_coeffs, rest) = std::mem::take(&mut coeffs).split_at_mut(n_vec4s);
+            coeffs = rest;
+            let curves = first..end;
+            handles.push(
+                scope.spawn(move || fill_part(part, curves, coeff_base, my_segments, my_coeffs)),
+            );
+            first = end;
+            coeff_base += n_vec4s;
+        }
+        // The first error by curve index: the parts are in curve order.
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("a packing thread panicked"))
+            .collect::<Result<Vec<()>, _>>()
+            .map(drop)
+    })
+}
+
+/// [`fill_coefficients`] for the curves `curves` (whose tables are `tables`), their segments
+/// and blocks going to `segments` and `coeffs`, which start at vec4 `coeff_base` of the whole
+/// table.
+fn fill_part(
+    tables: &[&crate::SegmentTable],
+    curves: Range<usize>,
+    coeff_base: usize,
+    segments: &mut [GpuSegment],
+    coeffs: &mut [[f32; 4]],
+) -> Result<(), GpuError> {
+    let (mut s_at, mut at) = (0, 0);
+    for (c, table) in curves.zip(tables) {
+        let dim = table.dim();
         let block_len = block_vec4s(dim);
-        let first_segment = packed.segments.len() as u32;
         for s in 0..table.len() {
             let segment = table.segment(s);
             let inv_dt = (1.0 / segment.dt()) as f32;
-            packed.segments.push(GpuSegment {
-                coeff_offset: packed.coeffs.len() as u32,
+            segments[s_at] = GpuSegment {
+                coeff_offset: (coeff_base + at) as u32,
                 dim: dim as u32,
-            });
+            };
+            s_at += 1;
             // The coordinate k of term t is float t·dim + k of the block; 1/Δ follows the
             // terms. d_hi = f32(D), d_lo = f32(D − d_hi).
             let [a, b, cc, d] = segment.power();
-            let at = packed.coeffs.len();
-            packed.coeffs.resize(at + block_len, [0.0; 4]);
-            let block: &mut [f32] = bytemuck::cast_slice_mut(&mut packed.coeffs[at..]);
+            let block: &mut [f32] = bytemuck::cast_slice_mut(&mut coeffs[at..at + block_len]);
+            at += block_len;
             for k in 0..dim {
                 let hi = d[k] as f32;
                 let values = [
@@ -334,49 +443,7 @@ pub fn pack_into(
                 });
             }
         }
-        let runs = CurveRuns {
-            runs: &mut all_runs,
-            first_segment,
-            segments: table.len() as u32,
-            value_base: layout.device_start(c),
-            dim,
-            shape,
-        };
-        match &plan.0 {
-            Plan::Grid(grid) => runs.grid(grid),
-            Plan::At(places) => runs.explicit(places, &mut packed.locs),
-            // Arc length: the kernel finds each sample's place from the curve's table.
-            Plan::Arc(window) => {
-                let arc = push_arc_table(&window.data, &mut packed.arcs);
-                runs.arc(window.first..window.first + window.len, arc, arc_samples);
-                arc_samples += window.len;
-            }
-            // Tolerance: places decided on the host in f64 (on every thread, a block of
-            // curves at a time, so that both backends give the same t), sampled as explicit t
-            // are.
-            Plan::Tolerance(_) => {
-                let places = &places[c % PLACE_BLOCK];
-                packed.computed_t.extend(places.iter().map(|l| l.t));
-                runs.explicit(places, &mut packed.locs);
-            }
-        }
     }
-    // The places of arc-length samples follow the explicit ones.
-    packed.arc_locs = packed.locs.len();
-    for (run, _, _) in &mut all_runs {
-        if run.mode == MODE_ARC {
-            run.first_loc += packed.arc_locs as u32;
-        }
-    }
-    packed
-        .locs
-        .resize(packed.arc_locs + arc_samples, GpuLoc::default());
-    cut_batches(packed, &all_runs, limits);
-    packed.all_runs = all_runs;
-    packed.plane_stride = (packed.batches.iter())
-        .map(|b| (b.values.end - b.base).next_multiple_of(4))
-        .max()
-        .unwrap_or(0);
     Ok(())
 }
 
