@@ -482,7 +482,17 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
     report(&memset("fit-1m", bytes));
     let mut fitter = Fitter::new();
     let mut table = SegmentTable::default();
-    let (seconds, min_seconds, max_seconds) = time(|| {
+    let measurement = |path, (seconds, min_seconds, max_seconds)| Measurement {
+        workload: "fit-1m",
+        path,
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: t.len() as u64,
+        bytes: bytes as u64,
+        float: Some("f64"),
+    };
+    let fit = time(|| {
         fitter
             .fit_into(
                 black_box(&t),
@@ -495,21 +505,12 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         black_box(&table);
         None
     });
-    report(&Measurement {
-        workload: "fit-1m",
-        path: "fit",
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples: t.len() as u64,
-        bytes: bytes as u64,
-        float: Some("f64"),
-    });
+    report(&measurement("fit", fit));
     // The floor: the textbook second-derivative system by the Thomas algorithm, then the
     // power coefficients, into reused memory.
     let (mut m, mut scratch) = (Vec::new(), Vec::new());
     let mut out = vec![0.0; bytes / size_of::<f64>()];
-    let (seconds, min_seconds, max_seconds) = time(|| {
+    let plain = time(|| {
         crate::plain::natural_fit(
             black_box(&t),
             black_box(&values),
@@ -521,16 +522,7 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         black_box(&out);
         None
     });
-    report(&Measurement {
-        workload: "fit-1m",
-        path: "plain-loop",
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples: t.len() as u64,
-        bytes: bytes as u64,
-        float: Some("f64"),
-    });
+    report(&measurement("plain-loop", plain));
 }
 
 /// w1 as the contract's document: the same curves (their coordinates as the shortest text

@@ -105,6 +105,19 @@ fn lengths_at(table: &SegmentTable, ts: &[f64], tol: f64) -> Vec<f64> {
     s
 }
 
+/// The curve's length L by [`lengths_at`], and the largest |s(t_j) − j L/(m − 1)| over the m
+/// samples `ts`, as a fraction of L.
+fn spacing_error(table: &SegmentTable, ts: &[f64]) -> (f64, f64) {
+    let (t0, t1) = table.t_range();
+    let total = lengths_at(table, &[t0, t1], 1e-15)[1];
+    let s = lengths_at(table, ts, 1e-15 * total.max(1e-300));
+    let last = (ts.len() - 1) as f64;
+    let error = (s.iter().enumerate())
+        .map(|(j, s_j)| (s_j - total * j as f64 / last).abs() / total.max(f64::MIN_POSITIVE))
+        .fold(0.0, f64::max);
+    (total, error)
+}
+
 fn uniform_kinds() -> Vec<CurveKind> {
     let mut bases = common::bases();
     // A Bezier matrix on sliding windows: segments that do not join.
@@ -196,17 +209,9 @@ fn arc_length_samples_are_evenly_spaced_within_1e_10_of_the_length() {
                 "the ends are the curve's"
             );
             assert!(ts.windows(2).all(|w| w[0] <= w[1]), "t in order");
-            let total = lengths_at(table, &[t0, t1], 1e-15)[1];
-            let s = lengths_at(table, ts, 1e-15 * total.max(1e-300));
-            for (j, s_j) in s.iter().enumerate() {
-                let want = total * j as f64 / f64::from(m - 1);
-                let error = (s_j - want).abs() / total.max(f64::MIN_POSITIVE);
-                worst = worst.max(error);
-                assert!(
-                    error <= 1e-10,
-                    "D {dim}, curve {c}, sample {j}: {error:e} of L"
-                );
-            }
+            let (total, error) = spacing_error(table, ts);
+            worst = worst.max(error);
+            assert!(error <= 1e-10, "D {dim}, curve {c}: {error:e} of L");
             // The library's length agrees with the independent one.
             let length = table.arclen(splinegpu::DEFAULT_ARCLEN_ACCURACY);
             assert!(
@@ -246,17 +251,9 @@ fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5_of_the_len
                 ts.windows(2).all(|w| w[0] <= w[1]),
                 "D {dim} curve {c}: order"
             );
-            let total = lengths_at(table, &[t0, t1], 1e-15)[1];
-            let s = lengths_at(table, ts, 1e-15 * total.max(1e-300));
-            for (j, s_j) in s.iter().enumerate() {
-                let want = total * j as f64 / f64::from(m - 1);
-                let error = (s_j - want).abs() / total.max(f64::MIN_POSITIVE);
-                worst = worst.max(error);
-                assert!(
-                    error <= 1e-5,
-                    "D {dim}, curve {c}, sample {j}: {error:e} of L"
-                );
-            }
+            let (_, error) = spacing_error(table, ts);
+            worst = worst.max(error);
+            assert!(error <= 1e-5, "D {dim}, curve {c}: {error:e} of L");
         }
         // The points and derivatives are those at the GPU's t, within the promise.
         let reference = splinegpu::evaluate_reference(&job);
