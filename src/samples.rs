@@ -130,10 +130,8 @@ impl<F: Copy + Default> Samples<F> {
                 let (own, after) = arc_places.split_at(n);
                 let knots = table.knots();
                 self.t.extend(own.iter().map(|place| {
-                    let i = place.segment as usize - first_segment;
-                    let (t0, t1) = (knots[i], knots[i + 1]);
-                    let u = f64::from(place.u);
-                    if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
+                    let segment = place.segment as usize - first_segment;
+                    crate::sampling::t_at(knots, segment, f64::from(place.u))
                 }));
                 arc_places = after;
             } else if plan.is_tolerance() && tolerance.len() >= n {

@@ -148,8 +148,7 @@ impl ArcSamples {
         let target = length * j as f64 / (self.m - 1) as f64;
         let segment = (self.starts.partition_point(|&s| s <= target).max(1) - 1).min(segments - 1);
         let u = self.tables[segment].inverse(target - self.starts[segment], self.accuracy);
-        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
-        let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
+        let t = t_at(&self.knots, segment, u);
         SampleLoc { segment, u, t }
     }
 }
@@ -193,8 +192,7 @@ impl ToleranceSamples {
     }
 
     fn t(&self, segment: usize, u: f64) -> f64 {
-        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
-        if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
+        t_at(&self.knots, segment, u)
     }
 
     fn loc(&self, g: usize) -> SampleLoc {
@@ -274,8 +272,7 @@ impl Grid {
         } else {
             (g / k, (g % k) as f64 / k as f64)
         };
-        let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
-        let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
+        let t = t_at(&self.knots, segment, u);
         SampleLoc { segment, u, t }
     }
 }
@@ -515,6 +512,13 @@ impl<T> Window<T> {
             len: range.len(),
         }
     }
+}
+
+/// The t of local `u` on `segment`: t_i + u·(t_{i+1} − t_i), and t_{i+1} itself at u = 1 (the
+/// sum may round off it).
+pub(crate) fn t_at(knots: &[f64], segment: usize, u: f64) -> f64 {
+    let (t0, t1) = (knots[segment], knots[segment + 1]);
+    if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
 }
 
 /// The segment and local u of parameter `t`: the last segment whose start is <= t, so an
