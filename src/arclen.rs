@@ -411,17 +411,29 @@ impl ArcTable {
     /// 8-point rule inside its own.
     #[inline]
     pub fn length_to(&self, u: f64) -> f64 {
-        let k = (self.u.partition_point(|&x| x <= u).max(1) - 1).min(self.u.len() - 2);
+        self.length_to_from(u, 0)
+    }
+
+    /// [`ArcTable::length_to`], searching the quadrature's pieces from piece `from` on (which
+    /// starts at or before `u`).
+    #[inline]
+    fn length_to_from(&self, u: f64, from: usize) -> f64 {
+        let k = last_before(&self.u[..self.u.len() - 1], from, |x| x <= u);
         self.s[k] + self.speed.gl8(self.u[k], u)
     }
 
-    /// The model piece that holds length `s` in (0, length), and the u where its model
-    /// reaches `s`.
+    /// The model piece that holds length `s` in (0, length), searched from `hint.model` on,
+    /// and the u where its model reaches `s`.
     #[inline]
-    fn guess(&self, s: f64) -> (usize, f64) {
+    fn guess(&self, s: f64, hint: &mut InverseHint) -> (usize, f64) {
         let (ms, mu) = (&self.model_s, &self.model_u);
         // The first piece whose end reaches s: ms[k] < s <= ms[k + 1], so it is not empty.
-        let k = (ms.partition_point(|&x| x < s).max(1) - 1).min(self.model.len() - 1);
+        let k = last_before(&ms[..self.model.len()], hint.model, |x| x < s);
+        if k != hint.model {
+            hint.model = k;
+            hint.quadrature =
+                last_before(&self.u[..self.u.len() - 1], hint.quadrature, |x| x <= mu[k]);
+        }
         // Solved to the model's own error, which Newton's step on the length then removes.
         let within = self.model_accuracy;
         let x = solve_model(&self.model[k], s - ms[k], ms[k + 1] - ms[k], within);
@@ -437,16 +449,23 @@ impl ArcTable {
     /// depends on `s` alone (not on earlier calls), so every chunking of a sampling gives the
     /// same t.
     pub fn inverse(&self, s: f64, accuracy: f64) -> f64 {
+        self.inverse_from(s, accuracy, &mut InverseHint::default())
+    }
+
+    /// [`ArcTable::inverse`] for one of a run of nondecreasing lengths: the searches start
+    /// where the last one's ended (`hint`, updated; [`InverseHint::default`] for the first),
+    /// which changes how long they take, not what they find.
+    pub fn inverse_from(&self, s: f64, accuracy: f64, hint: &mut InverseHint) -> f64 {
         if s <= 0.0 {
             return 0.0;
         }
         if s >= self.length() {
             return 1.0;
         }
-        let (k, mut u) = self.guess(s);
+        let (k, mut u) = self.guess(s, hint);
         let (mut lo, mut hi) = (self.model_u[k], self.model_u[k + 1]);
         for _ in 0..100 {
-            let f = self.length_to(u) - s;
+            let f = self.length_to_from(u, hint.quadrature) - s;
             if f.abs() <= accuracy {
                 return u;
             }
@@ -484,6 +503,30 @@ impl ArcTable {
             .enumerate()
             .map(|(k, c)| (mu[k], mu[k + 1] - mu[k], ms[k], ms[k + 1] - ms[k], c))
     }
+}
+
+/// Where [`ArcTable::inverse_from`]'s searches start: the model piece of the last length, and
+/// the quadrature piece that holds that model piece's start.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct InverseHint {
+    model: usize,
+    quadrature: usize,
+}
+
+/// The last index, from `from` on, whose value satisfies `before`, which holds on a prefix of
+/// `values` that reaches `from`: steps doubling from `from`, then halving, so a search that
+/// starts near its answer is short.
+#[inline]
+pub(crate) fn last_before(values: &[f64], from: usize, before: impl Fn(f64) -> bool) -> usize {
+    let (mut lo, mut step) = (from, 1);
+    let mut hi = lo + step;
+    while hi < values.len() && before(values[hi]) {
+        lo = hi;
+        step *= 2;
+        hi = lo + step;
+    }
+    let hi = hi.min(values.len());
+    lo + values[lo + 1..hi].partition_point(|&v| before(v))
 }
 
 /// c1 x + c2 x² + … + c5 x⁵.

@@ -129,6 +129,19 @@ impl ArcSamples {
     }
 
     fn loc(&self, j: usize) -> SampleLoc {
+        self.loc_from(j, &mut ArcHint::default())
+    }
+
+    /// The places of samples `range`, each search starting where the last one's ended.
+    fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+        let mut hint = ArcHint::default();
+        out.extend(range.map(|j| self.loc_from(j, &mut hint)));
+    }
+
+    /// Sample `j`'s place, for one of a run of increasing `j`: the searches start at `hint`
+    /// (the last sample's segment and its inverse's hint; default for the first), which
+    /// changes how long they take, not what they find.
+    fn loc_from(&self, j: usize, hint: &mut ArcHint) -> SampleLoc {
         let segments = self.tables.len();
         if j == 0 {
             return SampleLoc {
@@ -146,11 +159,31 @@ impl ArcSamples {
         }
         let length = self.starts[segments];
         let target = length * j as f64 / (self.m - 1) as f64;
-        let segment = (self.starts.partition_point(|&s| s <= target).max(1) - 1).min(segments - 1);
-        let u = self.tables[segment].inverse(target - self.starts[segment], self.accuracy);
+        // The last segment that starts at or before the target.
+        let segment = arclen::last_before(&self.starts[..segments], hint.segment, |s| s <= target);
+        if segment != hint.segment {
+            *hint = ArcHint {
+                segment,
+                ..ArcHint::default()
+            };
+        }
+        let table = &self.tables[segment];
+        let u = table.inverse_from(
+            target - self.starts[segment],
+            self.accuracy,
+            &mut hint.inverse,
+        );
         let t = t_at(&self.knots, segment, u);
         SampleLoc { segment, u, t }
     }
+}
+
+/// Where [`ArcSamples::loc_from`]'s searches start: the last sample's segment, and the hint of
+/// its inverse there.
+#[derive(Clone, Copy, Debug, Default)]
+struct ArcHint {
+    segment: usize,
+    inverse: arclen::InverseHint,
 }
 
 /// A curve's tolerance sampling: each segment's placement (its count and the table its u are
@@ -476,7 +509,9 @@ impl SamplePlan {
         match &self.0 {
             Plan::Grid(grid) => out.extend(range.map(|i| grid.loc(grid.first + i))),
             Plan::At(locs) => out.extend_from_slice(&locs[range]),
-            Plan::Arc(w) => out.extend(range.map(|i| w.data.loc(w.first + i))),
+            Plan::Arc(w) => w
+                .data
+                .locs_into(w.first + range.start..w.first + range.end, out),
             Plan::Tolerance(w) => w
                 .data
                 .locs_into(w.first + range.start..w.first + range.end, out),
@@ -547,6 +582,31 @@ fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn arc_length_places_found_from_the_last_ones_equal_those_found_afresh() {
+        use crate::{Basis, Curve, CurveKind, Ends, Points};
+        // 40 segments, with a cusp (a doubled point) and a standstill (four equal points).
+        let mut coords: Vec<f64> = (0..40)
+            .flat_map(|i| [f64::from(i).sin() * 3.0, f64::from(i % 7)])
+            .collect();
+        coords.splice(20..20, [5.0, 5.0, 5.0, 5.0, 5.0, 5.0, 5.0, 5.0]);
+        coords.splice(50..50, [coords[48], coords[49]]);
+        let kind = CurveKind::Uniform {
+            basis: Basis::BSpline,
+            ends: Ends::Repeat,
+        };
+        let table = Curve::new(kind, Points::new(2, coords).unwrap())
+            .unwrap()
+            .fit();
+        let arc = ArcSamples::new(&table, 997);
+        let fresh: Vec<SampleLoc> = (0..997).map(|j| arc.loc(j)).collect();
+        for start in [0, 1, 13, 500, 996] {
+            let mut run = Vec::new();
+            arc.locs_into(start..997, &mut run);
+            assert_eq!(run, fresh[start..], "from sample {start}");
+        }
+    }
 
     fn grid(segments: usize, k: u32) -> Grid {
         Grid {
