@@ -301,6 +301,9 @@ fn explicit_run(run: Run, lane: u32) {
 // Steps of the safeguarded Newton iteration that solves a length model (Rust twin:
 // arclen::SOLVE_STEPS, checked by tests/shader.rs).
 const SOLVE_STEPS: u32 = 12u;
+// The step in x below which the solve stops: 2^-22 (its error in length is below 2.4e-7 of
+// the piece's length).
+const SOLVE_RESOLUTION: f32 = 2.384185791015625e-7;
 
 // c1 x + c2 x^2 + ... + c5 x^5, and its slope.
 fn model_at(c: vec4<f32>, c5: f32, x: f32) -> f32 {
@@ -377,7 +380,7 @@ fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
     var x = y;
     var x_lo = 0.0;
     var x_hi = 1.0;
-    for (var step = 0u; step < SOLVE_STEPS; step++) {
+    for (var iteration = 0u; iteration < SOLVE_STEPS; iteration++) {
         let f = model_at(c14, c5, x) - y;
         if f == 0.0 {
             break;
@@ -388,9 +391,12 @@ fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
             x_hi = x;
         }
         let slope = model_slope(c14, c5, x);
-        let next = x - f / slope;
-        // A step below the float's resolution: converged (a bisection would undo it).
-        if next == x {
+        let step = f / slope;
+        let next = x - step;
+        // A step within 2^-22 (two ulps at 1): converged. Near the root f32's rounding can make
+        // Newton alternate between neighbouring floats, and a bisection would undo it. (The
+        // step, not next - x: a driver may fold the one into the other.)
+        if abs(step) <= SOLVE_RESOLUTION {
             break;
         }
         if slope > 0.0 && next > x_lo && next < x_hi {

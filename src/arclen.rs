@@ -545,8 +545,9 @@ fn polynomial_slope(c: &[f64; 5], x: f64) -> f64 {
 /// up to [`SOLVE_STEPS`] steps of Newton's method from the linear guess s/length, each kept
 /// inside the bracket the signs so far leave (bisecting it when a step would leave it or the
 /// slope is not positive), stopping once the model is within `within` of `s` or a step no
-/// longer moves x. The GPU solves
-/// the same way in f32 (`arc_place` in `shaders/eval.wgsl`, with `within` 0).
+/// longer moves x. The GPU solves the same way in f32 (`arc_place` in `shaders/eval.wgsl`),
+/// stopping once a step is below 2^-22 (near the root f32's rounding can make Newton alternate
+/// between neighbouring floats).
 pub(crate) fn solve_model(c: &[f64; 5], s: f64, length: f64, within: f64) -> f64 {
     if length <= 0.0 {
         return 0.0;

@@ -100,6 +100,9 @@ struct Piece {
 
 const NO_SEGMENT: u32 = u32::MAX;
 
+/// WGSL `SOLVE_RESOLUTION`: 2^-22.
+const SOLVE_RESOLUTION: f32 = 2.384_185_8e-7;
+
 /// WGSL `Loaded`.
 struct Loaded {
     segment: u32,
@@ -441,8 +444,9 @@ impl Kernel<'_> {
                 x_hi = x;
             }
             let slope = model_slope(c14, c5, x);
-            let next = x - f / slope;
-            if next == x {
+            let step = f / slope;
+            let next = x - step;
+            if step.abs() <= SOLVE_RESOLUTION {
                 break;
             }
             if slope > 0.0 && next > x_lo && next < x_hi {
