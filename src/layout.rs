@@ -90,6 +90,31 @@ impl JobLayout {
         self.value_offsets[c]..self.value_offsets[c + 1]
     }
 
+    /// Runs `each(curves, part)` on `threads` threads (at most one per curve), each given a
+    /// contiguous range of curves and the part of the host `plane` that holds their values
+    /// (from the first curve's first value on).
+    pub(crate) fn per_thread_curves<T: Send>(
+        &self,
+        mut plane: &mut [T],
+        threads: usize,
+        each: impl Fn(Range<usize>, &mut [T]) + Sync,
+    ) {
+        let threads = threads.clamp(1, self.len().max(1));
+        let each = &each;
+        std::thread::scope(|scope| {
+            let mut first = 0;
+            for k in 0..threads {
+                let end = self.len() * (k + 1) / threads;
+                let values = self.value_offsets[end] - self.value_offsets[first];
+                let (part, rest) = std::mem::take(&mut plane).split_at_mut(values);
+                plane = rest;
+                let curves = first..end;
+                scope.spawn(move || each(curves, part));
+                first = end;
+            }
+        });
+    }
+
     /// Where curve `c`'s values start in each device plane (a multiple of 4).
     #[must_use]
     pub fn device_start(&self, c: usize) -> usize {

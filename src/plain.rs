@@ -4,37 +4,10 @@
 
 use crate::job::EvalJob;
 
-/// Splits `out` (the job's values, curve after curve, `dims[c]` per sample) into one slice per
-/// thread of `threads`, each a contiguous run of whole curves, and calls `each(curves, slice)`
-/// on its own thread.
-fn per_thread(
-    job: &EvalJob,
-    out: &mut [f32],
-    threads: usize,
-    each: impl Fn(std::ops::Range<usize>, &mut [f32]) + Sync,
-) {
-    let layout = job.layout();
-    let threads = threads.clamp(1, job.len().max(1));
-    std::thread::scope(|scope| {
-        let mut rest = out;
-        let mut first = 0;
-        for k in 0..threads {
-            let end = job.len() * (k + 1) / threads;
-            let values: usize = (first..end).map(|c| layout.values_of(c).len()).sum();
-            let (mine, after) = std::mem::take(&mut rest).split_at_mut(values);
-            rest = after;
-            let each = &each;
-            let curves = first..end;
-            scope.spawn(move || each(curves, mine));
-            first = end;
-        }
-    });
-}
-
 /// w1's work: every curve's segments at u = j/k, j = 0..k, and the final point, as f32 by Horner
 /// on the fitted power coefficients, on `threads` threads.
 pub fn grid(job: &EvalJob, k: u32, out: &mut [f32], threads: usize) {
-    per_thread(job, out, threads, |curves, out| {
+    job.layout().per_thread_curves(out, threads, |curves, out| {
         let mut at = 0;
         for c in curves {
             let table = job.table(c);
@@ -63,7 +36,7 @@ pub fn grid(job: &EvalJob, k: u32, out: &mut [f32], threads: usize) {
 /// eval-at's work from scratch: each t located by binary search among its curve's knots, then
 /// Horner there, as f32, on `threads` threads (`ts[c]` are curve c's parameters).
 pub fn at(job: &EvalJob, ts: &[Vec<f64>], out: &mut [f32], threads: usize) {
-    per_thread(job, out, threads, |curves, out| {
+    job.layout().per_thread_curves(out, threads, |curves, out| {
         let mut at = 0;
         for c in curves {
             let table = job.table(c);

@@ -641,35 +641,22 @@ impl Destination for Planes<'_> {
 /// each the job layout's `device_values()` long) into `planes`, packed as `layout` says.
 pub(crate) fn unpack_device_planes(values: &[f32], layout: &JobLayout, planes: [&mut [f32]; 3]) {
     let device_values = layout.device_values();
-    let threads = crate::available_threads().min(layout.len()).max(1);
-    for (p, mut plane) in planes.into_iter().enumerate() {
+    for (p, plane) in planes.into_iter().enumerate() {
         if plane.is_empty() {
             continue;
         }
         let device_plane = &values[p * device_values..(p + 1) * device_values];
         // Curves split evenly between the threads, each copying its own.
-        std::thread::scope(|scope| {
-            let mut first = 0;
-            for k in 0..threads {
-                let end = layout.len() * (k + 1) / threads;
-                let host_end = if end == layout.len() {
-                    layout.values()
-                } else {
-                    layout.values_of(end).start
-                };
-                let host_start = layout.values_of(first).start.min(host_end);
-                let (part, rest) = std::mem::take(&mut plane).split_at_mut(host_end - host_start);
-                plane = rest;
-                let curves = first..end;
-                scope.spawn(move || {
-                    for c in curves {
-                        let host = layout.values_of(c);
-                        let at = layout.device_start(c);
-                        part[host.start - host_start..host.end - host_start]
-                            .copy_from_slice(&device_plane[at..at + host.len()]);
-                    }
-                });
-                first = end;
+        layout.per_thread_curves(plane, crate::available_threads(), |curves, part| {
+            let Some(first) = curves.clone().next() else {
+                return;
+            };
+            let host_start = layout.values_of(first).start;
+            for c in curves {
+                let host = layout.values_of(c);
+                let at = layout.device_start(c);
+                part[host.start - host_start..host.end - host_start]
+                    .copy_from_slice(&device_plane[at..at + host.len()]);
             }
         });
     }
