@@ -109,7 +109,7 @@ pub fn evaluate_cpu_planes_into<F: SampleFloat>(
             let n = layout.value_of_sample(end) - layout.value_of_sample(start);
             let parts = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, n));
             let params = take_front(&mut params, end - start);
-            let work = move || evaluate_range(job, start..end, params, parts);
+            let work = move || evaluate_range_fastest(job, start..end, params, parts);
             if t + 1 == threads {
                 work();
             } else {
@@ -137,8 +137,111 @@ fn sub<F>(plane: &mut [F], range: std::ops::Range<usize>) -> &mut [F] {
     }
 }
 
+/// [`evaluate_range`] compiled for the widest vectors this CPU has: AVX-512 (8 f64 lanes),
+/// else AVX2 (4), else the x86-64 baseline's SSE2 (2). Every build does the same IEEE
+/// operations in the same order (Rust never fuses a multiply and an add on its own), so all
+/// give the same bits. On w1, one thread: 22.1 ms baseline, 18.0 AVX2, 14.8 AVX-512.
+fn evaluate_range_fastest<F: SampleFloat>(
+    job: &EvalJob,
+    range: std::ops::Range<usize>,
+    t: &mut [f64],
+    out: [&mut [F]; 3],
+) {
+    evaluate_range_with(Vectors::widest(), job, range, t, out);
+}
+
+/// The instruction sets [`evaluate_range`] is compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Vectors {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+}
+
+impl Vectors {
+    /// The widest this CPU runs.
+    fn widest() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Self::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Self::Avx2;
+            }
+        }
+        Self::Baseline
+    }
+
+    /// Every one this CPU runs, narrowest first.
+    #[cfg(test)]
+    fn available() -> Vec<Self> {
+        let mut all = vec![Self::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                all.push(Self::Avx2);
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                all.push(Self::Avx512);
+            }
+        }
+        all
+    }
+}
+
+/// [`evaluate_range`] as compiled for `vectors`, which this CPU must run.
+fn evaluate_range_with<F: SampleFloat>(
+    vectors: Vectors,
+    job: &EvalJob,
+    range: std::ops::Range<usize>,
+    t: &mut [f64],
+    out: [&mut [F]; 3],
+) {
+    // The crate's only unsafe code: a function compiled for an instruction set may only be
+    // called where the CPU has it.
+    #[allow(unsafe_code)]
+    match vectors {
+        Vectors::Baseline => evaluate_range(job, range, t, out),
+        // SAFETY: `Vectors::widest` and `available` name AVX2 only where the CPU has it.
+        #[cfg(target_arch = "x86_64")]
+        Vectors::Avx2 => unsafe { evaluate_range_avx2(job, range, t, out) },
+        // SAFETY: as for AVX2, with AVX-512F.
+        #[cfg(target_arch = "x86_64")]
+        Vectors::Avx512 => unsafe { evaluate_range_avx512(job, range, t, out) },
+    }
+}
+
+/// [`evaluate_range`] with AVX2 enabled; everything it calls per sample is inlined into it,
+/// so all of it is compiled with the wider vectors.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn evaluate_range_avx2<F: SampleFloat>(
+    job: &EvalJob,
+    range: std::ops::Range<usize>,
+    t: &mut [f64],
+    out: [&mut [F]; 3],
+) {
+    evaluate_range(job, range, t, out);
+}
+
+/// [`evaluate_range`] with AVX-512F enabled, as [`evaluate_range_avx2`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f")]
+fn evaluate_range_avx512<F: SampleFloat>(
+    job: &EvalJob,
+    range: std::ops::Range<usize>,
+    t: &mut [f64],
+    out: [&mut [F]; 3],
+) {
+    evaluate_range(job, range, t, out);
+}
+
 /// Evaluates the job's samples `range` into `out` (each plane starting at the range's first
 /// value), and their parameters into `t` unless it is empty.
+#[inline(always)]
 fn evaluate_range<F: SampleFloat>(
     job: &EvalJob,
     range: std::ops::Range<usize>,
@@ -180,6 +283,7 @@ const CACHED_US: usize = 8192;
 
 /// Samples `range` of one curve into `out`, segment by segment with the coefficients hoisted,
 /// and their parameters into `t` unless it is empty.
+#[inline(always)]
 fn curve_range<F: SampleFloat>(
     table: &SegmentTable,
     plan: &SamplePlan,
@@ -258,6 +362,7 @@ fn curve_range<F: SampleFloat>(
 /// for D <= 4. Each sample reads its segment's coefficients straight from the table: going
 /// through [`segment_block`] per sample (a `Segment`, its slices and a one-element block) cost
 /// about 3x the arithmetic on eval-at.
+#[inline(always)]
 fn at_places<F: SampleFloat>(table: &SegmentTable, locs: &[SampleLoc], out: [&mut [F]; 3]) {
     match table.dim() {
         1 => places::<1, F>(table, locs, out),
@@ -277,6 +382,7 @@ fn at_places<F: SampleFloat>(table: &SegmentTable, locs: &[SampleLoc], out: [&mu
 }
 
 /// [`at_places`] for `D` coordinates.
+#[inline(always)]
 fn places<const D: usize, F: SampleFloat>(
     table: &SegmentTable,
     locs: &[SampleLoc],
@@ -307,6 +413,7 @@ fn places<const D: usize, F: SampleFloat>(
 
 /// One segment at the local parameters `us` into `out`, with its dimension known at compile
 /// time for D <= 4 (the common cases).
+#[inline(always)]
 fn segment_block<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     match segment.power()[0].len() {
         1 => block::<1, F>(segment, us, out),
@@ -321,6 +428,7 @@ fn segment_block<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [
 /// compiler drop the bounds checks and vectorize: on w1 this measured about 1.4x faster than
 /// `block_any` inlined with a constant dimension, so the two bodies stay separate (the
 /// formulas themselves are written once, in `segment`).
+#[inline(always)]
 fn block<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     let arr = |v: &[f64]| -> [f64; D] { v.try_into().expect("D coordinates") };
     let [a, b, c, d] = segment.power().map(arr);
@@ -345,6 +453,7 @@ fn block<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out:
 
 /// One segment of any dimension at the local parameters `us` into `out`: Horner in f64,
 /// rounded to `F` on the store.
+#[inline(always)]
 fn block_any<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
     let [a, b, c, d] = segment.power();
     let dim = a.len();
@@ -363,6 +472,69 @@ fn block_any<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 
     for (&u, o) in us.iter().zip(d2.chunks_exact_mut(dim)) {
         for k in 0..dim {
             o[k] = F::from_f64(second_derivative(a[k], b[k], u, inv_dt));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Basis, Curve, CurveKind, Derivatives, Ends, Points, Sampling};
+
+    /// Curves of every dimension the evaluator specializes (1-4) and one it does not, under
+    /// every kind of sampling, with both derivatives.
+    fn job() -> EvalJob {
+        let mut job = EvalJob::new(Derivatives::Second);
+        let samplings = [
+            Sampling::PerSegment(37),
+            Sampling::At(vec![0.0, 0.3, 1.7, 2.5, 4.0, 5.0]),
+            Sampling::ArcLength(41),
+            Sampling::Tolerance(1e-3),
+        ];
+        for dim in 1..=5 {
+            for (i, sampling) in samplings.iter().enumerate() {
+                let coords = (0..7 * dim)
+                    .map(|v| ((v * 3 + i) as f64 * 0.9).sin() * 10.0)
+                    .collect();
+                let kind = CurveKind::Uniform {
+                    basis: Basis::CatmullRom,
+                    ends: Ends::Repeat,
+                };
+                let curve = Curve::new(kind, Points::new(dim, coords).unwrap()).unwrap();
+                job.push(&curve, sampling).unwrap();
+            }
+        }
+        job
+    }
+
+    /// Every instruction set's build gives the reference's bits in f64 and the reference
+    /// rounded once in f32, so the one a CPU picks never changes an answer.
+    #[test]
+    fn every_vector_width_gives_the_reference_bits() {
+        let job = job();
+        let (_, _, reference) = evaluate_reference(&job).into_parts();
+        let total = job.layout().samples();
+        for vectors in Vectors::available() {
+            let mut fast = Samples::<f64>::for_job(&job);
+            let [p, d1, d2] = fast.planes_mut();
+            evaluate_range_with(vectors, &job, 0..total, &mut [], [p, d1, d2]);
+            let mut narrow = Samples::<f32>::for_job(&job);
+            let [p, d1, d2] = narrow.planes_mut();
+            evaluate_range_with(vectors, &job, 0..total, &mut [], [p, d1, d2]);
+            let (_, _, fast) = fast.into_parts();
+            let (_, _, narrow) = narrow.into_parts();
+            for plane in 0..3 {
+                let (want, got, got32) = (&reference[plane], &fast[plane], &narrow[plane]);
+                assert!(!want.is_empty() && want.len() == got.len());
+                for (v, ((&w, &g), &g32)) in want.iter().zip(got).zip(got32).enumerate() {
+                    assert_eq!(
+                        w.to_bits(),
+                        g.to_bits(),
+                        "{vectors:?}: plane {plane} value {v}"
+                    );
+                    assert_eq!((w as f32).to_bits(), g32.to_bits(), "{vectors:?}: f32 {v}");
+                }
+            }
         }
     }
 }
