@@ -143,17 +143,33 @@ impl GpuContext {
             buffer
         });
         // One output buffer, reused by every batch: each batch's copy-out is recorded before
-        // the next batch's dispatch, and wgpu orders the two.
-        let output = take(
-            ("samples", 0),
-            packed.dispatch_output_bytes(),
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        );
-        let download = take(
-            ("download", 0),
-            packed.output_bytes(),
-            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        );
+        // the next batch's dispatch, and wgpu orders the two. Where the context maps output
+        // buffers and one batch holds the whole job, the output buffer is read itself, its
+        // planes `plane_stride` apart: no copy into a download buffer.
+        let mapped_output = self.map_output && packed.batches.len() == 1;
+        let output = if mapped_output {
+            take(
+                ("mapped samples", 0),
+                packed.dispatch_output_bytes(),
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::MAP_READ,
+            )
+        } else {
+            take(
+                ("samples", 0),
+                packed.dispatch_output_bytes(),
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            )
+        };
+        let (download, download_stride) = if mapped_output {
+            (output.clone(), packed.plane_stride)
+        } else {
+            let download = take(
+                ("download", 0),
+                packed.output_bytes(),
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            );
+            (download, packed.device_values)
+        };
         // The places of arc-length samples, which the host turns into t.
         let arc_locs = &packed.locs[packed.arc_locs..];
         let arc_bytes = size_of_val(arc_locs) as u64;
@@ -199,6 +215,9 @@ impl GpuContext {
                         .map_err(|e| GpuError::Device(e.to_string()))?;
                     waited += start.elapsed().as_secs_f64();
                 }
+                if mapped_output {
+                    return Ok(());
+                }
                 // Plane p of this batch (its own floats, from its base on) lands at plane p's
                 // place in the download buffer.
                 let batch = &packed.batches[b];
@@ -235,7 +254,7 @@ impl GpuContext {
         }
         map_read(&self.device, &download, |bytes| {
             let (layout, planes) = samples.layout_and_planes();
-            unpack_device_planes(bytemuck::cast_slice(bytes), layout, planes);
+            unpack_device_planes(bytemuck::cast_slice(bytes), layout, download_stride, planes);
         })?;
         if let Some(arc_download) = &arc_download {
             map_read(&self.device, arc_download, |bytes| {
@@ -637,15 +656,21 @@ impl Destination for Planes<'_> {
     }
 }
 
-/// Copies every curve's values from planes in the device layout (`values`, plane after plane,
-/// each the job layout's `device_values()` long) into `planes`, packed as `layout` says.
-pub(crate) fn unpack_device_planes(values: &[f32], layout: &JobLayout, planes: [&mut [f32]; 3]) {
+/// Copies every curve's values from planes in the device layout (`values`, plane p from
+/// `p · stride` on, each the job layout's `device_values()` long) into `planes`, packed as
+/// `layout` says.
+pub(crate) fn unpack_device_planes(
+    values: &[f32],
+    layout: &JobLayout,
+    stride: usize,
+    planes: [&mut [f32]; 3],
+) {
     let device_values = layout.device_values();
     for (p, plane) in planes.into_iter().enumerate() {
         if plane.is_empty() {
             continue;
         }
-        let device_plane = &values[p * device_values..(p + 1) * device_values];
+        let device_plane = &values[p * stride..p * stride + device_values];
         // Curves split evenly between the threads, each copying its own.
         layout.per_thread_curves(plane, crate::available_threads(), |curves, part| {
             let Some(first) = curves.clone().next() else {

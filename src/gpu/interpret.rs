@@ -34,7 +34,7 @@ pub fn evaluate_interpreted(
     let mut samples = Samples::for_job(job);
     let (download, locs) = run_dispatches(&packed, shape.lanes);
     let (layout, planes) = samples.layout_and_planes_mut();
-    unpack_device_planes(&download, layout, planes);
+    unpack_device_planes(&download, layout, layout.device_values(), planes);
     samples.fill_t_from(job, &packed.computed_t, &locs[packed.arc_locs..]);
     Ok(samples)
 }

@@ -69,6 +69,10 @@ pub struct GpuContext {
     max_dispatch_values: usize,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    /// Whether the kernel's output buffer is mapped and read itself (a CPU adapter with
+    /// `MAPPABLE_PRIMARY_BUFFERS`, where device memory is host memory), instead of copied into
+    /// a download buffer first: on lavapipe that copy cost about 8 ms of w1's 60 end to end.
+    map_output: bool,
     /// Buffers kept between calls, so that repeated jobs neither allocate nor page-fault.
     pool: std::sync::Mutex<BufferPool>,
     /// Host-side packings kept between calls, for the same reason (one per concurrent call).
@@ -201,8 +205,13 @@ impl GpuContext {
     /// [`GpuError::RequestDevice`] when the adapter refuses a device.
     pub fn from_adapter(adapter: &wgpu::Adapter) -> Result<Self, GpuError> {
         let info = adapter.get_info();
-        // Timestamp queries, where the adapter has them, time dispatches on the device.
-        let required_features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
+        // Timestamp queries, where the adapter has them, time dispatches on the device; a CPU
+        // adapter's buffers are host memory, so its output buffers are mapped directly.
+        let mut wanted = wgpu::Features::TIMESTAMP_QUERY;
+        if info.device_type == wgpu::DeviceType::Cpu {
+            wanted |= wgpu::Features::MAPPABLE_PRIMARY_BUFFERS;
+        }
+        let required_features = adapter.features() & wanted;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("splinegpu"),
             required_features,
@@ -243,12 +252,15 @@ impl GpuContext {
             entries: &entries,
         });
         let pipeline = compile(&device, &bind_group_layout, shape);
+        let map_output = info.device_type == wgpu::DeviceType::Cpu
+            && (device.features()).contains(wgpu::Features::MAPPABLE_PRIMARY_BUFFERS);
         Self {
             device,
             queue,
             info,
             shape,
             max_dispatch_values: usize::MAX,
+            map_output,
             bind_group_layout,
             pipeline,
             pool: std::sync::Mutex::default(),
