@@ -599,7 +599,8 @@ fn tessellate_document(
 /// cli-w1: w1's document through the tessellate path into a file in a temporary folder, as
 /// CSV and NPZ from each backend; and "floor-cpu", the least any output path can cost: the
 /// document parsed, fitted and evaluated by the CPU backend into reused memory, plus a memset
-/// of the NPZ file's size. Each repetition does the whole work (nothing is cached).
+/// of the NPZ file's size; and the write floors, the same work plus a finished file's bytes
+/// written again. Each repetition does the whole work (nothing is cached).
 fn cli_w1(
     gpu: Option<&GpuContext>,
     report: &mut impl FnMut(&Measurement),
@@ -654,32 +655,55 @@ fn cli_w1(
             float: Some(float),
         });
     }
+    // The floors: the document parsed, fitted and evaluated by the CPU backend into reused
+    // memory, then the NPZ file's bytes stored in memory ("floor-cpu"), or a CSV or NPZ file
+    // the paths above wrote, written again whole through the same temporary-file-and-rename
+    // path into the same target ("csv-write-floor", "npz-write-floor": what putting those
+    // bytes in that file costs on this machine, whatever the program).
     let mut samples_f64 = crate::Samples::<f64>::for_job(&EvalJob::new(Derivatives::None));
+    let mut floor = |path: &'static str, write: &mut dyn FnMut() -> Result<(), BenchError>| {
+        let mut failure = None;
+        let (seconds, min_seconds, max_seconds) = time(|| {
+            match crate::parse_document_from_reader(&document[..]) {
+                Ok(job) => crate::evaluate_cpu_into(&job, &mut samples_f64, available_threads()),
+                Err(e) => failure = Some(BenchError::Cli(e.to_string())),
+            }
+            if let Err(e) = write() {
+                failure = Some(e);
+            }
+            black_box(&samples_f64);
+            None
+        });
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(Measurement {
+                workload: "cli-w1",
+                path,
+                seconds,
+                min_seconds,
+                max_seconds,
+                samples,
+                bytes: values * 8,
+                float: Some("f64"),
+            }),
+        }
+    };
     let mut file = vec![0u8; npz_bytes as usize];
     let mut stores = StoreBytes::default();
-    let mut failure = None;
-    let (seconds, min_seconds, max_seconds) = time(|| {
-        match crate::parse_document_from_reader(&document[..]) {
-            Ok(job) => crate::evaluate_cpu_into(&job, &mut samples_f64, available_threads()),
-            Err(e) => failure = Some(BenchError::Cli(e.to_string())),
-        }
+    report(&floor("floor-cpu", &mut || {
         fill_on_every_thread(&mut file, stores.next());
-        black_box((&samples_f64, &file));
-        None
-    });
-    if let Some(e) = failure {
-        return Err(e);
+        black_box(&file);
+        Ok(())
+    })?);
+    drop(file);
+    for (path, extension) in [("csv-write-floor", "csv"), ("npz-write-floor", "npz")] {
+        let target = folder.path().join(format!("w1.{extension}"));
+        let bytes = std::fs::read(&target).map_err(|e| BenchError::Cli(e.to_string()))?;
+        report(&floor(path, &mut || {
+            crate::output::write_output(&target, |out| out.write_all(&bytes))
+                .map_err(|e: std::io::Error| BenchError::Cli(e.to_string()))
+        })?);
     }
-    report(&Measurement {
-        workload: "cli-w1",
-        path: "floor-cpu",
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples,
-        bytes: values * 8,
-        float: Some("f64"),
-    });
     Ok(())
 }
 

@@ -46,9 +46,10 @@ enum Command {
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),
-    /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu and
+    /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu,
     /// floor-cpu (parse, fit and evaluate into reused memory plus a memset of the NPZ file's
-    /// size).
+    /// size), and csv-write-floor and npz-write-floor (the same, then the CSV or NPZ file's
+    /// bytes written whole through the same temporary file and rename).
     Bench {
         /// A workload to run (may repeat; default: all).
         #[arg(long = "workload")]
