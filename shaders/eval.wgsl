@@ -143,6 +143,24 @@ fn piece_any(segment: Segment, q: u32) -> Piece {
     return Piece(Cubic(terms[0], terms[1], terms[2], terms[3], terms[4]), coeff_floats[block + 5u * dim]);
 }
 
+// A segment of at most 4 coordinates, by whole vec4s: the same floats as piece_any(segment, 0u).
+fn piece_small(segment: Segment) -> Piece {
+    switch segment.dim {
+        case 1u: {
+            return piece1(segment.coeff_offset);
+        }
+        case 2u: {
+            return piece2(segment.coeff_offset);
+        }
+        case 3u: {
+            return piece3(segment.coeff_offset);
+        }
+        default: {
+            return piece4(segment.coeff_offset);
+        }
+    }
+}
+
 // Derivative `order` (0, 1 or 2) with respect to t of a piece, as a cubic in u. Position: the
 // terms as stored (d_hi + (d_lo + u(c + u(b + u a)))). dP/dt = c/dt + u(2b/dt + u 3a/dt);
 // d2P/dt2 = 2b/dt^2 + u 6a/dt^2. One Horner loop then serves every plane.
@@ -279,7 +297,7 @@ fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>
     let out = out_offset + j * segment.dim;
     if segment.dim <= 4u {
         if (*loaded).segment != loc.segment {
-            (*loaded).piece = piece_any(segment, 0u);
+            (*loaded).piece = piece_small(segment);
             (*loaded).segment = loc.segment;
         }
         write_group((*loaded).piece, loc.u, 0u, segment.dim, out);

@@ -247,6 +247,15 @@ impl Kernel<'_> {
         }
     }
 
+    fn piece_small(&self, segment: GpuSegment) -> Piece {
+        match segment.dim {
+            1 => self.piece1(segment.coeff_offset),
+            2 => self.piece2(segment.coeff_offset),
+            3 => self.piece3(segment.coeff_offset),
+            _ => self.piece4(segment.coeff_offset),
+        }
+    }
+
     fn piece_any(&self, segment: GpuSegment, q: u32) -> Piece {
         let block = 4 * segment.coeff_offset;
         let dim = segment.dim;
@@ -340,7 +349,7 @@ impl Kernel<'_> {
         let out = out_offset + j * segment.dim;
         if segment.dim <= 4 {
             if loaded.segment != loc.segment {
-                loaded.piece = self.piece_any(segment, 0);
+                loaded.piece = self.piece_small(segment);
                 loaded.segment = loc.segment;
             }
             let piece = loaded.piece;
