@@ -125,25 +125,35 @@ mod tests {
         table
     }
 
+    /// Seven knots, and 200,003 uneven ones: more than three of the blocks the crate's solve
+    /// runs on its threads (`fit::blocked::SOLVE_BLOCK`), which the textbook pass here does not
+    /// have.
     #[test]
     fn the_plain_fit_gives_the_crates_coefficients() {
-        let t = [0.0, 0.5, 1.75, 2.0, 4.0, 4.5, 7.0];
-        let values: Vec<f64> = (0..t.len() * 3)
-            .map(|v| ((v * 7) % 5) as f64 - 2.0)
+        let long: Vec<f64> = (0..200_003)
+            .scan(0.0, |at, i: i32| {
+                *at += 0.05 + f64::from((i * 7919) % 1000) * 1e-3;
+                Some(*at)
+            })
             .collect();
-        let table = natural(&t, &values, 3);
-        let (mut m, mut scratch) = (Vec::new(), Vec::new());
-        let mut out = vec![0.0; (t.len() - 1) * 12];
-        natural_fit(&t, &values, 3, &mut m, &mut scratch, &mut out);
-        for s in 0..table.len() {
-            for (term, want) in table.segment(s).power().iter().enumerate() {
-                for k in 0..3 {
-                    let got = out[s * 12 + term * 3 + k];
-                    assert!(
-                        (got - want[k]).abs() < 1e-12,
-                        "segment {s} term {term}: {got} vs {}",
-                        want[k]
-                    );
+        for t in [vec![0.0, 0.5, 1.75, 2.0, 4.0, 4.5, 7.0], long] {
+            let values: Vec<f64> = (0..t.len() * 3)
+                .map(|v| ((v * 7) % 5) as f64 - 2.0)
+                .collect();
+            let table = natural(&t, &values, 3);
+            let (mut m, mut scratch) = (Vec::new(), Vec::new());
+            let mut out = vec![0.0; (t.len() - 1) * 12];
+            natural_fit(&t, &values, 3, &mut m, &mut scratch, &mut out);
+            for s in 0..table.len() {
+                for (term, want) in table.segment(s).power().iter().enumerate() {
+                    for k in 0..3 {
+                        let got = out[s * 12 + term * 3 + k];
+                        assert!(
+                            (got - want[k]).abs() < 1e-12,
+                            "segment {s} term {term}: {got} vs {}",
+                            want[k]
+                        );
+                    }
                 }
             }
         }

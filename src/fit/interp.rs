@@ -30,6 +30,7 @@
 //! C = Δ_i m_i                                     D = f_i
 //! ```
 
+use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
 use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
 use crate::error::InputError;
 use crate::segment::SegmentTable;
@@ -191,9 +192,8 @@ pub fn check(
 #[derive(Clone, Debug, Default)]
 pub struct Fitter {
     system: Tridiagonal,
-    /// Thomas' modified superdiagonal.
-    sup_prime: Vec<f64>,
     slopes: Vec<f64>,
+    blocked: BlockedScratch,
     fill: Vec<f64>,
     cyclic: CyclicScratch,
 }
@@ -267,74 +267,26 @@ impl Fitter {
     }
 
     /// Natural and clamped ends: every row is strictly diagonally dominant, so the Thomas
-    /// algorithm (elimination without pivoting) is stable. The rows are built inside the
-    /// forward sweep, which reads the knots and points once.
+    /// algorithm (elimination without pivoting) is stable; it runs in blocks on every thread
+    /// ([`solve_blocked`]). The rows are built inside the sweeps, which read the knots and
+    /// points once.
     fn solve_dominant(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
-        let n = t.len();
-        let (cp, m) = (&mut self.sup_prime, &mut self.slopes);
-        cp.resize(n, 0.0);
-        m.resize(n * dim, 0.0);
-        let point = |i: usize| &values[i * dim..(i + 1) * dim];
-        // Row 0, scaled by Δ_0 like the interior rows.
-        let d0 = t[1] - t[0];
-        let mut inv_prev = 1.0 / d0;
-        let (diag, sup) = match condition {
-            EndCondition::Clamped { start, .. } => {
-                m[..dim].copy_from_slice(start);
-                (1.0, 0.0)
-            }
-            _ => {
-                // 2 m_0 + m_1 = 3 q_0
-                let (f0, f1) = (point(0), point(1));
-                for k in 0..dim {
-                    m[k] = 3.0 * (f1[k] - f0[k]) * inv_prev / 2.0;
-                }
-                (2.0, 1.0)
-            }
+        let rows = DominantRows {
+            t,
+            values,
+            dim,
+            condition,
         };
-        cp[0] = sup / diag;
-        // Interior rows: Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1}
-        //               = 3(Δ_i q_{i−1} + Δ_{i−1} q_i).
-        for i in 1..n - 1 {
-            let (d_prev, d_here) = (t[i] - t[i - 1], t[i + 1] - t[i]);
-            let inv_here = 1.0 / d_here;
-            let (sub, diag, sup) = (d_here, 2.0 * (d_prev + d_here), d_prev);
-            let inv_pivot = 1.0 / (diag - sub * cp[i - 1]);
-            cp[i] = sup * inv_pivot;
-            let (f_prev, f, f_next) = (point(i - 1), point(i), point(i + 1));
-            let (done, row) = m.split_at_mut(i * dim);
-            let above = &done[(i - 1) * dim..];
-            for k in 0..dim {
-                let r = 3.0
-                    * (d_here * (f[k] - f_prev[k]) * inv_prev
-                        + d_prev * (f_next[k] - f[k]) * inv_here);
-                row[k] = (r - sub * above[k]) * inv_pivot;
-            }
-            inv_prev = inv_here;
-        }
-        // Row n − 1.
-        let last = n - 1;
-        let (done, row) = m.split_at_mut(last * dim);
-        let above = &done[(last - 1) * dim..];
-        match condition {
-            EndCondition::Clamped { end, .. } => row[..dim].copy_from_slice(end),
-            _ => {
-                // m_{n−2} + 2 m_{n−1} = 3 q_{n−2}
-                let (f_prev, f) = (point(last - 1), point(last));
-                let inv_pivot = 1.0 / (2.0 - cp[last - 1]);
-                for k in 0..dim {
-                    row[k] = (3.0 * (f[k] - f_prev[k]) * inv_prev - above[k]) * inv_pivot;
-                }
-            }
-        }
-        // Back substitution.
-        for i in (0..last).rev() {
-            let (head, tail) = m.split_at_mut((i + 1) * dim);
-            let (row, below) = (&mut head[i * dim..], &tail[..dim]);
-            for k in 0..dim {
-                row[k] -= cp[i] * below[k];
-            }
-        }
+        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        solve_blocked(
+            t.len(),
+            dim,
+            SOLVE_BLOCK,
+            &rows,
+            &mut self.slopes,
+            &mut self.blocked,
+            threads,
+        );
     }
 
     /// Not-a-knot and periodic ends: the rows are assembled, then solved by banded elimination
@@ -382,6 +334,66 @@ impl Fitter {
         if periodic {
             let (head, tail) = rhs.split_at_mut((n - 1) * dim);
             tail.copy_from_slice(&head[..dim]);
+        }
+    }
+}
+
+/// The slope system of natural and clamped ends, row by row (each row scaled by its Δs, as
+/// the interior rows are):
+///
+/// ```text
+/// first:    natural 2 m_0 + m_1 = 3 q_0;                clamped m_0 = start
+/// interior: Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1} = 3(Δ_i q_{i−1} + Δ_{i−1} q_i)
+/// last:     natural m_{n−2} + 2 m_{n−1} = 3 q_{n−2};    clamped m_{n−1} = end
+/// ```
+///
+/// with q_i = (f_{i+1} − f_i)/Δ_i, the chord slopes.
+struct DominantRows<'a> {
+    t: &'a [f64],
+    values: &'a [f64],
+    dim: usize,
+    condition: &'a EndCondition,
+}
+
+impl Rows for DominantRows<'_> {
+    #[inline(always)]
+    fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
+        let (t, dim, n) = (self.t, self.dim, self.t.len());
+        let point = |i: usize| &self.values[i * dim..(i + 1) * dim];
+        let chords = |rhs: &mut [f64], i: usize| {
+            let (f0, f1, inv) = (point(i), point(i + 1), 1.0 / (t[i + 1] - t[i]));
+            for k in 0..dim {
+                rhs[k] = 3.0 * (f1[k] - f0[k]) * inv;
+            }
+        };
+        match (i, self.condition) {
+            (0, EndCondition::Clamped { start, .. }) => {
+                rhs.copy_from_slice(start);
+                (0.0, 1.0, 0.0)
+            }
+            (0, _) => {
+                chords(rhs, 0);
+                (0.0, 2.0, 1.0)
+            }
+            (i, EndCondition::Clamped { end, .. }) if i == n - 1 => {
+                rhs.copy_from_slice(end);
+                (0.0, 1.0, 0.0)
+            }
+            (i, _) if i == n - 1 => {
+                chords(rhs, i - 1);
+                (1.0, 2.0, 0.0)
+            }
+            (i, _) => {
+                let (d_prev, d_here) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+                let (inv_prev, inv_here) = (1.0 / d_prev, 1.0 / d_here);
+                let (f_prev, f, f_next) = (point(i - 1), point(i), point(i + 1));
+                for k in 0..dim {
+                    rhs[k] = 3.0
+                        * (d_here * (f[k] - f_prev[k]) * inv_prev
+                            + d_prev * (f_next[k] - f[k]) * inv_here);
+                }
+                (d_here, 2.0 * (d_prev + d_here), d_prev)
+            }
         }
     }
 }

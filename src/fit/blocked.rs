@@ -1,0 +1,351 @@
+//! Strictly diagonally dominant tridiagonal systems solved in blocks, on every thread (the
+//! slope systems of natural and clamped ends).
+//!
+//! The Thomas algorithm is one chain of dependent divisions: on a million rows it waits on
+//! latency, not on arithmetic or memory. Here the rows are cut into blocks of `block` rows
+//! with one separator row between neighbours, and every block is solved on its own with
+//! both its separators moved to the right-hand side:
+//!
+//! ```text
+//! x_i = y_i + left_i · X_{j−1} + right_i · X_j      (row i of block j)
+//! ```
+//!
+//! (y: the block's Thomas solution; left, right: its solutions for the separators' columns,
+//! which are zero but in its first and last rows.) Putting that into each separator's own row
+//! leaves a tridiagonal system in the separators alone,
+//!
+//! ```text
+//! sub·left_{p−1} X_{j−1} + (diag + sub·right_{p−1} + sup·left_{p+1}) X_j + sup·right_{p+1} X_{j+1}
+//!     = r_p − sub·y_{p−1} − sup·y_{p+1}            (separator j at row p)
+//! ```
+//!
+//! solved on one thread (a few dozen rows for a million), after which every block adds its
+//! separators' share. The blocks are independent chains, so they run on every thread. The
+//! cut depends only on `block`, never on the number of threads, so the answer does not
+//! either; a system of at most `block` rows is one block: the Thomas algorithm itself.
+
+use super::tridiag::{Tridiagonal, solve_tridiagonal};
+
+/// Rows of a block for the fits: 65,536, so a million-knot fit is 16 blocks.
+pub const SOLVE_BLOCK: usize = 1 << 16;
+
+/// Memory reused between solves.
+#[derive(Clone, Debug, Default)]
+pub struct BlockedScratch {
+    /// Thomas' modified superdiagonal, row by row.
+    sup_prime: Vec<f64>,
+    /// Each row's coefficient of the separator before its block, and of the one after it.
+    left: Vec<f64>,
+    right: Vec<f64>,
+    /// The separators' system and its right-hand sides.
+    separators: Tridiagonal,
+    separator_rhs: Vec<f64>,
+    fill: Vec<f64>,
+}
+
+/// A system's rows, built as the solve reaches them (so the data behind them is read once).
+pub trait Rows: Sync {
+    /// Row i's (sub, diag, sup), its right-hand sides written into `rhs`.
+    fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64);
+}
+
+/// Solves the `n`-row system `rows` with `cols` right-hand sides into `x` (row-major, `cols`
+/// per row), in blocks of `block` rows on `threads` threads. The matrix must be strictly
+/// diagonally dominant by rows (row 0's sub and row n − 1's sup are ignored).
+pub fn solve_blocked<R: Rows>(
+    n: usize,
+    cols: usize,
+    block: usize,
+    rows: &R,
+    x: &mut Vec<f64>,
+    scratch: &mut BlockedScratch,
+    threads: usize,
+) {
+    debug_assert!(n >= 1 && block >= 2);
+    // Resized, not cleared: every value read is written first (a separator's own entries in
+    // the scratch rows are never read).
+    x.resize(n * cols, 0.0);
+    for v in [
+        &mut scratch.sup_prime,
+        &mut scratch.left,
+        &mut scratch.right,
+    ] {
+        v.resize(n, 0.0);
+    }
+    // Block j: rows starts[j] .. starts[j + 1] − 1; the last row of each but the last block is
+    // its separator.
+    let starts: Vec<usize> = (0..n).step_by(block).chain([n]).collect();
+    let blocks = starts.len() - 1;
+    let parts = blocks_of(&starts, cols, x, scratch);
+    let rows_of_system = rows;
+    on_threads(parts, threads, |part| {
+        let Part {
+            rows: range,
+            x,
+            cp,
+            left,
+            right,
+        } = part;
+        let end = if range.end == n { n } else { range.end - 1 };
+        sweep(rows_of_system, range.start..end, cols, x, cp, left, right);
+    });
+    if blocks == 1 {
+        return;
+    }
+    // The separators' system.
+    let seps = blocks - 1;
+    let s = &mut scratch.separators;
+    s.reset(seps);
+    scratch.separator_rhs.clear();
+    scratch.separator_rhs.resize(seps * cols, 0.0);
+    let mut rhs = vec![0.0; cols];
+    for j in 0..seps {
+        let p = starts[j + 1] - 1;
+        let (sub, diag, sup) = rows.row(p, &mut rhs);
+        let (l, r) = (&scratch.left, &scratch.right);
+        s.sub[j] = sub * l[p - 1];
+        s.diag[j] = diag + sub * r[p - 1] + sup * l[p + 1];
+        s.sup[j] = sup * r[p + 1];
+        for k in 0..cols {
+            scratch.separator_rhs[j * cols + k] =
+                rhs[k] - sub * x[(p - 1) * cols + k] - sup * x[(p + 1) * cols + k];
+        }
+    }
+    let solved = solve_tridiagonal(s, &mut scratch.separator_rhs, cols, &mut scratch.fill);
+    if solved.is_err() {
+        // Not dominant after all (pivots lost to underflow): the whole system as one block.
+        let (cp, left, right) = (
+            &mut scratch.sup_prime,
+            &mut scratch.left,
+            &mut scratch.right,
+        );
+        sweep(rows, 0..n, cols, x, cp, left, right);
+        return;
+    }
+    let separators = &scratch.separator_rhs;
+    let (left, right) = (&scratch.left, &scratch.right);
+    let mut parts = Vec::with_capacity(blocks);
+    let mut rest = &mut x[..];
+    for j in 0..blocks {
+        let rows = starts[j]..starts[j + 1];
+        let (here, tail) = std::mem::take(&mut rest).split_at_mut(rows.len() * cols);
+        rest = tail;
+        parts.push((j, rows, here));
+    }
+    on_threads(parts, threads, |(j, rows, x)| {
+        let before = (j > 0).then(|| &separators[(j - 1) * cols..j * cols]);
+        let after = (j < seps).then(|| &separators[j * cols..(j + 1) * cols]);
+        let inner = if j < seps { rows.len() - 1 } else { rows.len() };
+        for (r, values) in x.chunks_exact_mut(cols).take(inner).enumerate() {
+            let i = rows.start + r;
+            for k in 0..cols {
+                let mut v = values[k];
+                if let Some(b) = before {
+                    v += left[i] * b[k];
+                }
+                if let Some(a) = after {
+                    v += right[i] * a[k];
+                }
+                values[k] = v;
+            }
+        }
+        if let Some(a) = after {
+            x[inner * cols..].copy_from_slice(a);
+        }
+    });
+}
+
+/// One block's rows and its slices of the solution and the scratch rows.
+struct Part<'a> {
+    rows: std::ops::Range<usize>,
+    x: &'a mut [f64],
+    cp: &'a mut [f64],
+    left: &'a mut [f64],
+    right: &'a mut [f64],
+}
+
+/// The blocks that `starts` cut, each with its own slices.
+fn blocks_of<'a>(
+    starts: &[usize],
+    cols: usize,
+    x: &'a mut [f64],
+    scratch: &'a mut BlockedScratch,
+) -> Vec<Part<'a>> {
+    let (mut x, mut cp) = (x, &mut scratch.sup_prime[..]);
+    let (mut left, mut right) = (&mut scratch.left[..], &mut scratch.right[..]);
+    let mut parts = Vec::with_capacity(starts.len());
+    for w in starts.windows(2) {
+        let len = w[1] - w[0];
+        let (xh, xt) = std::mem::take(&mut x).split_at_mut(len * cols);
+        let (ch, ct) = std::mem::take(&mut cp).split_at_mut(len);
+        let (lh, lt) = std::mem::take(&mut left).split_at_mut(len);
+        let (rh, rt) = std::mem::take(&mut right).split_at_mut(len);
+        (x, cp, left, right) = (xt, ct, lt, rt);
+        parts.push(Part {
+            rows: w[0]..w[1],
+            x: xh,
+            cp: ch,
+            left: lh,
+            right: rh,
+        });
+    }
+    parts
+}
+
+/// Runs `work` on every item, the items split into contiguous groups, one per thread (the last
+/// group on this one; a single item needs no other thread).
+fn on_threads<T: Send>(items: Vec<T>, threads: usize, work: impl Fn(T) + Sync) {
+    let per_thread = items.len().div_ceil(threads.max(1)).max(1);
+    let mut items = items.into_iter().peekable();
+    std::thread::scope(|scope| {
+        let work = &work;
+        loop {
+            let group: Vec<T> = items.by_ref().take(per_thread).collect();
+            if items.peek().is_none() {
+                group.into_iter().for_each(work);
+                break;
+            }
+            scope.spawn(move || group.into_iter().for_each(work));
+        }
+    });
+}
+
+/// The Thomas algorithm on rows `rows` alone, into the front of `x`, `cp`, `left` and
+/// `right`: x gets the solution with the rows outside set to zero, `left` the solution for
+/// the column before the block (its first row's sub moved to the right-hand side), `right`
+/// the one for the column after it.
+fn sweep<R: Rows>(
+    system: &R,
+    rows: std::ops::Range<usize>,
+    cols: usize,
+    x: &mut [f64],
+    cp: &mut [f64],
+    left: &mut [f64],
+    right: &mut [f64],
+) {
+    let mut rhs = vec![0.0; cols];
+    let len = rows.len();
+    // Forward elimination.
+    for (j, i) in rows.enumerate() {
+        let (sub, diag, sup) = system.row(i, &mut rhs);
+        let (done, here) = x.split_at_mut(j * cols);
+        let here = &mut here[..cols];
+        if j == 0 {
+            // The first row's sub multiplies the separator before: the right-hand side of
+            // that column's solve.
+            let inv_pivot = 1.0 / diag;
+            for k in 0..cols {
+                here[k] = rhs[k] * inv_pivot;
+            }
+            left[0] = -sub * inv_pivot;
+            cp[0] = sup * inv_pivot;
+        } else {
+            let inv_pivot = 1.0 / (diag - sub * cp[j - 1]);
+            let above = &done[(j - 1) * cols..];
+            for k in 0..cols {
+                here[k] = (rhs[k] - sub * above[k]) * inv_pivot;
+            }
+            left[j] = -sub * left[j - 1] * inv_pivot;
+            cp[j] = sup * inv_pivot;
+        }
+    }
+    // Back substitution.
+    let last = len - 1;
+    right[last] = -cp[last];
+    for j in (0..last).rev() {
+        let c = cp[j];
+        let (head, tail) = x.split_at_mut((j + 1) * cols);
+        let (values, below) = (&mut head[j * cols..], &tail[..cols]);
+        for k in 0..cols {
+            values[k] -= c * below[k];
+        }
+        left[j] -= c * left[j + 1];
+        right[j] = -c * right[j + 1];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A strictly dominant system of `n` rows (diag above |sub| + |sup| by at least 1e-3 of
+    /// itself, so some rows are barely dominant) with `cols` right-hand sides.
+    fn system(n: usize, cols: usize) -> (Tridiagonal, Vec<f64>) {
+        let v = |i: usize, s: f64| ((i as f64 + 1.0) * s).sin();
+        let sub: Vec<f64> = (0..n).map(|i| v(i, 1.3) * 3.0).collect();
+        let sup: Vec<f64> = (0..n).map(|i| v(i, 2.1) * 3.0).collect();
+        let diag = (0..n)
+            .map(|i| {
+                let off = sub[i].abs() + sup[i].abs();
+                let sign = if v(i, 0.37) < 0.0 { -1.0 } else { 1.0 };
+                sign * (off * (1.001 + v(i, 0.7).abs()) + 1e-3)
+            })
+            .collect();
+        let rhs = (0..n * cols).map(|i| v(i, 0.9) * 10.0).collect();
+        (Tridiagonal { sub, diag, sup }, rhs)
+    }
+
+    /// A system held whole.
+    struct Held<'a>(&'a Tridiagonal, &'a [f64], usize);
+
+    impl Rows for Held<'_> {
+        fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
+            let Held(a, values, cols) = *self;
+            rhs.copy_from_slice(&values[i * cols..(i + 1) * cols]);
+            (a.sub[i], a.diag[i], a.sup[i])
+        }
+    }
+
+    fn blocked(
+        a: &Tridiagonal,
+        rhs: &[f64],
+        cols: usize,
+        block: usize,
+        threads: usize,
+    ) -> Vec<f64> {
+        let mut x = Vec::new();
+        let mut scratch = BlockedScratch::default();
+        let held = Held(a, rhs, cols);
+        solve_blocked(a.len(), cols, block, &held, &mut x, &mut scratch, threads);
+        x
+    }
+
+    /// Every cut of every size agrees with elimination with partial pivoting over the whole
+    /// system (`solve_tridiagonal`, itself checked against dense elimination).
+    #[test]
+    fn blocks_give_the_whole_systems_solution() {
+        for n in [1, 2, 3, 4, 5, 8, 9, 17, 50, 64, 65, 131] {
+            for cols in 1..=3 {
+                let (a, rhs) = system(n, cols);
+                let mut want = rhs.clone();
+                let mut whole = a.clone();
+                // The first sub and last sup are not part of the system.
+                whole.sub[0] = 0.0;
+                whole.sup[n - 1] = 0.0;
+                solve_tridiagonal(&mut whole, &mut want, cols, &mut Vec::new()).unwrap();
+                let scale = want.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                for block in [2, 3, 7, 16, 1000] {
+                    for threads in [1, 3] {
+                        let got = blocked(&a, &rhs, cols, block, threads);
+                        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                            assert!(
+                                (g - w).abs() <= 1e-13 * scale,
+                                "n {n} cols {cols} block {block}: x[{i}] = {g}, want {w}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The cut depends on the block size alone: any number of threads gives the same bits.
+    #[test]
+    fn the_answer_does_not_depend_on_the_threads() {
+        let (a, rhs) = system(1000, 2);
+        let one = blocked(&a, &rhs, 2, 37, 1);
+        for threads in [2, 5, 64] {
+            assert_eq!(one, blocked(&a, &rhs, 2, 37, threads), "{threads} threads");
+        }
+    }
+}
