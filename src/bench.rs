@@ -156,6 +156,29 @@ fn fill_on_every_thread(buffer: &mut [u8], byte: u8) {
     });
 }
 
+/// The output number type of a cli-w1 path.
+#[derive(Clone, Copy)]
+enum Float {
+    F32,
+    F64,
+}
+
+impl Float {
+    fn bytes(self) -> u64 {
+        match self {
+            Float::F32 => 4,
+            Float::F64 => 8,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Float::F32 => "f32",
+            Float::F64 => "f64",
+        }
+    }
+}
+
 /// A deterministic generator (xorshift64*) for the workloads' data.
 struct Rng(u64);
 
@@ -617,6 +640,17 @@ fn cli_w1(
             .len()
     };
     report(&memset("cli-w1", npz_bytes as usize));
+    // A cli-w1 path's figures: w1's values at 4 or 8 bytes each.
+    let measurement = |path, (seconds, min_seconds, max_seconds), float: Float| Measurement {
+        workload: "cli-w1",
+        path,
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples,
+        bytes: values * float.bytes(),
+        float: Some(float.name()),
+    };
     let paths = [
         ("csv-cpu", stream::Format::Csv, "csv", false),
         ("csv-gpu", stream::Format::Csv, "csv", true),
@@ -643,17 +677,12 @@ fn cli_w1(
         if let Some(e) = failure {
             return Err(e);
         }
-        let float = if on_gpu { "f32" } else { "f64" };
-        report(&Measurement {
-            workload: "cli-w1",
+        let float = if on_gpu { Float::F32 } else { Float::F64 };
+        report(&measurement(
             path,
-            seconds,
-            min_seconds,
-            max_seconds,
-            samples,
-            bytes: values * if on_gpu { 4 } else { 8 },
-            float: Some(float),
-        });
+            (seconds, min_seconds, max_seconds),
+            float,
+        ));
     }
     // The floors: the document parsed, fitted and evaluated by the CPU backend into reused
     // memory, then the NPZ file's bytes stored in memory ("floor-cpu"), or a CSV or NPZ file
@@ -676,16 +705,11 @@ fn cli_w1(
         });
         match failure {
             Some(e) => Err(e),
-            None => Ok(Measurement {
-                workload: "cli-w1",
+            None => Ok(measurement(
                 path,
-                seconds,
-                min_seconds,
-                max_seconds,
-                samples,
-                bytes: values * 8,
-                float: Some("f64"),
-            }),
+                (seconds, min_seconds, max_seconds),
+                Float::F64,
+            )),
         }
     };
     let mut file = vec![0u8; npz_bytes as usize];
