@@ -104,7 +104,8 @@ pub fn write_csv_rows<F: SampleFloat + zmij::Float>(
     let threads = crate::available_threads().clamp(1, rows.div_ceil(CSV_BLOCK_ROWS).max(1));
     let block = threads * CSV_BLOCK_ROWS;
     // The texts being written, and those being formatted.
-    let (mut written, mut formatted) = (vec![Vec::new(); threads], vec![Vec::new(); threads]);
+    let mut written: Vec<Text> = (0..threads).map(|_| Text::default()).collect();
+    let mut formatted: Vec<Text> = (0..threads).map(|_| Text::default()).collect();
     let mut start = 0;
     // One pass past the last block writes it.
     while start < rows + block {
@@ -118,11 +119,13 @@ pub fn write_csv_rows<F: SampleFloat + zmij::Float>(
                     scope.spawn(move || csv_rows_text(samples, pieces, dim, part, text));
                 }
             }
-            written.iter().try_for_each(|text| out.write_all(text))
+            written
+                .iter()
+                .try_for_each(|text| out.write_all(text.as_bytes()))
         });
         written_ok?;
         std::mem::swap(&mut written, &mut formatted);
-        formatted.iter_mut().for_each(Vec::clear);
+        formatted.iter_mut().for_each(Text::clear);
         start += block;
     }
     Ok(())
@@ -137,13 +140,16 @@ fn csv_rows_text<F: SampleFloat + zmij::Float>(
     pieces: &[Piece],
     dim: usize,
     rows: std::ops::Range<usize>,
-    text: &mut Vec<u8>,
+    text: &mut Text,
 ) {
     if rows.is_empty() {
         return;
     }
     let layout = samples.layout();
     let (mut ints, mut floats) = (itoa::Buffer::new(), zmij::Buffer::new());
+    let planes = samples.derivatives().order() + 1;
+    // The longest row: two integers, t, and every value, each with its separator.
+    let row_bytes = 2 * 21 + 25 + planes * dim * 26 + 1;
     for c in layout.curve_of_sample(rows.start)..samples.len() {
         let range = layout.samples_of(c);
         if range.start >= rows.end {
@@ -151,20 +157,81 @@ fn csv_rows_text<F: SampleFloat + zmij::Float>(
         }
         let (piece, s) = (&pieces[c], samples.curve(c));
         for i in rows.start.max(range.start) - range.start..rows.end.min(range.end) - range.start {
-            text.extend_from_slice(ints.format(piece.curve).as_bytes());
+            text.reserve(row_bytes);
+            text.put(ints.format(piece.curve).as_bytes());
             text.push(b',');
-            text.extend_from_slice(ints.format(piece.first_sample + i).as_bytes());
+            text.put(ints.format(piece.first_sample + i).as_bytes());
             text.push(b',');
-            text.extend_from_slice(floats.format(s.t[i]).as_bytes());
+            text.put(floats.format(s.t[i]).as_bytes());
             for plane in [Some(s.points), s.d1, s.d2].into_iter().flatten() {
                 for &v in &plane[i * s.dim..(i + 1) * s.dim] {
                     text.push(b',');
-                    text.extend_from_slice(floats.format(v).as_bytes());
+                    text.put(floats.format(v).as_bytes());
                 }
-                text.resize(text.len() + (dim - s.dim), b',');
+                for _ in s.dim..dim {
+                    text.push(b',');
+                }
             }
             text.push(b'\n');
         }
+    }
+}
+
+/// Text formatted into memory that stays allocated and initialized from one block to the
+/// next, so that a number's few bytes go in by fixed-size moves rather than a call to
+/// `memcpy` each (which took a fifth of the CSV path's time).
+#[derive(Default)]
+struct Text {
+    bytes: Vec<u8>,
+    len: usize,
+}
+
+/// The longest piece [`Text::put`] takes: a u64's 20 digits, an f64's 24 characters.
+const PIECE_BYTES: usize = 32;
+
+impl Text {
+    /// Makes room for `more` bytes (and a piece's slack) past the text.
+    fn reserve(&mut self, more: usize) {
+        let needed = self.len + more + PIECE_BYTES;
+        if self.bytes.len() < needed {
+            self.bytes.resize(needed.max(2 * self.bytes.len()), 0);
+        }
+    }
+
+    fn push(&mut self, byte: u8) {
+        self.bytes[self.len] = byte;
+        self.len += 1;
+    }
+
+    /// Appends `piece` (at most [`PIECE_BYTES`] long) by two overlapping fixed-size moves.
+    #[inline(always)]
+    fn put(&mut self, piece: &[u8]) {
+        let n = piece.len();
+        debug_assert!(n <= PIECE_BYTES);
+        let to = &mut self.bytes[self.len..self.len + PIECE_BYTES];
+        if n >= 16 {
+            to[..16].copy_from_slice(&piece[..16]);
+            to[n - 16..n].copy_from_slice(&piece[n - 16..]);
+        } else if n >= 8 {
+            to[..8].copy_from_slice(&piece[..8]);
+            to[n - 8..n].copy_from_slice(&piece[n - 8..]);
+        } else if n >= 4 {
+            to[..4].copy_from_slice(&piece[..4]);
+            to[n - 4..n].copy_from_slice(&piece[n - 4..]);
+        } else if n > 0 {
+            to[0] = piece[0];
+            to[n / 2] = piece[n / 2];
+            to[n - 1] = piece[n - 1];
+        }
+        self.len += n;
+    }
+
+    fn as_bytes(&self) -> &[u8] {
+        &self.bytes[..self.len]
+    }
+
+    fn clear(&mut self) {
+        self.len = 0;
     }
 }
 
@@ -316,4 +383,32 @@ fn write_atomically<E: From<io::Error>>(
         .unwrap_or_else(PoisonError::into_inner)
         .retain(|p| *p != temp);
     result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pieces of every length `put` takes, one after another, read back as `extend_from_slice`
+    /// would have written them.
+    #[test]
+    fn text_puts_pieces_of_every_length_whole() {
+        let mut text = Text::default();
+        let mut want = Vec::new();
+        for round in 0..3u8 {
+            for n in 0..=PIECE_BYTES {
+                let piece: Vec<u8> = (0..n).map(|i| b'a' + ((i + n) % 26) as u8).collect();
+                text.reserve(n);
+                text.put(&piece);
+                text.push(b'0' + round);
+                want.extend_from_slice(&piece);
+                want.push(b'0' + round);
+            }
+        }
+        assert_eq!(text.as_bytes(), &want[..]);
+        text.clear();
+        text.reserve(3);
+        text.put(b"xyz");
+        assert_eq!(text.as_bytes(), b"xyz");
+    }
 }
