@@ -50,7 +50,14 @@ pub fn write<F: SampleFloat + zmij::Float>(
     let mut samples = Samples::for_job(&EvalJob::new(job.derivatives()));
     let mut run =
         |chunk: &EvalJob, pieces: &[Piece], samples: &mut Samples<F>| -> Result<(), OutputError> {
-            evaluate(chunk, samples)?;
+            // Errors name the whole job's curve, not the chunk's.
+            evaluate(chunk, samples).map_err(|e| match e {
+                GpuError::OutOfRange { curve, what } => GpuError::OutOfRange {
+                    curve: pieces[curve].curve,
+                    what,
+                },
+                other => other,
+            })?;
             output::check_finite(samples).map_err(|e| match e {
                 OutputError::NonFinite { curve, sample } => OutputError::NonFinite {
                     curve: pieces[curve].curve,

@@ -244,6 +244,31 @@ fn chunked_csv_is_the_same_file() {
     }
 }
 
+/// A curve beyond float32's range in a later chunk is named by its number in the document,
+/// not in its chunk.
+#[test]
+fn gpu_range_errors_name_the_documents_curve_whatever_the_chunk() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let doc = r#"{"curves": [
+        {"kind": "bezier", "points": [[0], [1], [2], [3]]},
+        {"kind": "bezier", "points": [[0], [1], [2], [3]]},
+        {"kind": "bezier", "points": [[0], [1], [1e39], [3]]}]}"#;
+    for chunk in ["3", "1000"] {
+        let out = common::run_cli(
+            &["tessellate", "-", "--format", "npz", "--backend", "gpu"],
+            &[("SPLINEGPU_CHUNK_SAMPLES", chunk)],
+            doc,
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains("curve 2:") && stderr.contains("float32"),
+            "chunks of {chunk}: {stderr}"
+        );
+    }
+}
+
 #[test]
 fn npz_of_curves_with_different_dimensions_is_bad_input() {
     let doc = r#"{"curves": [{"kind": "bezier", "points": [[0], [1], [2], [3]]}, {"kind": "bezier", "points": [[0, 0], [1, 1], [2, 0], [3, 1]]}]}"#;
