@@ -496,7 +496,7 @@ impl ArcTable {
 
     /// The model's pieces as (u at the start, its width in u, s at the start, its length,
     /// the model's coefficients), for the GPU's f32 table.
-    pub fn model_pieces(&self) -> impl Iterator<Item = (f64, f64, f64, f64, &[f64; 5])> {
+    pub fn model_pieces(&self) -> impl ExactSizeIterator<Item = (f64, f64, f64, f64, &[f64; 5])> {
         let (ms, mu) = (&self.model_s, &self.model_u);
         self.model
             .iter()

@@ -97,7 +97,7 @@ pub const MODE_VECTOR: u32 = 1;
 pub const MODE_EXPLICIT: u32 = 2;
 /// [`Run::mode`]: samples `first .. first + count` of an arc-length sampling of the curve
 /// whose `segments` segments start at `segment`, each placed by the kernel from the curve's
-/// table at [`Run::arc`] (see `push_arc_table`) and its place written to
+/// table at [`Run::arc`] (see `write_arc_table`) and its place written to
 /// `locs[first_loc + j]` (`u0` and `du` are unused).
 pub const MODE_ARC: u32 = 3;
 
@@ -169,7 +169,7 @@ pub struct Packed {
     pub locs: Vec<GpuLoc>,
     /// Where the places of arc-length samples start in [`Packed::locs`].
     pub arc_locs: usize,
-    /// The arc-length tables of the curves sampled by arc length (`push_arc_table`).
+    /// The arc-length tables of the curves sampled by arc length (`write_arc_table`).
     pub arcs: Vec<[u32; 4]>,
     /// Dispatches, in output order.
     pub batches: Vec<Batch>,
@@ -281,12 +281,12 @@ pub fn pack_into(
     packed.coeffs.clear();
     packed.runs.clear();
     packed.locs.clear();
-    packed.arcs.clear();
     packed.batches.clear();
     packed.computed_t.clear();
     let mut arc_samples = 0;
     let mut places = Vec::new();
     fill_coefficients(job, &mut packed.segments, &mut packed.coeffs)?;
+    let arc_tables = fill_arc_tables(job, &mut packed.arcs);
     let mut first_segment = 0;
     for c in 0..job.len() {
         if c % PLACE_BLOCK == 0 {
@@ -307,8 +307,11 @@ pub fn pack_into(
             Plan::At(places) => runs.explicit(places, &mut packed.locs),
             // Arc length: the kernel finds each sample's place from the curve's table.
             Plan::Arc(window) => {
-                let arc = push_arc_table(&window.data, &mut packed.arcs);
-                runs.arc(window.first..window.first + window.len, arc, arc_samples);
+                runs.arc(
+                    window.first..window.first + window.len,
+                    arc_tables[c],
+                    arc_samples,
+                );
                 arc_samples += window.len;
             }
             // Tolerance: places decided on the host in f64 (on every thread, a block of
@@ -490,8 +493,8 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
     places
 }
 
-/// Appends the f32 arc-length table of a curve sampled by arc length to `arcs` and returns
-/// the vec4 where it starts. Lengths are fractions of the curve's length L, so that f32 keeps
+/// Writes the f32 arc-length table of a curve sampled by arc length into `out`, exactly
+/// [`arc_table_len`] vec4s, which start at vec4 `at` of the whole table. Lengths are fractions of the curve's length L, so that f32 keeps
 /// 2^-24 of L whatever the curve's size; floats are stored as their bits.
 /// - A header: (m − 1, 1/(m − 1), 0, 0).
 /// - Per segment: (its start / L, the vec4 of its first piece, its number of pieces, 0).
@@ -505,11 +508,10 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
 /// L), the kernel places its samples at its start, within its length. On a curve of zero
 /// length every piece is so: every sample but the last lies at u = 0 of the last segment, as
 /// the CPU places them.
-pub(crate) fn push_arc_table(data: &ArcSamples, arcs: &mut Vec<[u32; 4]>) -> u32 {
-    let at = arcs.len();
+pub(crate) fn write_arc_table(data: &ArcSamples, out: &mut [[u32; 4]], at: u32) {
     let bits = f32::to_bits;
     let last = data.count() - 1;
-    arcs.push([last as u32, bits((1.0 / last as f64) as f32), 0, 0]);
+    out[0] = [last as u32, bits((1.0 / last as f64) as f32), 0, 0];
     let (starts, tables) = (data.starts(), data.tables());
     let length = starts[tables.len()];
     let fraction = |s: f64| {
@@ -519,10 +521,10 @@ pub(crate) fn push_arc_table(data: &ArcSamples, arcs: &mut Vec<[u32; 4]>) -> u32
             0.0
         }
     };
-    let records = arcs.len();
-    arcs.resize(records + tables.len(), [0; 4]);
+    let records = 1;
+    let mut w = records + tables.len();
     for (i, table) in tables.iter().enumerate() {
-        let first_piece = arcs.len();
+        let first_piece = w;
         for (u, width, s, piece_length, c) in table.model_pieces() {
             let mut model = [1.0f32, 0.0, 0.0, 0.0, 0.0];
             if piece_length > 0.0 {
@@ -538,21 +540,77 @@ pub(crate) fn push_arc_table(data: &ArcSamples, arcs: &mut Vec<[u32; 4]>) -> u32
                 (0.0, 0.0)
             };
             let start = fraction(starts[i] + s);
-            arcs.push([start, u as f32, model[0], model[1]].map(bits));
-            arcs.push([model[2], model[3], model[4], end as f32].map(bits));
+            out[w] = [start, u as f32, model[0], model[1]].map(bits);
+            out[w + 1] = [model[2], model[3], model[4], end as f32].map(bits);
+            w += ARC_PIECE_VEC4S;
         }
-        let pieces = (arcs.len() - first_piece) / ARC_PIECE_VEC4S;
-        arcs[records + i] = [
+        let pieces = (w - first_piece) / ARC_PIECE_VEC4S;
+        out[records + i] = [
             bits(fraction(starts[i])),
-            first_piece as u32,
+            at + first_piece as u32,
             pieces as u32,
             0,
         ];
     }
     // The end of the last piece.
     let end = if length > 0.0 { 1.0 } else { 0.0 };
-    arcs.extend([[bits(end), 0, 0, 0], [0; 4]]);
-    at as u32
+    out[w] = [bits(end), 0, 0, 0];
+    out[w + 1] = [0; 4];
+    debug_assert_eq!(w + 2, out.len());
+}
+
+/// Vec4s of a curve's table in [`write_arc_table`]'s layout.
+fn arc_table_len(data: &ArcSamples) -> usize {
+    let pieces: usize = data.tables().iter().map(|t| t.model_pieces().len()).sum();
+    1 + data.tables().len() + ARC_PIECE_VEC4S * pieces + 2
+}
+
+/// The arc-length tables of the job's curves sampled by arc length, filled on every thread (a
+/// contiguous range of curves each) into `arcs`, resized for them: the vec4 where each curve's
+/// table starts, by curve (0 for curves sampled otherwise, which have none).
+fn fill_arc_tables(job: &EvalJob, arcs: &mut Vec<[u32; 4]>) -> Vec<u32> {
+    let data: Vec<Option<&ArcSamples>> = (0..job.len())
+        .map(|c| match &job.plan(c).0 {
+            Plan::Arc(window) => Some(&*window.data),
+            _ => None,
+        })
+        .collect();
+    let lengths: Vec<usize> = data.iter().map(|d| d.map_or(0, arc_table_len)).collect();
+    let mut starts = Vec::with_capacity(data.len());
+    let mut total = 0;
+    for &n in &lengths {
+        starts.push(total as u32);
+        total += n;
+    }
+    arcs.clear();
+    if total == 0 {
+        return starts;
+    }
+    arcs.resize(total, [0; 4]);
+    let threads = crate::available_threads().clamp(1, data.len());
+    std::thread::scope(|scope| {
+        let mut rest = arcs.as_mut_slice();
+        let mut first = 0;
+        for k in 0..threads {
+            let end = data.len() * (k + 1) / threads;
+            let len = lengths[first..end].iter().sum();
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(len);
+            rest = tail;
+            let curves = first..end;
+            let (data, lengths, starts) = (&data, &lengths, &starts);
+            scope.spawn(move || {
+                let mut at = 0;
+                for c in curves {
+                    if let Some(d) = data[c] {
+                        write_arc_table(d, &mut mine[at..at + lengths[c]], starts[c]);
+                        at += lengths[c];
+                    }
+                }
+            });
+            first = end;
+        }
+    });
+    starts
 }
 
 /// Vec4s per piece of a segment's length model in the arc-length table.
