@@ -86,6 +86,9 @@ impl Points {
 /// # Errors
 /// The first that is not, named as `points[i][k]`.
 pub fn check_finite(coords: &[f64], dim: usize) -> Result<(), InputError> {
+    if all_finite(coords) {
+        return Ok(());
+    }
     match coords.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(i) => Err(InputError::field(
@@ -98,6 +101,14 @@ pub fn check_finite(coords: &[f64], dim: usize) -> Result<(), InputError> {
             ),
         )),
     }
+}
+
+/// True when every value is finite: one pass without an early exit, which the compiler turns
+/// into vector compares (a search for the first bad value runs only when there is one; the
+/// search alone measured about 3x slower on a million-knot fit's values).
+#[must_use]
+pub fn all_finite(values: &[f64]) -> bool {
+    values.iter().fold(true, |ok, v| ok & v.is_finite())
 }
 
 /// The extent E of point-major `coords` with `dim` coordinates per point: the largest per-axis

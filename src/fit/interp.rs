@@ -129,13 +129,23 @@ pub fn check(
             format!("must have one value per point ({n}), got {}", t.len()),
         ));
     }
-    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
+    // Branch-free passes first (vectorized); the searches for the first bad value run only
+    // when there is one.
+    let finite = crate::curve::all_finite(t);
+    if let Some(i) = (!finite)
+        .then(|| t.iter().position(|v| !v.is_finite()))
+        .flatten()
+    {
         return Err(InputError::field(
             "t",
             format!("must be finite: t[{i}] = {}", t[i]),
         ));
     }
-    if let Some(i) = (1..n).find(|&i| t[i] <= t[i - 1]) {
+    let increasing = t.windows(2).fold(true, |ok, w| ok & (w[1] > w[0]));
+    if let Some(i) = (!increasing)
+        .then(|| (1..n).find(|&i| t[i] <= t[i - 1]))
+        .flatten()
+    {
         return Err(InputError::field(
             "t",
             format!(
