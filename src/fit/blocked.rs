@@ -77,17 +77,14 @@ pub fn solve_blocked<R: Rows>(
     let starts: Vec<usize> = (0..n).step_by(block).chain([n]).collect();
     let blocks = starts.len() - 1;
     let parts = blocks_of(&starts, cols, x, scratch);
-    let rows_of_system = rows;
     on_threads(parts, threads, |part| {
-        let Part {
-            rows: range,
-            x,
-            cp,
-            left,
-            right,
-        } = part;
-        let end = if range.end == n { n } else { range.end - 1 };
-        sweep(rows_of_system, range.start..end, cols, x, cp, left, right);
+        let end = if part.rows.end == n {
+            n
+        } else {
+            part.rows.end - 1
+        };
+        let (x, cp, left, right) = (part.x, part.cp, part.left, part.right);
+        sweep(rows, part.rows.start..end, cols, x, cp, left, right);
     });
     if blocks == 1 {
         return;
@@ -96,8 +93,10 @@ pub fn solve_blocked<R: Rows>(
     let seps = blocks - 1;
     let s = &mut scratch.separators;
     s.reset(seps);
-    scratch.separator_rhs.clear();
-    scratch.separator_rhs.resize(seps * cols, 0.0);
+    // Held apart from the scratch while the blocks borrow it again below.
+    let mut separators = std::mem::take(&mut scratch.separator_rhs);
+    separators.clear();
+    separators.resize(seps * cols, 0.0);
     let mut rhs = vec![0.0; cols];
     for j in 0..seps {
         let p = starts[j + 1] - 1;
@@ -107,11 +106,11 @@ pub fn solve_blocked<R: Rows>(
         s.diag[j] = diag + sub * r[p - 1] + sup * l[p + 1];
         s.sup[j] = sup * r[p + 1];
         for k in 0..cols {
-            scratch.separator_rhs[j * cols + k] =
+            separators[j * cols + k] =
                 rhs[k] - sub * x[(p - 1) * cols + k] - sup * x[(p + 1) * cols + k];
         }
     }
-    let solved = solve_tridiagonal(s, &mut scratch.separator_rhs, cols, &mut scratch.fill);
+    let solved = solve_tridiagonal(s, &mut separators, cols, &mut scratch.fill);
     if solved.is_err() {
         // Not dominant after all (pivots lost to underflow): the whole system as one block.
         let (cp, left, right) = (
@@ -120,43 +119,43 @@ pub fn solve_blocked<R: Rows>(
             &mut scratch.right,
         );
         sweep(rows, 0..n, cols, x, cp, left, right);
-        return;
-    }
-    let separators = &scratch.separator_rhs;
-    let (left, right) = (&scratch.left, &scratch.right);
-    let mut parts = Vec::with_capacity(blocks);
-    let mut rest = &mut x[..];
-    for j in 0..blocks {
-        let rows = starts[j]..starts[j + 1];
-        let (here, tail) = std::mem::take(&mut rest).split_at_mut(rows.len() * cols);
-        rest = tail;
-        parts.push((j, rows, here));
-    }
-    on_threads(parts, threads, |(j, rows, x)| {
-        let before = (j > 0).then(|| &separators[(j - 1) * cols..j * cols]);
-        let after = (j < seps).then(|| &separators[j * cols..(j + 1) * cols]);
-        let inner = if j < seps { rows.len() - 1 } else { rows.len() };
-        for (r, values) in x.chunks_exact_mut(cols).take(inner).enumerate() {
-            let i = rows.start + r;
-            for k in 0..cols {
-                let mut v = values[k];
-                if let Some(b) = before {
-                    v += left[i] * b[k];
+    } else {
+        // Each block adds its separators' share; a separator row gets its value.
+        let parts = blocks_of(&starts, cols, x, scratch);
+        on_threads(parts, threads, |part| {
+            let j = part.index;
+            let before = (j > 0).then(|| &separators[(j - 1) * cols..j * cols]);
+            let after = (j < seps).then(|| &separators[j * cols..(j + 1) * cols]);
+            let inner = if after.is_some() {
+                part.rows.len() - 1
+            } else {
+                part.rows.len()
+            };
+            let rows = part.x.chunks_exact_mut(cols).take(inner);
+            for ((values, &l), &r) in rows.zip(part.left.iter()).zip(part.right.iter()) {
+                for k in 0..cols {
+                    let mut v = values[k];
+                    if let Some(b) = before {
+                        v += l * b[k];
+                    }
+                    if let Some(a) = after {
+                        v += r * a[k];
+                    }
+                    values[k] = v;
                 }
-                if let Some(a) = after {
-                    v += right[i] * a[k];
-                }
-                values[k] = v;
             }
-        }
-        if let Some(a) = after {
-            x[inner * cols..].copy_from_slice(a);
-        }
-    });
+            if let Some(a) = after {
+                part.x[inner * cols..].copy_from_slice(a);
+            }
+        });
+    }
+    scratch.separator_rhs = separators;
 }
 
 /// One block's rows and its slices of the solution and the scratch rows.
 struct Part<'a> {
+    /// The block's number.
+    index: usize,
     rows: std::ops::Range<usize>,
     x: &'a mut [f64],
     cp: &'a mut [f64],
@@ -174,7 +173,7 @@ fn blocks_of<'a>(
     let (mut x, mut cp) = (x, &mut scratch.sup_prime[..]);
     let (mut left, mut right) = (&mut scratch.left[..], &mut scratch.right[..]);
     let mut parts = Vec::with_capacity(starts.len());
-    for w in starts.windows(2) {
+    for (index, w) in starts.windows(2).enumerate() {
         let len = w[1] - w[0];
         let (xh, xt) = std::mem::take(&mut x).split_at_mut(len * cols);
         let (ch, ct) = std::mem::take(&mut cp).split_at_mut(len);
@@ -182,6 +181,7 @@ fn blocks_of<'a>(
         let (rh, rt) = std::mem::take(&mut right).split_at_mut(len);
         (x, cp, left, right) = (xt, ct, lt, rt);
         parts.push(Part {
+            index,
             rows: w[0]..w[1],
             x: xh,
             cp: ch,
