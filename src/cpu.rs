@@ -163,20 +163,10 @@ enum Vectors {
 impl Vectors {
     /// The widest this CPU runs.
     fn widest() -> Self {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                return Self::Avx512;
-            }
-            if std::arch::is_x86_feature_detected!("avx2") {
-                return Self::Avx2;
-            }
-        }
-        Self::Baseline
+        *Self::available().last().expect("the baseline always runs")
     }
 
     /// Every one this CPU runs, narrowest first.
-    #[cfg(test)]
     fn available() -> Vec<Self> {
         let mut all = vec![Self::Baseline];
         #[cfg(target_arch = "x86_64")]

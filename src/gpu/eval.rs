@@ -147,19 +147,16 @@ impl GpuContext {
         // buffers and one batch holds the whole job, the output buffer is read itself, its
         // planes `plane_stride` apart: no copy into a download buffer.
         let mapped_output = self.map_output && packed.batches.len() == 1;
-        let output = if mapped_output {
-            take(
-                ("mapped samples", 0),
-                packed.dispatch_output_bytes(),
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::MAP_READ,
-            )
+        let (role, read_by) = if mapped_output {
+            ("mapped samples", wgpu::BufferUsages::MAP_READ)
         } else {
-            take(
-                ("samples", 0),
-                packed.dispatch_output_bytes(),
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            )
+            ("samples", wgpu::BufferUsages::COPY_SRC)
         };
+        let output = take(
+            (role, 0),
+            packed.dispatch_output_bytes(),
+            wgpu::BufferUsages::STORAGE | read_by,
+        );
         let (download, download_stride) = if mapped_output {
             (output.clone(), packed.plane_stride)
         } else {
