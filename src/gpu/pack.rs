@@ -494,8 +494,9 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
 }
 
 /// Writes the f32 arc-length table of a curve sampled by arc length into `out`, exactly
-/// [`arc_table_len`] vec4s, which start at vec4 `at` of the whole table. Lengths are fractions of the curve's length L, so that f32 keeps
-/// 2^-24 of L whatever the curve's size; floats are stored as their bits.
+/// [`arc_table_len`] vec4s, which start at vec4 `at` of the whole table. Lengths are
+/// fractions of the curve's length L, so that f32 keeps 2^-24 of L whatever the curve's size;
+/// floats are stored as their bits.
 /// - A header: (m − 1, 1/(m − 1), 0, 0).
 /// - Per segment: (its start / L, the vec4 of its first piece, its number of pieces, 0).
 /// - Per piece of the segments' length models ([`ArcTable`](crate::arclen::ArcTable)), segment
