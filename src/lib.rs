@@ -172,7 +172,7 @@ pub mod internals {
         Batch, BatchLimits, GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR,
         Packed, Params, Run, block_vec4s, pack,
     };
-    pub use crate::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, WG_SIZE};
+    pub use crate::gpu::shader::{ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, MODE_CONSTANT, WG_SIZE};
 
     /// `splinegpu bench`'s workloads and measurements.
     #[cfg(feature = "cli")]

@@ -271,7 +271,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
         Ok(gpu) => {
             let info = gpu.adapter_info();
             eprintln!(
-                "splinegpu: GpuContext::new took {:.1} ms (instance, adapter, device, pipeline)",
+                "splinegpu: GpuContext::new took {:.1} ms (instance, adapter, device, pipelines)",
                 start.elapsed().as_secs_f64() * 1e3
             );
             eprintln!(

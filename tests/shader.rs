@@ -4,7 +4,7 @@
 use std::mem::{offset_of, size_of};
 
 use splinegpu::internals::{
-    BINDINGS, ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, SOLVE_STEPS, WG_SIZE,
+    BINDINGS, ENTRY_POINT, EVAL_WGSL, LANES_CONSTANT, MODE_CONSTANT, SOLVE_STEPS, WG_SIZE,
 };
 use splinegpu::internals::{GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
 
@@ -86,7 +86,14 @@ fn structs_match_their_rust_twins() {
         &module,
         "Params",
         Params,
-        [run_count, row_width, plane_stride, derivatives, out_base]
+        [
+            run_count,
+            row_width,
+            plane_stride,
+            derivatives,
+            out_base,
+            first_run
+        ]
     );
     assert_twin!(&module, "Segment", GpuSegment, [coeff_offset, dim]);
     assert_twin!(
@@ -133,14 +140,17 @@ fn run_modes_and_solve_steps_match_the_wgsl_constants() {
 }
 
 #[test]
-fn lanes_is_an_override() {
+fn lanes_and_mode_are_overrides() {
     let (module, _) = module();
-    assert!(
-        module
-            .overrides
-            .iter()
-            .any(|(_, o)| o.name.as_deref() == Some(LANES_CONSTANT))
-    );
+    for name in [LANES_CONSTANT, MODE_CONSTANT] {
+        assert!(
+            module
+                .overrides
+                .iter()
+                .any(|(_, o)| o.name.as_deref() == Some(name)),
+            "{name}"
+        );
+    }
 }
 
 #[test]

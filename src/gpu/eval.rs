@@ -396,7 +396,8 @@ impl GpuContext {
         Ok(())
     }
 
-    /// Records dispatch `b` of `packed`, writing into `target`.
+    /// Records dispatch `b` of `packed`, writing into `target`: one compute pass, in which
+    /// the batch's runs of each mode are dispatched with that mode's pipeline.
     fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -407,53 +408,59 @@ impl GpuContext {
         stamps: Option<&Timestamps>,
     ) {
         let batch = &packed.batches[b];
-        let invocations = batch.runs.len() as u64 * u64::from(self.shape.lanes);
-        let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
-        let groups_x = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
-        let groups_y = groups.div_ceil(groups_x);
-        let params = Params {
-            run_count: batch.runs.len() as u32,
-            row_width: groups_x * WG_SIZE,
-            plane_stride: target.plane_stride,
-            derivatives: (packed.planes - 1) as u32,
-            out_base: target.out_base,
-            _padding: [0; 3],
-        };
-        let params = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("params"),
-                contents: bytemuck::bytes_of(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        let resources = [
-            params.as_entire_buffer_binding(),
-            tables.segments.as_entire_buffer_binding(),
-            tables.coeffs.as_entire_buffer_binding(),
-            tables.runs[b].as_entire_buffer_binding(),
-            target.binding.clone(),
-            tables.locs.as_entire_buffer_binding(),
-            tables.coeffs.as_entire_buffer_binding(),
-            tables.arcs.as_entire_buffer_binding(),
-        ];
-        let entries: Vec<_> = (resources.into_iter().enumerate())
-            .map(|(i, binding)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::Buffer(binding),
-            })
-            .collect();
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("eval"),
-            layout: &self.bind_group_layout,
-            entries: &entries,
-        });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("eval"),
             timestamp_writes: stamps.map(|s| s.writes(b)),
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(groups_x, groups_y, 1);
+        for (pipeline, runs) in self.pipelines.iter().zip(&batch.modes) {
+            if runs.is_empty() {
+                continue;
+            }
+            let invocations = runs.len() as u64 * u64::from(self.shape.lanes);
+            let groups = invocations.div_ceil(u64::from(WG_SIZE)) as u32;
+            let groups_x = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
+            let groups_y = groups.div_ceil(groups_x);
+            let params = Params {
+                run_count: runs.len() as u32,
+                row_width: groups_x * WG_SIZE,
+                plane_stride: target.plane_stride,
+                derivatives: (packed.planes - 1) as u32,
+                out_base: target.out_base,
+                first_run: runs.start as u32,
+                _padding: [0; 2],
+            };
+            let params = self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("params"),
+                    contents: bytemuck::bytes_of(&params),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+            let resources = [
+                params.as_entire_buffer_binding(),
+                tables.segments.as_entire_buffer_binding(),
+                tables.coeffs.as_entire_buffer_binding(),
+                tables.runs[b].as_entire_buffer_binding(),
+                target.binding.clone(),
+                tables.locs.as_entire_buffer_binding(),
+                tables.coeffs.as_entire_buffer_binding(),
+                tables.arcs.as_entire_buffer_binding(),
+            ];
+            let entries: Vec<_> = (resources.into_iter().enumerate())
+                .map(|(i, binding)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: wgpu::BindingResource::Buffer(binding),
+                })
+                .collect();
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("eval"),
+                layout: &self.bind_group_layout,
+                entries: &entries,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(groups_x, groups_y, 1);
+        }
     }
 }
 

@@ -47,26 +47,31 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> (Vec<f32>, Vec<GpuLoc>) {
     let mut locs = packed.locs.clone();
     let mut output = vec![[0.0f32; 4]; packed.plane_stride * packed.planes / 4];
     for batch in &packed.batches {
-        let mut kernel = Kernel {
-            params: Params {
-                run_count: batch.runs.len() as u32,
-                row_width: 0,
-                plane_stride: packed.plane_stride as u32,
-                derivatives: (packed.planes - 1) as u32,
-                out_base: 0,
-                _padding: [0; 3],
-            },
-            segments: &packed.segments,
-            coeffs: &packed.coeffs,
-            coeff_floats: bytemuck::cast_slice(&packed.coeffs),
-            runs: &packed.runs[batch.runs.clone()],
-            samples: &mut output,
-            locs: &mut locs,
-            arcs: &packed.arcs,
-            lanes,
-        };
-        for index in 0..batch.runs.len() as u32 * lanes {
-            kernel.main(index);
+        // One dispatch per mode, as `GpuContext::dispatch` records them.
+        for (mode, runs) in batch.modes.iter().enumerate() {
+            let mut kernel = Kernel {
+                params: Params {
+                    run_count: runs.len() as u32,
+                    row_width: 0,
+                    plane_stride: packed.plane_stride as u32,
+                    derivatives: (packed.planes - 1) as u32,
+                    out_base: 0,
+                    first_run: runs.start as u32,
+                    _padding: [0; 2],
+                },
+                mode: mode as u32,
+                segments: &packed.segments,
+                coeffs: &packed.coeffs,
+                coeff_floats: bytemuck::cast_slice(&packed.coeffs),
+                runs: &packed.runs[batch.runs.clone()],
+                samples: &mut output,
+                locs: &mut locs,
+                arcs: &packed.arcs,
+                lanes,
+            };
+            for index in 0..runs.len() as u32 * lanes {
+                kernel.main(index);
+            }
         }
         let floats: &[f32] = bytemuck::cast_slice(&output);
         let skip = batch.values.start - batch.base;
@@ -132,7 +137,7 @@ struct ArcHint {
     piece: u32,
 }
 
-/// The kernel's bindings, and its `LANES` override.
+/// The kernel's bindings, and its `LANES` and `MODE` overrides.
 struct Kernel<'a> {
     params: Params,
     segments: &'a [GpuSegment],
@@ -143,6 +148,8 @@ struct Kernel<'a> {
     coeff_floats: &'a [f32],
     arcs: &'a [[u32; 4]],
     lanes: u32,
+    /// The pipeline's `MODE`.
+    mode: u32,
 }
 
 /// `s * v`, component by component.
@@ -512,14 +519,14 @@ impl Kernel<'_> {
         if run_index >= self.params.run_count {
             return;
         }
-        let mut run = self.runs[run_index as usize];
+        let mut run = self.runs[(self.params.first_run + run_index) as usize];
         run.out_offset += self.params.out_base;
         let lane = index % self.lanes;
-        if run.mode == MODE_VECTOR {
+        if self.mode == MODE_VECTOR {
             self.vector_run(&run, lane);
-        } else if run.mode == MODE_EXPLICIT {
+        } else if self.mode == MODE_EXPLICIT {
             self.explicit_run(&run, lane);
-        } else if run.mode == MODE_ARC {
+        } else if self.mode == MODE_ARC {
             self.arc_run(&run, lane);
         } else {
             let mut out = run.out_offset;

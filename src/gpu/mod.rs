@@ -1,4 +1,4 @@
-//! The GPU evaluator: a `GpuContext` (device, queue, compiled pipeline) made once and reused.
+//! The GPU evaluator: a `GpuContext` (device, queue, compiled pipelines) made once and reused.
 //!
 //! Getting a device is kept apart from doing the work: [`GpuContext::new`] picks an adapter,
 //! [`GpuContext::from_device`] takes a caller's device and queue, and
@@ -54,7 +54,7 @@ impl KernelShape {
     }
 }
 
-/// A device, its queue and the compiled evaluation pipeline.
+/// A device, its queue and the compiled evaluation pipelines (one per run mode).
 ///
 /// `GpuContext` is `Send + Sync`: one context may serve many threads at once. Each evaluation
 /// takes its own buffers out of the context's pool (and gives them back when it is done), so
@@ -68,7 +68,8 @@ pub struct GpuContext {
     /// At most this many output values per plane in one dispatch (besides the device's limit).
     max_dispatch_values: usize,
     bind_group_layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    /// The kernel compiled for each run mode (indexed by `pack::MODE_*`).
+    pipelines: [wgpu::ComputePipeline; pack::MODES],
     /// Whether the kernel's output buffer is mapped and read itself (a CPU adapter with
     /// `MAPPABLE_PRIMARY_BUFFERS`, where device memory is host memory), instead of copied into
     /// a download buffer first: on lavapipe that copy cost about 8 ms of w1's 60 end to end.
@@ -251,7 +252,7 @@ impl GpuContext {
             label: Some("eval"),
             entries: &entries,
         });
-        let pipeline = compile(&device, &bind_group_layout, shape);
+        let pipelines = compile(&device, &bind_group_layout, shape);
         let map_output = info.device_type == wgpu::DeviceType::Cpu
             && (device.features()).contains(wgpu::Features::MAPPABLE_PRIMARY_BUFFERS);
         Self {
@@ -262,13 +263,13 @@ impl GpuContext {
             max_dispatch_values: usize::MAX,
             map_output,
             bind_group_layout,
-            pipeline,
+            pipelines,
             pool: std::sync::Mutex::default(),
             packings: std::sync::Mutex::default(),
         }
     }
 
-    /// The same context with another kernel shape (recompiles the pipeline).
+    /// The same context with another kernel shape (recompiles the pipelines).
     ///
     /// # Panics
     /// If `shape.lanes` or `shape.run_len` is 0.
@@ -278,7 +279,7 @@ impl GpuContext {
             shape.lanes >= 1 && shape.run_len >= 1,
             "a kernel shape needs lanes and run_len >= 1"
         );
-        self.pipeline = compile(&self.device, &self.bind_group_layout, shape);
+        self.pipelines = compile(&self.device, &self.bind_group_layout, shape);
         self.shape = shape;
         self
     }
@@ -355,11 +356,12 @@ pub fn hardware_adapter() -> Option<wgpu::Adapter> {
         .map(|(_, a)| a)
 }
 
+/// The kernel's pipeline for each run mode, for `shape`.
 fn compile(
     device: &wgpu::Device,
     bind_group_layout: &wgpu::BindGroupLayout,
     shape: KernelShape,
-) -> wgpu::ComputePipeline {
+) -> [wgpu::ComputePipeline; pack::MODES] {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("eval.wgsl"),
         source: wgpu::ShaderSource::Wgsl(shader::EVAL_WGSL.into()),
@@ -369,15 +371,20 @@ fn compile(
         bind_group_layouts: &[Some(bind_group_layout)],
         immediate_size: 0,
     });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("eval"),
-        layout: Some(&layout),
-        module: &module,
-        entry_point: Some(shader::ENTRY_POINT),
-        compilation_options: wgpu::PipelineCompilationOptions {
-            constants: &[(shader::LANES_CONSTANT, f64::from(shape.lanes))],
-            ..Default::default()
-        },
-        cache: None,
+    std::array::from_fn(|mode| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("eval"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(shader::ENTRY_POINT),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &[
+                    (shader::LANES_CONSTANT, f64::from(shape.lanes)),
+                    (shader::MODE_CONSTANT, mode as f64),
+                ],
+                ..Default::default()
+            },
+            cache: None,
+        })
     })
 }

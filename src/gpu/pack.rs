@@ -45,8 +45,10 @@ pub struct Params {
     /// Float the runs' `out_offset`s count from in the bound buffer (a multiple of 4): 0 for
     /// a buffer of the dispatch's own, [`Batch::base`] in a whole job's buffer.
     pub out_base: u32,
+    /// The dispatch's first run in the bound run table (its batch's runs of one mode).
+    pub first_run: u32,
     /// WGSL uniform structs are padded to 16 bytes.
-    pub _padding: [u32; 3],
+    pub _padding: [u32; 2],
 }
 
 /// One segment. WGSL twin: `Segment` in `shaders/eval.wgsl`.
@@ -72,7 +74,9 @@ pub struct Run {
     pub out_offset: u32,
     /// Samples per segment.
     pub count: u32,
-    /// How the run is written: [`MODE_SCALAR`], [`MODE_VECTOR`] or [`MODE_EXPLICIT`].
+    /// How the run is written: [`MODE_SCALAR`], [`MODE_VECTOR`], [`MODE_EXPLICIT`] or
+    /// [`MODE_ARC`]. The kernel does not read it: a batch's runs of one mode are dispatched
+    /// together with the pipeline compiled for that mode ([`Batch::modes`]).
     pub mode: u32,
     /// u of the first sample.
     pub u0: f32,
@@ -101,6 +105,9 @@ pub const MODE_EXPLICIT: u32 = 2;
 /// `locs[first_loc + j]` (`u0` and `du` are unused).
 pub const MODE_ARC: u32 = 3;
 
+/// How many run modes there are: `MODE_SCALAR` to `MODE_ARC`.
+pub const MODES: usize = 4;
+
 /// One explicitly placed sample. WGSL twin: `Loc` in `shaders/eval.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
@@ -122,6 +129,10 @@ pub struct Batch {
     /// from, so that a vector run's vec4 stores stay aligned whichever run a dispatch starts
     /// with. Floats of `base..values.start` belong to the dispatch before.
     pub base: usize,
+    /// The runs of each mode (indexed by `MODE_*`), counted from `runs.start`: the batch's
+    /// runs are grouped by mode, and each group is dispatched with the pipeline compiled for
+    /// its mode alone.
+    pub modes: [Range<usize>; MODES],
 }
 
 /// How much one dispatch may hold.
@@ -632,16 +643,25 @@ fn cut_batches(packed: &mut Packed, all_runs: &[(Run, usize, usize)], limits: Ba
         {
             end += 1;
         }
-        for (run, begin, _) in &all_runs[start..end] {
-            packed.runs.push(Run {
-                out_offset: (begin - base) as u32,
-                ..*run
-            });
-        }
+        // The batch's runs, grouped by mode (in order within a mode).
+        let modes = std::array::from_fn(|mode| {
+            let first = packed.runs.len() - start;
+            let of_mode = all_runs[start..end]
+                .iter()
+                .filter(|r| r.0.mode == mode as u32);
+            for (run, begin, _) in of_mode {
+                packed.runs.push(Run {
+                    out_offset: (begin - base) as u32,
+                    ..*run
+                });
+            }
+            first..packed.runs.len() - start
+        });
         packed.batches.push(Batch {
             runs: start..end,
             values: first_value..all_runs[end - 1].2,
             base,
+            modes,
         });
         start = end;
     }
@@ -882,7 +902,16 @@ mod tests {
         for batch in &packed.batches {
             assert_eq!(batch.base % 4, 0, "{shape:?}: dispatch based aligned");
             assert!(batch.runs.len() <= limits.runs);
-            for run in &packed.runs[batch.runs.clone()] {
+            // The modes' groups follow one another, cover the batch, and hold their mode only.
+            let runs = &packed.runs[batch.runs.clone()];
+            let mut next = 0;
+            for (mode, group) in batch.modes.iter().enumerate() {
+                assert_eq!(group.start, next, "{shape:?}: groups in order");
+                assert!(runs[group.clone()].iter().all(|r| r.mode == mode as u32));
+                next = group.end;
+            }
+            assert_eq!(next, runs.len(), "{shape:?}: every run in a group");
+            for run in runs {
                 let start = batch.base + run.out_offset as usize;
                 let end = start + run_floats(&packed, run);
                 assert!(

@@ -11,3 +11,6 @@ pub const ENTRY_POINT: &str = "main";
 
 /// The pipeline-overridable constant naming how many invocations share a run.
 pub const LANES_CONSTANT: &str = "LANES";
+
+/// The pipeline-overridable constant naming the one run mode a pipeline evaluates.
+pub const MODE_CONSTANT: &str = "MODE";
