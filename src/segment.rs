@@ -86,12 +86,11 @@ impl SegmentTable {
         Self::from_parts(dim, knots, coeffs, extent)
     }
 
-    /// The knot buffer, emptied, and the coefficient buffer, as it was, for a fit to refill
-    /// (keeping their allocations); sets the dimension and extent.
+    /// The knot and coefficient buffers as they are, for a fit to resize and refill (keeping
+    /// their allocations); sets the dimension and extent.
     pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
         self.dim = dim;
         self.extent = extent;
-        self.knots.clear();
         (&mut self.knots, &mut self.coeffs)
     }
 

@@ -689,9 +689,34 @@ fn large_fits_formed_on_several_threads_interpolate_and_join_smoothly() {
     let mut rng = Rng(300);
     let points = data(&mut rng, n, 2, &EndCondition::Natural);
     let mut table = SegmentTable::default();
-    Fitter::new()
+    let mut fitter = Fitter::new();
+    fitter
         .fit_into(&t, points.coords(), 2, &EndCondition::Natural, &mut table)
         .unwrap();
+    // The knots are copied on several threads too; the extent is the points'.
+    assert_eq!(table.knots(), &t[..]);
+    let axis = |k: usize| points.coords().iter().skip(k).step_by(2).copied();
+    let span = |k: usize| axis(k).fold(f64::MIN, f64::max) - axis(k).fold(f64::MAX, f64::min);
+    assert_eq!(table.extent(), span(0).max(span(1)));
+    // Bad data in a large fit are named as in a small one.
+    let mut bad = points.coords().to_vec();
+    bad[2 * 250_000 + 1] = f64::NAN;
+    let e = fitter
+        .fit_into(&t, &bad, 2, &EndCondition::Natural, &mut table)
+        .unwrap_err();
+    assert!(e.to_string().contains("points[250000][1]"), "{e}");
+    let mut unordered = t.clone();
+    unordered[200_000] = unordered[199_999];
+    let e = fitter
+        .fit_into(
+            &unordered,
+            points.coords(),
+            2,
+            &EndCondition::Natural,
+            &mut table,
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("t[200000]"), "{e}");
     let (mut end, mut start) = ([0.0; 2], [0.0; 2]);
     for i in 0..n - 1 {
         let segment = table.segment(i);

@@ -235,8 +235,21 @@ impl Fitter {
         condition: &EndCondition,
         out: &mut SegmentTable,
     ) -> Result<(), InputError> {
-        check(t, values, dim, condition)?;
-        self.fit_checked(t, values, dim, condition, out);
+        let extent = if t.len() > PARALLEL_SEGMENTS {
+            // The check and the extent each read every point on one thread: side by side.
+            std::thread::scope(|scope| {
+                let extent = scope.spawn(|| crate::curve::extent(values, dim));
+                let checked = check(t, values, dim, condition);
+                let extent = extent
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                checked.map(|()| extent)
+            })?
+        } else {
+            check(t, values, dim, condition)?;
+            crate::curve::extent(values, dim)
+        };
+        self.fit_with_extent(t, values, dim, condition, extent, out);
         Ok(())
     }
 
@@ -249,6 +262,20 @@ impl Fitter {
         condition: &EndCondition,
         out: &mut SegmentTable,
     ) {
+        let extent = crate::curve::extent(values, dim);
+        self.fit_with_extent(t, values, dim, condition, extent, out);
+    }
+
+    /// [`Fitter::fit_checked`] given the points' extent.
+    fn fit_with_extent(
+        &mut self,
+        t: &[f64],
+        values: &[f64],
+        dim: usize,
+        condition: &EndCondition,
+        extent: f64,
+        out: &mut SegmentTable,
+    ) {
         match condition {
             EndCondition::Natural | EndCondition::Clamped { .. } => {
                 self.solve_dominant(t, values, dim, condition);
@@ -258,21 +285,29 @@ impl Fitter {
             }
         }
         let segments = t.len() - 1;
-        let extent = crate::curve::extent(values, dim);
         let (knots, coeffs) = out.parts_mut(dim, extent);
-        knots.extend_from_slice(t);
         // Resized, not cleared: a table refilled at the same size is not zeroed first.
+        knots.resize(t.len(), 0.0);
         coeffs.resize(4 * dim * segments, 0.0);
+        // Each thread copies its segments' first knots too; the last knot is copied here.
+        let (knots, last) = knots.split_at_mut(segments);
+        last[0] = t[segments];
         let slopes = &self.slopes;
         let threads = std::thread::available_parallelism().map_or(1, usize::from);
         let per_thread = segments.div_ceil(threads).max(PARALLEL_SEGMENTS);
+        let fill = move |c: usize, (coeffs, knots): (&mut [f64], &mut [f64])| {
+            let first = c * per_thread;
+            knots.copy_from_slice(&t[first..first + knots.len()]);
+            hermite_segments(t, values, slopes, dim, first, coeffs);
+        };
         std::thread::scope(|scope| {
-            let mut parts = coeffs.chunks_mut(per_thread * 4 * dim).enumerate();
+            let parts = coeffs.chunks_mut(per_thread * 4 * dim);
+            let mut parts = parts.zip(knots.chunks_mut(per_thread)).enumerate();
             let (_, head) = parts.next().expect("at least one segment");
             for (c, part) in parts {
-                scope.spawn(move || hermite_segments(t, values, slopes, dim, c * per_thread, part));
+                scope.spawn(move || fill(c, part));
             }
-            hermite_segments(t, values, slopes, dim, 0, head);
+            fill(0, head);
         });
     }
 
