@@ -369,9 +369,9 @@ fn fill_coefficients(
     let tables: Vec<_> = (0..job.len()).map(|c| job.table(c)).collect();
     let total_segments = tables.iter().map(|t| t.len()).sum();
     let total_vec4s = tables.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
-    segments.clear();
+    // Resized, not cleared: every entry is written below (a refill of the same size writes
+    // no zeros first).
     segments.resize(total_segments, GpuSegment::default());
-    coeffs.clear();
     coeffs.resize(total_vec4s, [0.0; 4]);
     let threads = crate::available_threads().clamp(1, tables.len().max(1));
     std::thread::scope(|scope| {
@@ -417,48 +417,60 @@ fn fill_part(
     for (c, table) in curves.zip(tables) {
         let dim = table.dim();
         let block_len = block_vec4s(dim);
-        for s in 0..table.len() {
-            let segment = table.segment(s);
-            let inv_dt = (1.0 / segment.dt()) as f32;
-            segments[s_at] = GpuSegment {
-                coeff_offset: (coeff_base + at) as u32,
+        let curve_blocks = at..at + table.len() * block_len;
+        for (s, segment) in segments[s_at..s_at + table.len()].iter_mut().enumerate() {
+            *segment = GpuSegment {
+                coeff_offset: (coeff_base + at + s * block_len) as u32,
                 dim: dim as u32,
             };
-            s_at += 1;
-            // The coordinate k of term t is float t·dim + k of the block; 1/Δ follows the
-            // terms. d_hi = f32(D), d_lo = f32(D − d_hi).
-            let [a, b, cc, d] = segment.power();
-            let block: &mut [f32] = bytemuck::cast_slice_mut(&mut coeffs[at..at + block_len]);
-            at += block_len;
-            for k in 0..dim {
-                let hi = d[k] as f32;
-                let values = [
-                    a[k] as f32,
-                    b[k] as f32,
-                    cc[k] as f32,
-                    (d[k] - f64::from(hi)) as f32,
-                    hi,
-                ];
-                for (t, v) in values.into_iter().enumerate() {
-                    block[t * dim + k] = v;
-                }
-            }
-            block[TERMS * dim] = inv_dt;
-            if !inv_dt.is_finite() {
-                return Err(GpuError::OutOfRange {
-                    curve: c,
-                    what: "1/Δ of a segment",
-                });
-            }
-            if block.iter().any(|v| !v.is_finite()) {
-                return Err(GpuError::OutOfRange {
-                    curve: c,
-                    what: "a coordinate or power coefficient",
-                });
-            }
+        }
+        s_at += table.len();
+        let blocks: &mut [f32] = bytemuck::cast_slice_mut(&mut coeffs[curve_blocks.clone()]);
+        write_blocks(table, blocks);
+        at = curve_blocks.end;
+        // One branch-free pass over the curve's blocks; the search for what overflowed runs
+        // only when something did.
+        let blocks: &[f32] = bytemuck::cast_slice(&coeffs[curve_blocks]);
+        if !blocks.iter().fold(true, |ok, v| ok & v.is_finite()) {
+            // The first block with a value out of range, and whether its 1/Δ is.
+            let bad = blocks
+                .chunks_exact(4 * block_len)
+                .find(|block| !block.iter().all(|v| v.is_finite()));
+            let what = match bad {
+                Some(block) if !block[TERMS * dim].is_finite() => "1/Δ of a segment",
+                _ => "a coordinate or power coefficient",
+            };
+            return Err(GpuError::OutOfRange { curve: c, what });
         }
     }
     Ok(())
+}
+
+/// A curve's coefficient blocks (see [`block_vec4s`]): the coordinate k of term t is float
+/// t·dim + k of a block; 1/Δ follows the terms, then zeros to the block's end.
+/// d_hi = f32(D), d_lo = f32(D − d_hi).
+fn write_blocks(table: &crate::SegmentTable, blocks: &mut [f32]) {
+    let dim = table.dim();
+    let block_floats = 4 * block_vec4s(dim);
+    for (s, block) in blocks.chunks_exact_mut(block_floats).enumerate() {
+        let segment = table.segment(s);
+        let [a, b, c, d] = segment.power();
+        for k in 0..dim {
+            let hi = d[k] as f32;
+            let values = [
+                a[k] as f32,
+                b[k] as f32,
+                c[k] as f32,
+                (d[k] - f64::from(hi)) as f32,
+                hi,
+            ];
+            for (t, v) in values.into_iter().enumerate() {
+                block[t * dim + k] = v;
+            }
+        }
+        block[TERMS * dim] = (1.0 / segment.dt()) as f32;
+        block[TERMS * dim + 1..].fill(0.0);
+    }
 }
 
 /// Curves whose places computed on the host (tolerance) are held at once while packing.
@@ -849,7 +861,7 @@ impl CurveRuns<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Basis, Curve, CurveKind, Derivatives, Ends, Points, Sampling};
+    use crate::{Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, Points, Sampling};
 
     /// Curves of 1 to 6 dimensions, per-segment (k from 1 to 9), explicit, arc-length and
     /// tolerance samplings.
@@ -1016,9 +1028,30 @@ mod tests {
             values: usize::MAX,
             runs: usize::MAX,
         };
-        match pack(&job, KernelShape::LOOPING, limits) {
-            Err(GpuError::OutOfRange { curve: 1, .. }) => {}
+        let mut packed = Packed::default();
+        match pack_into(&job, KernelShape::LOOPING, limits, &mut packed) {
+            Err(GpuError::OutOfRange {
+                curve: 1,
+                what: "a coordinate or power coefficient",
+            }) => {}
             other => panic!("expected curve 1 out of range, got {other:?}"),
         }
+        // Knots 1e-300 apart: every coefficient fits f32, 1/Δ does not.
+        let mut job = EvalJob::new(Derivatives::None);
+        let kind = CurveKind::Interpolating {
+            condition: EndCondition::Natural,
+            t: Some(vec![0.0, 1e-300, 2e-300]),
+        };
+        let curve = Curve::new(kind, Points::new(1, vec![0.0, 1.0, 0.5]).unwrap()).unwrap();
+        job.push(&curve, &Sampling::PerSegment(2)).unwrap();
+        match pack_into(&job, KernelShape::LOOPING, limits, &mut packed) {
+            Err(GpuError::OutOfRange {
+                curve: 0,
+                what: "1/Δ of a segment",
+            }) => {}
+            other => panic!("expected curve 0's 1/Δ out of range, got {other:?}"),
+        }
+        // A refused packing leaves nothing behind that fails the next one.
+        pack_into(&mixed_job(), KernelShape::LOOPING, limits, &mut packed).unwrap();
     }
 }
