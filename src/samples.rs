@@ -209,6 +209,11 @@ impl<F> Samples<F> {
         (self.layout, self.t, [self.points, self.d1, self.d2])
     }
 
+    /// The planes: positions, then d1 and d2 (empty when not computed).
+    pub(crate) fn planes(&self) -> [&[F]; 3] {
+        [&self.points, &self.d1, &self.d2]
+    }
+
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
     pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]
