@@ -109,21 +109,38 @@ pub fn write_csv_rows<F: SampleFloat + zmij::Float>(
     let rows = samples.layout().samples();
     let threads = crate::available_threads().clamp(1, rows.div_ceil(CSV_BLOCK_ROWS).max(1));
     let block = threads * CSV_BLOCK_ROWS;
-    // The texts being written, and those being formatted.
-    let mut written: Vec<Text> = (0..threads).map(|_| Text::default()).collect();
-    let mut formatted: Vec<Text> = (0..threads).map(|_| Text::default()).collect();
-    let mut start = 0;
-    // One pass past the last block writes it.
-    while start < rows + block {
+    let blocks = (0..rows).step_by(block).map(|start| {
         let end = (start + block).min(rows);
+        (0..threads)
+            .map(|k| start + (end - start) * k / threads..start + (end - start) * (k + 1) / threads)
+            .collect()
+    });
+    write_in_order(
+        blocks,
+        |part, text| csv_rows_text(samples, pieces, dim, part, text),
+        out,
+    )
+}
+
+/// Writes the text of `blocks` in order: each block's parts are formatted by `format`, each on
+/// a thread of its own, while this thread writes the block before.
+fn write_in_order<P: Send>(
+    blocks: impl Iterator<Item = Vec<P>>,
+    format: impl Fn(P, &mut Text) + Sync,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    // The texts being written, and those being formatted.
+    let (mut written, mut formatted): (Vec<Text>, Vec<Text>) = (Vec::new(), Vec::new());
+    let format = &format;
+    // One pass past the last block writes it.
+    for block in blocks.map(Some).chain([None]) {
+        let parts = block.unwrap_or_default();
+        if formatted.len() < parts.len() {
+            formatted.resize_with(parts.len(), Text::default);
+        }
         let written_ok = std::thread::scope(|scope| {
-            if start < rows {
-                for (k, text) in formatted.iter_mut().enumerate() {
-                    let part = start + (end - start) * k / threads
-                        ..start + (end - start) * (k + 1) / threads;
-                    text.clear();
-                    scope.spawn(move || csv_rows_text(samples, pieces, dim, part, text));
-                }
+            for (part, text) in parts.into_iter().zip(formatted.iter_mut()) {
+                scope.spawn(move || format(part, text));
             }
             written
                 .iter()
@@ -132,9 +149,103 @@ pub fn write_csv_rows<F: SampleFloat + zmij::Float>(
         written_ok?;
         std::mem::swap(&mut written, &mut formatted);
         formatted.iter_mut().for_each(Text::clear);
-        start += block;
     }
     Ok(())
+}
+
+/// The JSON objects of `samples`' curves (`{"t": [...], "points": [...], ...}`, each after a
+/// line break), the first being curve `first_curve` of the document: a curve after the
+/// document's first is preceded by a comma. Groups of curves of about [`JSON_PART_SAMPLES`]
+/// samples are formatted on all threads while this thread writes the ones before, in order.
+///
+/// # Errors
+/// Any I/O error of `out`.
+pub fn write_json_curves<F: SampleFloat + zmij::Float>(
+    samples: &Samples<F>,
+    first_curve: usize,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let layout = samples.layout();
+    // Consecutive curves of at most JSON_PART_SAMPLES samples, or one longer curve.
+    let mut parts = Vec::new();
+    let (mut from, mut count) = (0, 0);
+    for c in 0..samples.len() {
+        let n = layout.samples_of(c).len();
+        if c > from && count + n > JSON_PART_SAMPLES {
+            parts.push(from..c);
+            (from, count) = (c, 0);
+        }
+        count += n;
+    }
+    if from < samples.len() {
+        parts.push(from..samples.len());
+    }
+    let threads = crate::available_threads().max(1);
+    let blocks = parts.chunks(threads).map(<[_]>::to_vec);
+    write_in_order(
+        blocks,
+        |curves, text| {
+            for c in curves {
+                json_curve_text(samples, c, first_curve + c, text);
+            }
+        },
+        out,
+    )
+}
+
+/// Curve samples per thread formatted as JSON at once (about 4 MiB of text for 3-D samples).
+pub const JSON_PART_SAMPLES: usize = 1 << 16;
+
+/// Appends the JSON object of `samples`' curve `c`, curve `in_document` of the document.
+fn json_curve_text<F: SampleFloat + zmij::Float>(
+    samples: &Samples<F>,
+    c: usize,
+    in_document: usize,
+    text: &mut Text,
+) {
+    let s = samples.curve(c);
+    let mut number = zmij::Buffer::new();
+    text.reserve(16);
+    if in_document > 0 {
+        text.push(b',');
+    }
+    text.put(b"\n{\"t\": [");
+    for (j, &t) in s.t.iter().enumerate() {
+        text.reserve(2 + PIECE_BYTES);
+        if j > 0 {
+            text.put(b", ");
+        }
+        text.put(number.format(t).as_bytes());
+    }
+    text.reserve(1);
+    text.push(b']');
+    let planes = [
+        (&b"points"[..], Some(s.points)),
+        (b"d1", s.d1),
+        (b"d2", s.d2),
+    ];
+    for (name, plane) in planes {
+        let Some(plane) = plane else { continue };
+        text.reserve(16);
+        text.put(b", \"");
+        text.put(name);
+        text.put(b"\": [");
+        for (j, point) in plane.chunks_exact(s.dim).enumerate() {
+            text.reserve(4 + s.dim * (2 + PIECE_BYTES));
+            text.put(if j > 0 { b", [" } else { b"[" });
+            for (k, &v) in point.iter().enumerate() {
+                if k > 0 {
+                    text.put(b", ");
+                }
+                text.put(number.format(v).as_bytes());
+            }
+            text.push(b']');
+        }
+        text.reserve(1);
+        text.push(b']');
+    }
+    text.reserve(1);
+    text.push(b'}');
 }
 
 /// Rows formatted per thread at once (about 4 MiB of text for 3-D samples).

@@ -4,8 +4,9 @@
 //! CSV is streamed chunk by chunk. NPZ holds each array whole, one after the other: `t` first
 //! when the plans give it without evaluating, `points` while the chunks are evaluated, then the
 //! derivatives (and an arc-length or tolerance job's `t`, computed with the points), which wait
-//! in temporary files for their turn. JSON writes each curve's t, then its
-//! points, then each derivative, evaluating the curve chunk by chunk once per plane.
+//! in temporary files for their turn. JSON evaluates runs of whole curves as CSV does chunks,
+//! and writes each curve's t, then its points, then each derivative; a curve longer than a
+//! chunk is evaluated chunk by chunk once per plane.
 
 use std::io::{self, Read, Seek, Write};
 
@@ -134,7 +135,9 @@ fn for_each_t_block(
 
 type Run<'a, F> = dyn FnMut(&EvalJob, &[Piece], &mut Samples<F>) -> Result<(), OutputError> + 'a;
 
-/// The contract's JSON, one curve at a time, each plane of a curve chunk by chunk.
+/// The contract's JSON. Consecutive curves of at most `chunk_samples` samples in all are
+/// evaluated together and formatted on every thread; a longer curve is written alone, each of
+/// its planes chunk by chunk.
 fn write_json<F: SampleFloat + zmij::Float>(
     job: &EvalJob,
     chunk_samples: usize,
@@ -143,34 +146,70 @@ fn write_json<F: SampleFloat + zmij::Float>(
     out: &mut impl Write,
 ) -> Result<(), OutputError> {
     write!(out, "{{\"curves\": [")?;
-    let mut t = Vec::new();
-    for c in 0..job.len() {
-        let plan = job.plan(c);
-        write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
-        for_each_t_block(plan, chunk_samples, &mut t, |i, t| {
-            output::write_json_numbers(t, i == 0, out)
-        })?;
-        write!(out, "]")?;
-        let mut one = EvalJob::new(job.derivatives());
-        one.push_table(job.table(c).clone(), plan.clone())
-            .expect("one curve of a job fits a job");
-        let names = ["points", "d1", "d2"];
-        for (o, name) in names.iter().enumerate().take(job.derivatives().order() + 1) {
-            write!(out, ", \"{name}\": [")?;
-            for (i, chunk) in one.chunks(chunk_samples).enumerate() {
-                let pieces: Vec<Piece> = (chunk.pieces.iter())
-                    .map(|p| Piece { curve: c, ..*p })
-                    .collect();
-                run(&chunk.job, &pieces, samples)?;
-                let s = samples.curve(0);
-                let plane = [Some(s.points), s.d1, s.d2][o].expect("computed plane");
-                output::write_json_points(plane, s.dim, i == 0, out)?;
-            }
-            write!(out, "]")?;
+    let mut c = 0;
+    while c < job.len() {
+        if job.plan(c).len() > chunk_samples {
+            write_json_long_curve(job, c, chunk_samples, samples, run, out)?;
+            c += 1;
+            continue;
         }
-        write!(out, "}}")?;
+        let first = c;
+        let mut group = EvalJob::new(job.derivatives());
+        let mut pieces = Vec::new();
+        while c < job.len()
+            && (c == first || group.sample_count() + job.plan(c).len() <= chunk_samples)
+        {
+            group
+                .push_table(job.table(c).clone(), job.plan(c).clone())
+                .expect("curves of a job fit a job");
+            pieces.push(Piece {
+                curve: c,
+                first_sample: 0,
+            });
+            c += 1;
+        }
+        run(&group, &pieces, samples)?;
+        output::write_json_curves(samples, first, out)?;
     }
     writeln!(out, "]}}")?;
+    Ok(())
+}
+
+/// Curve `c`'s JSON object when the curve has more than `chunk_samples` samples: its t, then
+/// its points, then each derivative, the curve evaluated chunk by chunk once per plane.
+fn write_json_long_curve<F: SampleFloat + zmij::Float>(
+    job: &EvalJob,
+    c: usize,
+    chunk_samples: usize,
+    samples: &mut Samples<F>,
+    run: &mut Run<'_, F>,
+    out: &mut impl Write,
+) -> Result<(), OutputError> {
+    let plan = job.plan(c);
+    write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
+    let mut t = Vec::new();
+    for_each_t_block(plan, chunk_samples, &mut t, |i, t| {
+        output::write_json_numbers(t, i == 0, out)
+    })?;
+    write!(out, "]")?;
+    let mut one = EvalJob::new(job.derivatives());
+    one.push_table(job.table(c).clone(), plan.clone())
+        .expect("one curve of a job fits a job");
+    let names = ["points", "d1", "d2"];
+    for (o, name) in names.iter().enumerate().take(job.derivatives().order() + 1) {
+        write!(out, ", \"{name}\": [")?;
+        for (i, chunk) in one.chunks(chunk_samples).enumerate() {
+            let pieces: Vec<Piece> = (chunk.pieces.iter())
+                .map(|p| Piece { curve: c, ..*p })
+                .collect();
+            run(&chunk.job, &pieces, samples)?;
+            let s = samples.curve(0);
+            let plane = [Some(s.points), s.d1, s.d2][o].expect("computed plane");
+            output::write_json_points(plane, s.dim, i == 0, out)?;
+        }
+        write!(out, "]")?;
+    }
+    write!(out, "}}")?;
     Ok(())
 }
 
