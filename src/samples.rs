@@ -210,6 +210,7 @@ impl<F> Samples<F> {
     }
 
     /// The planes: positions, then d1 and d2 (empty when not computed).
+    #[cfg(feature = "cli")]
     pub(crate) fn planes(&self) -> [&[F]; 3] {
         [&self.points, &self.d1, &self.d2]
     }
