@@ -12,7 +12,7 @@ use std::io::{self, Read, Seek, Write};
 
 use crate::GpuContext;
 use crate::error::GpuError;
-use crate::job::{EvalJob, Piece};
+use crate::job::{Chunk, EvalJob, Piece};
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::{self, OutputError};
 use crate::samples::{SampleFloat, Samples};
@@ -176,7 +176,9 @@ fn write_json<F: SampleFloat + zmij::Float>(
 }
 
 /// Curve `c`'s JSON object when the curve has more than `chunk_samples` samples: its t, then
-/// its points, then each derivative, the curve evaluated chunk by chunk once per plane.
+/// its points, then each derivative, the curve evaluated chunk by chunk once per plane (and
+/// once more for t where its places are found while evaluating: t as evaluated, as the other
+/// formats write it).
 fn write_json_long_curve<F: SampleFloat + zmij::Float>(
     job: &EvalJob,
     c: usize,
@@ -186,23 +188,34 @@ fn write_json_long_curve<F: SampleFloat + zmij::Float>(
     out: &mut impl Write,
 ) -> Result<(), OutputError> {
     let plan = job.plan(c);
-    write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
-    let mut t = Vec::new();
-    for_each_t_block(plan, chunk_samples, &mut t, |i, t| {
-        output::write_json_numbers(t, i == 0, out)
-    })?;
-    write!(out, "]")?;
     let mut one = EvalJob::new(job.derivatives());
     one.push_table(job.table(c).clone(), plan.clone())
         .expect("one curve of a job fits a job");
+    // Each chunk of the curve evaluated into `samples`, with its pieces named in the document.
+    let mut evaluate = |chunk: &Chunk, samples: &mut Samples<F>| {
+        let pieces: Vec<Piece> = (chunk.pieces.iter())
+            .map(|p| Piece { curve: c, ..*p })
+            .collect();
+        run(&chunk.job, &pieces, samples)
+    };
+    write!(out, "{}\n{{\"t\": [", if c > 0 { "," } else { "" })?;
+    if plan.is_computed() {
+        for (i, chunk) in one.chunks(chunk_samples).enumerate() {
+            evaluate(&chunk, samples)?;
+            output::write_json_numbers(samples.curve(0).t, i == 0, out)?;
+        }
+    } else {
+        let mut t = Vec::new();
+        for_each_t_block(plan, chunk_samples, &mut t, |i, t| {
+            output::write_json_numbers(t, i == 0, out)
+        })?;
+    }
+    write!(out, "]")?;
     let names = ["points", "d1", "d2"];
     for (o, name) in names.iter().enumerate().take(job.derivatives().order() + 1) {
         write!(out, ", \"{name}\": [")?;
         for (i, chunk) in one.chunks(chunk_samples).enumerate() {
-            let pieces: Vec<Piece> = (chunk.pieces.iter())
-                .map(|p| Piece { curve: c, ..*p })
-                .collect();
-            run(&chunk.job, &pieces, samples)?;
+            evaluate(&chunk, samples)?;
             let s = samples.curve(0);
             let plane = [Some(s.points), s.d1, s.d2][o].expect("computed plane");
             output::write_json_points(plane, s.dim, i == 0, out)?;

@@ -260,7 +260,7 @@ fn chunked_json_is_the_same_document() {
 }
 
 /// On the GPU an arc-length sample's t is where the kernel placed it: JSON writes that t, as
-/// CSV does, so that each point is the curve at its t.
+/// CSV does, so that each point is the curve at its t, curves longer than a chunk too.
 #[test]
 fn gpu_json_and_csv_give_the_same_t() {
     if common::gpu().is_none() {
@@ -269,29 +269,32 @@ fn gpu_json_and_csv_give_the_same_t() {
     let doc = r#"{"sampling": {"arc_length": 37}, "curves": [
         {"kind": "catmull-rom", "points": [[0, 0], [1, 3], [2, 0.1], [7, 1], [8, 0], [9, 5]]},
         {"kind": "natural", "t": [0, 0.1, 3], "points": [[1, 1], [2, 0], [0, 3]]}]}"#;
-    let run = |format| {
-        let out = common::run_cli(
-            &["tessellate", "-", "--backend", "gpu", "--format", format],
-            &[],
-            doc,
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8(out.stdout).unwrap()
-    };
-    let csv_t: Vec<f64> = (run("csv").lines().skip(1))
-        .map(|row| row.split(',').nth(2).unwrap().parse().unwrap())
-        .collect();
-    let json: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
-    let json_t: Vec<f64> = (json["curves"].as_array().unwrap().iter())
-        .flat_map(|c| c["t"].as_array().unwrap().clone())
-        .map(|t| t.as_f64().unwrap())
-        .collect();
-    assert_eq!(csv_t.len(), 2 * 37);
-    assert_eq!(json_t, csv_t);
+    // Default chunks, and chunks of 10 samples: each curve written alone, plane by plane.
+    for chunk in ["1048576", "10"] {
+        let run = |format| {
+            let out = common::run_cli(
+                &["tessellate", "-", "--backend", "gpu", "--format", format],
+                &[("SPLINEGPU_CHUNK_SAMPLES", chunk)],
+                doc,
+            );
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            String::from_utf8(out.stdout).unwrap()
+        };
+        let csv_t: Vec<f64> = (run("csv").lines().skip(1))
+            .map(|row| row.split(',').nth(2).unwrap().parse().unwrap())
+            .collect();
+        let json: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+        let json_t: Vec<f64> = (json["curves"].as_array().unwrap().iter())
+            .flat_map(|c| c["t"].as_array().unwrap().clone())
+            .map(|t| t.as_f64().unwrap())
+            .collect();
+        assert_eq!(csv_t.len(), 2 * 37);
+        assert_eq!(json_t, csv_t, "chunks of {chunk}");
+    }
 }
 
 /// A curve beyond float32's range in a later chunk is named by its number in the document,
