@@ -444,7 +444,9 @@ impl Rows for DominantRows<'_> {
 }
 
 /// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)
-/// from the points and slopes: the cubic Hermite piece in local u.
+/// from the points and slopes: the cubic Hermite piece in local u. One to four coordinates
+/// are compiled for their count ([`hermite_segments_of`]), so that a segment's loop is
+/// unrolled and vectorised.
 fn hermite_segments(
     t: &[f64],
     values: &[f64],
@@ -453,6 +455,26 @@ fn hermite_segments(
     first: usize,
     out: &mut [f64],
 ) {
+    let form = match dim {
+        1 => hermite_segments_of::<1>,
+        2 => hermite_segments_of::<2>,
+        3 => hermite_segments_of::<3>,
+        4 => hermite_segments_of::<4>,
+        _ => hermite_segments_of::<0>,
+    };
+    form(t, values, slopes, dim, first, out);
+}
+
+/// [`hermite_segments`] for `D` coordinates, or any `dim` where `D` is 0.
+fn hermite_segments_of<const D: usize>(
+    t: &[f64],
+    values: &[f64],
+    slopes: &[f64],
+    dim: usize,
+    first: usize,
+    out: &mut [f64],
+) {
+    let dim = if D == 0 { dim } else { D };
     for (s, c) in out.chunks_exact_mut(4 * dim).enumerate() {
         let i = first + s;
         let dt = t[i + 1] - t[i];
