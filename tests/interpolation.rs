@@ -582,6 +582,51 @@ fn assert_tables_close(a: &SegmentTable, b: &SegmentTable, tol: f64, what: &str)
     }
 }
 
+/// Scaling every knot by s leaves each segment's cubic in its local u as it was (the slopes
+/// scale by 1/s, the spacings by s): fits whose spacings are near the ends of f64's range,
+/// where the product of two spacings underflows or overflows, give the unscaled fit's
+/// coefficients; so does a natural fit of 70,000 knots, solved in blocks. (s is a power of
+/// two, so the scaled knots are exact.)
+#[test]
+fn fits_do_not_depend_on_the_knots_scale() {
+    let mut rng = Rng(77);
+    let mut fitter = Fitter::new();
+    let (mut want, mut got) = (SegmentTable::default(), SegmentTable::default());
+    let cases = conditions(3)
+        .into_iter()
+        .map(|c| (40, c))
+        .chain([(70_000, EndCondition::Natural)]);
+    for (n, condition) in cases {
+        let t = uneven_knots(n, 100.0, 0.0);
+        let points = data(&mut rng, n, 3, &condition);
+        fitter
+            .fit_into(&t, points.coords(), 3, &condition, &mut want)
+            .unwrap();
+        for s in [-1000, -530, 530, 1000].map(|e| 2f64.powi(e)) {
+            let scaled: Vec<f64> = t.iter().map(|x| x * s).collect();
+            let condition = match &condition {
+                EndCondition::Clamped { start, end } => EndCondition::Clamped {
+                    start: start.iter().map(|v| v / s).collect(),
+                    end: end.iter().map(|v| v / s).collect(),
+                },
+                other => other.clone(),
+            };
+            fitter
+                .fit_into(&scaled, points.coords(), 3, &condition, &mut got)
+                .unwrap();
+            for i in 0..n - 1 {
+                let (x, y) = (
+                    want.segment(i).power().concat(),
+                    got.segment(i).power().concat(),
+                );
+                let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                let what = format!("{condition:?} n {n} scale {s:e} segment {i}");
+                assert_close(&y, &x, 1e-12 * scale, &what);
+            }
+        }
+    }
+}
+
 #[test]
 fn a_reused_fitter_gives_the_same_table() {
     let mut rng = Rng(12);

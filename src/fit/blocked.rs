@@ -249,12 +249,14 @@ struct Lane<'a> {
 /// room for a row's `cols` right-hand sides. (Each group of columns computes the same `cp`,
 /// `left` and `right`.)
 ///
-/// Elimination is a chain of dependent divisions, the pivots p_j = diag_j −
-/// (sub_j·sup_{j−1})/p_{j−1}, and back substitution a chain of dependent multiply-adds; their
-/// latency, not arithmetic or memory, sets the pace. So each link is kept short: the product
-/// sub_j·sup_{j−1} is formed off the chain, and the latest row's values are carried in
-/// registers instead of read back from the row just stored (fit-1m: 17.3 to 15.5 ms with
-/// [`super::interp`]'s coefficients compiled per dimension).
+/// Elimination is a chain of dependent divisions, the pivots p_j = diag_j − sub_j·cp_{j−1}
+/// with cp_j = sup_j/p_j, and back substitution a chain of dependent multiply-adds; their
+/// latency sets much of the pace. So the latest row's values are carried in registers from
+/// one link to the next instead of read back from the row just stored (fit-1m: 17.3 to 15.5
+/// ms with [`super::interp`]'s coefficients compiled per dimension). The pivot keeps that
+/// form, whose product sub·cp is about one spacing: a chain one multiplication shorter,
+/// diag − (sub_j·sup_{j−1})/p_{j−1}, multiplies two spacings, which underflows for knots
+/// 1e-160 apart and overflows for knots 1e160 apart.
 fn sweep_columns<R: Rows, const C: usize>(
     system: &R,
     rows: std::ops::Range<usize>,
@@ -264,14 +266,12 @@ fn sweep_columns<R: Rows, const C: usize>(
 ) {
     let len = rows.len();
     // Forward elimination. Before the first row, as if a row above had x = 0, left = 1 and
-    // sup = 0: the first row's sub then multiplies the separator before the block, the
+    // cp = 0: the first row's sub then multiplies the separator before the block, the
     // right-hand side of that column's solve.
-    let (mut above, mut left_above) = ([0.0; C], 1.0);
-    let (mut sup_above, mut inv_above) = (0.0, 0.0);
+    let (mut above, mut left_above, mut cp_above) = ([0.0; C], 1.0, 0.0);
     for (j, i) in rows.enumerate() {
         let (sub, diag, sup) = system.row(i, rhs);
-        let inv_pivot = 1.0 / (diag - (sub * sup_above) * inv_above);
-        (sup_above, inv_above) = (sup, inv_pivot);
+        let inv_pivot = 1.0 / (diag - sub * cp_above);
         let here = &mut lane.x[j * cols + first..][..C];
         for k in 0..C {
             above[k] = (rhs[first + k] - sub * above[k]) * inv_pivot;
@@ -279,11 +279,12 @@ fn sweep_columns<R: Rows, const C: usize>(
         }
         left_above = -sub * left_above * inv_pivot;
         lane.left[j] = left_above;
-        lane.cp[j] = sup * inv_pivot;
+        cp_above = sup * inv_pivot;
+        lane.cp[j] = cp_above;
     }
     // Back substitution.
     let last = len - 1;
-    let (mut below, mut left_below, mut right_below) = (above, left_above, -lane.cp[last]);
+    let (mut below, mut left_below, mut right_below) = (above, left_above, -cp_above);
     lane.right[last] = right_below;
     for j in (0..last).rev() {
         let c = lane.cp[j];

@@ -538,10 +538,13 @@ fn end_rows(
             let (dl, dm) = (dt(n - 2), dt(n - 3));
             let e = dl + dm;
             (a.sub[last], a.diag[last]) = (e, dm);
+            // Each product of two spacings divided by s or e first: the spacings' product
+            // alone underflows for knots 1e-160 apart (overflows for 1e160).
+            let (w0, w1) = ((d0 + 2.0 * s) / s * d1, d0 / s * d0);
+            let (wm, wl) = (dl / e * dl, (2.0 * e + dl) / e * dm);
             for k in 0..dim {
-                rhs[k] = ((d0 + 2.0 * s) * d1 * q(0, k) + d0 * d0 * q(1, k)) / s;
-                rhs[last * dim + k] =
-                    (dl * dl * q(n - 3, k) + (2.0 * e + dl) * dm * q(n - 2, k)) / e;
+                rhs[k] = w0 * q(0, k) + w1 * q(1, k);
+                rhs[last * dim + k] = wm * q(n - 3, k) + wl * q(n - 2, k);
             }
         }
         // A cyclic system has no end rows: its first and last rows are interior rows.

@@ -134,10 +134,13 @@ pub fn solve_cyclic(
     debug_assert!(n >= 3);
     let (top_right, bottom_left) = (a.sub[0], a.sup[n - 1]);
     let gamma = -a.diag[0];
+    // top_right/gamma first: the entries scale with the spline's spacings, and the product
+    // of two of them underflows for knots 1e-160 apart (overflows for 1e160).
+    let corner_ratio = top_right / gamma;
     let t = &mut scratch.copy;
     t.clone_from(a);
     t.diag[0] -= gamma;
-    t.diag[n - 1] -= bottom_left * top_right / gamma;
+    t.diag[n - 1] -= bottom_left * corner_ratio;
     let z = &mut scratch.z;
     z.clear();
     z.resize(n, 0.0);
@@ -146,9 +149,9 @@ pub fn solve_cyclic(
     let mut t2 = t.clone();
     solve_tridiagonal(t, rhs, cols, &mut scratch.fill)?;
     solve_tridiagonal(&mut t2, z, 1, &mut scratch.fill)?;
-    let denominator = 1.0 + z[0] + top_right * z[n - 1] / gamma;
+    let denominator = 1.0 + z[0] + corner_ratio * z[n - 1];
     for k in 0..cols {
-        let factor = (rhs[k] + top_right * rhs[(n - 1) * cols + k] / gamma) / denominator;
+        let factor = (rhs[k] + corner_ratio * rhs[(n - 1) * cols + k]) / denominator;
         for i in 0..n {
             rhs[i * cols + k] -= factor * z[i];
         }
