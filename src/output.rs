@@ -8,7 +8,8 @@
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Mutex, PoisonError, mpsc};
+use std::time::Duration;
 
 use crate::error::GpuError;
 use crate::job::{Derivatives, Piece};
@@ -509,6 +510,22 @@ pub fn remove_pending_outputs() {
     }
 }
 
+/// How often a file being written is flushed to its disk while it is written.
+const SYNC_EVERY: Duration = Duration::from_millis(20);
+
+/// Flushes `file`'s data to its disk every [`SYNC_EVERY`] until `ended` says the writing
+/// ended (its sender is dropped). Without it the disk receives the whole file only in the
+/// `sync_all` before the rename, after every byte is made (w1's 318 MB NPZ: about 140 ms
+/// of waiting at the end); with it, most of the file is on the disk by then. A failed flush
+/// ends the syncing: the final `sync_all` reports the error.
+fn sync_while_written(file: &fs::File, ended: &mpsc::Receiver<()>) {
+    while let Err(mpsc::RecvTimeoutError::Timeout) = ended.recv_timeout(SYNC_EVERY) {
+        if file.sync_data().is_err() {
+            return;
+        }
+    }
+}
+
 /// A regular file (or a new path) that appears only whole; see [`write_output`].
 fn write_atomically<E: From<io::Error>>(
     path: &Path,
@@ -531,11 +548,17 @@ fn write_atomically<E: From<io::Error>>(
         .unwrap_or_else(PoisonError::into_inner)
         .push(temp.clone());
     let result = (|| {
-        {
-            let mut out = io::BufWriter::with_capacity(WRITE_BUFFER, file.as_file());
+        let written = file.as_file();
+        std::thread::scope(|scope| {
+            // Dropped when the writing ends, which ends the syncing.
+            let (writing, ended) = mpsc::channel::<()>();
+            scope.spawn(move || sync_while_written(written, &ended));
+            let mut out = io::BufWriter::with_capacity(WRITE_BUFFER, written);
             write(&mut out)?;
             out.flush()?;
-        }
+            drop(writing);
+            Ok::<(), E>(())
+        })?;
         file.as_file().sync_all()?;
         file.persist(path).map_err(|e| e.error)?;
         Ok(())
