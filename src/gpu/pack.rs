@@ -448,28 +448,45 @@ fn fill_part(
 
 /// A curve's coefficient blocks (see [`block_vec4s`]): the coordinate k of term t is float
 /// t·dim + k of a block; 1/Δ follows the terms, then zeros to the block's end.
-/// d_hi = f32(D), d_lo = f32(D − d_hi).
+/// d_hi = f32(D), d_lo = f32(D − d_hi). One to four coordinates are compiled for their count
+/// ([`write_blocks_of`]), so that a block's stores are unrolled.
 fn write_blocks(table: &crate::SegmentTable, blocks: &mut [f32]) {
-    let dim = table.dim();
+    let write = match table.dim() {
+        1 => write_blocks_of::<1>,
+        2 => write_blocks_of::<2>,
+        3 => write_blocks_of::<3>,
+        4 => write_blocks_of::<4>,
+        _ => write_blocks_of::<0>,
+    };
+    write(table, blocks);
+}
+
+/// [`write_blocks`] for `D` coordinates, or any where `D` is 0.
+fn write_blocks_of<const D: usize>(table: &crate::SegmentTable, blocks: &mut [f32]) {
+    let dim = if D == 0 { table.dim() } else { D };
     let block_floats = 4 * block_vec4s(dim);
-    for (s, block) in blocks.chunks_exact_mut(block_floats).enumerate() {
-        let segment = table.segment(s);
-        let [a, b, c, d] = segment.power();
+    let (knots, power) = (table.knots(), table.power_coefficients());
+    let segments = blocks.chunks_exact_mut(block_floats);
+    for ((block, coeffs), span) in segments
+        .zip(power.chunks_exact(4 * dim))
+        .zip(knots.windows(2))
+    {
+        let (terms, tail) = block.split_at_mut(TERMS * dim);
+        let (a, rest) = terms.split_at_mut(dim);
+        let (b, rest) = rest.split_at_mut(dim);
+        let (c, rest) = rest.split_at_mut(dim);
+        let (d_lo, d_hi) = rest.split_at_mut(dim);
         for k in 0..dim {
-            let hi = d[k] as f32;
-            let values = [
-                a[k] as f32,
-                b[k] as f32,
-                c[k] as f32,
-                (d[k] - f64::from(hi)) as f32,
-                hi,
-            ];
-            for (t, v) in values.into_iter().enumerate() {
-                block[t * dim + k] = v;
-            }
+            a[k] = coeffs[k] as f32;
+            b[k] = coeffs[dim + k] as f32;
+            c[k] = coeffs[2 * dim + k] as f32;
+            let d = coeffs[3 * dim + k];
+            d_hi[k] = d as f32;
+            d_lo[k] = (d - f64::from(d_hi[k])) as f32;
         }
-        block[TERMS * dim] = (1.0 / segment.dt()) as f32;
-        block[TERMS * dim + 1..].fill(0.0);
+        let (inv_dt, padding) = tail.split_first_mut().expect("1/Δ follows the terms");
+        *inv_dt = (1.0 / (span[1] - span[0])) as f32;
+        padding.fill(0.0);
     }
 }
 
