@@ -1,5 +1,7 @@
 //! `EvalJob`: many fitted curves with their sample plans, evaluated together in one call.
 
+use std::sync::Arc;
+
 use crate::curve::Curve;
 use crate::error::InputError;
 use crate::layout::JobLayout;
@@ -41,8 +43,10 @@ impl Derivatives {
 /// [`JobLayout`] that says where their samples go.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EvalJob {
-    tables: Vec<SegmentTable>,
-    plans: Vec<SamplePlan>,
+    // Shared, so that a chunk of the job ([`EvalJob::chunks`]) holds its whole curves without
+    // copying them (w1's tables are 35 MB, an explicit-t job's plans several times that).
+    tables: Vec<Arc<SegmentTable>>,
+    plans: Vec<Arc<SamplePlan>>,
     derivatives: Derivatives,
     layout: JobLayout,
 }
@@ -76,6 +80,15 @@ impl EvalJob {
     /// # Errors
     /// The job's sample or value offsets would overflow (the error names `"sampling"`).
     pub fn push_table(&mut self, table: SegmentTable, plan: SamplePlan) -> Result<(), InputError> {
+        self.push_shared(Arc::new(table), Arc::new(plan))
+    }
+
+    /// [`EvalJob::push_table`] for a table and plan that other jobs may hold too.
+    fn push_shared(
+        &mut self,
+        table: Arc<SegmentTable>,
+        plan: Arc<SamplePlan>,
+    ) -> Result<(), InputError> {
         self.layout.push(table.dim(), plan.len()).ok_or_else(|| {
             InputError::field(
                 "sampling",
@@ -162,7 +175,7 @@ impl EvalJob {
                 // A piece of a job that fits its layout fits the chunk's.
                 chunk
                     .job
-                    .push_table(table, plan)
+                    .push_shared(table, plan)
                     .expect("a chunk indexes fewer samples than its job");
                 chunk.pieces.push(Piece {
                     curve: c,
@@ -173,21 +186,27 @@ impl EvalJob {
         })
     }
 
-    /// Samples `range` of curve `c`, with the segments they lie on.
-    fn piece(&self, c: usize, range: std::ops::Range<usize>) -> (SegmentTable, SamplePlan) {
+    /// Samples `range` of curve `c`, with the segments they lie on: the curve's own table and
+    /// plan when the range is all of it.
+    fn piece(
+        &self,
+        c: usize,
+        range: std::ops::Range<usize>,
+    ) -> (Arc<SegmentTable>, Arc<SamplePlan>) {
         let (table, plan) = (&self.tables[c], &self.plans[c]);
         if range.len() == plan.len() {
-            return (table.clone(), plan.clone());
+            return (Arc::clone(table), Arc::clone(plan));
         }
-        match &plan.0 {
+        let (table, plan) = match &plan.0 {
             Plan::Grid(grid) => {
                 let (segments, part) = grid.slice(range);
-                (table.slice(segments), SamplePlan(Plan::Grid(part)))
+                (Arc::new(table.slice(segments)), Plan::Grid(part))
             }
-            Plan::At(locs) => (table.clone(), SamplePlan(Plan::At(locs[range].to_vec()))),
-            Plan::Arc(w) => (table.clone(), SamplePlan(Plan::Arc(w.slice(range)))),
-            Plan::Tolerance(w) => (table.clone(), SamplePlan(Plan::Tolerance(w.slice(range)))),
-        }
+            Plan::At(locs) => (Arc::clone(table), Plan::At(locs[range].to_vec())),
+            Plan::Arc(w) => (Arc::clone(table), Plan::Arc(w.slice(range))),
+            Plan::Tolerance(w) => (Arc::clone(table), Plan::Tolerance(w.slice(range))),
+        };
+        (table, Arc::new(SamplePlan(plan)))
     }
 }
 
