@@ -20,7 +20,9 @@
 //! ```
 //!
 //! solved on one thread (a few dozen rows for a million), after which every block adds its
-//! separators' share. The blocks are independent chains, so they run on every thread. The
+//! separators' share. That share, left_i and right_i, decays geometrically away from its
+//! separator and underflows to exactly zero within a few thousand rows, so only the rows near
+//! a block's ends change. The blocks are independent chains, so they run on every thread. The
 //! cut depends only on `block`, never on the number of threads, so the answer does not
 //! either; a system of at most `block` rows is one block: the Thomas algorithm itself.
 
@@ -131,8 +133,28 @@ pub fn solve_blocked<R: Rows>(
             } else {
                 part.rows.len()
             };
-            let rows = part.x.chunks_exact_mut(cols).take(inner);
-            for ((values, &l), &r) in rows.zip(part.left.iter()).zip(part.right.iter()) {
+            // A row whose left and right are both zero keeps its value: the separators' shares
+            // decay geometrically away from them and underflow to exactly zero within a few
+            // thousand rows, so only the rows near the block's ends change. Left is zero
+            // after its last nonzero row (a zero carries forward in both sweeps), right before
+            // its first.
+            let (left, right) = (&part.left[..inner], &part.right[..inner]);
+            let left_end = match before {
+                Some(_) => left.iter().rposition(|&l| l != 0.0).map_or(0, |i| i + 1),
+                None => 0,
+            };
+            let right_start = match after {
+                Some(_) => right.iter().position(|&r| r != 0.0).unwrap_or(inner),
+                None => inner,
+            };
+            let changed = if left_end < right_start {
+                [0..left_end, right_start..inner]
+            } else {
+                [0..inner, inner..inner]
+            };
+            for i in changed.into_iter().flatten() {
+                let (l, r) = (left[i], right[i]);
+                let values = &mut part.x[i * cols..(i + 1) * cols];
                 for k in 0..cols {
                     let mut v = values[k];
                     if let Some(b) = before {
@@ -371,6 +393,46 @@ mod tests {
                         }
                     }
                 }
+            }
+        }
+    }
+
+    /// Long blocks of a spline's slope system: the separators' shares underflow to zero
+    /// inside each block, and the rows left as they are still give the whole system's
+    /// solution.
+    #[test]
+    fn long_blocks_agree_where_the_separators_shares_vanish() {
+        let n = 30_000;
+        let v = |i: usize, s: f64| ((i as f64 + 1.0) * s).sin();
+        let spacing: Vec<f64> = (0..n).map(|i| 1.0 + 99.0 * v(i, 0.37).abs()).collect();
+        let sub: Vec<f64> = (0..n).map(|i| spacing[i]).collect();
+        let sup: Vec<f64> = (0..n).map(|i| spacing[(i + 1) % n]).collect();
+        let diag = (0..n).map(|i| 2.0 * (sub[i] + sup[i])).collect();
+        let a = Tridiagonal { sub, diag, sup };
+        for cols in 1..=3 {
+            let rhs: Vec<f64> = (0..n * cols).map(|i| v(i, 0.9) * 10.0).collect();
+            let mut want = rhs.clone();
+            let mut whole = a.clone();
+            (whole.sub[0], whole.sup[n - 1]) = (0.0, 0.0);
+            solve_tridiagonal(&mut whole, &mut want, cols, &mut Vec::new()).unwrap();
+            let (mut x, mut scratch) = (Vec::new(), BlockedScratch::default());
+            solve_blocked(
+                n,
+                cols,
+                10_000,
+                &Held(&a, &rhs, cols),
+                &mut x,
+                &mut scratch,
+                2,
+            );
+            // Mid-block, both shares have underflowed: those rows were left as they were.
+            assert_eq!((scratch.left[15_000], scratch.right[15_000]), (0.0, 0.0));
+            let scale = want.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (i, (g, w)) in x.iter().zip(&want).enumerate() {
+                assert!(
+                    (g - w).abs() <= 1e-13 * scale,
+                    "cols {cols}: x[{i}] = {g}, want {w}"
+                );
             }
         }
     }
