@@ -115,9 +115,15 @@ pub fn all_finite(values: &[f64]) -> bool {
 /// (max − min). NaN coordinates are ignored.
 #[must_use]
 pub fn extent(coords: &[f64], dim: usize) -> f64 {
+    extent_and_finite(coords, dim).0
+}
+
+/// [`extent`], and whether every coordinate is finite ([`all_finite`]), in one pass.
+#[must_use]
+pub fn extent_and_finite(coords: &[f64], dim: usize) -> (f64, bool) {
     if dim > MAX_DIM {
         // Wide data (a cardinal basis's identity matrix, say): one axis at a time.
-        return (0..dim)
+        let extent = (0..dim)
             .map(|k| {
                 let axis = coords.iter().skip(k).step_by(dim);
                 let (lo, hi) = axis.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
@@ -126,45 +132,40 @@ pub fn extent(coords: &[f64], dim: usize) -> f64 {
                 hi - lo
             })
             .fold(0.0, f64::max);
+        return (extent, all_finite(coords));
     }
     // Stack arrays and plain comparisons: this runs over every point of million-knot fits,
     // with the dimension known at compile time for the common ones (about 3x faster on a
     // million 3-D points).
     match dim {
-        1 => extent_of::<1>(coords),
-        2 => extent_of::<2>(coords),
-        3 => extent_of::<3>(coords),
-        4 => extent_of::<4>(coords),
-        _ => {
-            let (mut lo, mut hi) = ([f64::INFINITY; MAX_DIM], [f64::NEG_INFINITY; MAX_DIM]);
-            for point in coords.chunks_exact(dim) {
-                widen(&mut lo[..dim], &mut hi[..dim], point);
-            }
-            (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max)
-        }
+        1 => extent_of::<1>(coords, 1),
+        2 => extent_of::<2>(coords, 2),
+        3 => extent_of::<3>(coords, 3),
+        4 => extent_of::<4>(coords, 4),
+        _ => extent_of::<MAX_DIM>(coords, dim),
     }
 }
 
-/// [`extent`] of `D`-dimensional points.
-fn extent_of<const D: usize>(coords: &[f64]) -> f64 {
+/// [`extent_and_finite`] of `dim`-dimensional points, `dim` <= `D`. The points are finite
+/// when no coordinate is NaN and every bound is finite (an infinity would be one).
+fn extent_of<const D: usize>(coords: &[f64], dim: usize) -> (f64, bool) {
     let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
-    for point in coords.chunks_exact(D) {
-        widen(&mut lo, &mut hi, point);
-    }
-    (0..D).map(|k| hi[k] - lo[k]).fold(0.0, f64::max)
-}
-
-/// Widens the bounds `lo`, `hi` to hold `point` (NaN coordinates leave them as they are).
-#[inline(always)]
-fn widen(lo: &mut [f64], hi: &mut [f64], point: &[f64]) {
-    for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(point) {
-        if v < *l {
-            *l = v;
-        }
-        if v > *h {
-            *h = v;
+    let mut nan = false;
+    for point in coords.chunks_exact(dim) {
+        for ((l, h), &v) in lo.iter_mut().zip(hi.iter_mut()).zip(point) {
+            if v < *l {
+                *l = v;
+            }
+            if v > *h {
+                *h = v;
+            }
+            nan |= v.is_nan();
         }
     }
+    let (lo, hi) = (&lo[..dim], &hi[..dim]);
+    let extent = (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    let bounded = lo.iter().chain(hi).all(|v| v.is_finite());
+    (extent, coords.is_empty() || (!nan && bounded))
 }
 
 impl TryFrom<&[DVec2]> for Points {
@@ -440,7 +441,22 @@ mod tests {
                         - axis.iter().copied().fold(f64::INFINITY, f64::min)
                 })
                 .fold(0.0, f64::max);
-            assert_eq!(extent(&coords, dim), want, "dim {dim}");
+            assert_eq!(extent_and_finite(&coords, dim), (want, false), "dim {dim}");
+            // Finite only when no coordinate is NaN or infinite, wherever it is.
+            coords[dim] = 1.5;
+            assert_eq!(
+                extent_and_finite(&coords, dim),
+                (extent(&coords, dim), true)
+            );
+            for (at, bad) in [(0, f64::INFINITY), (dim * 11 - 1, f64::NEG_INFINITY)] {
+                let mut coords = coords.clone();
+                coords[at] = bad;
+                assert!(
+                    !extent_and_finite(&coords, dim).1,
+                    "dim {dim}: {bad} at {at}"
+                );
+            }
         }
+        assert_eq!(extent_and_finite(&[], 3), (0.0, true));
     }
 }

@@ -115,6 +115,20 @@ pub fn check(
     dim: usize,
     condition: &EndCondition,
 ) -> Result<(), InputError> {
+    check_with(t, values, dim, condition, || {
+        crate::curve::all_finite(values)
+    })
+}
+
+/// [`check`], asking `points_finite` whether every value is finite when it comes to them (a
+/// large fit finds out on another thread while this one checks t).
+fn check_with(
+    t: &[f64],
+    values: &[f64],
+    dim: usize,
+    condition: &EndCondition,
+    points_finite: impl FnOnce() -> bool,
+) -> Result<(), InputError> {
     let n = values.len() / dim;
     let (name, min) = (condition.name(), condition.min_points());
     if n < min {
@@ -156,7 +170,9 @@ pub fn check(
             ),
         ));
     }
-    crate::curve::check_finite(values, dim)?;
+    if !points_finite() {
+        crate::curve::check_finite(values, dim)?;
+    }
     match condition {
         EndCondition::Clamped { start, end } => {
             for (field, v) in [("start_derivative", start), ("end_derivative", end)] {
@@ -236,14 +252,18 @@ impl Fitter {
         out: &mut SegmentTable,
     ) -> Result<(), InputError> {
         let extent = if t.len() > PARALLEL_SEGMENTS {
-            // The check and the extent each read every point on one thread: side by side.
+            // The points' extent and finiteness on a second thread while this one checks t.
             std::thread::scope(|scope| {
-                let extent = scope.spawn(|| crate::curve::extent(values, dim));
-                let checked = check(t, values, dim, condition);
-                let extent = extent
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                checked.map(|()| extent)
+                let points = scope.spawn(|| crate::curve::extent_and_finite(values, dim));
+                let mut extent = f64::NAN;
+                check_with(t, values, dim, condition, || {
+                    let finite;
+                    (extent, finite) = points
+                        .join()
+                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                    finite
+                })?;
+                Ok::<_, InputError>(extent)
             })?
         } else {
             check(t, values, dim, condition)?;
