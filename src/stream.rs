@@ -226,6 +226,12 @@ fn write_json_long_curve<F: SampleFloat + zmij::Float>(
     Ok(())
 }
 
+/// Samples per chunk at most for NPZ: 262,144 (6 MiB of 3-D f64 positions). w1 into a file
+/// (min of 6, three runs): 240-261 ms in chunks of 1,048,576 samples, 229-238 ms in chunks of
+/// 262,144, 225-239 ms in chunks of 65,536. (CSV formats a chunk's rows in blocks on every
+/// thread, and wants its chunks large.)
+const NPZ_CHUNK_SAMPLES: usize = 1 << 18;
+
 /// The contract's NPZ: "t" (N,) f64, "points" (N, D), "d1" and "d2" (N, D) when asked for, and
 /// "curve_offsets" (curves + 1,) i64.
 fn write_npz<F: SampleFloat>(
@@ -244,6 +250,9 @@ fn write_npz<F: SampleFloat>(
             first: dim,
         });
     }
+    // Smaller chunks than CSV's: each chunk's samples are evaluated, checked, hashed and
+    // copied into the file while they are still in cache.
+    let chunk_samples = chunk_samples.min(NPZ_CHUNK_SAMPLES);
     let dtype = Dtype::of::<F>();
     let n = layout.samples() as u64;
     let order = job.derivatives().order();
