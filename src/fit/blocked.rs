@@ -47,8 +47,16 @@ pub struct BlockedScratch {
 
 /// A system's rows, built as the solve reaches them (so the data behind them is read once).
 pub trait Rows: Sync {
+    /// What a sweep carries from one row to the next ([`Rows::next_row`]).
+    type Carry: Default;
+
     /// Row i's (sub, diag, sup), its right-hand sides written into `rhs`.
     fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64);
+
+    /// [`Rows::row`] for a sweep going down the rows: `carry` is what the call for row
+    /// i − 1 left (its default before a sweep's first row), so that what neighbouring rows
+    /// share is formed once.
+    fn next_row(&self, i: usize, carry: &mut Self::Carry, rhs: &mut [f64]) -> (f64, f64, f64);
 }
 
 /// Solves the `n`-row system `rows` with `cols` right-hand sides into `x` (row-major, `cols`
@@ -291,8 +299,9 @@ fn sweep_columns<R: Rows, const C: usize>(
     // cp = 0: the first row's sub then multiplies the separator before the block, the
     // right-hand side of that column's solve.
     let (mut above, mut left_above, mut cp_above) = ([0.0; C], 1.0, 0.0);
+    let mut carry = R::Carry::default();
     for (j, i) in rows.enumerate() {
-        let (sub, diag, sup) = system.row(i, rhs);
+        let (sub, diag, sup) = system.next_row(i, &mut carry, rhs);
         let inv_pivot = 1.0 / (diag - sub * cp_above);
         let here = &mut lane.x[j * cols + first..][..C];
         for k in 0..C {
@@ -347,10 +356,16 @@ mod tests {
     struct Held<'a>(&'a Tridiagonal, &'a [f64], usize);
 
     impl Rows for Held<'_> {
+        type Carry = ();
+
         fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
             let Held(a, values, cols) = *self;
             rhs.copy_from_slice(&values[i * cols..(i + 1) * cols]);
             (a.sub[i], a.diag[i], a.sup[i])
+        }
+
+        fn next_row(&self, i: usize, (): &mut (), rhs: &mut [f64]) -> (f64, f64, f64) {
+            self.row(i, rhs)
         }
     }
 

@@ -420,7 +420,47 @@ struct DominantRows<'a> {
     condition: &'a EndCondition,
 }
 
+/// What a sweep down [`DominantRows`] carries: the chord slopes q_{i−1} of the row it reaches,
+/// row i (up to four coordinates; `at` is i, or 0 when nothing is carried).
+#[derive(Default)]
+struct Chords {
+    at: usize,
+    q: [f64; 4],
+}
+
 impl Rows for DominantRows<'_> {
+    type Carry = Chords;
+
+    #[inline(always)]
+    fn next_row(&self, i: usize, carry: &mut Chords, rhs: &mut [f64]) -> (f64, f64, f64) {
+        let (t, dim, n) = (self.t, self.dim, self.t.len());
+        if i == 0 || i + 1 >= n || carry.at != i || dim > 4 {
+            // An end row, a sweep's first row, or wide points: built whole, and the chords to
+            // the next row formed for it.
+            let row = self.row(i, rhs);
+            if i + 1 < n && dim <= 4 {
+                let inv = 1.0 / (t[i + 1] - t[i]);
+                let (f, f_next) = (&self.values[i * dim..], &self.values[(i + 1) * dim..]);
+                for k in 0..dim {
+                    carry.q[k] = (f_next[k] - f[k]) * inv;
+                }
+                carry.at = i + 1;
+            }
+            return row;
+        }
+        // An interior row: q_{i−1} is carried, q_i formed and carried on.
+        let (d_prev, d_here) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+        let inv_here = 1.0 / d_here;
+        let (f, f_next) = (&self.values[i * dim..], &self.values[(i + 1) * dim..]);
+        for k in 0..dim {
+            let q = (f_next[k] - f[k]) * inv_here;
+            rhs[k] = 3.0 * (d_here * carry.q[k] + d_prev * q);
+            carry.q[k] = q;
+        }
+        carry.at = i + 1;
+        (d_here, 2.0 * (d_prev + d_here), d_prev)
+    }
+
     #[inline(always)]
     fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
         let (t, dim, n) = (self.t, self.dim, self.t.len());
