@@ -95,9 +95,11 @@ pub fn write_csv_header(
 }
 
 /// CSV rows of `samples`, whose curve i is the piece `pieces[i]` of a larger job (its curve
-/// number and first sample number), with `dim` value columns per plane. Blocks of
+/// number and first sample number), with `dim` value columns per plane. Blocks of up to
 /// [`CSV_BLOCK_ROWS`] rows per thread are formatted on all threads while this thread writes
-/// the block before, in row order.
+/// the block before, in row order; fewer rows have smaller blocks, at least four of them
+/// where each thread still gets [`CSV_MIN_PART_ROWS`], so that every thread formats and the
+/// writing overlaps the formatting.
 ///
 /// # Errors
 /// Any I/O error of `out`.
@@ -108,8 +110,10 @@ pub fn write_csv_rows<F: SampleFloat + zmij::Float>(
     out: &mut impl Write,
 ) -> io::Result<()> {
     let rows = samples.layout().samples();
-    let threads = crate::available_threads().clamp(1, rows.div_ceil(CSV_BLOCK_ROWS).max(1));
-    let block = threads * CSV_BLOCK_ROWS;
+    let threads = crate::available_threads().max(1);
+    let part = (rows.div_ceil(4 * threads)).clamp(CSV_MIN_PART_ROWS, CSV_BLOCK_ROWS);
+    let threads = threads.clamp(1, rows.div_ceil(part).max(1));
+    let block = threads * part;
     let blocks = (0..rows).step_by(block).map(|start| {
         let end = (start + block).min(rows);
         (0..threads)
@@ -251,6 +255,10 @@ fn json_curve_text<F: SampleFloat + zmij::Float>(
 
 /// Rows formatted per thread at once (about 4 MiB of text for 3-D samples).
 pub const CSV_BLOCK_ROWS: usize = 1 << 16;
+
+/// Rows a thread formats at least, when a chunk is cut into smaller blocks than
+/// [`CSV_BLOCK_ROWS`]: enough to pay for starting the thread.
+const CSV_MIN_PART_ROWS: usize = 1 << 12;
 
 /// Appends the CSV text of samples `rows` (numbered across `samples`' curves) to `text`.
 fn csv_rows_text<F: SampleFloat + zmij::Float>(
