@@ -258,7 +258,7 @@ pub const CSV_BLOCK_ROWS: usize = 1 << 16;
 
 /// Rows a thread formats at least, when a chunk is cut into smaller blocks than
 /// [`CSV_BLOCK_ROWS`]: enough to pay for starting the thread.
-const CSV_MIN_PART_ROWS: usize = 1 << 12;
+pub const CSV_MIN_PART_ROWS: usize = 1 << 12;
 
 /// Appends the CSV text of samples `rows` (numbered across `samples`' curves) to `text`.
 fn csv_rows_text<F: SampleFloat + zmij::Float>(
