@@ -83,6 +83,15 @@ impl EvalJob {
         self.push_shared(Arc::new(table), Arc::new(plan))
     }
 
+    /// Adds curve `c` of `job`, sharing its table and plan rather than copying them.
+    ///
+    /// # Errors
+    /// As [`EvalJob::push_table`].
+    #[cfg(feature = "cli")]
+    pub(crate) fn push_curve_of(&mut self, job: &EvalJob, c: usize) -> Result<(), InputError> {
+        self.push_shared(Arc::clone(&job.tables[c]), Arc::clone(&job.plans[c]))
+    }
+
     /// [`EvalJob::push_table`] for a table and plan that other jobs may hold too.
     fn push_shared(
         &mut self,

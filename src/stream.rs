@@ -160,7 +160,7 @@ fn write_json<F: SampleFloat + zmij::Float>(
             && (c == first || group.sample_count() + job.plan(c).len() <= chunk_samples)
         {
             group
-                .push_table(job.table(c).clone(), job.plan(c).clone())
+                .push_curve_of(job, c)
                 .expect("curves of a job fit a job");
             pieces.push(Piece {
                 curve: c,
@@ -189,7 +189,7 @@ fn write_json_long_curve<F: SampleFloat + zmij::Float>(
 ) -> Result<(), OutputError> {
     let plan = job.plan(c);
     let mut one = EvalJob::new(job.derivatives());
-    one.push_table(job.table(c).clone(), plan.clone())
+    one.push_curve_of(job, c)
         .expect("one curve of a job fits a job");
     // Each chunk of the curve evaluated into `samples`, with its pieces named in the document.
     let mut evaluate = |chunk: &Chunk, samples: &mut Samples<F>| {
