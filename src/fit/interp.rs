@@ -315,10 +315,11 @@ impl Fitter {
         let slopes = &self.slopes;
         let threads = std::thread::available_parallelism().map_or(1, usize::from);
         let per_thread = segments.div_ceil(threads).max(PARALLEL_SEGMENTS);
+        let hermite = hermite_segments_for(dim);
         let fill = move |c: usize, (coeffs, knots): (&mut [f64], &mut [f64])| {
             let first = c * per_thread;
             knots.copy_from_slice(&t[first..first + knots.len()]);
-            hermite_segments(t, values, slopes, dim, first, coeffs);
+            hermite(t, values, slopes, dim, first, coeffs);
         };
         std::thread::scope(|scope| {
             let parts = coeffs.chunks_mut(per_thread * 4 * dim);
@@ -503,30 +504,25 @@ impl Rows for DominantRows<'_> {
     }
 }
 
-/// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)
-/// from the points and slopes: the cubic Hermite piece in local u. One to four coordinates
-/// are compiled for their count ([`hermite_segments_of`]), so that a segment's loop is
-/// unrolled and vectorised.
-fn hermite_segments(
-    t: &[f64],
-    values: &[f64],
-    slopes: &[f64],
-    dim: usize,
-    first: usize,
-    out: &mut [f64],
-) {
-    let form = match dim {
-        1 => hermite_segments_of::<1>,
-        2 => hermite_segments_of::<2>,
-        3 => hermite_segments_of::<3>,
-        4 => hermite_segments_of::<4>,
-        _ => hermite_segments_of::<0>,
-    };
-    form(t, values, slopes, dim, first, out);
+/// The form of [`hermite_segments`]: times, points, slopes, dimension, first segment, output.
+type HermitePass = fn(&[f64], &[f64], &[f64], usize, usize, &mut [f64]);
+
+/// [`hermite_segments`] compiled for `dim` coordinates: one to four have builds of their own,
+/// so that a segment's loop is unrolled and vectorised.
+fn hermite_segments_for(dim: usize) -> HermitePass {
+    match dim {
+        1 => hermite_segments::<1>,
+        2 => hermite_segments::<2>,
+        3 => hermite_segments::<3>,
+        4 => hermite_segments::<4>,
+        _ => hermite_segments::<0>,
+    }
 }
 
-/// [`hermite_segments`] for `D` coordinates, or any `dim` where `D` is 0.
-fn hermite_segments_of<const D: usize>(
+/// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)
+/// from the points and slopes: the cubic Hermite piece in local u. `D` is the dimension, or
+/// 0 for any `dim`.
+fn hermite_segments<const D: usize>(
     t: &[f64],
     values: &[f64],
     slopes: &[f64],
