@@ -2,7 +2,10 @@
 //! their figures can be compared as ratios (GPU against CPU against the machine's memset
 //! bandwidth into already-touched memory), since the machines they run on are shared and noisy.
 //!
-//! Each measurement is the median of at least [`REPETITIONS`] runs after one warm-up run.
+//! Each measurement is the median of at least [`REPETITIONS`] runs after one warm-up run; a
+//! short path is repeated until its runs add up to [`TIMED_SECONDS`] (at most
+//! [`MAX_REPETITIONS`] runs), so that its fastest run, which the ratios use, is drawn from
+//! enough runs to miss most of a shared machine's stalls.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -34,8 +37,16 @@ pub enum BenchError {
 /// w1's plain loop: 32 samples per segment, positions only.
 const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
 
-/// Timed runs per measurement, after the warm-up.
+/// The fewest timed runs per measurement, after the warm-up.
 pub const REPETITIONS: usize = 5;
+
+/// The seconds of timed runs a measurement gathers at least, where [`MAX_REPETITIONS`] allow:
+/// 5 runs of cli-w1's outputs (about a second each here) take longer than this, while memset
+/// (about 4 ms) gets 100 runs.
+pub const TIMED_SECONDS: f64 = 0.5;
+
+/// The most timed runs per measurement.
+pub const MAX_REPETITIONS: usize = 100;
 
 /// The workloads, in the order `bench` runs them by default.
 pub const WORKLOADS: [&str; 9] = [
@@ -94,17 +105,20 @@ impl Measurement {
     }
 }
 
-/// Times `run` once to warm up, then [`REPETITIONS`] times; returns (median, min, max) seconds.
+/// Times `run` once to warm up, then at least [`REPETITIONS`] times and until the timed runs
+/// add up to [`TIMED_SECONDS`] or [`MAX_REPETITIONS`]; returns (median, min, max) seconds.
 /// `run` returns its own measured seconds, or `None` to be timed by the wall clock.
 pub fn time(mut run: impl FnMut() -> Option<f64>) -> (f64, f64, f64) {
     run();
-    let mut times: Vec<f64> = (0..REPETITIONS)
-        .map(|_| {
-            let start = Instant::now();
-            let own = run();
-            own.unwrap_or_else(|| start.elapsed().as_secs_f64())
-        })
-        .collect();
+    let mut times = Vec::new();
+    let mut spent = 0.0;
+    while times.len() < REPETITIONS || (spent < TIMED_SECONDS && times.len() < MAX_REPETITIONS) {
+        let start = Instant::now();
+        let own = run();
+        let wall = start.elapsed().as_secs_f64();
+        times.push(own.unwrap_or(wall));
+        spent += wall;
+    }
     times.sort_by(f64::total_cmp);
     (times[times.len() / 2], times[0], times[times.len() - 1])
 }
@@ -893,4 +907,35 @@ fn evaluation(
     });
     report(&measurement("cpu-all", run, 8));
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_runs_are_repeated_up_to_the_cap_and_their_own_times_reported() {
+        let mut calls = 0;
+        // Own times 1 ms, 2 ms, ... after the warm-up's; the wall clock barely moves.
+        let (median, min, max) = time(|| {
+            calls += 1;
+            Some(calls as f64 * 1e-3)
+        });
+        assert_eq!(calls, 1 + MAX_REPETITIONS);
+        assert_eq!(min, 2e-3);
+        assert_eq!(max, (1 + MAX_REPETITIONS) as f64 * 1e-3);
+        assert_eq!(median, (2 + MAX_REPETITIONS / 2) as f64 * 1e-3);
+    }
+
+    #[test]
+    fn long_runs_are_repeated_the_fewest_times() {
+        let mut calls = 0;
+        let step = std::time::Duration::from_secs_f64(TIMED_SECONDS / REPETITIONS as f64);
+        time(|| {
+            calls += 1;
+            std::thread::sleep(step);
+            None
+        });
+        assert_eq!(calls, 1 + REPETITIONS);
+    }
 }
