@@ -195,6 +195,7 @@ impl SegmentTable {
     ///
     /// # Panics
     /// If `i >= self.len()`.
+    #[inline]
     #[must_use]
     pub fn segment(&self, i: usize) -> Segment<'_> {
         let n = 4 * self.dim;
@@ -282,6 +283,7 @@ impl Segment<'_> {
     }
 
     /// The power coefficient vectors (A, B, C, D), each `dim` values.
+    #[inline]
     #[must_use]
     pub fn power(&self) -> [&[f64]; 4] {
         let d = self.dim;
@@ -294,12 +296,14 @@ impl Segment<'_> {
     }
 
     /// The start of the segment's parameter interval, t_i.
+    #[inline]
     #[must_use]
     pub fn t0(&self) -> f64 {
         self.t0
     }
 
     /// The length Δ_i of the segment's parameter interval.
+    #[inline]
     #[must_use]
     pub fn dt(&self) -> f64 {
         self.dt
