@@ -138,10 +138,19 @@ impl GpuContext {
             let usage = wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_DST
                 | wgpu::BufferUsages::COPY_SRC;
-            let buffer = take(role, contents.len() as u64, usage);
-            self.queue.write_buffer(&buffer, 0, contents);
-            buffer
-        });
+            if self.map_output {
+                // Host memory: written in place, with no staging buffer for wgpu to allocate
+                // and for the queue to copy from.
+                let usage = usage | wgpu::BufferUsages::MAP_WRITE;
+                let buffer = take(role, contents.len() as u64, usage);
+                map_write(&self.device, &buffer, contents)?;
+                Ok(buffer)
+            } else {
+                let buffer = take(role, contents.len() as u64, usage);
+                self.queue.write_buffer(&buffer, 0, contents);
+                Ok(buffer)
+            }
+        })?;
         // One output buffer, reused by every batch: each batch's copy-out is recorded before
         // the next batch's dispatch, and wgpu orders the two. Where the context maps output
         // buffers and one batch holds the whole job, the output buffer is read itself, its
@@ -330,13 +339,14 @@ impl GpuContext {
         }
         let packed = self.pack(job)?;
         let tables = Tables::upload(&packed, |role, contents| {
-            self.device
+            Ok(self
+                .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(role.0),
                     contents,
                     usage: wgpu::BufferUsages::STORAGE,
-                })
-        });
+                }))
+        })?;
         let target = |b: &pack::Batch| Target {
             binding: wgpu::BufferBinding {
                 buffer,
@@ -490,8 +500,8 @@ impl Tables {
     /// [`EMPTY_TABLE`].
     fn upload(
         packed: &Packed,
-        mut upload: impl FnMut((&'static str, usize), &[u8]) -> wgpu::Buffer,
-    ) -> Self {
+        mut upload: impl FnMut((&'static str, usize), &[u8]) -> Result<wgpu::Buffer, GpuError>,
+    ) -> Result<Self, GpuError> {
         let mut upload = |role, bytes: &[u8]| {
             upload(
                 role,
@@ -502,11 +512,11 @@ impl Tables {
                 },
             )
         };
-        Self {
-            segments: upload(("segments", 0), bytemuck::cast_slice(&packed.segments)),
-            coeffs: upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs)),
-            locs: upload(("locs", 0), bytemuck::cast_slice(&packed.locs)),
-            arcs: upload(("arcs", 0), bytemuck::cast_slice(&packed.arcs)),
+        Ok(Self {
+            segments: upload(("segments", 0), bytemuck::cast_slice(&packed.segments))?,
+            coeffs: upload(("coeffs", 0), bytemuck::cast_slice(&packed.coeffs))?,
+            locs: upload(("locs", 0), bytemuck::cast_slice(&packed.locs))?,
+            arcs: upload(("arcs", 0), bytemuck::cast_slice(&packed.arcs))?,
             runs: (packed.batches.iter().enumerate())
                 .map(|(b, batch)| {
                     upload(
@@ -514,8 +524,8 @@ impl Tables {
                         bytemuck::cast_slice(&packed.runs[batch.runs.clone()]),
                     )
                 })
-                .collect(),
-        }
+                .collect::<Result<_, _>>()?,
+        })
     }
 }
 
@@ -691,24 +701,14 @@ pub(crate) fn unpack_device_planes(
     }
 }
 
-/// The readback sequence, written once: map_async on the whole buffer, poll the device until
-/// the callback has run, hand the mapped bytes to `read`, drop the view, unmap.
+/// The readback sequence, written once: map the whole buffer for reading, hand the mapped
+/// bytes to `read`, drop the view, unmap.
 pub(super) fn map_read<T>(
     device: &wgpu::Device,
     buffer: &wgpu::Buffer,
     read: impl FnOnce(&[u8]) -> T,
 ) -> Result<T, GpuError> {
-    let (tx, rx) = mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        // The receiver outlives the poll below; a failed send cannot happen.
-        let _ = tx.send(result);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Device(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| GpuError::Device(e.to_string()))?
-        .map_err(|e| GpuError::Device(e.to_string()))?;
+    map_whole(device, buffer, wgpu::MapMode::Read)?;
     let result = {
         let view = buffer
             .get_mapped_range(..)
@@ -717,4 +717,70 @@ pub(super) fn map_read<T>(
     };
     buffer.unmap();
     Ok(result)
+}
+
+/// Writes `contents` to the start of `buffer` (with `MAP_WRITE` usage) through a mapping:
+/// map the whole buffer for writing, copy, unmap. A large table (w1's 30 MB of coefficients)
+/// is split between the threads, each copying its part through a view of its own.
+fn map_write(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    contents: &[u8],
+) -> Result<(), GpuError> {
+    map_whole(device, buffer, wgpu::MapMode::Write)?;
+    let threads = if contents.len() < PARALLEL_COPY_BYTES {
+        1
+    } else {
+        crate::available_threads()
+    };
+    // Parts start on multiples of wgpu::MAP_ALIGNMENT.
+    let part = contents
+        .len()
+        .div_ceil(threads)
+        .next_multiple_of(wgpu::MAP_ALIGNMENT as usize);
+    let copy = |at: usize, from: &[u8]| -> Result<(), GpuError> {
+        let range = at as u64..(at + from.len()) as u64;
+        let mut view = buffer
+            .get_mapped_range_mut(range)
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        view.copy_from_slice(from);
+        Ok(())
+    };
+    let copied = std::thread::scope(|scope| {
+        let parts: Vec<_> = (contents.chunks(part).enumerate().skip(1))
+            .map(|(i, from)| scope.spawn(move || copy(i * part, from)))
+            .collect();
+        let first = copy(0, &contents[..part.min(contents.len())]);
+        parts
+            .into_iter()
+            .map(|p| {
+                p.join()
+                    .unwrap_or_else(|_| Err(GpuError::Device("a copy thread panicked".into())))
+            })
+            .fold(first, Result::and)
+    });
+    buffer.unmap();
+    copied
+}
+
+/// Below this many bytes a table is copied into its mapped buffer on one thread.
+const PARALLEL_COPY_BYTES: usize = 1 << 20;
+
+/// map_async on the whole buffer, then polls the device until the callback has run.
+fn map_whole(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    mode: wgpu::MapMode,
+) -> Result<(), GpuError> {
+    let (tx, rx) = mpsc::channel();
+    buffer.map_async(mode, .., move |result| {
+        // The receiver outlives the poll below; a failed send cannot happen.
+        let _ = tx.send(result);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Device(e.to_string()))?
+        .map_err(|e| GpuError::Device(e.to_string()))
 }
