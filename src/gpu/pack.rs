@@ -288,8 +288,7 @@ pub fn pack_into(
     packed.device_values = layout.device_values();
     let mut all_runs = std::mem::take(&mut packed.all_runs);
     all_runs.clear();
-    packed.segments.clear();
-    packed.coeffs.clear();
+    // `segments` and `coeffs` are resized by `fill_coefficients`, which writes every entry.
     packed.runs.clear();
     packed.locs.clear();
     packed.batches.clear();
