@@ -182,6 +182,38 @@ fn values_into_a_callers_planes_equal_evaluates() {
     }
 }
 
+/// A timed evaluation forms t after the device is done rather than while it works: the same
+/// samples, t included, as an untimed one.
+#[test]
+fn timed_evaluations_give_what_untimed_ones_give() {
+    let Some(context) = gpu() else { return };
+    let mut rng = Rng(79);
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Repeat,
+    };
+    let curve = Curve::new(kind, rng.points(7, 3, -1.0, 1.0)).unwrap();
+    // Every t known on the host (grid, tolerance and explicit), then arc length too (whose t
+    // the host forms from the places the kernel found).
+    let samplings = [
+        Sampling::Tolerance(1e-3),
+        Sampling::At(vec![0.5, 2.0, 1.25]),
+        Sampling::ArcLength(33),
+    ];
+    for with_arc_length in [false, true] {
+        let mut job = medium_job();
+        for sampling in &samplings[..if with_arc_length { 3 } else { 2 }] {
+            job.push(&curve, sampling).unwrap();
+        }
+        let whole = context.evaluate(&job).unwrap();
+        // Laid out for an empty job: its t are formed by the evaluation, not by `for_job`.
+        let mut timed = Samples::for_job(&EvalJob::new(Derivatives::Second));
+        let time = context.evaluate_timed(&job, &mut timed).unwrap();
+        assert!(time.seconds > 0.0, "{time:?}");
+        assert_eq!(timed, whole, "arc length: {with_arc_length}");
+    }
+}
+
 #[test]
 fn every_kernel_shape_meets_the_promise() {
     if gpu().is_none() {

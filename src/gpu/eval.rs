@@ -248,8 +248,11 @@ impl GpuContext {
             encoder.copy_buffer_to_buffer(&tables.locs, from, arc_download, 0, arc_bytes);
         }
         self.queue.submit([encoder.finish()]);
-        if arc_download.is_none() {
-            // Every t is known on the host: formed while the device works.
+        // Every t is known on the host: formed while the device works, except when the
+        // device is timed. A CPU adapter's device shares the host's cores, so that work would
+        // slow the kernel and be counted in its time (lavapipe, w1: 7-9 ms of t).
+        let t_known = arc_download.is_none();
+        if t_known && !timed {
             samples.fill_t(job, &packed.computed_t, &[]);
         }
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
@@ -262,6 +265,9 @@ impl GpuContext {
             let (layout, planes) = samples.layout_and_planes();
             unpack_device_planes(bytemuck::cast_slice(bytes), layout, download_stride, planes);
         })?;
+        if t_known && timed {
+            samples.fill_t(job, &packed.computed_t, &[]);
+        }
         if let Some(arc_download) = &arc_download {
             map_read(&self.device, arc_download, |bytes| {
                 let places = bytemuck::cast_slice(&bytes[..arc_bytes as usize]);
