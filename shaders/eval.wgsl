@@ -189,10 +189,11 @@ fn horner(p: Cubic, u: f32) -> vec4<f32> {
     return p.hi + (p.lo + u * (p.c + u * (p.b + u * p.a)));
 }
 
-// Where the group of 4 samples `g` of segment `s` of a vector run starts, in vec4s, in the
-// plane `order`, and the u of its first sample.
-fn group_start(run: Run, dim: u32, order: u32, s: u32, g: u32) -> u32 {
-    return (run.out_offset + order * params.plane_stride) / 4u + (s * run.count / 4u + g) * dim;
+// Where segment `s` of a vector run starts, in vec4s, in the plane `order`: its group of 4
+// samples `g` follows at `dim * g` vec4s (formed once per segment and plane, not per group:
+// lavapipe, w1, 22.2-22.8 to 21.1-21.8 ms on the device).
+fn segment_start(run: Run, dim: u32, order: u32, s: u32) -> u32 {
+    return (run.out_offset + order * params.plane_stride) / 4u + s * run.count / 4u * dim;
 }
 
 // A vector run: `count` samples of each of its segments, 4 at a time as `dim` whole vec4s.
@@ -211,9 +212,10 @@ fn vector_run(run: Run, lane: u32) {
                 let piece = piece1(at + s * 2u);
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
+                    let w0 = segment_start(run, 1u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        samples[group_start(run, 1u, order, s, g)] = vec4(horner(p, u).x, horner(p, u + du).x,
+                        samples[w0 + g] = vec4(horner(p, u).x, horner(p, u + du).x,
                             horner(p, u + 2.0 * du).x, horner(p, u + 3.0 * du).x);
                     }
                 }
@@ -224,9 +226,10 @@ fn vector_run(run: Run, lane: u32) {
                 let piece = piece2(at + s * 3u);
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
+                    let w0 = segment_start(run, 2u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        let w = group_start(run, 2u, order, s, g);
+                        let w = w0 + 2u * g;
                         samples[w] = vec4(horner(p, u).xy, horner(p, u + du).xy);
                         samples[w + 1u] = vec4(horner(p, u + 2.0 * du).xy, horner(p, u + 3.0 * du).xy);
                     }
@@ -238,13 +241,14 @@ fn vector_run(run: Run, lane: u32) {
                 let piece = piece3(at + s * 4u);
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
+                    let w0 = segment_start(run, 3u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
                         let s0 = horner(p, u);
                         let s1 = horner(p, u + du);
                         let s2 = horner(p, u + 2.0 * du);
                         let s3 = horner(p, u + 3.0 * du);
-                        let w = group_start(run, 3u, order, s, g);
+                        let w = w0 + 3u * g;
                         samples[w] = vec4(s0.xyz, s1.x);
                         samples[w + 1u] = vec4(s1.yz, s2.xy);
                         samples[w + 2u] = vec4(s2.z, s3.xyz);
@@ -257,9 +261,10 @@ fn vector_run(run: Run, lane: u32) {
                 let piece = piece4(at + s * 6u);
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
+                    let w0 = segment_start(run, 4u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        let w = group_start(run, 4u, order, s, g);
+                        let w = w0 + 4u * g;
                         samples[w] = horner(p, u);
                         samples[w + 1u] = horner(p, u + du);
                         samples[w + 2u] = horner(p, u + 2.0 * du);

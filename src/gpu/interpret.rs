@@ -285,8 +285,8 @@ impl Kernel<'_> {
         }
     }
 
-    fn group_start(&self, run: &Run, dim: u32, order: u32, s: u32, g: u32) -> u32 {
-        (run.out_offset + order * self.params.plane_stride) / 4 + (s * run.count / 4 + g) * dim
+    fn segment_start(&self, run: &Run, dim: u32, order: u32, s: u32) -> u32 {
+        (run.out_offset + order * self.params.plane_stride) / 4 + s * run.count / 4 * dim
     }
 
     /// A float store, as `samples[f / 4u][f % 4u] = v`.
@@ -315,6 +315,7 @@ impl Kernel<'_> {
             };
             for order in 0..=self.params.derivatives {
                 let p = derive(&piece, order);
+                let w0 = self.segment_start(run, dim, order, s);
                 let mut g = lane;
                 while g < groups {
                     let u = run.u0 + (4 * g) as f32 * du;
@@ -325,7 +326,7 @@ impl Kernel<'_> {
                         horner(&p, u + 3.0 * du),
                     ];
                     // 4 samples of `dim` floats, written as `dim` whole vec4s.
-                    let w = self.group_start(run, dim, order, s, g) as usize;
+                    let w = (w0 + dim * g) as usize;
                     let d = dim as usize;
                     let mut floats = [0.0f32; 16];
                     for (i, v) in values.iter().enumerate() {
