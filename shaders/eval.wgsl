@@ -191,7 +191,7 @@ fn horner(p: Cubic, u: f32) -> vec4<f32> {
 
 // Where segment `s` of a vector run starts, in vec4s, in the plane `order`: its group of 4
 // samples `g` follows at `dim * g` vec4s (formed once per segment and plane, not per group:
-// lavapipe, w1, 22.2-22.8 to 21.1-21.8 ms on the device).
+// lavapipe, w1, 22.0-24.3 to 20.9-22.1 ms on the device).
 fn segment_start(run: Run, dim: u32, order: u32, s: u32) -> u32 {
     return (run.out_offset + order * params.plane_stride) / 4u + s * run.count / 4u * dim;
 }
