@@ -18,6 +18,10 @@ venv=target/python-venv
 "$venv/bin/python" -m pip install -q --upgrade pip
 # maturin builds the extension (PEP 517); [test] brings pytest, SciPy and Dask.
 MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install -q "./python[test]"
+# The tests compare against the command line in target/debug: built from this tree (in the
+# profile `cargo test` builds it in, so that after scripts/test.sh's tests this does nothing),
+# so that a binary left from older code cannot answer for it.
+cargo build --quiet --profile test --bin splinegpu
 # From the repository root, so that `import splinegpu` finds the installed package, not the
 # source folder python/splinegpu (which has no compiled extension).
 "$venv/bin/pytest" -q python/tests

@@ -17,7 +17,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def cli():
-    """The command line built by the crate's tests (cargo test) or a release build."""
+    """The command line scripts/test-python.sh builds (target/debug), else a release build."""
     for profile in ("debug", "release"):
         path = ROOT / "target" / profile / "splinegpu"
         if path.exists():
