@@ -363,6 +363,32 @@ fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
     }
 }
 
+#[test]
+fn positions_of_knots_closer_than_f32_reaches_are_evaluated() {
+    use splinegpu::EndCondition;
+    // Knots 1e-300 apart: 1/Δ is beyond f32, but positions never use it (the cubic is in local
+    // u), so a job of positions runs on the GPU; one with derivatives is refused, naming 1/Δ.
+    let curve = Curve::new(
+        CurveKind::Interpolating {
+            condition: EndCondition::Natural,
+            t: Some(vec![0.0, 1e-300, 2e-300, 3e-300]),
+        },
+        Points::new(2, vec![0.0, 0.0, 1.0, 2.0, 1.5, -1.0, 3.0, 1.0]).unwrap(),
+    )
+    .unwrap();
+    let Some(ctx) = gpu() else { return };
+    let mut positions = EvalJob::new(Derivatives::None);
+    positions.push(&curve, &Sampling::PerSegment(16)).unwrap();
+    positions
+        .push(&curve, &Sampling::At(vec![0.0, 0.5e-300, 3e-300]))
+        .unwrap();
+    assert_gpu_matches_cpu(&positions);
+    let mut slopes = EvalJob::new(Derivatives::First);
+    slopes.push(&curve, &Sampling::PerSegment(16)).unwrap();
+    let refused = ctx.evaluate(&slopes).unwrap_err().to_string();
+    assert!(refused.contains("1/Δ"), "{refused}");
+}
+
 /// Job `i` of the concurrency test: its own families, dimensions, sampling and derivatives.
 fn thread_job(i: usize) -> EvalJob {
     use splinegpu::EndCondition;

@@ -12,7 +12,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::KernelShape;
 use crate::error::GpuError;
-use crate::job::EvalJob;
+use crate::job::{Derivatives, EvalJob};
 use crate::sampling::{ArcSamples, Grid, Plan, SampleLoc};
 
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
@@ -20,7 +20,8 @@ pub const TERMS: usize = 5;
 
 /// Vec4s in the coefficient block of a segment in `dim` dimensions: the floats
 /// `a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/Δ`, end to end, padded to a
-/// whole vec4 (a 3-D segment's 16 floats are 4 vec4s).
+/// whole vec4 (a 3-D segment's 16 floats are 4 vec4s). Only derivatives use 1/Δ: a job of
+/// positions has 0 there, so that knots closer than 1/`f32::MAX` do not refuse it.
 ///
 /// Blocks are packed without per-term padding because a CPU adapter pays for every float a
 /// shader loads from a storage buffer: lavapipe 22.3 loads each one through its own loop over
@@ -265,7 +266,8 @@ pub(crate) fn check_size(table: &'static str, bytes: u64, limit: u64) -> Result<
 /// shape to f32 precision of its size, not of its distance from the origin.
 ///
 /// # Errors
-/// A coefficient, or 1/Δ, outside the f32 range ([`GpuError::OutOfRange`]).
+/// A coefficient, or 1/Δ where derivatives are asked for, outside the f32 range
+/// ([`GpuError::OutOfRange`]).
 pub fn pack(job: &EvalJob, shape: KernelShape, limits: BatchLimits) -> Result<Packed, GpuError> {
     let mut packed = Packed::default();
     pack_into(job, shape, limits, &mut packed)?;
@@ -368,6 +370,7 @@ fn fill_coefficients(
     let tables: Vec<_> = (0..job.len()).map(|c| job.table(c)).collect();
     let total_segments = tables.iter().map(|t| t.len()).sum();
     let total_vec4s = tables.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
+    let with_inv_dt = job.derivatives() != Derivatives::None;
     // Resized, not cleared: every entry is written below (a refill of the same size writes
     // no zeros first).
     segments.resize(total_segments, GpuSegment::default());
@@ -387,9 +390,16 @@ fn fill_coefficients(
             let (my_coeffs, rest) = std::mem::take(&mut coeffs).split_at_mut(n_vec4s);
             coeffs = rest;
             let curves = first..end;
-            handles.push(
-                scope.spawn(move || fill_part(part, curves, coeff_base, my_segments, my_coeffs)),
-            );
+            handles.push(scope.spawn(move || {
+                fill_part(
+                    part,
+                    curves,
+                    coeff_base,
+                    with_inv_dt,
+                    my_segments,
+                    my_coeffs,
+                )
+            }));
             first = end;
             coeff_base += n_vec4s;
         }
@@ -404,11 +414,12 @@ fn fill_coefficients(
 
 /// [`fill_coefficients`] for the curves `curves` (whose tables are `tables`), their segments
 /// and blocks going to `segments` and `coeffs`, which start at vec4 `coeff_base` of the whole
-/// table.
+/// table; 1/Δ is written `with_inv_dt`, else 0.
 fn fill_part(
     tables: &[&crate::SegmentTable],
     curves: Range<usize>,
     coeff_base: usize,
+    with_inv_dt: bool,
     segments: &mut [GpuSegment],
     coeffs: &mut [[f32; 4]],
 ) -> Result<(), GpuError> {
@@ -425,7 +436,7 @@ fn fill_part(
         }
         s_at += table.len();
         let blocks: &mut [f32] = bytemuck::cast_slice_mut(&mut coeffs[curve_blocks.clone()]);
-        write_blocks(table, blocks);
+        write_blocks(table, with_inv_dt, blocks);
         at = curve_blocks.end;
         // One branch-free pass over the curve's blocks; the search for what overflowed runs
         // only when something did.
@@ -446,10 +457,11 @@ fn fill_part(
 }
 
 /// A curve's coefficient blocks (see [`block_vec4s`]): the coordinate k of term t is float
-/// t·dim + k of a block; 1/Δ follows the terms, then zeros to the block's end.
+/// t·dim + k of a block; 1/Δ (`with_inv_dt`, else 0) follows the terms, then zeros to the
+/// block's end.
 /// d_hi = f32(D), d_lo = f32(D − d_hi). One to four coordinates are compiled for their count
 /// ([`write_blocks_of`]), so that a block's stores are unrolled.
-fn write_blocks(table: &crate::SegmentTable, blocks: &mut [f32]) {
+fn write_blocks(table: &crate::SegmentTable, with_inv_dt: bool, blocks: &mut [f32]) {
     let write = match table.dim() {
         1 => write_blocks_of::<1>,
         2 => write_blocks_of::<2>,
@@ -457,11 +469,15 @@ fn write_blocks(table: &crate::SegmentTable, blocks: &mut [f32]) {
         4 => write_blocks_of::<4>,
         _ => write_blocks_of::<0>,
     };
-    write(table, blocks);
+    write(table, with_inv_dt, blocks);
 }
 
 /// [`write_blocks`] for `D` coordinates, or any where `D` is 0.
-fn write_blocks_of<const D: usize>(table: &crate::SegmentTable, blocks: &mut [f32]) {
+fn write_blocks_of<const D: usize>(
+    table: &crate::SegmentTable,
+    with_inv_dt: bool,
+    blocks: &mut [f32],
+) {
     let dim = if D == 0 { table.dim() } else { D };
     let block_floats = 4 * block_vec4s(dim);
     let (knots, power) = (table.knots(), table.power_coefficients());
@@ -484,7 +500,11 @@ fn write_blocks_of<const D: usize>(table: &crate::SegmentTable, blocks: &mut [f3
             d_lo[k] = (d - f64::from(d_hi[k])) as f32;
         }
         let (inv_dt, padding) = tail.split_first_mut().expect("1/Δ follows the terms");
-        *inv_dt = (1.0 / (span[1] - span[0])) as f32;
+        *inv_dt = if with_inv_dt {
+            (1.0 / (span[1] - span[0])) as f32
+        } else {
+            0.0
+        };
         padding.fill(0.0);
     }
 }
@@ -1052,13 +1072,17 @@ mod tests {
             }) => {}
             other => panic!("expected curve 1 out of range, got {other:?}"),
         }
-        // Knots 1e-300 apart: every coefficient fits f32, 1/Δ does not.
-        let mut job = EvalJob::new(Derivatives::None);
+        // Knots 1e-300 apart: every coefficient fits f32, 1/Δ does not. Positions do not use
+        // it, so only a job with derivatives is refused.
         let kind = CurveKind::Interpolating {
             condition: EndCondition::Natural,
             t: Some(vec![0.0, 1e-300, 2e-300]),
         };
         let curve = Curve::new(kind, Points::new(1, vec![0.0, 1.0, 0.5]).unwrap()).unwrap();
+        let mut positions = EvalJob::new(Derivatives::None);
+        positions.push(&curve, &Sampling::PerSegment(2)).unwrap();
+        pack_into(&positions, KernelShape::LOOPING, limits, &mut packed).unwrap();
+        let mut job = EvalJob::new(Derivatives::First);
         job.push(&curve, &Sampling::PerSegment(2)).unwrap();
         match pack_into(&job, KernelShape::LOOPING, limits, &mut packed) {
             Err(GpuError::OutOfRange {
