@@ -13,7 +13,7 @@
 
 use glam::DMat4;
 
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 
 /// Row-major 4x4 matrix, `rows[r][c]`.
 pub type Rows = [[f64; 4]; 4];
@@ -72,7 +72,10 @@ impl Basis {
                 if tension <= 0.0 {
                     return Err(InputError::field(
                         "tension",
-                        format!("must be > 0 for a tensioned B-spline, got {tension}"),
+                        format!(
+                            "must be > 0 for a tensioned B-spline, got {}",
+                            Shown(tension)
+                        ),
                     ));
                 }
                 Ok(tensioned_bspline_rows(tension))
@@ -89,7 +92,7 @@ impl Basis {
                         if !v.is_finite() {
                             return Err(InputError::field(
                                 "matrix",
-                                format!("entries must be finite: matrix[{r}][{c}] = {v}"),
+                                format!("entries must be finite: matrix[{r}][{c}] = {}", Shown(v)),
                             ));
                         }
                     }
@@ -112,7 +115,10 @@ fn check_finite(field: &str, v: f64) -> Result<(), InputError> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(InputError::field(field, format!("must be finite, got {v}")))
+        Err(InputError::field(
+            field,
+            format!("must be finite, got {}", Shown(v)),
+        ))
     }
 }
 
@@ -189,8 +195,11 @@ pub fn beta_rows(b1: f64, b2: f64) -> Result<Rows, InputError> {
         return Err(InputError::field(
             "tension",
             format!(
-                "makes the Beta-spline degenerate: d = b2 + 2b1^3 + 4b1^2 + 4b1 + 2 = {d} \
-                 for bias {b1}, tension {b2}"
+                "makes the Beta-spline degenerate: d = b2 + 2b1^3 + 4b1^2 + 4b1 + 2 = {} \
+                 for bias {}, tension {}",
+                Shown(d),
+                Shown(b1),
+                Shown(b2)
             ),
         ));
     }

@@ -3,7 +3,7 @@
 use glam::{DVec2, DVec3, Vec3};
 
 use crate::basis::{Basis, Rows, bezier_rows};
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::fit::interp::{self, EndCondition, Fitter};
 use crate::segment::SegmentTable;
 
@@ -97,7 +97,7 @@ pub fn check_finite(coords: &[f64], dim: usize) -> Result<(), InputError> {
                 "must be finite: points[{}][{}] = {}",
                 i / dim,
                 i % dim,
-                coords[i]
+                Shown(coords[i])
             ),
         )),
     }

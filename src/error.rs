@@ -82,6 +82,23 @@ impl fmt::Display for InputError {
 
 impl std::error::Error for InputError {}
 
+/// A number as an error message shows it: as JSON would write it where that is short (`2`,
+/// `0.5`, `-3.25`), in exponent form where plain digits would run on (`1e-300`, `1.5e200`, not
+/// 300 zeros). Both forms are the shortest that read back as the same f64.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Shown(pub f64);
+
+impl fmt::Display for Shown {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let size = self.0.abs();
+        if size == 0.0 || !size.is_finite() || (1e-6..1e16).contains(&size) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// A failure of the GPU path that is not the input's fault.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -151,4 +168,35 @@ pub enum TargetError {
         /// Bytes the job writes ([`OutputLayout::bytes`](crate::OutputLayout::bytes)).
         needed: u64,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Shown;
+
+    #[test]
+    fn numbers_are_shown_short_and_read_back_the_same() {
+        for (v, want) in [
+            (2.0, "2"),
+            (0.5, "0.5"),
+            (-3.25, "-3.25"),
+            (0.0, "0"),
+            (1e-6, "0.000001"),
+            (123_456_789_012_345.0, "123456789012345"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (1e-7, "1e-7"),
+            (1e16, "1e16"),
+            (-1e-300, "-1e-300"),
+            (1.5e200, "1.5e200"),
+            (f64::MAX, "1.7976931348623157e308"),
+            (5e-324, "5e-324"),
+            (f64::INFINITY, "inf"),
+        ] {
+            let shown = Shown(v).to_string();
+            assert_eq!(shown, want);
+            if v.is_finite() {
+                assert_eq!(shown.parse::<f64>(), Ok(v));
+            }
+        }
+    }
 }

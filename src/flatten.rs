@@ -219,15 +219,16 @@ pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
 /// The placement of `segment` at `tol`.
 ///
 /// # Errors
-/// The count the segment needs, when that exceeds [`MAX_SAMPLES_PER_SEGMENT`].
-pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
+/// The count the segment needs, when that exceeds [`MAX_SAMPLES_PER_SEGMENT`] (as f64: it can
+/// pass 2^64).
+pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, f64> {
     let cubic = Cubic::of(segment);
     let wang = wang_count(segment, tol);
     let tol = cubic.scaled(tol);
     let table = integral_table(&cubic);
     let estimate = (table[TABLE] / (8.0 * tol).sqrt()).ceil().max(1.0);
     if estimate.min(wang) > MAX_SAMPLES_PER_SEGMENT as f64 {
-        return Err(estimate.min(wang) as u64);
+        return Err(estimate.min(wang));
     }
     let wang = wang as u32;
     let mut placement = Placement {
@@ -269,7 +270,7 @@ pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, u64> {
         placement.count += (placement.count / 8).max(1);
     }
     if u64::from(wang) > MAX_SAMPLES_PER_SEGMENT {
-        return Err(u64::from(wang));
+        return Err(f64::from(wang));
     }
     placement.count = wang;
     placement.uniform = true;

@@ -5,7 +5,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use crate::arclen::{self, ArcTable};
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::flatten::{self, MAX_SAMPLES_PER_SEGMENT, Placement};
 use crate::segment::SegmentTable;
 
@@ -205,8 +205,10 @@ impl ToleranceSamples {
                 InputError::field(
                     "sampling",
                     format!(
-                        "tolerance {tol} needs {count} samples on segment {i}, more than \
-                         {MAX_SAMPLES_PER_SEGMENT} (2^20)"
+                        "tolerance {} needs {} samples on segment {i}, more than \
+                         {MAX_SAMPLES_PER_SEGMENT} (2^20)",
+                        Shown(tol),
+                        Shown(count)
                     ),
                 )
             })?;
@@ -423,7 +425,7 @@ impl SamplePlan {
                 if !(tol.is_finite() && tol > 0.0) {
                     return Err(InputError::field(
                         "tolerance",
-                        format!("must be a finite number > 0, got {tol}"),
+                        format!("must be a finite number > 0, got {}", Shown(tol)),
                     ));
                 }
                 let data = ToleranceSamples::new(table, tol)?;
@@ -575,7 +577,12 @@ fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
     let (lo, hi) = table.t_range();
     InputError::field(
         "at",
-        format!("values must lie in the curve's range [{lo}, {hi}]: at[{i}] = {t}"),
+        format!(
+            "values must lie in the curve's range [{}, {}]: at[{i}] = {}",
+            Shown(lo),
+            Shown(hi),
+            Shown(t)
+        ),
     )
 }
 

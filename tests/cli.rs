@@ -566,6 +566,37 @@ fn bad_arc_length_and_tolerance_values_exit_2_naming_them() {
 }
 
 #[test]
+fn numbers_in_messages_are_short_and_a_huge_count_is_not_cut() {
+    // Segment 0 of this B-spline has |P''| at most 13 (its second differences are (0, -13) and
+    // (0, 11)), so Wang's count at 1e-300 is ceil(sqrt(13 / 8e-300)) = 1.27e150: far past
+    // 2^64, and the message must show such a count, not 2^64 - 1. Numbers are shown as short
+    // as they read back: "1e-300", not 300 zeros.
+    let doc = r#"{"sampling": {"tolerance": 1e-300},
+        "curves": [{"kind": "bspline", "points": [[0, 0], [1, 5], [2, -3], [3, 0]]}]}"#;
+    let run = splinegpu(&["tessellate", "-", "--backend", "cpu"], Some(doc));
+    assert_eq!(run.status, 2, "{}", run.stderr);
+    assert!(!run.stderr.contains("0000000"), "{}", run.stderr);
+    let count = run
+        .stderr
+        .split_once("tolerance 1e-300 needs ")
+        .and_then(|(_, rest)| rest.split_once(" samples on segment 0"))
+        .map(|(count, _)| count.parse::<f64>().unwrap())
+        .unwrap_or_else(|| panic!("{}", run.stderr));
+    let wang = (13.0_f64 / 8e-300).sqrt().ceil();
+    assert!(count > 2f64.powi(64) && count <= wang, "{count} of {wang}");
+    // A value outside the range is shown short too.
+    let doc = r#"{"sampling": {"at": [1e-300, -2.5e-200]},
+        "curves": [{"kind": "natural", "points": [[0], [1]], "t": [0, 1e200]}]}"#;
+    let run = splinegpu(&["tessellate", "-", "--backend", "cpu"], Some(doc));
+    assert_eq!(run.status, 2, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("[0, 1e200]: at[1] = -2.5e-200"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
 fn bench_json_lines_carry_the_float_field() {
     let run = splinegpu(&["bench", "--workload", "fit-1m", "--json"], None);
     assert_eq!(run.status, 0, "{}", run.stderr);

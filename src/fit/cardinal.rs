@@ -13,7 +13,7 @@
 
 use super::interp::{EndCondition, EndKind, Fitter, check};
 use crate::curve::Points;
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::sampling::SampleLoc;
 use crate::segment::SegmentTable;
 
@@ -96,7 +96,12 @@ impl CardinalBasis {
                 let (lo, hi) = self.table.t_range();
                 InputError::field(
                     "t",
-                    format!("must lie in the knots' range [{lo}, {hi}], got {t}"),
+                    format!(
+                        "must lie in the knots' range [{}, {}], got {}",
+                        Shown(lo),
+                        Shown(hi),
+                        Shown(t)
+                    ),
                 )
             })?;
         let mut weights = vec![0.0; self.inputs()];

@@ -32,7 +32,7 @@
 
 use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
 use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::segment::SegmentTable;
 
 /// How an interpolating spline behaves at its two ends.
@@ -152,7 +152,7 @@ fn check_with(
     {
         return Err(InputError::field(
             "t",
-            format!("must be finite: t[{i}] = {}", t[i]),
+            format!("must be finite: t[{i}] = {}", Shown(t[i])),
         ));
     }
     let increasing = t.windows(2).fold(true, |ok, w| ok & (w[1] > w[0]));
@@ -164,9 +164,9 @@ fn check_with(
             "t",
             format!(
                 "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
-                t[i],
+                Shown(t[i]),
                 i - 1,
-                t[i - 1]
+                Shown(t[i - 1])
             ),
         ));
     }
@@ -188,7 +188,7 @@ fn check_with(
                 if let Some(k) = v.iter().position(|x| !x.is_finite()) {
                     return Err(InputError::field(
                         field,
-                        format!("must be finite: {field}[{k}] = {}", v[k]),
+                        format!("must be finite: {field}[{k}] = {}", Shown(v[k])),
                     ));
                 }
             }
@@ -202,8 +202,8 @@ fn check_with(
                     format!(
                         "of a periodic spline must end where they start: points[{}][{k}] = {} but points[0][{k}] = {}",
                         n - 1,
-                        last[k],
-                        first[k]
+                        Shown(last[k]),
+                        Shown(first[k])
                     ),
                 ));
             }
