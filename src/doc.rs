@@ -61,18 +61,20 @@ fn parse<'de, R: serde_json::de::Read<'de>>(
     }
 }
 
-/// A JSON syntax (or read) error, with its line and column.
+/// A JSON syntax error, with its line and column; or a read error, which is no fault of the
+/// JSON's (and has no place when nothing was read).
 fn syntax(e: &serde_json::Error) -> InputError {
     let message = e.to_string();
     // serde_json appends " at line L column C"; the message gives those itself.
     let message = message
         .rfind(" at line ")
         .map_or(message.as_str(), |i| &message[..i]);
-    InputError::document(format!(
-        "invalid JSON at line {}, column {}: {message}",
-        e.line(),
-        e.column()
-    ))
+    let (line, column) = (e.line(), e.column());
+    InputError::document(match (e.is_io(), line) {
+        (true, 0) => format!("cannot read the input: {message}"),
+        (true, _) => format!("cannot read the input after line {line}, column {column}: {message}"),
+        (false, _) => format!("invalid JSON at line {line}, column {column}: {message}"),
+    })
 }
 
 /// The first located error a visitor found; the visitor then aborts the parse with an empty
@@ -821,6 +823,36 @@ fn describe(value: &Value) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A reader that fails once `text` is read.
+    struct FailsAfter(&'static [u8]);
+
+    impl io::Read for FailsAfter {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            if self.0.is_empty() {
+                return Err(io::Error::other("the disk went away"));
+            }
+            let n = buf.len().min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn a_read_error_is_named_as_one_not_as_invalid_json() {
+        let message = |text| parse_document_from_reader(FailsAfter(text)).unwrap_err();
+        assert_eq!(
+            message(b"").to_string(),
+            "document: cannot read the input: the disk went away"
+        );
+        // Line 2 is read up to its 14th character when the read fails.
+        let text = b"{\"curves\": [\n  {\"kind\": \"bs";
+        assert_eq!(
+            message(text).to_string(),
+            "document: cannot read the input after line 2, column 14: the disk went away"
+        );
+    }
 
     /// The message for a document whose one B-spline curve has `points`.
     fn points_error(points: &str) -> String {

@@ -221,13 +221,17 @@ fn tessellate(
         Some(path) => output::write_output(path, |out| emit(out)),
     };
     bar.finish_and_clear();
-    match result {
-        Ok(()) => Ok(()),
+    match (result, output) {
+        (Ok(()), _) => Ok(()),
         // The reader closed its end early (`| head`): the run ends quietly.
-        Err(OutputError::Io(e)) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
         // A value that overflows its number type is the input's fault.
-        Err(e @ OutputError::NonFinite { .. }) => Err(Failure::input(e)),
-        Err(e) => Err(Failure::other(e)),
+        (Err(e @ OutputError::NonFinite { .. }), _) => Err(Failure::input(e)),
+        (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
+            "cannot write output \"{}\": {e}",
+            path.display()
+        ))),
+        (Err(e), _) => Err(Failure::other(e)),
     }
 }
 
@@ -240,8 +244,13 @@ fn read_document(input: &str) -> Result<EvalJob, Failure> {
             io::stdin().lock(),
         ))
     } else {
-        let file = std::fs::File::open(input)
-            .map_err(|e| Failure::input(format!("document: cannot read input \"{input}\": {e}")))?;
+        let cannot = |why: &dyn std::fmt::Display| {
+            Failure::input(format!("document: cannot read input \"{input}\": {why}"))
+        };
+        let file = std::fs::File::open(input).map_err(|e| cannot(&e))?;
+        if file.metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(cannot(&"it is a directory"));
+        }
         splinegpu::parse_document_from_reader(io::BufReader::with_capacity(1 << 16, file))
     };
     parsed.map_err(Failure::input)

@@ -470,6 +470,13 @@ fn missing_input_and_unknown_flags_exit_2() {
     );
     let run = splinegpu(&["tessellate", "-", "--colour"], Some(MIXED));
     assert_eq!(run.status, 2);
+    // A folder opens but cannot be read: named as such, not as invalid JSON.
+    let folder = tempfile::tempdir().unwrap();
+    let path = folder.path().to_str().unwrap();
+    let run = splinegpu(&["tessellate", path], None);
+    assert_eq!(run.status, 2, "{}", run.stderr);
+    let want = format!("document: cannot read input \"{path}\": it is a directory");
+    assert!(run.stderr.contains(&want), "{}", run.stderr);
 }
 
 #[test]
@@ -486,6 +493,8 @@ fn unwritable_output_exits_1() {
         Some(MIXED),
     );
     assert_eq!(run.status, 1, "{}", run.stderr);
+    let want = "cannot write output \"/nonexistent/dir/out.csv\": ";
+    assert!(run.stderr.contains(want), "{}", run.stderr);
 }
 
 /// The t column and the rows of the CSV `text`.
