@@ -237,7 +237,8 @@ class CubicSpline:
     Fitted in float64 on the host (O(n)); evaluated through `context` (None: a shared CPU
     context, float64; a GPU context gives float32 values within the crate's promise).
     Differences from SciPy: no extrapolation (x outside [x[0], x[-1]] raises ValueError naming
-    it), nu <= 2, second-derivative ends not supported.
+    it), nu <= 2, second-derivative ends not supported. Like SciPy's, "not-a-knot" on 2 or 3
+    points gives the line or the parabola through them.
     """
 
     def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,

@@ -533,6 +533,37 @@ fn condition(
     })
 }
 
+/// SciPy's not-a-knot condition at `x` for `y` (`dim` values a point). On 2 or 3 points SciPy
+/// gives the line or the parabola through them; each is the clamped spline with that
+/// polynomial's slopes at its ends (the one cubic spline that meets them). With divided
+/// differences d_i = (y_{i+1} − y_i)/h_i, the line's slope is d_0; the parabola's is d_0 at the
+/// middle of the first interval and changes by (d_1 − d_0)/((h_0 + h_1)/2) per unit of x, so
+/// at its ends it is d_0 − (d_1 − d_0)·h_0/(h_0 + h_1) and d_1 + (d_1 − d_0)·h_1/(h_0 + h_1).
+/// On 4 or more points, or where x and y disagree in length (the fit names that), the
+/// condition itself.
+fn scipy_not_a_knot(x: &[f64], y: &[f64], dim: usize) -> EndCondition {
+    if !matches!(x.len(), 2 | 3) || y.len() != x.len() * dim {
+        return EndCondition::NotAKnot;
+    }
+    let slope = |i: usize, k: usize| (y[(i + 1) * dim + k] - y[i * dim + k]) / (x[i + 1] - x[i]);
+    let (start, end) = if x.len() == 2 {
+        let line: Vec<f64> = (0..dim).map(|k| slope(0, k)).collect();
+        (line.clone(), line)
+    } else {
+        let (h0, h1) = (x[1] - x[0], x[2] - x[1]);
+        let bend = |k: usize| slope(1, k) - slope(0, k);
+        (
+            (0..dim)
+                .map(|k| slope(0, k) - bend(k) * h0 / (h0 + h1))
+                .collect(),
+            (0..dim)
+                .map(|k| slope(1, k) + bend(k) * h1 / (h0 + h1))
+                .collect(),
+        )
+    };
+    EndCondition::Clamped { start, end }
+}
+
 /// Fits one spline per (x, y) pair: y an (n, m) array at the n strictly increasing x.
 #[pyfunction]
 #[pyo3(signature = (xs, ys, bc_type, start = None, end = None))]
@@ -558,8 +589,12 @@ fn fit<'py>(
         .detach(|| {
             on_threads(xs.len(), |c| {
                 let (dim, y) = ys[c];
+                let condition = match condition {
+                    EndCondition::NotAKnot => scipy_not_a_knot(xs[c], y, dim),
+                    ref other => other.clone(),
+                };
                 let kind = CurveKind::Interpolating {
-                    condition: condition.clone(),
+                    condition,
                     t: Some(xs[c].to_vec()),
                 };
                 let curve =
