@@ -66,10 +66,20 @@ class Tessellation:
                 f"points {self.points.dtype} {self.points.shape})")
 
 
-def _aligned(a) -> np.ndarray:
-    """`a` as an aligned, C-contiguous float64 array (itself where it already is one): arrays
-    unpickled from a network buffer (Dask) may be misaligned."""
-    return np.require(np.asarray(a, dtype=np.float64), requirements=["C", "A"])
+def _float64(a, name: str) -> np.ndarray:
+    """`a` as a float64 array (itself where it already is one). Complex values are refused,
+    naming `name`, rather than cut to their real part."""
+    a = np.asarray(a)
+    if np.iscomplexobj(a):
+        raise ValueError(f"{name}: complex values are not supported (got {a.dtype}); pass the "
+                         f"real and imaginary parts as coordinates of their own")
+    return a.astype(np.float64, copy=False)
+
+
+def _aligned(a, name: str) -> np.ndarray:
+    """`a` (argument `name`) as an aligned, C-contiguous float64 array (itself where it already
+    is one): arrays unpickled from a network buffer (Dask) may be misaligned."""
+    return np.require(_float64(a, name), requirements=["C", "A"])
 
 
 def _curves(points):
@@ -78,15 +88,15 @@ def _curves(points):
         if points.ndim != 3:
             raise ValueError(f"points: must be a (C, n, D) array or a list of (n_i, D) arrays, "
                              f"got an array of shape {points.shape}")
-        return _aligned(points)
+        return _aligned(points, "points")
     out = []
     for c, p in enumerate(points):
-        a = np.asarray(p, dtype=np.float64)
+        a = _float64(p, f"curve {c}: \"points\"")
         if a.ndim == 1:
             a = a[:, None]
         if a.ndim != 2:
             raise ValueError(f"curve {c}: \"points\" must be an (n, D) array, got shape {a.shape}")
-        out.append(_aligned(a))
+        out.append(_aligned(a, "points"))
     return out
 
 
@@ -101,15 +111,16 @@ def _per_curve(name: str, value, curves: int, ndim: int) -> Optional[list]:
         value = list(value)
     value = list(value)
     if value and np.ndim(value[0]) == 0 and ndim == 1:
-        value = [np.asarray(value, dtype=np.float64)] * curves
+        value = [_float64(value, name)] * curves
     if len(value) != curves:
         raise ValueError(f"{name}: {len(value)} entries for {curves} curves")
-    return [None if v is None else _flat(v) for v in value]
+    return [None if v is None else _flat(v, name) for v in value]
 
 
-def _flat(v) -> np.ndarray:
-    """`v` as an aligned, contiguous 1-D float64 array (a view where it already is one)."""
-    return _aligned(np.asarray(v, dtype=np.float64).ravel())
+def _flat(v, name: str) -> np.ndarray:
+    """`v` (argument `name`) as an aligned, contiguous 1-D float64 array (a view where it
+    already is one)."""
+    return _aligned(_float64(v, name).ravel(), name)
 
 
 def _rows(name: str, value, curves: int):
@@ -117,9 +128,9 @@ def _rows(name: str, value, curves: int):
     if isinstance(value, np.ndarray) and value.ndim == 2:
         if len(value) != curves:
             raise ValueError(f"{name}: {len(value)} rows for {curves} curves")
-        return _aligned(value)
+        return _aligned(value, name)
     if isinstance(value, np.ndarray) and value.ndim == 1:
-        return _aligned(np.broadcast_to(value, (curves, len(value))))
+        return _aligned(np.broadcast_to(value, (curves, len(value))), name)
     return _per_curve(name, value, curves, 1)
 
 
@@ -187,7 +198,7 @@ class Context:
             "ends": ends,
             "tension": None if tension is None else float(tension),
             "bias": None if bias is None else float(bias),
-            "matrix": None if matrix is None else np.asarray(matrix, dtype=np.float64).tolist(),
+            "matrix": None if matrix is None else _float64(matrix, "matrix").tolist(),
             "t": _per_curve("t", t, len(curves), 1),
             "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
             "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
@@ -225,8 +236,8 @@ def _bc(bc_type, trailing: tuple):
     if o0 != 1 or o1 != 1:
         raise ValueError(f"bc_type: only first-derivative ends (order 1) are supported, got "
                          f"orders {o0} and {o1}")
-    start = np.broadcast_to(np.asarray(v0, dtype=np.float64), trailing).ravel().tolist()
-    end = np.broadcast_to(np.asarray(v1, dtype=np.float64), trailing).ravel().tolist()
+    start = np.broadcast_to(_float64(v0, "bc_type"), trailing).ravel().tolist()
+    end = np.broadcast_to(_float64(v1, "bc_type"), trailing).ravel().tolist()
     return "clamped", start, end
 
 
@@ -245,8 +256,8 @@ class CubicSpline:
                  context: Optional[Context] = None):
         if extrapolate not in (None, False):
             raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
-        x = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
-        y = np.asarray(y, dtype=np.float64)
+        x = np.ascontiguousarray(_float64(x, "x"))
+        y = _float64(y, "y")
         if x.ndim != 1:
             raise ValueError(f"x: must be 1-D, got shape {x.shape}")
         y = np.moveaxis(y, axis, 0)
@@ -269,8 +280,8 @@ class CubicSpline:
     def __call__(self, x, nu: int = 0) -> np.ndarray:
         """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
         `axis` as SciPy does)."""
-        x = np.asarray(x, dtype=np.float64)
-        flat = _flat(x)
+        x = _float64(x, "x")
+        flat = _flat(x, "x")
         ctx = self.context or _default_context()
         values, _ = self._native.evaluate(ctx._native, [flat], int(nu))
         out = values.reshape(x.shape + self._trailing)
@@ -315,15 +326,15 @@ class CubicSplines:
 
     def __init__(self, xs, ys, bc_type="not-a-knot", context: Optional[Context] = None):
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
-            xs = _aligned(xs)
+            xs = _aligned(xs, "xs")
         else:
-            xs = [_flat(x) for x in xs]
+            xs = [_flat(x, "xs") for x in xs]
         if isinstance(ys, np.ndarray) and ys.ndim >= 2:
             trailing = ys.shape[2:]
-            ys2 = _aligned(np.asarray(ys, dtype=np.float64).reshape(ys.shape[0], ys.shape[1], -1))
+            ys2 = _aligned(_float64(ys, "ys").reshape(ys.shape[0], ys.shape[1], -1), "ys")
         else:
             trailing = np.asarray(ys[0]).shape[1:] if len(ys) else ()
-            ys2 = [_aligned(np.asarray(y, dtype=np.float64).reshape(len(y), -1)) for y in ys]
+            ys2 = [_aligned(_float64(y, "ys").reshape(len(y), -1), "ys") for y in ys]
         name, start, end = _bc(bc_type, trailing)
         self._native = _native.fit(xs, ys2, name, start, end)
         self.context = context
@@ -334,8 +345,8 @@ class CubicSplines:
     def __call__(self, xs: Sequence[Any], nu: int = 0):
         """Spline i at xs[i] (a list of arrays, or a (S, k) array) -> (values, offsets)."""
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
-            flat = _aligned(xs)
+            flat = _aligned(xs, "xs")
         else:
-            flat = [_flat(x) for x in xs]
+            flat = [_flat(x, "xs") for x in xs]
         ctx = self.context or _default_context()
         return self._native.evaluate(ctx._native, flat, int(nu))

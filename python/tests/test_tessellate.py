@@ -199,3 +199,25 @@ def test_backends_and_bc_types_are_checked():
         spline(7.0)
     with pytest.raises(ValueError, match="nu"):
         spline(1.0, nu=3)
+
+
+def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
+    import warnings
+
+    z = np.arange(5.0) * (1 + 1j)
+    x = np.arange(5.0)
+    calls = {
+        "points": lambda: cpu.tessellate(np.zeros((1, 4, 2), dtype=complex), "bspline"),
+        'curve 0: "points"': lambda: cpu.tessellate([np.zeros((4, 2), dtype=complex)], "bspline"),
+        "at": lambda: cpu.tessellate(np.zeros((1, 4, 2)), "bspline", at=[0.5 + 0j]),
+        "x": lambda: splinegpu.CubicSpline(z, x),
+        "y": lambda: splinegpu.CubicSpline(x, z),
+        "xs": lambda: splinegpu.CubicSplines([x], [x[:, None]])([z]),
+        "ys": lambda: splinegpu.CubicSplines([x], [z[:, None]]),
+    }
+    with warnings.catch_warnings():
+        # NumPy warns when it casts complex to float; nothing may be cast.
+        warnings.simplefilter("error")
+        for name, call in calls.items():
+            with pytest.raises(ValueError, match=f"^{name}: complex values are not supported"):
+                call()
