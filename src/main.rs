@@ -235,14 +235,11 @@ fn tessellate(
     }
 }
 
-/// Reads and parses the input document: a file is parsed as it is read, so its text is never
-/// held whole; standard input likewise.
+/// Reads and parses the input document: a file is parsed as it is read (64 KiB at a time), so
+/// its text is never held whole; standard input likewise.
 fn read_document(input: &str) -> Result<EvalJob, Failure> {
     let parsed = if input == "-" {
-        splinegpu::parse_document_from_reader(io::BufReader::with_capacity(
-            1 << 16,
-            io::stdin().lock(),
-        ))
+        splinegpu::parse_document_from_reader(io::stdin().lock())
     } else {
         let cannot = |why: &dyn std::fmt::Display| {
             Failure::input(format!("document: cannot read input \"{input}\": {why}"))
@@ -251,7 +248,7 @@ fn read_document(input: &str) -> Result<EvalJob, Failure> {
         if file.metadata().is_ok_and(|m| m.is_dir()) {
             return Err(cannot(&"it is a directory"));
         }
-        splinegpu::parse_document_from_reader(io::BufReader::with_capacity(1 << 16, file))
+        splinegpu::parse_document_from_reader(file)
     };
     parsed.map_err(Failure::input)
 }
