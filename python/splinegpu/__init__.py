@@ -223,9 +223,9 @@ def _default_context() -> Context:
         return _shared_cpu
 
 
-def _bc(bc_type, trailing: tuple):
+def _bc(bc_type, trailing: tuple, complex_y: bool = False):
     """SciPy's bc_type as (name, start, end) for the native fit; derivative values broadcast to
-    y's trailing shape, flattened as y is."""
+    y's trailing shape, flattened as y is (for a complex y, real parts then imaginary parts)."""
     if isinstance(bc_type, str):
         return bc_type, None, None
     try:
@@ -236,9 +236,12 @@ def _bc(bc_type, trailing: tuple):
     if o0 != 1 or o1 != 1:
         raise ValueError(f"bc_type: only first-derivative ends (order 1) are supported, got "
                          f"orders {o0} and {o1}")
-    start = np.broadcast_to(_float64(v0, "bc_type"), trailing).ravel().tolist()
-    end = np.broadcast_to(_float64(v1, "bc_type"), trailing).ravel().tolist()
-    return "clamped", start, end
+    def flat(v):
+        v = np.broadcast_to(np.asarray(v) if complex_y else _float64(v, "bc_type"), trailing)
+        v = v.ravel()
+        return np.concatenate([v.real, v.imag]).tolist() if complex_y else v.tolist()
+
+    return "clamped", flat(v0), flat(v1)
 
 
 class CubicSpline:
@@ -249,7 +252,8 @@ class CubicSpline:
     context, float64; a GPU context gives float32 values within the crate's promise).
     Differences from SciPy: no extrapolation (x outside [x[0], x[-1]] raises ValueError naming
     it), nu <= 2, second-derivative ends not supported. Like SciPy's, "not-a-knot" on 2 or 3
-    points gives the line or the parabola through them.
+    points gives the line or the parabola through them, and a complex y gives a complex spline
+    (its real and imaginary parts fitted apart, the fit being linear in y).
     """
 
     def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,
@@ -257,15 +261,19 @@ class CubicSpline:
         if extrapolate not in (None, False):
             raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
         x = np.ascontiguousarray(_float64(x, "x"))
-        y = _float64(y, "y")
+        y = np.asarray(y)
+        self._complex = np.iscomplexobj(y)
         if x.ndim != 1:
             raise ValueError(f"x: must be 1-D, got shape {x.shape}")
         y = np.moveaxis(y, axis, 0)
         if y.shape[0] != x.shape[0]:
             raise ValueError(f"y: {y.shape[0]} values along axis {axis} for {x.shape[0]} x")
         self._trailing = y.shape[1:]
-        y2 = np.ascontiguousarray(y.reshape(y.shape[0], -1))
-        name, start, end = _bc(bc_type, self._trailing)
+        y2 = y.reshape(y.shape[0], -1)
+        if self._complex:
+            y2 = np.concatenate([y2.real, y2.imag], axis=1)
+        y2 = np.ascontiguousarray(_float64(y2, "y"))
+        name, start, end = _bc(bc_type, self._trailing, self._complex)
         self._native = _native.fit([x], [y2], name, start, end)
         self.x = x
         self.axis = axis
@@ -274,8 +282,15 @@ class CubicSpline:
     @property
     def c(self) -> np.ndarray:
         """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes."""
-        c = self._native.coefficients(0)
-        return c.reshape((4, c.shape[1]) + self._trailing)
+        return self._joined(self._native.coefficients(0)).reshape((4, -1) + self._trailing)
+
+    def _joined(self, values: np.ndarray) -> np.ndarray:
+        """`values` (..., m) of the fitted columns as y's: for a complex y, the real parts'
+        columns and the imaginary parts' joined into complex numbers."""
+        if not self._complex:
+            return values
+        m = values.shape[-1] // 2
+        return values[..., :m] + 1j * values[..., m:]
 
     def __call__(self, x, nu: int = 0) -> np.ndarray:
         """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
@@ -284,7 +299,7 @@ class CubicSpline:
         flat = _flat(x, "x")
         ctx = self.context or _default_context()
         values, _ = self._native.evaluate(ctx._native, [flat], int(nu))
-        out = values.reshape(x.shape + self._trailing)
+        out = self._joined(values).reshape(x.shape + self._trailing)
         if self.axis != 0 and x.ndim > 0:
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
         return out

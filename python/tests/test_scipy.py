@@ -107,6 +107,31 @@ def test_not_a_knot_on_two_or_three_points_is_scipys_line_or_parabola(n, shape, 
     np.testing.assert_array_equal(values[offsets[0]:offsets[1]], ours(q).reshape(len(q), -1))
 
 
+@pytest.mark.parametrize("bc", BC_TYPES, ids=str)
+@pytest.mark.parametrize("shape", [(), (3,)], ids=str)
+def test_complex_y_matches_scipy(bc, shape):
+    rng = np.random.default_rng(BC_TYPES.index(bc) * 10 + len(shape))
+    x, re = data(bc, 9, shape, rng, "random")
+    _, im = data(bc, 9, shape, rng, "random")
+    y = re + 1j * im
+    if bc == "derivatives":
+        bc_type = ((1, np.full(shape, 0.5 - 1j)), (1, np.full(shape, 2j)))
+    else:
+        bc_type = bc
+    ours, theirs = splinegpu.CubicSpline(x, y, bc_type=bc_type), SciPySpline(x, y, bc_type=bc_type)
+    q = query(x, rng)
+    for nu in (0, 1, 2):
+        a, b = ours(q, nu), theirs(q, nu)
+        assert a.dtype == np.complex128 and a.shape == b.shape
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max(), err_msg=f"nu={nu}")
+    h = np.diff(x).reshape((1, -1) + (1,) * len(shape)) ** np.arange(3, -1, -1).reshape(
+        (4, 1) + (1,) * len(shape))
+    np.testing.assert_allclose(ours.c * h, theirs.c * h, rtol=0,
+                               atol=1e-12 * np.abs(theirs.c * h).max())
+    np.testing.assert_allclose(ours.derivative(1)(q), theirs.derivative(1)(q), rtol=0,
+                               atol=1e-12 * np.abs(theirs(q, 1)).max())
+
+
 def test_axis_moves_like_scipy():
     rng = np.random.default_rng(5)
     x = np.sort(rng.uniform(0, 10, 9))

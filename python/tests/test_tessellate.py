@@ -202,6 +202,7 @@ def test_backends_and_bc_types_are_checked():
 
 
 def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
+    # (CubicSpline's y may be complex, as SciPy's: test_scipy.py.)
     import warnings
 
     z = np.arange(5.0) * (1 + 1j)
@@ -211,7 +212,7 @@ def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
         'curve 0: "points"': lambda: cpu.tessellate([np.zeros((4, 2), dtype=complex)], "bspline"),
         "at": lambda: cpu.tessellate(np.zeros((1, 4, 2)), "bspline", at=[0.5 + 0j]),
         "x": lambda: splinegpu.CubicSpline(z, x),
-        "y": lambda: splinegpu.CubicSpline(x, z),
+        "bc_type": lambda: splinegpu.CubicSplines([x], [x[:, None]], bc_type=((1, 1j), (1, 0))),
         "xs": lambda: splinegpu.CubicSplines([x], [x[:, None]])([z]),
         "ys": lambda: splinegpu.CubicSplines([x], [z[:, None]]),
     }
