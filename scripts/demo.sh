@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/ensure-vulkan.sh
 mkdir -p out
-cargo run --quiet --bin splinegpu -- tessellate examples/curves.json -o out/curves.csv --backend gpu
-cargo run --quiet --example svg -- examples/curves.json out/curves.svg
+cargo run --quiet --bin splinegpu -- tessellate crates/splinegpu-cli/examples/curves.json -o out/curves.csv --backend gpu
+cargo run --quiet -p splinegpu-cli --example svg -- crates/splinegpu-cli/examples/curves.json out/curves.svg
 echo "wrote out/curves.csv ($(($(wc -l < out/curves.csv) - 1)) samples) and out/curves.svg"

@@ -18,9 +18,10 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BIN=.device/bin
-# GPU tests that need no source tree at run time (fixtures and the CLI binary are found by
-# paths compiled into the others).
-TESTS=(gpu_vs_cpu interpreter render geometric_sampling)
+# The library's GPU tests, which need no source tree at run time: its integration tests (GPU
+# against the f64 reference, geometric samplings, the renderer path) and its unit tests (the
+# kernel's twin, its ABI).
+TESTS=(splinegpu-it splinegpu-unit)
 # Most telling first: a run cut short by the time limit still has them.
 WORKLOADS=(w1 w1-x10 eval-at w1-d fit-1m w1-tol w1-arc cli-w1)
 
@@ -30,16 +31,18 @@ if [[ "${1:-}" == "--prepare" ]]; then
     cargo build --release --quiet
     cp target/release/splinegpu "$BIN/"
     # The test binaries cargo builds, by name (their file names carry a hash).
-    cargo test --release --no-run --message-format=json 2>/dev/null |
+    cargo test --release -p splinegpu --features profiling --lib --test it --no-run \
+        --message-format=json 2>/dev/null |
         python3 -c '
 import json, sys, shutil
-wanted = set(sys.argv[1:])
+names = {"test": "splinegpu-it", "lib": "splinegpu-unit"}
 for line in sys.stdin:
     m = json.loads(line)
     if m.get("reason") == "compiler-artifact" and m.get("executable") \
-            and m["target"]["kind"] == ["test"] and m["target"]["name"] in wanted:
-        shutil.copy(m["executable"], ".device/bin/" + m["target"]["name"])
-' "${TESTS[@]}"
+            and m["profile"]["test"] and m["target"]["kind"][0] in names:
+        shutil.copy(m["executable"], ".device/bin/" + names[m["target"]["kind"][0]])
+'
+
     strip "$BIN"/*
     # The Vulkan loader (the driver itself is on the GPU machine), for amd64.
     lists=$(mktemp -d)

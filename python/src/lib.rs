@@ -16,9 +16,10 @@ use numpy::{
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use splinegpu::kinds::KindFields;
 use splinegpu::{
-    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, KindFields,
-    Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, Points,
+    SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
 };
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -736,6 +737,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Splines>()?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
-    m.add("KIND_NAMES", splinegpu::KIND_NAMES.to_vec())?;
+    m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
 }

@@ -1,0 +1,384 @@
+//! The `splinegpu` command line: argument parsing, I/O and exit status only.
+//! The contract it follows is `CLI-CONTRACT.md` in the steering repository's shared folder.
+
+use std::io::{self, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use splinegpu::{EvalJob, GpuContext};
+use splinegpu_cli::output::{self, OutputError};
+use splinegpu_cli::{bench, stream};
+
+/// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
+#[derive(Parser)]
+#[command(name = "splinegpu", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Tessellate the curves of a JSON document into CSV, JSON or NPZ samples.
+    Tessellate {
+        /// The input document, or `-` for standard input.
+        input: String,
+        /// Where to write; standard output when absent.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz), else csv.
+        #[arg(long)]
+        format: Option<Format>,
+        /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
+        /// finds, lavapipe included (gpu, float32); the host reference (cpu, float64).
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
+    /// Run the named benchmark workloads.
+    ///
+    /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
+    /// Catmull-Rom with two derivatives), w1-arc (w1's curves at 993 points by arc length),
+    /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at, cli-w1 (w1's document
+    /// through tessellate into a temporary file), w1-x10 (100,000 curves made as w1's, for
+    /// GPUs). Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit,
+    /// plain-loop (on w1, w1-b, w1-x10, eval-at and fit-1m: a plain loop over the same work);
+    /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
+    /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
+    /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),
+    /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu,
+    /// floor-cpu (parse, fit and evaluate into reused memory plus a memset of the NPZ file's
+    /// size), and csv-write-floor and npz-write-floor (the same, then the CSV or NPZ file's
+    /// bytes written whole through the same temporary file and rename).
+    Bench {
+        /// A workload to run (may repeat; default: all).
+        #[arg(long = "workload")]
+        workloads: Vec<String>,
+        /// One JSON object per line per measurement.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the adapters wgpu finds and what `--backend auto` would pick.
+    Info,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Csv,
+    Json,
+    Npz,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Backend {
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+/// A failure and its exit status: 2 for bad input or usage, 1 for everything else.
+struct Failure {
+    status: u8,
+    message: String,
+}
+
+impl Failure {
+    fn input(message: impl ToString) -> Self {
+        Self {
+            status: 2,
+            message: message.to_string(),
+        }
+    }
+
+    fn other(message: impl ToString) -> Self {
+        Self {
+            status: 1,
+            message: message.to_string(),
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    // Mesa's device-select Vulkan layer prints XDG_RUNTIME_DIR warnings on headless machines
+    // unless NODEVICE_SELECT is set before the Vulkan instance exists.
+    #[allow(
+        unsafe_code,
+        reason = "set_var is unsafe from edition 2024; no other thread exists yet"
+    )]
+    // SAFETY: this is the first statement of main, before any thread is spawned.
+    unsafe {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    remove_temporary_output_on_signals();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Tessellate {
+            input,
+            output,
+            format,
+            backend,
+        } => tessellate(&input, output.as_deref(), format, backend),
+        Command::Bench { workloads, json } => bench(&workloads, json),
+        Command::Info => info(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            eprintln!("splinegpu: {}", failure.message);
+            ExitCode::from(failure.status)
+        }
+    }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: remove the temporary output file (if one is being written)
+/// and exit with 128 + the signal's number, as a shell reports a process killed by it.
+fn remove_temporary_output_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    // Without the handler the signal still ends the process; only the temporary file could
+    // be left behind, so failing to install it is not worth failing the run.
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            output::remove_pending_outputs();
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+fn tessellate(
+    input: &str,
+    output: Option<&Path>,
+    format: Option<Format>,
+    backend: Backend,
+) -> Result<(), Failure> {
+    let job = read_document(input)?;
+    let format = format.unwrap_or_else(|| format_of(output));
+    if format == Format::Npz {
+        let dim = job.table(0).dim();
+        if let Some(c) = (0..job.len()).find(|&c| job.table(c).dim() != dim) {
+            let e = OutputError::MixedDimensions {
+                curve: c,
+                dim: job.table(c).dim(),
+                first: dim,
+            };
+            return Err(Failure::input(e));
+        }
+    }
+    let context = match backend {
+        Backend::Cpu => None,
+        Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
+        Backend::Auto => match splinegpu::hardware_adapter() {
+            Some(adapter) => {
+                let context = GpuContext::from_adapter(&adapter).map_err(Failure::other)?;
+                let info = context.adapter_info();
+                eprintln!(
+                    "splinegpu: backend auto: gpu on {} ({:?})",
+                    info.name, info.device_type
+                );
+                Some(context)
+            }
+            None => {
+                eprintln!("splinegpu: backend auto: cpu (no hardware GPU adapter)");
+                None
+            }
+        },
+    };
+    let format = match format {
+        Format::Csv => stream::Format::Csv,
+        Format::Json => stream::Format::Json,
+        Format::Npz => stream::Format::Npz,
+    };
+    // Chunks bound the memory a job holds; SPLINEGPU_CHUNK_SAMPLES overrides their size.
+    let chunk = std::env::var("SPLINEGPU_CHUNK_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(stream::CHUNK_SAMPLES);
+    // A progress bar on stderr, only when it is a terminal.
+    let bar = if io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(job.sample_count() as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let mut progress = |n: u64| bar.inc(n);
+    let mut emit = |out: &mut dyn Write| -> Result<(), OutputError> {
+        let mut out = out;
+        stream::write_on(
+            &job,
+            format,
+            chunk,
+            context.as_ref(),
+            &mut out,
+            &mut progress,
+        )
+    };
+    let result = match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_output(path, |out| emit(out)),
+    };
+    bar.finish_and_clear();
+    match (result, output) {
+        (Ok(()), _) => Ok(()),
+        // The reader closed its end early (`| head`): the run ends quietly.
+        (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        // A value that overflows its number type is the input's fault.
+        (Err(e @ OutputError::NonFinite { .. }), _) => Err(Failure::input(e)),
+        (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
+            "cannot write output \"{}\": {e}",
+            path.display()
+        ))),
+        (Err(e), _) => Err(Failure::other(e)),
+    }
+}
+
+/// Reads and parses the input document: a file is parsed as it is read (64 KiB at a time), so
+/// its text is never held whole; standard input likewise.
+fn read_document(input: &str) -> Result<EvalJob, Failure> {
+    let parsed = if input == "-" {
+        splinegpu_cli::parse_document_from_reader(io::stdin().lock())
+    } else {
+        let cannot = |why: &dyn std::fmt::Display| {
+            Failure::input(format!("document: cannot read input \"{input}\": {why}"))
+        };
+        let file = std::fs::File::open(input).map_err(|e| cannot(&e))?;
+        if file.metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(cannot(&"it is a directory"));
+        }
+        splinegpu_cli::parse_document_from_reader(file)
+    };
+    parsed.map_err(Failure::input)
+}
+
+fn format_of(output: Option<&Path>) -> Format {
+    match output.and_then(Path::extension).and_then(|e| e.to_str()) {
+        Some("json") => Format::Json,
+        Some("npz") => Format::Npz,
+        _ => Format::Csv,
+    }
+}
+
+fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
+    // Check the names before spending minutes on a GPU context and the first workload.
+    if let Some(unknown) = workloads
+        .iter()
+        .find(|w| !bench::WORKLOADS.contains(&w.as_str()))
+    {
+        return Err(Failure::input(format!(
+            "unknown workload \"{unknown}\" (expected one of {})",
+            bench::WORKLOADS.join(", ")
+        )));
+    }
+    let start = std::time::Instant::now();
+    let gpu = match GpuContext::new() {
+        Ok(gpu) => {
+            let info = gpu.adapter_info();
+            eprintln!(
+                "splinegpu: GpuContext::new took {:.1} ms (instance, adapter, device, pipelines)",
+                start.elapsed().as_secs_f64() * 1e3
+            );
+            eprintln!(
+                "splinegpu: bench on {} ({:?}; driver {}), {} threads",
+                info.name,
+                info.device_type,
+                info.driver_info,
+                splinegpu::available_threads()
+            );
+            Some(gpu)
+        }
+        Err(e) => {
+            eprintln!("splinegpu: no GPU adapter ({e}); GPU paths skipped");
+            None
+        }
+    };
+    let mut memset_gbps = f64::NAN;
+    if !json {
+        println!(
+            "{:<8} {:<17} {:>10} {:>10} {:>10} {:>11} {:>10} {:>8} {:>9}",
+            "workload",
+            "path",
+            "median ms",
+            "min ms",
+            "max ms",
+            "samples",
+            "MB",
+            "GB/s",
+            "% memset"
+        );
+    }
+    bench::run(workloads, gpu.as_ref(), |m| {
+        if json {
+            println!("{}", m.to_json());
+        } else {
+            if m.path == "memset" {
+                memset_gbps = m.gbps();
+            }
+            println!(
+                "{:<8} {:<17} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}",
+                m.workload,
+                m.path,
+                m.seconds * 1e3,
+                m.min_seconds * 1e3,
+                m.max_seconds * 1e3,
+                m.samples,
+                m.bytes as f64 / 1e6,
+                m.gbps(),
+                if m.path == "memset" {
+                    String::new()
+                } else {
+                    format!("{:.1}", 100.0 * m.gbps() / memset_gbps)
+                }
+            );
+        }
+    })
+    .map_err(Failure::other)?;
+    Ok(())
+}
+
+fn info() -> Result<(), Failure> {
+    let instance = splinegpu::new_instance();
+    let adapters =
+        pollster::block_on(instance.enumerate_adapters(splinegpu::wgpu::Backends::all()));
+    if adapters.is_empty() {
+        println!("no adapters found (install a Vulkan driver, e.g. mesa-vulkan-drivers)");
+    }
+    for adapter in &adapters {
+        let (info, limits) = (adapter.get_info(), adapter.limits());
+        println!("{}", info.name);
+        println!("  backend: {:?}", info.backend);
+        println!("  device type: {:?}", info.device_type);
+        println!("  driver: {} {}", info.driver, info.driver_info);
+        println!(
+            "  max_storage_buffer_binding_size: {}",
+            limits.max_storage_buffer_binding_size
+        );
+        println!("  max_buffer_size: {}", limits.max_buffer_size);
+        println!(
+            "  max_compute_workgroups_per_dimension: {}",
+            limits.max_compute_workgroups_per_dimension
+        );
+        println!(
+            "  max_compute_invocations_per_workgroup: {}",
+            limits.max_compute_invocations_per_workgroup
+        );
+        println!(
+            "  timestamp queries: {}",
+            adapter
+                .features()
+                .contains(splinegpu::wgpu::Features::TIMESTAMP_QUERY)
+        );
+        let shape = splinegpu::profiling::KernelShape::for_device_type(info.device_type);
+        println!(
+            "  kernel shape: {} lanes per run of {} samples",
+            shape.lanes, shape.run_len
+        );
+    }
+    match splinegpu::hardware_adapter() {
+        Some(a) => println!("auto: gpu on {}", a.get_info().name),
+        None => println!("auto: cpu (no hardware GPU adapter)"),
+    }
+    Ok(())
+}

@@ -1,0 +1,229 @@
+//! `Curve`: a spline family, its end convention and its points, checked once on construction.
+
+use crate::basis::{Basis, Rows, bezier_rows};
+use crate::error::InputError;
+use crate::fit::interp::{self, EndCondition, Fitter};
+use crate::fit::uniform;
+use crate::points::Points;
+use crate::segment::SegmentTable;
+
+/// How a sliding-window family treats the ends of its point list (contract: "ends").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Ends {
+    /// The memo's convention: n >= 4 points give n − 3 segments, the first and the last point
+    /// only steer the ends; t in [0, n − 3].
+    #[default]
+    Control,
+    /// The first and the last point are doubled before windowing (the memo's "double the first
+    /// and last knots"): n >= 2 points give n − 1 segments; t in [0, n − 1].
+    Repeat,
+    /// Cyclic, windowing P_{n−1}, P_0, ..., P_{n−1}, P_0, P_1 (the memo's cyclic spline):
+    /// n >= 3 points give n segments; t in [0, n].
+    Closed,
+}
+
+impl Ends {
+    /// The fewest points this convention accepts.
+    #[must_use]
+    pub fn min_points(self) -> usize {
+        match self {
+            Ends::Control => 4,
+            Ends::Repeat => 2,
+            Ends::Closed => 3,
+        }
+    }
+
+    /// Number of segments for `n` points (n >= `min_points`).
+    #[must_use]
+    pub fn segments(self, n: usize) -> usize {
+        match self {
+            Ends::Control => n - 3,
+            Ends::Repeat => n - 1,
+            Ends::Closed => n,
+        }
+    }
+
+    /// Indices into the n points of segment i's window of four.
+    fn window(self, n: usize, i: usize) -> [usize; 4] {
+        // Position j of the extended sequence, mapped back to a point index.
+        let at = |j: usize| -> usize {
+            match self {
+                Ends::Control => j,
+                // [P0, P0, P1, ..., P_{n-1}, P_{n-1}]
+                Ends::Repeat => j.saturating_sub(1).min(n - 1),
+                // [P_{n-1}, P0, ..., P_{n-1}, P0, P1]
+                Ends::Closed => (j + n - 1) % n,
+            }
+        };
+        [at(i), at(i + 1), at(i + 2), at(i + 3)]
+    }
+}
+
+/// What family a curve belongs to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CurveKind {
+    /// A uniform 4x4-matrix family on a sliding window of four points; segment i spans
+    /// t in [i, i + 1].
+    Uniform {
+        /// The basis matrix.
+        basis: Basis,
+        /// The end convention.
+        ends: Ends,
+    },
+    /// Cubic Bezier segments sharing end points: 3k + 1 points make k segments, segment i
+    /// from points 3i..3i+3 over t in [i, i + 1].
+    Bezier,
+    /// An interpolating spline through every point, solved on the host
+    /// (natural, clamped, periodic or not-a-knot ends; see [`EndCondition`]); segment i spans
+    /// [t_i, t_{i+1}].
+    Interpolating {
+        /// The end condition.
+        condition: EndCondition,
+        /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
+        t: Option<Vec<f64>>,
+    },
+}
+
+/// A curve ready to fit: its kind and its points, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curve {
+    kind: CurveKind,
+    points: Points,
+    /// How the curve is fitted, checked.
+    fit: FitMethod,
+}
+
+/// What `Curve::new` resolved a kind into.
+#[derive(Clone, Debug, PartialEq)]
+enum FitMethod {
+    /// A 4x4 basis matrix on sliding windows of four points (`ends`), or, with `ends` None,
+    /// on Bezier windows that step by three points.
+    Windows { rows: Rows, ends: Option<Ends> },
+    /// An interpolation solve at knots `t`.
+    Solve {
+        condition: EndCondition,
+        t: Vec<f64>,
+    },
+}
+
+impl Curve {
+    /// A checked curve.
+    ///
+    /// # Errors
+    /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), a basis
+    /// parameter that is out of its domain (see [`Basis::try_rows`]), or interpolation data
+    /// that break a rule of interpolation (t strictly increasing and one per point, enough
+    /// points for the end condition, periodic ends equal, clamped derivatives of D values).
+    pub fn new(kind: CurveKind, points: Points) -> Result<Self, InputError> {
+        let n = points.len();
+        let fit = match &kind {
+            CurveKind::Uniform { basis, ends } => {
+                let rows = basis.try_rows()?;
+                if n < ends.min_points() {
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "needs at least {} points with ends \"{}\", got {n}",
+                            ends.min_points(),
+                            ends_name(*ends)
+                        ),
+                    ));
+                }
+                FitMethod::Windows {
+                    rows,
+                    ends: Some(*ends),
+                }
+            }
+            CurveKind::Bezier => {
+                if n < 4 || !(n - 1).is_multiple_of(3) {
+                    return Err(InputError::field(
+                        "points",
+                        format!("a bezier curve needs 3k+1 points (k >= 1), got {n}"),
+                    ));
+                }
+                FitMethod::Windows {
+                    rows: bezier_rows(),
+                    ends: None,
+                }
+            }
+            CurveKind::Interpolating { condition, t } => {
+                let t = t
+                    .clone()
+                    .unwrap_or_else(|| (0..n).map(|i| i as f64).collect());
+                interp::check(&t, points.coords(), points.dim(), condition)?;
+                FitMethod::Solve {
+                    condition: condition.clone(),
+                    t,
+                }
+            }
+        };
+        Ok(Self { kind, points, fit })
+    }
+
+    /// The curve's kind.
+    #[must_use]
+    pub fn kind(&self) -> &CurveKind {
+        &self.kind
+    }
+
+    /// The curve's points.
+    #[must_use]
+    pub fn points(&self) -> &Points {
+        &self.points
+    }
+
+    /// Number of segments.
+    #[must_use]
+    pub fn segment_count(&self) -> usize {
+        let n = self.points.len();
+        match &self.kind {
+            CurveKind::Uniform { ends, .. } => ends.segments(n),
+            CurveKind::Bezier => (n - 1) / 3,
+            CurveKind::Interpolating { .. } => n - 1,
+        }
+    }
+
+    /// The parameter range [t_start, t_end].
+    #[must_use]
+    pub fn t_range(&self) -> (f64, f64) {
+        match &self.fit {
+            FitMethod::Solve { t, .. } => (t[0], t[t.len() - 1]),
+            FitMethod::Windows { .. } => (0.0, self.segment_count() as f64),
+        }
+    }
+
+    /// The curve's segments in power form, formed in f64 (see [`SegmentTable`]).
+    #[must_use]
+    pub fn fit(&self) -> SegmentTable {
+        let (dim, n) = (self.points.dim(), self.points.len());
+        let coords = self.points.coords();
+        let extent = self.points.extent();
+        let segments = self.segment_count();
+        match &self.fit {
+            FitMethod::Solve { condition, t } => {
+                let mut table = SegmentTable::default();
+                Fitter::new().fit_checked(t, coords, dim, condition, &mut table);
+                table
+            }
+            FitMethod::Windows {
+                rows,
+                ends: Some(ends),
+            } => uniform::from_windows(dim, coords, rows, segments, extent, |i| ends.window(n, i)),
+            FitMethod::Windows { rows, ends: None } => {
+                uniform::from_windows(dim, coords, rows, segments, extent, |i| {
+                    [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3]
+                })
+            }
+        }
+    }
+}
+
+/// The contract's name of an end convention.
+#[must_use]
+pub(crate) fn ends_name(ends: Ends) -> &'static str {
+    match ends {
+        Ends::Control => "control",
+        Ends::Repeat => "repeat",
+        Ends::Closed => "closed",
+    }
+}

@@ -1,0 +1,14 @@
+//! The fit stage, on the host in f64: a [`Curve`](crate::Curve) becomes a
+//! [`SegmentTable`](crate::SegmentTable) of cubic segments in power form.
+//!
+//! - [`uniform`]: the memo's 4x4-matrix families and Bezier curves, M·X per window of four points;
+//! - [`interp`]: interpolating splines (natural, clamped, periodic, not-a-knot) on any knots;
+//! - [`cardinal`]: cardinal basis functions, for many curves that share their knots;
+//! - [`tridiag`] and [`blocked`]: the O(n) solvers behind them (blocked for the diagonally
+//!   dominant systems, on every thread).
+
+pub(crate) mod blocked;
+pub(crate) mod cardinal;
+pub(crate) mod interp;
+pub(crate) mod tridiag;
+pub(crate) mod uniform;

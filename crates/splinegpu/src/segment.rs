@@ -1,0 +1,325 @@
+//! `SegmentTable`: a fitted curve as a list of cubic segments in power form, in f64.
+//!
+//! Segment i covers the parameter interval [t_i, t_{i+1}] (length Δ_i) and is written in its
+//! local parameter u = (t − t_i)/Δ_i in [0, 1] as
+//!
+//! ```text
+//! P_i(u) = A u^3 + B u^2 + C u + D          (each of A..D a vector of `dim` coordinates)
+//! dP/dt  = (3A u^2 + 2B u + C) / Δ_i
+//! d2P/dt2 = (6A u + 2B) / Δ_i^2
+//! ```
+//!
+//! Every curve kind ends up here: the uniform families as `[u^3 u^2 u 1] · M · X` with the
+//! product M·X formed on the host (`fit::uniform`), interpolating splines from their solved
+//! coefficients. The GPU evaluator reads these coefficients (rounded to f32 only after they were
+//! formed in f64), and the CPU reference evaluates them in f64.
+
+use crate::error::InputError;
+
+/// One curve's segments in power form, with the parameter value of every knot.
+///
+/// `Default` is an empty table, for [`Fitter::fit_into`](crate::fit::interp::Fitter::fit_into)
+/// to fill.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SegmentTable {
+    dim: usize,
+    /// `segments + 1` strictly increasing parameter values.
+    knots: Vec<f64>,
+    /// Per segment `4 * dim` values: A (dim values), B, C, D.
+    coeffs: Vec<f64>,
+    /// The curve's extent E: the largest per-axis (max − min) over its input points.
+    extent: f64,
+}
+
+/// A borrowed view of one segment of a [`SegmentTable`].
+#[derive(Clone, Copy, Debug)]
+pub struct Segment<'a> {
+    /// A, B, C, D, each `dim` values.
+    coeffs: &'a [f64],
+    dim: usize,
+    t0: f64,
+    dt: f64,
+}
+
+impl SegmentTable {
+    /// A table from its parts. `coeffs` holds `4 * dim` values per segment (A, B, C, D) and
+    /// `knots` one more value than there are segments. The parts come from this crate's fits,
+    /// which guarantee these shapes.
+    pub(crate) fn from_parts(dim: usize, knots: Vec<f64>, coeffs: Vec<f64>, extent: f64) -> Self {
+        debug_assert_eq!(coeffs.len(), 4 * dim * (knots.len() - 1));
+        Self {
+            dim,
+            knots,
+            coeffs,
+            extent,
+        }
+    }
+
+    /// The knot and coefficient buffers as they are, for a fit to resize and refill (keeping
+    /// their allocations); sets the dimension and extent.
+    pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
+        self.dim = dim;
+        self.extent = extent;
+        (&mut self.knots, &mut self.coeffs)
+    }
+
+    /// Segments `range` as a table of their own (same dimension and extent), knots included.
+    ///
+    /// # Panics
+    /// If the range is empty or reaches past the last segment.
+    #[must_use]
+    pub fn slice(&self, range: std::ops::Range<usize>) -> Self {
+        assert!(
+            !range.is_empty() && range.end <= self.len(),
+            "bad segment range {range:?}"
+        );
+        let n = 4 * self.dim;
+        Self {
+            dim: self.dim,
+            knots: self.knots[range.start..=range.end].to_vec(),
+            coeffs: self.coeffs[range.start * n..range.end * n].to_vec(),
+            extent: self.extent,
+        }
+    }
+
+    /// Number of coordinates of each point.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of segments (at least 1, but for an empty `Default` table).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.knots.len().saturating_sub(1)
+    }
+
+    /// True only for an empty `Default` table.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Every segment's power-form coefficients, segment after segment, each as A, B, C, D
+    /// (`dim` values each): what [`Segment::power`] slices.
+    pub(crate) fn power_coefficients(&self) -> &[f64] {
+        &self.coeffs
+    }
+
+    /// The knots t_0 < t_1 < ... < t_len.
+    #[must_use]
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// The parameter range [t_0, t_len].
+    #[must_use]
+    pub fn t_range(&self) -> (f64, f64) {
+        (self.knots[0], self.knots[self.knots.len() - 1])
+    }
+
+    /// The curve's extent E, the largest per-axis (max − min) over its input points; the scale
+    /// of the GPU accuracy promise.
+    #[must_use]
+    pub fn extent(&self) -> f64 {
+        self.extent
+    }
+
+    /// Checks that every sample of the curve, and of its derivatives up to `derivatives`, is
+    /// finite in f64: per segment and coordinate, |A| + |B| + |C| + |D| bounds |P(u)|,
+    /// (3|A| + 2|B| + |C|)/Δ bounds |dP/dt| and (6|A| + 2|B|)/Δ² bounds |d2P/dt2|.
+    ///
+    /// # Errors
+    /// The first segment whose bound overflows, naming `"points"` (the input's values are too
+    /// large, or its knots too close, for f64).
+    pub fn check_range(&self, derivatives: crate::Derivatives) -> Result<(), InputError> {
+        let order = derivatives.order();
+        for i in 0..self.len() {
+            let segment = self.segment(i);
+            let [a, b, c, d] = segment.power();
+            let inv_dt = 1.0 / segment.dt();
+            for k in 0..self.dim {
+                let (a, b, c, d) = (a[k].abs(), b[k].abs(), c[k].abs(), d[k].abs());
+                let bounds = [
+                    a + b + c + d,
+                    (3.0 * a + 2.0 * b + c) * inv_dt,
+                    (6.0 * a + 2.0 * b) * inv_dt * inv_dt,
+                ];
+                if let Some(o) = (0..=order).find(|&o| !bounds[o].is_finite()) {
+                    let what = ["positions", "first derivatives", "second derivatives"][o];
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "give {what} beyond the float64 range on segment {i} \
+                             (coordinate {k}): the values are too large for this curve"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Segment `i`.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    #[inline]
+    #[must_use]
+    pub fn segment(&self, i: usize) -> Segment<'_> {
+        let n = 4 * self.dim;
+        Segment {
+            coeffs: &self.coeffs[i * n..(i + 1) * n],
+            dim: self.dim,
+            t0: self.knots[i],
+            dt: self.knots[i + 1] - self.knots[i],
+        }
+    }
+}
+
+impl SegmentTable {
+    /// The uniform cubic B-spline control points B_0..B_n of the curve (flat, `dim` values
+    /// each), when its knots are evenly spaced (within 1e-12 relative): every C2 cubic spline
+    /// on uniform knots is a uniform B-spline. Segment i's Bezier points are
+    /// (S_i, 2/3 B_i + 1/3 B_{i+1}, 1/3 B_i + 2/3 B_{i+1}, S_{i+1}) (the course notes "Cubic spline curves", §4), so
+    /// B_i = 2 P1_i − P2_i and B_n = 2 P2_{n−1} − P1_{n−1}. For a natural spline this is those
+    /// notes' relaxed B-spline, with B_0 = S_0 and B_n = S_n.
+    ///
+    /// `None` for uneven knots, or for a curve that is only C1 (then no B-spline matches every
+    /// segment, and the points returned would describe another curve).
+    #[must_use]
+    pub fn bspline_control_points(&self) -> Option<Vec<f64>> {
+        let n = self.len();
+        let h = self.knots[1] - self.knots[0];
+        if (0..n).any(|i| ((self.knots[i + 1] - self.knots[i]) - h).abs() > 1e-12 * h) {
+            return None;
+        }
+        let dim = self.dim;
+        let mut b = Vec::with_capacity((n + 1) * dim);
+        for i in 0..n {
+            let [_, p1, p2, _] = self.segment(i).bezier_points();
+            b.extend((0..dim).map(|k| 2.0 * p1[k] - p2[k]));
+        }
+        let [_, p1, p2, _] = self.segment(n - 1).bezier_points();
+        b.extend((0..dim).map(|k| 2.0 * p2[k] - p1[k]));
+        // The B_i must also reproduce the joints S_i = (B_{i−1} + 4B_i + B_{i+1})/6.
+        let scale = self.coeffs.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        for i in 1..n {
+            let [s, ..] = self.segment(i).bezier_points();
+            for k in 0..dim {
+                let joint =
+                    (b[(i - 1) * dim + k] + 4.0 * b[i * dim + k] + b[(i + 1) * dim + k]) / 6.0;
+                if (joint - s[k]).abs() > 1e-9 * scale {
+                    return None;
+                }
+            }
+        }
+        Some(b)
+    }
+}
+
+impl Segment<'_> {
+    /// The coefficients as Eberly writes them ("Fitting a Natural Spline to Samples of the Form
+    /// (t, f(t))"), in t rather than u:
+    /// S_i(t) = a + b (t − t_i) + c (t − t_i)² + d (t − t_i)³, i.e. a = D, b = C/Δ, c = B/Δ²,
+    /// d = A/Δ³. Returns [a, b, c, d], `dim` values each.
+    #[must_use]
+    pub fn t_power(&self) -> [Vec<f64>; 4] {
+        let [a, b, c, d] = self.power();
+        let dt = self.dt;
+        [
+            d.to_vec(),
+            c.iter().map(|v| v / dt).collect(),
+            b.iter().map(|v| v / (dt * dt)).collect(),
+            a.iter().map(|v| v / (dt * dt * dt)).collect(),
+        ]
+    }
+
+    /// The segment's cubic Bezier control points P0..P3 (`dim` values each): P0 = D,
+    /// P1 = D + C/3, P2 = D + (2C + B)/3, P3 = A + B + C + D.
+    #[must_use]
+    pub fn bezier_points(&self) -> [Vec<f64>; 4] {
+        let [a, b, c, d] = self.power();
+        let k = 0..self.dim;
+        [
+            d.to_vec(),
+            k.clone().map(|k| d[k] + c[k] / 3.0).collect(),
+            k.clone()
+                .map(|k| d[k] + (2.0 * c[k] + b[k]) / 3.0)
+                .collect(),
+            k.map(|k| a[k] + b[k] + c[k] + d[k]).collect(),
+        ]
+    }
+
+    /// The power coefficient vectors (A, B, C, D), each `dim` values.
+    #[inline]
+    #[must_use]
+    pub fn power(&self) -> [&[f64]; 4] {
+        let d = self.dim;
+        [
+            &self.coeffs[..d],
+            &self.coeffs[d..2 * d],
+            &self.coeffs[2 * d..3 * d],
+            &self.coeffs[3 * d..],
+        ]
+    }
+
+    /// The start of the segment's parameter interval, t_i.
+    #[inline]
+    #[must_use]
+    pub fn t0(&self) -> f64 {
+        self.t0
+    }
+
+    /// The length Δ_i of the segment's parameter interval.
+    #[inline]
+    #[must_use]
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// P(u) into `out` (`dim` values), by Horner: D + u(C + u(B + uA)).
+    pub fn eval(&self, u: f64, out: &mut [f64]) {
+        let [a, b, c, d] = self.power();
+        for k in 0..self.dim {
+            out[k] = position(a[k], b[k], c[k], d[k], u);
+        }
+    }
+
+    /// dP/dt at local u into `out`: (C + u(2B + 3uA)) / Δ.
+    pub fn deriv(&self, u: f64, out: &mut [f64]) {
+        let [a, b, c, _] = self.power();
+        let inv_dt = 1.0 / self.dt;
+        for k in 0..self.dim {
+            out[k] = first_derivative(a[k], b[k], c[k], u, inv_dt);
+        }
+    }
+
+    /// d2P/dt2 at local u into `out`: (2B + 6uA) / Δ^2.
+    pub fn deriv2(&self, u: f64, out: &mut [f64]) {
+        let [a, b, _, _] = self.power();
+        let inv_dt = 1.0 / self.dt;
+        for k in 0..self.dim {
+            out[k] = second_derivative(a[k], b[k], u, inv_dt);
+        }
+    }
+}
+
+/// One coordinate of P(u) = A u^3 + B u^2 + C u + D by Horner, D + u(C + u(B + uA)): the order
+/// every f64 evaluator of this crate uses, so that they agree bit for bit.
+#[inline(always)]
+pub(crate) fn position(a: f64, b: f64, c: f64, d: f64, u: f64) -> f64 {
+    d + u * (c + u * (b + u * a))
+}
+
+/// One coordinate of dP/dt = (C + u(2B + 3uA)) / Δ, with `inv_dt` = 1/Δ.
+#[inline(always)]
+pub(crate) fn first_derivative(a: f64, b: f64, c: f64, u: f64, inv_dt: f64) -> f64 {
+    (c + u * (2.0 * b + 3.0 * u * a)) * inv_dt
+}
+
+/// One coordinate of d2P/dt2 = (2B + 6uA) / Δ², with `inv_dt` = 1/Δ.
+#[inline(always)]
+pub(crate) fn second_derivative(a: f64, b: f64, u: f64, inv_dt: f64) -> f64 {
+    (2.0 * b + 6.0 * u * a) * inv_dt * inv_dt
+}

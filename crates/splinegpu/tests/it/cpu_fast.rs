@@ -1,0 +1,86 @@
+//! The fast CPU evaluator against the f64 reference: bit for bit in f64, and the reference
+//! rounded once in f32, whatever the number of threads and wherever their ranges cut curves.
+
+use crate::support::Rng;
+use splinegpu::{
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Samples, Sampling,
+};
+
+fn mixed_job(derivatives: Derivatives) -> EvalJob {
+    let mut rng = Rng(77);
+    let mut job = EvalJob::new(derivatives);
+    for i in 0..40usize {
+        let dim = [1, 2, 3, 5, 30][i % 5];
+        let kind = match i % 3 {
+            0 => CurveKind::Uniform {
+                basis: Basis::CatmullRom,
+                ends: Ends::Closed,
+            },
+            1 => CurveKind::Interpolating {
+                condition: EndCondition::NotAKnot,
+                t: None,
+            },
+            _ => CurveKind::Uniform {
+                basis: Basis::Beta {
+                    bias: 1.2,
+                    tension: 0.5,
+                },
+                ends: Ends::Repeat,
+            },
+        };
+        let curve = Curve::new(kind, rng.points(5 + i % 7, dim, -3.0, 3.0)).unwrap();
+        let sampling = match i % 4 {
+            0 => Sampling::At(vec![]),
+            1 => Sampling::At((0..9).map(|_| rng.range(0.0, 4.0)).collect()),
+            _ => Sampling::PerSegment(1 + (i % 9) as u32),
+        };
+        job.push(&curve, &sampling).unwrap();
+    }
+    // One long curve, so that thread ranges fall inside it.
+    let long = Curve::new(
+        CurveKind::Uniform {
+            basis: Basis::BSpline,
+            ends: Ends::Control,
+        },
+        rng.points(300, 3, -1.0, 1.0),
+    )
+    .unwrap();
+    job.push(&long, &Sampling::PerSegment(100)).unwrap();
+    job
+}
+
+#[test]
+fn fast_f64_equals_the_reference_bit_for_bit_on_any_thread_count() {
+    for derivatives in [Derivatives::None, Derivatives::Second] {
+        let job = mixed_job(derivatives);
+        let reference = splinegpu::evaluate_reference(&job);
+        let mut fast = Samples::<f64>::for_job(&job);
+        for threads in [1, 2, 3, 7, 64] {
+            splinegpu::evaluate_cpu_into(&job, &mut fast, threads);
+            assert_eq!(fast, reference, "{threads} threads, {derivatives:?}");
+        }
+    }
+}
+
+#[test]
+fn fast_f32_is_the_reference_rounded_once() {
+    let job = mixed_job(Derivatives::First);
+    let reference = splinegpu::evaluate_reference(&job);
+    let mut fast = Samples::<f32>::for_job(&job);
+    splinegpu::evaluate_cpu_into(&job, &mut fast, 4);
+    for c in 0..job.len() {
+        let (r, f) = (reference.curve(c), fast.curve(c));
+        assert_eq!(r.t, f.t);
+        let round = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<_>>();
+        assert_eq!(round(r.points), f.points, "curve {c}");
+        assert_eq!(round(r.d1.unwrap()), f.d1.unwrap(), "curve {c}");
+    }
+}
+
+#[test]
+#[should_panic(expected = "plane 0 holds")]
+fn planes_of_the_wrong_length_are_refused() {
+    let job = mixed_job(Derivatives::None);
+    let mut points = vec![0.0f32; 3];
+    splinegpu::evaluate_cpu_values_into(&job, [&mut points, &mut [], &mut []], 2);
+}
