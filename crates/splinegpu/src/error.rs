@@ -4,6 +4,7 @@ use std::fmt;
 
 /// Where an [`InputError`] lies.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Location {
     /// An argument of a library call (a [`Curve`](crate::Curve)'s points, a
     /// [`Sampling`](crate::Sampling)), not yet placed in a document or a batch.
@@ -20,6 +21,7 @@ pub enum Location {
 /// `curve 5: "t" must be strictly increasing: t[3] = 2 follows t[2] = 2` or
 /// `document: "curves" must not be empty`.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct InputError {
     /// The document or the curve the error belongs to.
     pub location: Location,
@@ -101,17 +103,18 @@ impl fmt::Display for Shown {
 
 /// A failure of the GPU path that is not the input's fault.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum GpuError {
     /// wgpu found no adapter (no Vulkan, Metal or DX12 driver).
     #[error("no GPU adapter found: {0}")]
     NoAdapter(String),
     /// The adapter refused to create a device.
-    #[error("could not create a device on {adapter}: {reason}")]
+    #[error("could not create a device on {adapter}: {source}")]
     RequestDevice {
         /// The adapter's name.
         adapter: String,
         /// wgpu's reason.
-        reason: String,
+        source: wgpu::RequestDeviceError,
     },
     /// A value does not fit the GPU's float32 range.
     #[error(
@@ -139,15 +142,26 @@ pub enum GpuError {
     /// ([`GpuContext::record_into`](crate::GpuContext::record_into)).
     #[error(transparent)]
     Target(#[from] TargetError),
-    /// wgpu reported an error (validation, out of memory, lost device) or a mapping failed.
+    /// wgpu reported an error (validation, out of memory, lost device) or a mapping failed:
+    /// wgpu's own error, kept as the source.
     #[error("GPU failure: {0}")]
-    Device(String),
+    Device(#[source] Box<dyn std::error::Error + Send + Sync + 'static>),
+}
+
+impl GpuError {
+    /// A [`GpuError::Device`] from wgpu's error (or a message of our own).
+    pub(crate) fn device(
+        error: impl Into<Box<dyn std::error::Error + Send + Sync + 'static>>,
+    ) -> Self {
+        Self::Device(error.into())
+    }
 }
 
 /// Why a caller's buffer cannot be the target of
 /// [`GpuContext::record_into`](crate::GpuContext::record_into): the caller's mistake, not the
 /// device's.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TargetError {
     /// The buffer was made without `BufferUsages::STORAGE`.
     #[error("the target buffer needs STORAGE usage")]

@@ -11,4 +11,4 @@
 
 pub use crate::gpu::KernelShape;
 pub use crate::gpu::ceiling::{STORE_CEILING_RUN, StoreKernel};
-pub use crate::gpu::eval::{DeviceTime, TimingMethod};
+pub use crate::gpu::timing::{DeviceTime, TimingMethod};

@@ -8,7 +8,7 @@
 //! bench's "gpu-store-ceiling", the bound for that shape on lavapipe).
 
 use super::GpuContext;
-use super::eval::Timestamps;
+use super::timing::Timestamps;
 use crate::error::GpuError;
 
 /// The kernel (shaders/store_only.wgsl).
@@ -46,7 +46,7 @@ impl GpuContext {
         let dispatches = bytes.div_ceil(most.max(run_bytes)).max(1);
         let invocations = bytes.div_ceil(dispatches).div_ceil(run_bytes);
         let invocations = u32::try_from(invocations)
-            .map_err(|_| GpuError::Device(format!("{bytes} bytes: too many invocations")))?;
+            .map_err(|_| GpuError::device(format!("{bytes} bytes: too many invocations")))?;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("store only"),
@@ -82,7 +82,7 @@ impl GpuContext {
             }],
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Device(e.to_string()));
+            return Err(GpuError::device(e));
         }
         Ok(StoreKernel {
             pipeline,
@@ -121,7 +121,7 @@ impl StoreKernel {
         gpu.queue.submit([encoder.finish()]);
         device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(e.to_string()))?;
+            .map_err(GpuError::device)?;
         let wall = start.elapsed().as_secs_f64();
         match stamps {
             Some(stamps) => stamps.read(device, gpu.queue.get_timestamp_period()),

@@ -10,8 +10,8 @@
 
 use super::KernelShape;
 use super::abi::{GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
-use super::eval::unpack_device_planes;
 use super::pack::{self, BatchLimits, Packed};
+use super::readback::unpack_device_planes;
 use crate::error::GpuError;
 use crate::job::EvalJob;
 use crate::job::samples::Samples;

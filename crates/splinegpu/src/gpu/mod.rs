@@ -7,14 +7,19 @@
 pub(crate) mod abi;
 #[cfg(feature = "profiling")]
 pub(crate) mod ceiling;
+mod dispatch;
 pub(crate) mod eval;
 // The kernel's f32 twin on the CPU: the tests check the packer and every kernel shape with it
 // where no GPU is needed.
 #[cfg(test)]
 mod interpret;
 pub(crate) mod pack;
+mod pool;
+mod readback;
+mod record;
+pub(crate) mod timing;
 
-pub use eval::OutputLayout;
+pub use record::OutputLayout;
 
 use crate::error::GpuError;
 
@@ -86,7 +91,7 @@ pub struct GpuContext {
     /// a download buffer first: on lavapipe that copy cost about 8 ms of w1's 60 end to end.
     map_output: bool,
     /// Buffers kept between calls, so that repeated jobs neither allocate nor page-fault.
-    pool: std::sync::Mutex<BufferPool>,
+    pool: std::sync::Mutex<pool::BufferPool>,
     /// Host-side packings kept between calls, for the same reason (one per concurrent call).
     packings: std::sync::Mutex<Vec<pack::Packed>>,
 }
@@ -96,49 +101,6 @@ const _: fn() = || {
     fn send_sync<T: Send + Sync>() {}
     send_sync::<GpuContext>();
 };
-
-/// Device buffers by role, kept between evaluations and grown when a job needs more. Fresh
-/// memory is expensive on CPU adapters (lavapipe backs buffers with host pages that fault in
-/// on first touch, writing them about 15x slower than touched memory). An evaluation
-/// takes its buffers out and puts them back when done, so concurrent evaluations on one
-/// context never share a buffer.
-#[derive(Debug, Default)]
-struct BufferPool {
-    buffers: std::collections::HashMap<(&'static str, usize), wgpu::Buffer>,
-}
-
-impl BufferPool {
-    /// The pooled buffer for `role` (and index, for per-dispatch buffers) if it holds `size`
-    /// bytes, else a new one.
-    fn take(
-        &mut self,
-        device: &wgpu::Device,
-        role: (&'static str, usize),
-        size: u64,
-        usage: wgpu::BufferUsages,
-    ) -> wgpu::Buffer {
-        let size = size.next_multiple_of(16);
-        match self.buffers.remove(&role) {
-            Some(buffer) if buffer.size() >= size => buffer,
-            _ => device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(role.0),
-                size,
-                usage,
-                mapped_at_creation: false,
-            }),
-        }
-    }
-
-    /// Returns a buffer taken for `role`, keeping the larger of it and any already there.
-    fn give(&mut self, role: (&'static str, usize), buffer: wgpu::Buffer) {
-        match self.buffers.get(&role) {
-            Some(kept) if kept.size() >= buffer.size() => {}
-            _ => {
-                self.buffers.insert(role, buffer);
-            }
-        }
-    }
-}
 
 impl GpuContext {
     /// A context on the adapter wgpu's environment conventions pick: `WGPU_BACKEND` limits the
@@ -198,9 +160,9 @@ impl GpuContext {
             required_limits: adapter.limits(),
             ..Default::default()
         }))
-        .map_err(|e| GpuError::RequestDevice {
+        .map_err(|source| GpuError::RequestDevice {
             adapter: info.name.clone(),
-            reason: e.to_string(),
+            source,
         })?;
         Ok(Self::with_parts(device, queue, info))
     }
