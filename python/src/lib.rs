@@ -18,8 +18,8 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use splinegpu::kinds::KindFields;
 use splinegpu::{
-    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, Points,
-    SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, Planes,
+    Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
 };
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -210,16 +210,11 @@ impl Context {
         let offsets = offsets(&job);
         match (&self.gpu, out) {
             (None, None) => {
-                let mut samples = Samples::<f64>::for_job(&EvalJob::new(derivatives));
-                py.detach(|| {
-                    splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads())
-                });
+                let samples = py.detach(|| splinegpu::evaluate_cpu::<f64>(&job, threads()));
                 fresh(py, samples, offsets)
             }
             (Some(gpu), None) => {
-                let mut samples = Samples::<f32>::for_job(&EvalJob::new(derivatives));
-                py.detach(|| gpu.evaluate_into(&job, &mut samples))
-                    .map_err(runtime_error)?;
+                let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
                 fresh(py, samples, offsets)
             }
             (gpu, Some(out)) => out.fill(py, &job, gpu.as_ref(), offsets),
@@ -436,59 +431,23 @@ impl<'py> Out<'py> {
             .take(order + 1)
             .map(|p| p.ok_or_else(|| wrong("a derivative array")))
             .collect::<PyResult<_>>()?;
+        let not_writeable = |what: &str| value_error(format!("out: {what} is not writeable"));
         curve_offsets
-            .readwrite()
+            .try_readwrite()
+            .map_err(|_| not_writeable("curve_offsets"))?
             .as_slice_mut()?
             .copy_from_slice(&offsets);
-        let mut t_view = t.readwrite();
+        let mut t_view = t.try_readwrite().map_err(|_| not_writeable("t"))?;
         let t_slice = t_view.as_slice_mut()?;
         match gpu {
-            None => {
-                let arrays: Vec<Bound<'py, PyArray2<f64>>> = (planes.iter())
-                    .map(|p| {
-                        p.cast::<PyArray2<f64>>()
-                            .cloned()
-                            .map_err(|_| wrong("float64 arrays"))
-                    })
-                    .collect::<PyResult<_>>()?;
-                let mut views: Vec<_> = arrays.iter().map(|a| a.readwrite()).collect();
-                let mut slices: Vec<&mut [f64]> = views
-                    .iter_mut()
-                    .map(|v| v.as_slice_mut())
-                    .collect::<Result<_, _>>()?;
-                if slices.iter().any(|s| s.len() != rows * dim) {
-                    return Err(wrong("an (N, D) array"));
-                }
-                slices.resize_with(3, || &mut []);
-                let mut it = slices.into_iter();
-                let planes = [it.next().unwrap(), it.next().unwrap(), it.next().unwrap()];
-                py.detach(|| {
-                    splinegpu::evaluate_cpu_planes_into(
-                        job,
-                        t_slice,
-                        planes,
-                        splinegpu::available_threads(),
-                    );
-                });
-            }
-            Some(gpu) => {
-                let mut samples = Samples::<f32>::for_job(&EvalJob::new(job.derivatives()));
-                py.detach(|| gpu.evaluate_into(job, &mut samples))
-                    .map_err(runtime_error)?;
-                let (_, t_values, values) = samples.into_parts();
-                t_slice.copy_from_slice(&t_values);
-                for (p, plane) in planes.iter().enumerate() {
-                    let array = plane
-                        .cast::<PyArray2<f32>>()
-                        .map_err(|_| wrong("float32 arrays"))?;
-                    let mut view = array.readwrite();
-                    let slice = view.as_slice_mut()?;
-                    if slice.len() != values[p].len() {
-                        return Err(wrong("an (N, D) array"));
-                    }
-                    slice.copy_from_slice(&values[p]);
-                }
-            }
+            None => fill_planes::<f64>(&planes, rows * dim, "float64 arrays", |p| {
+                py.detach(|| splinegpu::evaluate_cpu_into(job, p.with_t(t_slice), threads()));
+                Ok(())
+            })?,
+            Some(gpu) => fill_planes::<f32>(&planes, rows * dim, "float32 arrays", |p| {
+                py.detach(|| gpu.evaluate_into(job, p.with_t(t_slice)))
+                    .map_err(runtime_error)
+            })?,
         }
         drop(t_view);
         let mut items: Vec<Py<PyAny>> = vec![t.into_any().unbind()];
@@ -502,6 +461,51 @@ impl<'py> Out<'py> {
         items.push(curve_offsets.into_any().unbind());
         pyo3::types::PyTuple::new(py, items)
     }
+}
+
+/// Borrows `arrays` (positions, then the derivatives asked for) as writable planes of `F`,
+/// each `len` values, and hands them to `fill` as [`Planes`].
+fn fill_planes<'py, F: numpy::Element>(
+    arrays: &[Bound<'py, PyAny>],
+    len: usize,
+    dtype: &str,
+    fill: impl FnOnce(Planes<'_, F>) -> PyResult<()>,
+) -> PyResult<()> {
+    let wrong = |what: &str| value_error(format!("out: {what} does not match this call's result"));
+    let arrays: Vec<Bound<'py, PyArray2<F>>> = arrays
+        .iter()
+        .map(|p| p.cast::<PyArray2<F>>().cloned().map_err(|_| wrong(dtype)))
+        .collect::<PyResult<_>>()?;
+    let mut views = Vec::with_capacity(arrays.len());
+    for (p, array) in arrays.iter().enumerate() {
+        let name = ["points", "d1", "d2"][p];
+        views.push(
+            array
+                .try_readwrite()
+                .map_err(|_| value_error(format!("out: {name} is not writeable")))?,
+        );
+    }
+    let mut slices = Vec::with_capacity(views.len());
+    for view in &mut views {
+        let slice = view.as_slice_mut()?;
+        if slice.len() != len {
+            return Err(wrong("an (N, D) array"));
+        }
+        slices.push(slice);
+    }
+    let mut slices = slices.into_iter();
+    let points = slices.next().ok_or_else(|| wrong("points"))?;
+    fill(Planes {
+        t: None,
+        points,
+        d1: slices.next(),
+        d2: slices.next(),
+    })
+}
+
+/// The threads every CPU evaluation uses.
+fn threads() -> usize {
+    splinegpu::available_threads()
 }
 
 /// One fitted interpolating spline, or many: what `splinegpu.CubicSpline` holds.
@@ -670,16 +674,11 @@ impl Splines {
         let order = nu as usize;
         let tuple = match &context.gpu {
             None => {
-                let mut samples = Samples::<f64>::for_job(&EvalJob::new(derivatives));
-                py.detach(|| {
-                    splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads())
-                });
+                let samples = py.detach(|| splinegpu::evaluate_cpu::<f64>(&job, threads()));
                 fresh(py, samples, offsets)?
             }
             Some(gpu) => {
-                let mut samples = Samples::<f32>::for_job(&EvalJob::new(derivatives));
-                py.detach(|| gpu.evaluate_into(&job, &mut samples))
-                    .map_err(runtime_error)?;
+                let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
                 fresh(py, samples, offsets)?
             }
         };
@@ -720,7 +719,7 @@ fn time_rust_tessellate<'py>(
             let start = std::time::Instant::now();
             let job = build()?;
             let evaluated = std::time::Instant::now();
-            splinegpu::evaluate_cpu_into(&job, &mut samples, threads);
+            splinegpu::evaluate_cpu_into(&job, samples.planes_for(&job), threads);
             let end = std::time::Instant::now();
             whole = whole.min((end - start).as_secs_f64());
             evaluation = evaluation.min((end - evaluated).as_secs_f64());

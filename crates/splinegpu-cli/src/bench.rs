@@ -18,7 +18,7 @@ use splinegpu::{Basis, GpuContext, Sampling};
 use splinegpu::{Curve, CurveKind, Ends, Points};
 use splinegpu::{Derivatives, EvalJob};
 use splinegpu::{EndCondition, Fitter};
-use splinegpu::{available_threads, evaluate_cpu_values_into};
+use splinegpu::{Planes, available_threads, evaluate_cpu_into};
 
 /// Why a bench run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -428,7 +428,7 @@ fn ours_1t(curves: &[(Curve, Vec<kurbo::CubicBez>)], sampling: impl Fn(&Curve) -
         job.push(curve, &sampling(curve)).expect("valid");
     }
     let mut out = splinegpu::Samples::<f64>::for_job(&job);
-    splinegpu::evaluate_cpu_into(&job, &mut out, 1);
+    splinegpu::evaluate_cpu_into(&job, out.planes_for(&job), 1);
     job.sample_count() as u64
 }
 
@@ -708,9 +708,11 @@ fn cli_w1(
         let mut failure = None;
         let (seconds, min_seconds, max_seconds) = time(|| {
             match crate::document::parse_document_from_reader(&document[..]) {
-                Ok(job) => {
-                    splinegpu::evaluate_cpu_into(&job, &mut samples_f64, available_threads())
-                }
+                Ok(job) => splinegpu::evaluate_cpu_into(
+                    &job,
+                    samples_f64.planes_for(&job),
+                    available_threads(),
+                ),
                 Err(e) => failure = Some(BenchError::Cli(e.to_string())),
             }
             if let Err(e) = write() {
@@ -785,7 +787,7 @@ fn gpu_paths(
     // The first call on a context pays what later calls do not (pipeline compilation on
     // lavapipe, buffer allocation): measured once, on its own.
     let start = Instant::now();
-    match gpu.evaluate_into(job, &mut samples) {
+    match gpu.evaluate_into(job, samples.planes_for(job)) {
         Err(e @ GpuError::TooLarge { .. }) => {
             eprintln!("splinegpu: {workload}: GPU paths skipped: {e}");
             return Ok(());
@@ -795,7 +797,7 @@ fn gpu_paths(
     let first = start.elapsed().as_secs_f64();
     report(&measurement("gpu-first-call", (first, first, first), 4));
     let mut failure = None;
-    let device = time(|| match gpu.evaluate_timed(job, &mut samples) {
+    let device = time(|| match gpu.evaluate_timed(job, samples.planes_for(job)) {
         Ok(time) => Some(time.seconds),
         Err(e) => {
             failure = Some(e);
@@ -809,8 +811,11 @@ fn gpu_paths(
     // Values into the caller's planes, as the CPU paths write them (t is derivable from the
     // plans; `evaluate_into` forms it too).
     let end_to_end = time(|| {
-        let [p, d1, d2] = samples.planes_mut();
-        black_box(gpu.evaluate_values_into(job, [p, d1, d2]).ok());
+        let values_only = Planes {
+            t: None,
+            ..samples.planes_for(job)
+        };
+        black_box(gpu.evaluate_into(job, values_only).ok());
         None
     });
     report(&measurement("gpu-end-to-end", end_to_end, 4));
@@ -878,8 +883,11 @@ fn evaluation(
     let mut f32_samples = splinegpu::Samples::<f32>::for_job(job);
     for (path, threads) in [("cpu-1t", 1), ("cpu-all", available_threads())] {
         let run = time(|| {
-            let [p, d1, d2] = f32_samples.planes_mut();
-            evaluate_cpu_values_into(job, [p, d1, d2], threads);
+            let values_only = Planes {
+                t: None,
+                ..f32_samples.planes_for(job)
+            };
+            evaluate_cpu_into(job, values_only, threads);
             black_box(&f32_samples);
             None
         });
@@ -887,7 +895,7 @@ fn evaluation(
     }
     // The floor: a plain two-line loop over the same work, f32 on all threads.
     if let Some(plain) = plain {
-        let [p, _, _] = f32_samples.planes_mut();
+        let p = f32_samples.planes_for(job).points;
         let threads = available_threads();
         let run = time(|| {
             match &plain {
@@ -902,8 +910,11 @@ fn evaluation(
     drop(f32_samples);
     let mut f64_samples = splinegpu::Samples::<f64>::for_job(job);
     let run = time(|| {
-        let [p, d1, d2] = f64_samples.planes_mut();
-        evaluate_cpu_values_into(job, [p, d1, d2], available_threads());
+        let values_only = Planes {
+            t: None,
+            ..f64_samples.planes_for(job)
+        };
+        evaluate_cpu_into(job, values_only, available_threads());
         black_box(&f64_samples);
         None
     });

@@ -102,14 +102,14 @@ pub fn write_on(
             job,
             format,
             chunk_samples,
-            |j, s: &mut Samples<f32>| gpu.evaluate_into(j, s),
+            |j, s: &mut Samples<f32>| gpu.evaluate_into(j, s.planes_for(j)),
             out,
             progress,
         ),
         None => {
             let threads = splinegpu::available_threads();
             let cpu = |j: &EvalJob, s: &mut Samples<f64>| -> Result<(), GpuError> {
-                splinegpu::evaluate_cpu_into(j, s, threads);
+                splinegpu::evaluate_cpu_into(j, s.planes_for(j), threads);
                 Ok(())
             };
             write(job, format, chunk_samples, cpu, out, progress)
@@ -288,7 +288,7 @@ fn write_npz<F: SampleFloat>(
     npz.begin("points", dtype, &[n, dim as u64])?;
     for chunk in job.chunks(chunk_samples) {
         run(&chunk.job, &chunk.pieces, samples)?;
-        let (t, [points, d1, d2]) = samples.t_and_planes_mut();
+        let (t, [points, d1, d2]) = (samples.t(), samples.planes());
         npz.write(bytemuck::cast_slice(points))?;
         let waiting: [&[u8]; 3] = [
             bytemuck::cast_slice(t),

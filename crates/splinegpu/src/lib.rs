@@ -4,9 +4,11 @@
 //! of cubic segments in power form, formed in f64. A [`Sampling`] resolves into a
 //! [`SamplePlan`]; many curves with their plans make an [`EvalJob`], whose [`JobLayout`] says
 //! where every sample goes. The GPU ([`GpuContext::evaluate`], f32 samples), the fast CPU
-//! evaluator ([`evaluate_cpu_into`], f32 or f64 on every thread) and the f64 reference
-//! ([`evaluate_reference`]) evaluate it with the same indexing. The f32 results meet the
-//! accuracy promise stated in [`accuracy::gpu_bound`].
+//! evaluator ([`evaluate_cpu`], f32 or f64 on every thread) and the f64 reference
+//! ([`evaluate_reference`]) evaluate it with the same indexing; each backend's `*_into` call
+//! ([`evaluate_cpu_into`], [`GpuContext::evaluate_into`]) writes into a caller's [`Planes`]
+//! instead, and [`GpuContext::record_into`] into a renderer's buffer. The f32 results meet
+//! the accuracy promise stated in [`accuracy`].
 //!
 //! The families follow A. R. Smith, "Spline Tutorial Notes" (Lucasfilm Technical Memo 77,
 //! 1983); the interpolating fits follow D. Eberly, "Fitting a Natural Spline to Samples of the
@@ -27,8 +29,7 @@
 //! job.push(&curve, &Sampling::PerSegment(8))?;
 //!
 //! // f64 on every thread; `GpuContext::new()?.evaluate(&job)?` gives the same in f32.
-//! let mut samples = splinegpu::Samples::<f64>::for_job(&job);
-//! splinegpu::evaluate_cpu_into(&job, &mut samples, splinegpu::available_threads());
+//! let samples = splinegpu::evaluate_cpu::<f64>(&job, splinegpu::available_threads());
 //! let c = samples.curve(0);
 //! assert_eq!(c.t.len(), 3 * 8 + 1);
 //! assert_eq!(&c.points[..2], &[0.0, 0.0]); // Catmull-Rom passes through its points
@@ -121,16 +122,14 @@ pub mod profiling;
 pub use wgpu;
 
 pub use basis::Basis;
-pub use cpu::{
-    available_threads, evaluate_cpu_into, evaluate_cpu_planes_into, evaluate_cpu_values_into,
-    evaluate_reference,
-};
+pub use cpu::{available_threads, evaluate_cpu, evaluate_cpu_into, evaluate_reference};
 pub use curve::{Curve, CurveKind, Ends};
 pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
 pub use gpu::{GpuContext, OutputLayout, adapters, hardware_adapter, new_instance};
 pub use job::layout::JobLayout;
+pub use job::planes::Planes;
 pub use job::samples::{CurveSamples, SampleFloat, Samples};
 pub use job::{Chunk, Derivatives, EvalJob, Piece};
 pub use points::{MAX_DIM, Points};

@@ -342,9 +342,9 @@ fn samples_reused_across_chunks_do_not_leak_between_them() {
     // A later, smaller chunk must not show values of an earlier, larger one.
     let job = job(Derivatives::None);
     let mut samples = Samples::<f64>::for_job(&job);
-    splinegpu::evaluate_cpu_into(&job, &mut samples, 2);
+    splinegpu::evaluate_cpu_into(&job, samples.planes_for(&job), 2);
     let small = job.chunks(3).last().unwrap();
-    splinegpu::evaluate_cpu_into(&small.job, &mut samples, 2);
+    splinegpu::evaluate_cpu_into(&small.job, samples.planes_for(&small.job), 2);
     assert_eq!(samples, splinegpu::evaluate_reference(&small.job));
 }
 
@@ -389,7 +389,11 @@ where
         .unwrap();
     }
     let mut samples = Samples::<F>::for_job(&job);
-    for plane in samples.planes_mut() {
+    let planes = samples.planes_for(&job);
+    for plane in [Some(planes.points), planes.d1, planes.d2]
+        .into_iter()
+        .flatten()
+    {
         for (i, v) in plane.iter_mut().enumerate() {
             *v = values[i % values.len()];
         }

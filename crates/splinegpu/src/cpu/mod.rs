@@ -9,8 +9,9 @@
 //! `gpu::interpret`.
 
 use crate::job::EvalJob;
+use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
-use crate::sampling::{LOC_BLOCK, Plan, SampleLoc, SamplePlan};
+use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
 /// Evaluates every curve of `job` in f64 on one thread, sample by sample through
@@ -47,59 +48,27 @@ pub fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
 }
 
-/// Evaluates `job` into `samples` (laid out for it first, reusing its memory) on `threads`
-/// threads. With `F = f64` the values equal [`evaluate_reference`]'s exactly.
-pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, samples: &mut Samples<F>, threads: usize) {
-    samples.prepare_planes(job);
-    let (t, planes) = samples.t_and_planes_mut();
-    evaluate_cpu_planes_into(job, t, planes, threads);
+/// Evaluates every curve of `job` on `threads` threads into new [`Samples`], f32 or f64. With
+/// `F = f64` the values equal [`evaluate_reference`]'s exactly.
+#[must_use]
+pub fn evaluate_cpu<F: SampleFloat>(job: &EvalJob, threads: usize) -> Samples<F> {
+    let mut samples = Samples::for_job(&EvalJob::new(job.derivatives()));
+    evaluate_cpu_into(job, samples.planes_for(job), threads);
+    samples
 }
 
-/// Evaluates `job` into a caller's planes, laid out as the job's
-/// [`JobLayout`](crate::JobLayout) lays out host planes: curve after curve, `dim` values per
-/// sample, positions in `planes[0]` and, when the job asks for them, first and second
-/// derivatives in `planes[1]` and `planes[2]` (pass empty slices otherwise). Nothing is
-/// allocated per sample; the samples are split into one contiguous range per thread.
+/// Evaluates `job` into a caller's [`Planes`] on `threads` threads: each sample's t when they
+/// hold it, the positions and the derivatives the job asks for. Nothing is allocated per
+/// sample; the samples are split into one contiguous range per thread, and an arc-length or
+/// tolerance sample's place is computed once for its t and its values. Through
+/// [`Samples::planes_for`] repeated jobs reuse one `Samples`' memory.
 ///
 /// # Panics
-/// If a plane the job needs is not exactly as long as the job's values.
-pub fn evaluate_cpu_values_into<F: SampleFloat>(
-    job: &EvalJob,
-    planes: [&mut [F]; 3],
-    threads: usize,
-) {
-    evaluate_cpu_planes_into(job, &mut [], planes, threads);
-}
-
-/// [`evaluate_cpu_values_into`], writing each sample's t into `t` too (the job's
-/// [`samples`](crate::JobLayout::samples) long) unless it is empty: for callers who own the
-/// memory of both (the Python bindings write into NumPy arrays). An arc-length or tolerance
-/// sample's place is computed once for both.
-///
-/// # Panics
-/// If a plane the job needs, or a non-empty `t`, has the wrong length.
-pub fn evaluate_cpu_planes_into<F: SampleFloat>(
-    job: &EvalJob,
-    mut params: &mut [f64],
-    planes: [&mut [F]; 3],
-    threads: usize,
-) {
+/// If a plane's presence or length does not match the job (see [`Planes`]).
+pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, planes: Planes<'_, F>, threads: usize) {
+    let (mut params, planes) = planes.checked(job);
     let layout = job.layout();
-    let (total, values) = (layout.samples(), layout.values());
-    let order = job.derivatives().order();
-    for (o, plane) in planes.iter().enumerate() {
-        let expected = if order >= o { values } else { 0 };
-        assert!(
-            plane.len() == expected,
-            "plane {o} holds {} values, the job {expected}",
-            plane.len()
-        );
-    }
-    assert!(
-        params.is_empty() || params.len() == total,
-        "t holds {} of {total} samples",
-        params.len()
-    );
+    let total = layout.samples();
     let threads = threads.clamp(1, total.max(1));
     let [mut points, mut d1, mut d2] = planes;
     std::thread::scope(|scope| {
@@ -290,9 +259,7 @@ fn curve_range<F: SampleFloat>(
     if !t.is_empty() && !plan.is_computed() {
         // Read off the plan segment by segment (a grid's t per sample would cost two integer
         // divisions each).
-        let mut parameters = Vec::with_capacity(range.len());
-        plan.extend_t(range.clone(), &mut parameters);
-        t.copy_from_slice(&parameters);
+        plan.extend_t(range.clone(), &mut Filling::new(t));
     }
     match &plan.0 {
         Plan::Grid(grid) => {

@@ -7,14 +7,15 @@ use super::GpuContext;
 use super::dispatch::{F32, Tables, Target};
 use super::pack::{self, Packed};
 use super::pool::Lease;
-use super::readback::{Destination, Planes, map_read, map_write, unpack_device_planes};
+use super::readback::{map_read, map_write, unpack_device_planes};
 use super::timing::{DeviceTime, Timestamps, TimingMethod};
 use crate::error::GpuError;
 use crate::job::EvalJob;
-use crate::job::samples::Samples;
+use crate::job::planes::Planes;
+use crate::job::samples::{Samples, fill_t};
 
 impl GpuContext {
-    /// Evaluates every curve of `job` on the GPU and reads the f32 samples back.
+    /// Evaluates every curve of `job` on the GPU and reads the f32 samples back (t in f64).
     ///
     /// The output is cut into as many dispatches as the device's storage-binding limit needs;
     /// all of them go in one submission.
@@ -24,49 +25,22 @@ impl GpuContext {
     /// one binding ([`GpuError::TooLarge`]), or a device failure ([`GpuError::Device`]).
     pub fn evaluate(&self, job: &EvalJob) -> Result<Samples<f32>, GpuError> {
         let mut samples = Samples::for_job(&EvalJob::new(job.derivatives()));
-        self.evaluate_into(job, &mut samples)?;
+        self.evaluate_into(job, samples.planes_for(job))?;
         Ok(samples)
     }
 
-    /// [`GpuContext::evaluate`] into `samples`, which is laid out for `job` first, reusing
-    /// its memory: a caller evaluating jobs of similar size again and again allocates nothing
-    /// and pays no page faults after the first call.
-    ///
-    /// # Errors
-    /// As [`GpuContext::evaluate`].
-    pub fn evaluate_into(&self, job: &EvalJob, samples: &mut Samples<f32>) -> Result<(), GpuError> {
-        samples.prepare_planes(job);
-        self.run(job, false, samples)?;
-        Ok(())
-    }
-
-    /// Evaluates `job` into a caller's planes, laid out as the job's
-    /// [`JobLayout`](crate::JobLayout) lays out host planes (as
-    /// [`evaluate_cpu_values_into`](crate::evaluate_cpu_values_into) does): positions in
-    /// `planes[0]` and, when the job asks for them, first and second derivatives in `planes[1]`
-    /// and `planes[2]` (pass empty slices otherwise). No t is formed: for a consumer that needs
-    /// only the values (t is derivable from the job's plans, [`SamplePlan::loc`](crate::SamplePlan::loc)).
+    /// [`GpuContext::evaluate`] into a caller's [`Planes`]: t (formed on the host, in f64,
+    /// while the device works) when they hold it, the positions and the derivatives the job
+    /// asks for. Through [`Samples::planes_for`] a caller evaluating jobs of similar size again
+    /// and again allocates nothing and pays no page faults after the first call.
     ///
     /// # Errors
     /// As [`GpuContext::evaluate`].
     ///
     /// # Panics
-    /// If a plane the job needs is not exactly as long as the job's values.
-    pub fn evaluate_values_into(
-        &self,
-        job: &EvalJob,
-        planes: [&mut [f32]; 3],
-    ) -> Result<(), GpuError> {
-        let (values, order) = (job.layout().values(), job.derivatives().order());
-        for (o, plane) in planes.iter().enumerate() {
-            let expected = if order >= o { values } else { 0 };
-            assert_eq!(plane.len(), expected, "plane {o}: {} values", plane.len());
-        }
-        let mut planes = Planes {
-            layout: job.layout(),
-            planes,
-        };
-        self.run(job, false, &mut planes)?;
+    /// If a plane's presence or length does not match the job (see [`Planes`]).
+    pub fn evaluate_into(&self, job: &EvalJob, planes: Planes<'_, f32>) -> Result<(), GpuError> {
+        self.run(job, false, planes)?;
         Ok(())
     }
 
@@ -80,10 +54,9 @@ impl GpuContext {
     pub fn evaluate_timed(
         &self,
         job: &EvalJob,
-        samples: &mut Samples<f32>,
+        planes: Planes<'_, f32>,
     ) -> Result<DeviceTime, GpuError> {
-        samples.prepare_planes(job);
-        let time = self.run(job, true, samples)?;
+        let time = self.run(job, true, planes)?;
         // A job without samples dispatches nothing: zero seconds.
         Ok(time.unwrap_or(DeviceTime {
             seconds: 0.0,
@@ -102,10 +75,11 @@ impl GpuContext {
         &self,
         job: &EvalJob,
         timed: bool,
-        samples: &mut impl Destination,
+        planes: Planes<'_, f32>,
     ) -> Result<Option<DeviceTime>, GpuError> {
+        let (t, planes) = planes.checked(job);
         if job.layout().values() == 0 {
-            samples.fill_t(job, &[], &[]);
+            fill_t(job, &[], &[], t);
             return Ok(None);
         }
         let packed = self.pack(job)?;
@@ -121,7 +95,7 @@ impl GpuContext {
         // time (lavapipe, w1: 7-9 ms of t).
         let t_known = outputs.arc_places.is_none();
         if t_known && !timed {
-            samples.fill_t(job, &packed.computed_t, &[]);
+            fill_t(job, &packed.computed_t, &[], t);
         }
         if let Some(e) = pollster::block_on(out_of_memory.pop()) {
             return Err(GpuError::device(e));
@@ -130,17 +104,16 @@ impl GpuContext {
             return Err(GpuError::device(e));
         }
         map_read(&self.device, &outputs.download, |bytes| {
-            let (layout, planes) = samples.layout_and_planes();
             let values = bytemuck::cast_slice(bytes);
-            unpack_device_planes(values, layout, outputs.download_stride, planes);
+            unpack_device_planes(values, job.layout(), outputs.download_stride, planes);
         })?;
         if t_known && timed {
-            samples.fill_t(job, &packed.computed_t, &[]);
+            fill_t(job, &packed.computed_t, &[], t);
         }
         if let Some((arc_places, arc_bytes)) = &outputs.arc_places {
             map_read(&self.device, arc_places, |bytes| {
                 let places = bytemuck::cast_slice(&bytes[..*arc_bytes as usize]);
-                samples.fill_t(job, &packed.computed_t, places);
+                fill_t(job, &packed.computed_t, places, t);
             })?;
         }
         drop(lease);

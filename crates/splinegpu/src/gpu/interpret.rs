@@ -14,7 +14,7 @@ use super::pack::{self, BatchLimits, Packed};
 use super::readback::unpack_device_planes;
 use crate::error::GpuError;
 use crate::job::EvalJob;
-use crate::job::samples::Samples;
+use crate::job::samples::{Samples, fill_t};
 use crate::sampling::arc_length::SOLVE_STEPS;
 
 /// Evaluates `job` as the kernel does, in f32 on the CPU: packs it for `shape` within
@@ -31,9 +31,10 @@ pub(super) fn evaluate_interpreted(
     let packed = pack::pack(job, shape, limits)?;
     let mut samples = Samples::for_job(job);
     let (download, locs) = run_dispatches(&packed, shape.lanes);
-    let (layout, planes) = samples.layout_and_planes_mut();
+    let layout = job.layout();
+    let (t, planes) = samples.planes_for(job).checked(job);
     unpack_device_planes(&download, layout, layout.device_values(), planes);
-    samples.fill_t_from(job, &packed.computed_t, &locs[packed.arc_locs..]);
+    fill_t(job, &packed.computed_t, &locs[packed.arc_locs..], t);
     Ok(samples)
 }
 

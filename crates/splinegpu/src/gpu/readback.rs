@@ -4,46 +4,8 @@
 
 use std::sync::mpsc;
 
-use super::abi;
 use crate::error::GpuError;
-use crate::job::EvalJob;
 use crate::job::layout::JobLayout;
-use crate::job::samples::Samples;
-
-/// Where [`GpuContext::run`] puts a job's samples: a [`Samples`] (t formed on the host too),
-/// or a caller's planes (values only).
-pub(super) trait Destination {
-    /// Forms the t of `job`'s samples, if this destination keeps them (see
-    /// `Samples::fill_t_from`).
-    fn fill_t(&mut self, job: &EvalJob, tolerance: &[f64], arc_places: &[abi::GpuLoc]);
-    /// The host layout and the planes the values go into.
-    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]);
-}
-
-impl Destination for Samples<f32> {
-    fn fill_t(&mut self, job: &EvalJob, tolerance: &[f64], arc_places: &[abi::GpuLoc]) {
-        self.fill_t_from(job, tolerance, arc_places);
-    }
-
-    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]) {
-        self.layout_and_planes_mut()
-    }
-}
-
-/// A caller's planes, laid out as `layout` says.
-pub(super) struct Planes<'a> {
-    pub(super) layout: &'a JobLayout,
-    pub(super) planes: [&'a mut [f32]; 3],
-}
-
-impl Destination for Planes<'_> {
-    fn fill_t(&mut self, _: &EvalJob, _: &[f64], _: &[abi::GpuLoc]) {}
-
-    fn layout_and_planes(&mut self) -> (&JobLayout, [&mut [f32]; 3]) {
-        let [p, d1, d2] = &mut self.planes;
-        (self.layout, [&mut **p, &mut **d1, &mut **d2])
-    }
-}
 
 /// Copies every curve's values from planes in the device layout (`values`, plane p from
 /// `p · stride` on, each the job layout's `device_values()` long) into `planes`, packed as

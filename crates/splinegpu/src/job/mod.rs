@@ -5,6 +5,7 @@ use std::sync::Arc;
 use crate::curve::Curve;
 use crate::error::InputError;
 pub(crate) mod layout;
+pub(crate) mod planes;
 pub(crate) mod samples;
 
 use crate::sampling::{Plan, SamplePlan, Sampling};

@@ -3,7 +3,9 @@
 use std::fmt::Debug;
 
 use crate::job::layout::JobLayout;
+use crate::job::planes::Planes;
 use crate::job::{Derivatives, EvalJob};
+use crate::sampling::Filling;
 
 mod sealed {
     pub trait Sealed {}
@@ -106,42 +108,20 @@ impl<F: Copy + Default> Samples<F> {
 
     /// Fills in `t` from `job`'s plans (`self` laid out for it already).
     pub(crate) fn fill_t(&mut self, job: &EvalJob) {
-        self.fill_t_from(job, &[], &[]);
+        fill_t(job, &[], &[], &mut self.t);
     }
 
-    /// [`Samples::fill_t`], taking the t of the curves sampled by tolerance from `tolerance`
-    /// (theirs, curve after curve) and those of the curves sampled by arc length from the
-    /// places the GPU found, `arc_places` (curve after curve), where they hold them, rather
-    /// than computing the places again. A place's segment counts from the job's first
-    /// segment; t = t_i + u·Δ_i is formed in f64, t_{i+1} at u = 1.
-    pub(crate) fn fill_t_from(
-        &mut self,
-        job: &EvalJob,
-        tolerance: &[f64],
-        arc_places: &[crate::gpu::abi::GpuLoc],
-    ) {
-        self.t.clear();
-        let (mut tolerance, mut arc_places) = (tolerance, arc_places);
-        let mut first_segment = 0;
-        for c in 0..job.len() {
-            let (table, plan) = (job.table(c), job.plan(c));
-            let n = plan.len();
-            if plan.is_arc_length() && arc_places.len() >= n {
-                let (own, after) = arc_places.split_at(n);
-                let knots = table.knots();
-                self.t.extend(own.iter().map(|place| {
-                    let segment = place.segment as usize - first_segment;
-                    crate::sampling::t_at(knots, segment, f64::from(place.u))
-                }));
-                arc_places = after;
-            } else if plan.is_tolerance() && tolerance.len() >= n {
-                let (own, after) = tolerance.split_at(n);
-                self.t.extend_from_slice(own);
-                tolerance = after;
-            } else {
-                plan.extend_t(0..n, &mut self.t);
-            }
-            first_segment += table.len();
+    /// Lays `self` out for `job` (keeping its allocations, as [`Samples::prepare`] does, but
+    /// leaving t for the evaluator to write) and views it as the [`Planes`] the evaluators'
+    /// `*_into` calls write: t, the positions and the derivatives the job asks for.
+    pub fn planes_for(&mut self, job: &EvalJob) -> Planes<'_, F> {
+        self.prepare_planes(job);
+        let order = self.derivatives.order();
+        Planes {
+            t: Some(&mut self.t),
+            points: &mut self.points,
+            d1: (order >= 1).then_some(&mut self.d1[..]),
+            d2: (order >= 2).then_some(&mut self.d2[..]),
         }
     }
 
@@ -215,18 +195,55 @@ impl<F> Samples<F> {
         [&self.points, &self.d1, &self.d2]
     }
 
+    /// Every sample's t, curve after curve.
+    #[must_use]
+    pub fn t(&self) -> &[f64] {
+        &self.t
+    }
+
     /// Mutable planes: positions, then d1 and d2 (empty when not computed).
-    pub fn planes_mut(&mut self) -> [&mut [F]; 3] {
+    pub(crate) fn planes_mut(&mut self) -> [&mut [F]; 3] {
         [&mut self.points, &mut self.d1, &mut self.d2]
     }
+}
 
-    /// The parameters and the mutable planes, for an evaluator that writes both.
-    pub fn t_and_planes_mut(&mut self) -> (&mut [f64], [&mut [F]; 3]) {
-        (&mut self.t, [&mut self.points, &mut self.d1, &mut self.d2])
+/// Writes the t of `job`'s samples into `t` (the job's samples long), taking those of the
+/// curves sampled by tolerance from `tolerance` (theirs, curve after curve) and those of the
+/// curves sampled by arc length from the places the GPU found, `arc_places` (curve after
+/// curve), where they hold them, rather than computing the places again. A place's segment
+/// counts from the job's first segment; t = t_i + u·Δ_i is formed in f64, t_{i+1} at u = 1.
+/// An empty `t` (a caller who wants none) is left alone.
+pub(crate) fn fill_t(
+    job: &EvalJob,
+    tolerance: &[f64],
+    arc_places: &[crate::gpu::abi::GpuLoc],
+    t: &mut [f64],
+) {
+    if t.is_empty() {
+        return;
     }
-
-    /// The layout with the mutable planes, for writers that place values by it.
-    pub(crate) fn layout_and_planes_mut(&mut self) -> (&JobLayout, [&mut [F]; 3]) {
-        (&self.layout, [&mut self.points, &mut self.d1, &mut self.d2])
+    let (mut tolerance, mut arc_places) = (tolerance, arc_places);
+    let mut out = Filling::new(t);
+    let mut first_segment = 0;
+    for c in 0..job.len() {
+        let (table, plan) = (job.table(c), job.plan(c));
+        let n = plan.len();
+        if plan.is_arc_length() && arc_places.len() >= n {
+            let (own, after) = arc_places.split_at(n);
+            let knots = table.knots();
+            out.extend(own.iter().map(|place| {
+                let segment = place.segment as usize - first_segment;
+                crate::sampling::t_at(knots, segment, f64::from(place.u))
+            }));
+            arc_places = after;
+        } else if plan.is_tolerance() && tolerance.len() >= n {
+            let (own, after) = tolerance.split_at(n);
+            out.extend(own.iter().copied());
+            tolerance = after;
+        } else {
+            plan.extend_t(0..n, &mut out);
+        }
+        first_segment += table.len();
     }
+    debug_assert_eq!(out.filled(), job.layout().samples());
 }

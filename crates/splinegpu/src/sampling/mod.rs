@@ -320,7 +320,7 @@ impl Grid {
     /// Appends the t of grid samples `range` to `out`, equal to [`Grid::loc`]'s: segment by
     /// segment, with u = j/k divided once per call for ordinary k rather than once per sample
     /// (with the two integer divisions that find a sample's segment, that was most of the cost).
-    fn extend_t(&self, range: Range<usize>, out: &mut Vec<f64>) {
+    fn extend_t(&self, range: Range<usize>, out: &mut impl Extend<f64>) {
         let k = self.k as usize;
         let closing = self.closing();
         let grid_end = range.end.min(closing);
@@ -329,7 +329,6 @@ impl Grid {
         } else {
             Vec::new()
         };
-        out.reserve(range.len());
         let mut g = range.start;
         while g < grid_end {
             let (segment, j) = (g / k, g % k);
@@ -344,7 +343,7 @@ impl Grid {
             g += n;
         }
         if range.end > closing {
-            out.push(self.knots[self.segments()]);
+            out.extend([self.knots[self.segments()]]);
         }
     }
 
@@ -479,11 +478,12 @@ impl SamplePlan {
         matches!(self.0, Plan::Tolerance(_))
     }
 
-    /// Appends the t of samples `range` to `out`, as [`SamplePlan::loc`] gives them.
+    /// Appends the t of samples `range` to `out` (a `Vec<f64>`, say), as [`SamplePlan::loc`]
+    /// gives them.
     ///
     /// # Panics
     /// If the range reaches past the plan's end.
-    pub fn extend_t(&self, range: std::ops::Range<usize>, out: &mut Vec<f64>) {
+    pub fn extend_t(&self, range: std::ops::Range<usize>, out: &mut impl Extend<f64>) {
         assert!(
             range.end <= self.len(),
             "samples {range:?} past the plan's end"
@@ -589,6 +589,42 @@ fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
             Shown(t)
         ),
     )
+}
+
+/// A slice filled front to back through [`Extend`], so that [`SamplePlan::extend_t`] writes
+/// straight into a caller's memory.
+pub(crate) struct Filling<'a> {
+    out: &'a mut [f64],
+    filled: usize,
+}
+
+impl<'a> Filling<'a> {
+    /// An empty start on `out`.
+    pub(crate) fn new(out: &'a mut [f64]) -> Self {
+        Self { out, filled: 0 }
+    }
+
+    /// How many values have been written.
+    pub(crate) fn filled(&self) -> usize {
+        self.filled
+    }
+}
+
+impl Extend<f64> for Filling<'_> {
+    /// Writes the values after those already written.
+    ///
+    /// # Panics
+    /// If they would run past the slice's end.
+    fn extend<I: IntoIterator<Item = f64>>(&mut self, values: I) {
+        let mut values = values.into_iter();
+        let mut written = 0;
+        for (slot, v) in self.out[self.filled..].iter_mut().zip(&mut values) {
+            *slot = v;
+            written += 1;
+        }
+        self.filled += written;
+        assert!(values.next().is_none(), "more t than samples");
+    }
 }
 
 #[cfg(test)]

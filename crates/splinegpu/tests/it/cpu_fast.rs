@@ -3,7 +3,7 @@
 
 use crate::support::Rng;
 use splinegpu::{
-    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Samples, Sampling,
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Planes, Samples, Sampling,
 };
 
 fn mixed_job(derivatives: Derivatives) -> EvalJob {
@@ -56,7 +56,7 @@ fn fast_f64_equals_the_reference_bit_for_bit_on_any_thread_count() {
         let reference = splinegpu::evaluate_reference(&job);
         let mut fast = Samples::<f64>::for_job(&job);
         for threads in [1, 2, 3, 7, 64] {
-            splinegpu::evaluate_cpu_into(&job, &mut fast, threads);
+            splinegpu::evaluate_cpu_into(&job, fast.planes_for(&job), threads);
             assert_eq!(fast, reference, "{threads} threads, {derivatives:?}");
         }
     }
@@ -67,7 +67,7 @@ fn fast_f32_is_the_reference_rounded_once() {
     let job = mixed_job(Derivatives::First);
     let reference = splinegpu::evaluate_reference(&job);
     let mut fast = Samples::<f32>::for_job(&job);
-    splinegpu::evaluate_cpu_into(&job, &mut fast, 4);
+    splinegpu::evaluate_cpu_into(&job, fast.planes_for(&job), 4);
     for c in 0..job.len() {
         let (r, f) = (reference.curve(c), fast.curve(c));
         assert_eq!(r.t, f.t);
@@ -78,9 +78,17 @@ fn fast_f32_is_the_reference_rounded_once() {
 }
 
 #[test]
-#[should_panic(expected = "plane 0 holds")]
+#[should_panic(expected = "points holds 3 of")]
 fn planes_of_the_wrong_length_are_refused() {
     let job = mixed_job(Derivatives::None);
     let mut points = vec![0.0f32; 3];
-    splinegpu::evaluate_cpu_values_into(&job, [&mut points, &mut [], &mut []], 2);
+    splinegpu::evaluate_cpu_into(&job, Planes::new(&mut points), 2);
+}
+
+#[test]
+#[should_panic(expected = "the job computes d1, but no plane was given for it")]
+fn a_derivative_plane_the_job_needs_is_not_left_out_silently() {
+    let job = mixed_job(Derivatives::First);
+    let mut points = vec![0.0f64; job.layout().values()];
+    splinegpu::evaluate_cpu_into(&job, Planes::new(&mut points), 2);
 }

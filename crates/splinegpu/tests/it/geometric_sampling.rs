@@ -458,7 +458,7 @@ fn geometric_samplings_chunk_and_evaluate_on_the_gpu_within_the_promise() {
     }
     // The fast evaluator equals the reference; the GPU keeps the promise at the same places.
     let mut fast = splinegpu::Samples::<f64>::for_job(&job);
-    splinegpu::evaluate_cpu_into(&job, &mut fast, 2);
+    splinegpu::evaluate_cpu_into(&job, fast.planes_for(&job), 2);
     assert_eq!(fast, whole);
     assert_gpu_matches_cpu(&job);
 }

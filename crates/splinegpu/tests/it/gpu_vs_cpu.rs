@@ -170,7 +170,8 @@ fn values_into_a_callers_planes_equal_evaluates() {
     let values = job.layout().values();
     let mut planes = [vec![1.0f32; values], vec![2.0; values], vec![3.0; values]];
     let [p, d1, d2] = &mut planes;
-    context.evaluate_values_into(&job, [p, d1, d2]).unwrap();
+    let into = splinegpu::Planes::new(p).with_d1(d1).with_d2(d2);
+    context.evaluate_into(&job, into).unwrap();
     for c in 0..job.len() {
         let (curve, range) = (whole.curve(c), job.layout().values_of(c));
         assert_eq!(&planes[0][range.clone()], curve.points, "curve {c}");
@@ -206,7 +207,9 @@ fn timed_evaluations_give_what_untimed_ones_give() {
         let whole = context.evaluate(&job).unwrap();
         // Laid out for an empty job: its t are formed by the evaluation, not by `for_job`.
         let mut timed = Samples::for_job(&EvalJob::new(Derivatives::Second));
-        let time = context.evaluate_timed(&job, &mut timed).unwrap();
+        let time = context
+            .evaluate_timed(&job, timed.planes_for(&job))
+            .unwrap();
         assert!(time.seconds > 0.0, "{time:?}");
         assert_eq!(timed, whole, "arc length: {with_arc_length}");
     }
@@ -434,7 +437,7 @@ fn eight_threads_on_one_context_each_get_what_they_get_alone() {
                 let mut reused = Samples::for_job(&EvalJob::new(Derivatives::None));
                 for _ in 0..4 {
                     assert_eq!(&context.evaluate(job).unwrap(), expected);
-                    context.evaluate_into(job, &mut reused).unwrap();
+                    context.evaluate_into(job, reused.planes_for(job)).unwrap();
                     assert_eq!(&reused, expected);
                 }
             });
@@ -460,7 +463,7 @@ fn evaluate_into_reuses_samples_across_jobs_of_other_shapes() {
     }];
     let mut reused = context.evaluate(&jobs[1]).unwrap();
     for job in jobs.iter().chain(&jobs) {
-        context.evaluate_into(job, &mut reused).unwrap();
+        context.evaluate_into(job, reused.planes_for(job)).unwrap();
         assert_eq!(reused, context.evaluate(job).unwrap());
     }
 }
