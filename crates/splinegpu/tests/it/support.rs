@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: the GPU context and the GPU-vs-CPU comparison.
 #![allow(
     dead_code,
+    unused_macros,
+    unused_imports,
     reason = "each test binary uses a different subset of these helpers"
 )]
 
@@ -27,6 +29,34 @@ pub(crate) fn gpu() -> Option<&'static GpuContext> {
         })
         .as_ref()
 }
+
+/// Whether this machine runs the GPU tests: under CI always (a missing adapter then fails
+/// them), elsewhere when wgpu finds an adapter.
+pub(crate) fn gpu_tests_run() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true") || gpu().is_some()
+}
+
+/// The GPU tests `$test` (each a `fn()` that panics on failure) as libtest-mimic trials named
+/// by their paths, reported as ignored where [`gpu_tests_run`] says no. An attribute before a
+/// test (a `#[cfg]`) applies to its trial.
+macro_rules! gpu_trials {
+    ($($(#[$attr:meta])* $test:path),* $(,)?) => {{
+        let run = $crate::support::gpu_tests_run();
+        let mut trials = Vec::new();
+        $(
+            $(#[$attr])*
+            trials.push(
+                libtest_mimic::Trial::test(stringify!($test).replace(' ', ""), || {
+                    $test();
+                    Ok(())
+                })
+                .with_ignored_flag(!run),
+            );
+        )*
+        trials
+    }};
+}
+pub(crate) use gpu_trials;
 
 /// The worst GPU sample of a comparison, as a fraction of its promised bound.
 #[derive(Clone, Debug, Default)]

@@ -72,21 +72,18 @@ fn check_every_curve(center: f64, span: f64) {
     }
 }
 
-#[test]
-fn gpu_matches_cpu_for_every_family_end_and_dimension() {
+pub(crate) fn gpu_matches_cpu_for_every_family_end_and_dimension() {
     check_every_curve(0.0, 10.0);
 }
 
-#[test]
-fn gpu_matches_cpu_near_one_million() {
+pub(crate) fn gpu_matches_cpu_near_one_million() {
     // Points near 1e6 spanning about 1: f32 spacing there is 0.0625, so only coefficients
     // formed in f64 relative to the segment's own origin keep positions and derivatives.
     check_every_curve(1.0e6, 0.5);
     check_every_curve(-3.0e6, 2.0);
 }
 
-#[test]
-fn gpu_matches_cpu_on_2000_mixed_curves_in_one_call() {
+pub(crate) fn gpu_matches_cpu_on_2000_mixed_curves_in_one_call() {
     let mut rng = Rng(2000);
     let mut job = EvalJob::new(Derivatives::Second);
     let bases = bases();
@@ -138,8 +135,7 @@ fn medium_job() -> EvalJob {
     job
 }
 
-#[test]
-fn jobs_split_into_many_dispatches_give_the_same_samples() {
+pub(crate) fn jobs_split_into_many_dispatches_give_the_same_samples() {
     let Some(shared) = gpu() else { return };
     let job = medium_job();
     let whole = shared.evaluate(&job).unwrap();
@@ -149,8 +145,7 @@ fn jobs_split_into_many_dispatches_give_the_same_samples() {
     assert_eq!(whole, pieces);
 }
 
-#[test]
-fn values_into_a_callers_planes_equal_evaluates() {
+pub(crate) fn values_into_a_callers_planes_equal_evaluates() {
     let Some(context) = gpu() else { return };
     let mut job = medium_job();
     let mut rng = Rng(78);
@@ -183,8 +178,7 @@ fn values_into_a_callers_planes_equal_evaluates() {
 /// A timed evaluation forms t after the device is done rather than while it works: the same
 /// samples, t included, as an untimed one.
 #[cfg(feature = "profiling")]
-#[test]
-fn timed_evaluations_give_what_untimed_ones_give() {
+pub(crate) fn timed_evaluations_give_what_untimed_ones_give() {
     let Some(context) = gpu() else { return };
     let mut rng = Rng(79);
     let kind = CurveKind::Uniform {
@@ -216,8 +210,7 @@ fn timed_evaluations_give_what_untimed_ones_give() {
 }
 
 #[cfg(feature = "profiling")]
-#[test]
-fn every_kernel_shape_meets_the_promise() {
+pub(crate) fn every_kernel_shape_meets_the_promise() {
     if gpu().is_none() {
         return;
     }
@@ -241,8 +234,7 @@ fn every_kernel_shape_meets_the_promise() {
     }
 }
 
-#[test]
-fn empty_sample_lists_give_empty_curves() {
+pub(crate) fn empty_sample_lists_give_empty_curves() {
     let Some(context) = gpu() else { return };
     let kind = CurveKind::Uniform {
         basis: Basis::BSpline,
@@ -269,8 +261,7 @@ fn random_knots(rng: &mut Rng, n: usize, start: f64, ratio: f64) -> Vec<f64> {
     t
 }
 
-#[test]
-fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
+pub(crate) fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
     use splinegpu::EndCondition;
     let mut rng = Rng(10_000);
     let mut job = EvalJob::new(Derivatives::Second);
@@ -325,8 +316,7 @@ fn gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots() {
     }
 }
 
-#[test]
-fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
+pub(crate) fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
     use splinegpu::EndCondition;
     // Knots near 1e4, the middle segment 1e-6 wide between segments of width 1: in f32 the
     // whole narrow segment lies within one ulp of 1e4 (ulp 0.00098), so the segment and u must
@@ -364,8 +354,7 @@ fn gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4() {
     }
 }
 
-#[test]
-fn positions_of_knots_closer_than_f32_reaches_are_evaluated() {
+pub(crate) fn positions_of_knots_closer_than_f32_reaches_are_evaluated() {
     use splinegpu::EndCondition;
     // Knots 1e-300 apart: 1/Δ is beyond f32, but positions never use it (the cubic is in local
     // u), so a job of positions runs on the GPU; one with derivatives is refused, naming 1/Δ.
@@ -423,8 +412,7 @@ fn thread_job(i: usize) -> EvalJob {
     job
 }
 
-#[test]
-fn eight_threads_on_one_context_each_get_what_they_get_alone() {
+pub(crate) fn eight_threads_on_one_context_each_get_what_they_get_alone() {
     let Some(context) = gpu() else { return };
     let jobs: Vec<EvalJob> = (0..8).map(thread_job).collect();
     let alone: Vec<_> = jobs
@@ -445,8 +433,7 @@ fn eight_threads_on_one_context_each_get_what_they_get_alone() {
     });
 }
 
-#[test]
-fn evaluate_into_reuses_samples_across_jobs_of_other_shapes() {
+pub(crate) fn evaluate_into_reuses_samples_across_jobs_of_other_shapes() {
     let Some(context) = gpu() else { return };
     let jobs = [medium_job(), {
         let mut job = EvalJob::new(Derivatives::None);

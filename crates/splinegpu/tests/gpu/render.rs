@@ -28,8 +28,7 @@ fn ring(derivatives: Derivatives) -> EvalJob {
     job
 }
 
-#[test]
-fn recorded_samples_follow_the_output_layout() {
+pub(crate) fn recorded_samples_follow_the_output_layout() {
     let Some(context) = gpu() else { return };
     let (device, queue) = (context.device(), context.queue());
     let mut job = ring(Derivatives::Second);
@@ -124,8 +123,7 @@ fn check_recorded_samples(context: &GpuContext, job: &EvalJob) {
     }
 }
 
-#[test]
-fn unusable_target_buffers_are_errors() {
+pub(crate) fn unusable_target_buffers_are_errors() {
     let Some(context) = gpu() else { return };
     let device = context.device();
     let job = ring(Derivatives::None);

@@ -1,0 +1,35 @@
+//! The library's GPU tests, in one binary whose harness (libtest-mimic) looks for an adapter
+//! first: on a machine where wgpu finds none they are reported as ignored, not passed, and
+//! under CI (`CI=true`) they run and fail, so that a broken driver install is never green.
+//!
+//! Each test compares the GPU with the f64 reference under the accuracy promise
+//! ([`splinegpu::accuracy`]) or checks the renderer path; `cargo test --test gpu -- --list`
+//! lists them.
+
+mod gpu_vs_cpu;
+mod render;
+#[path = "../it/support.rs"]
+mod support;
+
+fn main() -> std::process::ExitCode {
+    let tests = support::gpu_trials![
+        gpu_vs_cpu::gpu_matches_cpu_for_every_family_end_and_dimension,
+        gpu_vs_cpu::gpu_matches_cpu_near_one_million,
+        gpu_vs_cpu::gpu_matches_cpu_on_2000_mixed_curves_in_one_call,
+        gpu_vs_cpu::jobs_split_into_many_dispatches_give_the_same_samples,
+        gpu_vs_cpu::values_into_a_callers_planes_equal_evaluates,
+        #[cfg(feature = "profiling")]
+        gpu_vs_cpu::timed_evaluations_give_what_untimed_ones_give,
+        #[cfg(feature = "profiling")]
+        gpu_vs_cpu::every_kernel_shape_meets_the_promise,
+        gpu_vs_cpu::empty_sample_lists_give_empty_curves,
+        gpu_vs_cpu::gpu_matches_cpu_on_10000_interpolating_curves_with_their_own_knots,
+        gpu_vs_cpu::gpu_places_t_inside_a_segment_a_million_times_narrower_near_1e4,
+        gpu_vs_cpu::positions_of_knots_closer_than_f32_reaches_are_evaluated,
+        gpu_vs_cpu::eight_threads_on_one_context_each_get_what_they_get_alone,
+        gpu_vs_cpu::evaluate_into_reuses_samples_across_jobs_of_other_shapes,
+        render::recorded_samples_follow_the_output_layout,
+        render::unusable_target_buffers_are_errors,
+    ];
+    libtest_mimic::run(&libtest_mimic::Arguments::from_args(), tests).exit_code()
+}
