@@ -22,6 +22,12 @@ MATURIN_PEP517_ARGS="--profile dev" "$venv/bin/python" -m pip install -q "./pyth
 # profile `cargo test` builds it in, so that after scripts/test.sh's tests this does nothing),
 # so that a binary left from older code cannot answer for it.
 cargo build --quiet --profile test --bin splinegpu
+# Lints: ruff over the package and its tests (python/pyproject.toml's rules), and mypy's
+# stubtest, which checks the type stubs (__init__.pyi) against the installed package.
+"$venv/bin/python" -m pip install -q "ruff==0.17.6" "mypy==2.4.1"
+"$venv/bin/ruff" check python/
+"$venv/bin/python" -m mypy.stubtest splinegpu --ignore-missing-stub \
+    --mypy-config-file python/mypy-stubtest.ini
 # From the repository root, so that `import splinegpu` finds the installed package, not the
 # source folder python/splinegpu (which has no compiled extension).
 "$venv/bin/pytest" -q python/tests

@@ -8,7 +8,7 @@
     ((11300, 3), array([  0, 113, 226]))
 
 The curve kinds, their fields and the four samplings are those of the `splinegpu` command line
-(see the README's "Input document"); results hold the same numbers as its NPZ output: float32
+(docs/input-format.md in the repository); results hold the same numbers as its NPZ output: float32
 from the GPU backend, float64 from the CPU backend, t always float64.
 
 `CubicSpline` follows `scipy.interpolate.CubicSpline` for the cases it covers.
@@ -18,17 +18,18 @@ from __future__ import annotations
 
 import os
 import threading
-from typing import Any, Optional, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 # Mesa's device-select Vulkan layer prints XDG_RUNTIME_DIR warnings on headless machines unless
 # this is set before the first Vulkan instance exists (as the command line does).
 os.environ.setdefault("NODEVICE_SELECT", "1")
 
-import numpy as np  # noqa: E402
+import numpy as np
 
-from . import _native  # noqa: E402
+from . import _native
 
-__all__ = ["Context", "Tessellation", "CubicSpline", "CubicSplines", "KIND_NAMES"]
+__all__ = ["KIND_NAMES", "Context", "CubicSpline", "CubicSplines", "Tessellation"]
 
 KIND_NAMES: tuple = tuple(_native.KIND_NAMES)
 
@@ -42,7 +43,7 @@ class Tessellation:
     for; `curve_offsets` (C + 1,) int64: curve c owns rows curve_offsets[c]:curve_offsets[c+1].
     """
 
-    __slots__ = ("t", "points", "d1", "d2", "curve_offsets")
+    __slots__ = ("curve_offsets", "d1", "d2", "points", "t")
 
     def __init__(self, t, points, d1, d2, curve_offsets):
         self.t = t
@@ -51,7 +52,7 @@ class Tessellation:
         self.d2 = d2
         self.curve_offsets = curve_offsets
 
-    def curve(self, c: int) -> "Tessellation":
+    def curve(self, c: int) -> Tessellation:
         """Curve c's rows (views, no copy)."""
         a, b = self.curve_offsets[c], self.curve_offsets[c + 1]
         pick = lambda x: None if x is None else x[a:b]  # noqa: E731
@@ -100,7 +101,7 @@ def _curves(points):
     return out
 
 
-def _per_curve(name: str, value, curves: int, ndim: int) -> Optional[list]:
+def _per_curve(name: str, value, curves: int, ndim: int) -> list | None:
     """A per-curve argument (t, at, derivatives): one array for all curves, a 2-D array of one
     row per curve, or a list of arrays (ragged)."""
     if value is None:
@@ -157,12 +158,12 @@ class Context:
     def __repr__(self) -> str:
         return f"splinegpu.Context({self.info!r})"
 
-    def tessellate(self, points, kind: str = "catmull-rom", *, ends: Optional[str] = None,
-                   tension: Optional[float] = None, bias: Optional[float] = None,
+    def tessellate(self, points, kind: str = "catmull-rom", *, ends: str | None = None,
+                   tension: float | None = None, bias: float | None = None,
                    matrix=None, t=None, start_derivative=None, end_derivative=None,
-                   per_segment: Optional[int] = None, at=None, arc_length: Optional[int] = None,
-                   tolerance: Optional[float] = None, derivatives: int = 0,
-                   out: Optional[Tessellation] = None) -> Tessellation:
+                   per_segment: int | None = None, at=None, arc_length: int | None = None,
+                   tolerance: float | None = None, derivatives: int = 0,
+                   out: Tessellation | None = None) -> Tessellation:
         """Fits and samples a batch of curves of one kind.
 
         `points`: a (C, n, D) array or a list of (n_i, D) arrays (ragged). `kind` and its fields
@@ -171,8 +172,8 @@ class Context:
         `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
         (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
         within 1e-5, so their t differ between backends in the low bits; tolerance t are the
-        same on both). `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same shape, whose
-        arrays are filled again instead of new ones.
+        same on both). `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same
+        shape, whose arrays are filled again instead of new ones.
 
         Raises ValueError naming the curve, field and value for bad input.
         """
@@ -211,7 +212,7 @@ class Context:
         return Tessellation(*result)
 
 
-_shared_cpu: Optional[Context] = None
+_shared_cpu: Context | None = None
 _shared_lock = threading.Lock()
 
 
@@ -257,7 +258,7 @@ class CubicSpline:
     """
 
     def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,
-                 context: Optional[Context] = None):
+                 context: Context | None = None):
         if extrapolate not in (None, False):
             raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
         x = np.ascontiguousarray(_float64(x, "x"))
@@ -282,7 +283,7 @@ class CubicSpline:
     @property
     def c(self) -> np.ndarray:
         """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes."""
-        return self._joined(self._native.coefficients(0)).reshape((4, -1) + self._trailing)
+        return self._joined(self._native.coefficients(0)).reshape((4, -1, *self._trailing))
 
     def _joined(self, values: np.ndarray) -> np.ndarray:
         """`values` (..., m) of the fitted columns as y's: for a complex y, the real parts'
@@ -304,7 +305,7 @@ class CubicSpline:
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
         return out
 
-    def derivative(self, nu: int = 1) -> "_Derivative":
+    def derivative(self, nu: int = 1) -> _Derivative:
         """The nu-th derivative as a callable with `.x` and `.c` (SciPy returns a PPoly)."""
         return _Derivative(self, nu)
 
@@ -339,7 +340,7 @@ class CubicSplines:
     offsets (S + 1,)): spline i's values are rows offsets[i]:offsets[i+1].
     """
 
-    def __init__(self, xs, ys, bc_type="not-a-knot", context: Optional[Context] = None):
+    def __init__(self, xs, ys, bc_type="not-a-knot", context: Context | None = None):
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
             xs = _aligned(xs, "xs")
         else:

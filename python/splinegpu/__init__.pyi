@@ -1,12 +1,15 @@
-from typing import Any, Optional, Sequence, Tuple, Union
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-KIND_NAMES: Tuple[str, ...]
+from . import _native as _native
 
-ArrayLike = npt.ArrayLike
-Batch = Union[npt.NDArray[np.float64], Sequence[ArrayLike]]
+KIND_NAMES: tuple[str, ...]
+
+_ArrayLike = npt.ArrayLike
+_Batch = npt.NDArray[np.float64] | Sequence[_ArrayLike]
 
 class Tessellation:
     """The samples of `Context.tessellate`: t (N,) float64; points, d1, d2 (N, D), float32 from
@@ -14,11 +17,11 @@ class Tessellation:
 
     t: npt.NDArray[np.float64]
     points: npt.NDArray[Any]
-    d1: Optional[npt.NDArray[Any]]
-    d2: Optional[npt.NDArray[Any]]
+    d1: npt.NDArray[Any] | None
+    d2: npt.NDArray[Any] | None
     curve_offsets: npt.NDArray[np.int64]
     def __init__(self, t: Any, points: Any, d1: Any, d2: Any, curve_offsets: Any) -> None: ...
-    def curve(self, c: int) -> "Tessellation": ...
+    def curve(self, c: int) -> Tessellation: ...
     def __len__(self) -> int: ...
 
 class Context:
@@ -31,55 +34,55 @@ class Context:
     def backend(self) -> str: ...
     def tessellate(
         self,
-        points: Batch,
+        points: _Batch,
         kind: str = "catmull-rom",
         *,
-        ends: Optional[str] = None,
-        tension: Optional[float] = None,
-        bias: Optional[float] = None,
-        matrix: Optional[ArrayLike] = None,
-        t: Optional[Batch] = None,
-        start_derivative: Optional[Batch] = None,
-        end_derivative: Optional[Batch] = None,
-        per_segment: Optional[int] = None,
-        at: Optional[Batch] = None,
-        arc_length: Optional[int] = None,
-        tolerance: Optional[float] = None,
+        ends: str | None = None,
+        tension: float | None = None,
+        bias: float | None = None,
+        matrix: _ArrayLike | None = None,
+        t: _Batch | None = None,
+        start_derivative: _Batch | None = None,
+        end_derivative: _Batch | None = None,
+        per_segment: int | None = None,
+        at: _Batch | None = None,
+        arc_length: int | None = None,
+        tolerance: float | None = None,
         derivatives: int = 0,
-        out: Optional[Tessellation] = None,
+        out: Tessellation | None = None,
     ) -> Tessellation: ...
 
-BcType = Union[str, Tuple[Tuple[int, ArrayLike], Tuple[int, ArrayLike]]]
+_BcType = str | tuple[tuple[int, _ArrayLike], tuple[int, _ArrayLike]]
 
 class CubicSpline:
     """scipy.interpolate.CubicSpline's signature and meaning for the cases it covers."""
 
     x: npt.NDArray[np.float64]
     axis: int
-    context: Optional[Context]
+    context: Context | None
     def __init__(
         self,
-        x: ArrayLike,
-        y: ArrayLike,
+        x: _ArrayLike,
+        y: _ArrayLike,
         axis: int = 0,
-        bc_type: BcType = "not-a-knot",
-        extrapolate: Optional[bool] = None,
-        context: Optional[Context] = None,
+        bc_type: _BcType = "not-a-knot",
+        extrapolate: bool | None = None,
+        context: Context | None = None,
     ) -> None: ...
     @property
     def c(self) -> npt.NDArray[Any]: ...  # float64, or complex128 for a complex y
-    def __call__(self, x: ArrayLike, nu: int = 0) -> npt.NDArray[Any]: ...
+    def __call__(self, x: _ArrayLike, nu: int = 0) -> npt.NDArray[Any]: ...
     def derivative(self, nu: int = 1) -> Any: ...
 
 class CubicSplines:
     """Many cubic splines with their own knots, fitted and evaluated in one batch."""
 
-    context: Optional[Context]
+    context: Context | None
     def __init__(
-        self, xs: Batch, ys: Batch, bc_type: BcType = "not-a-knot",
-        context: Optional[Context] = None,
+        self, xs: _Batch, ys: _Batch, bc_type: _BcType = "not-a-knot",
+        context: Context | None = None,
     ) -> None: ...
     def __len__(self) -> int: ...
     def __call__(
-        self, xs: Batch, nu: int = 0
-    ) -> Tuple[npt.NDArray[Any], npt.NDArray[np.int64]]: ...
+        self, xs: _Batch, nu: int = 0
+    ) -> tuple[npt.NDArray[Any], npt.NDArray[np.int64]]: ...

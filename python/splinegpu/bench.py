@@ -124,7 +124,7 @@ def workers():
                           dashboard_address=None) as cluster, Client(cluster):
             lazy = da.from_array(curves, chunks=(2_500, 34, 3))
 
-            def run():
+            def run(lazy=lazy):
                 splinegpu.dask.tessellate(lazy, backend="cpu", kind="catmull-rom",
                                           per_segment=32).points.sum().compute()
 

@@ -19,17 +19,17 @@ A worker lost mid-run is handled by Dask: its partitions are computed again else
 from __future__ import annotations
 
 import threading
-from typing import Any, Dict, List
+from typing import Any
 
 import numpy as np
 
 import splinegpu
 
-_contexts: Dict[str, "splinegpu.Context"] = {}
+_contexts: dict[str, splinegpu.Context] = {}
 _lock = threading.Lock()
 
 
-def worker_context(backend: str = "auto") -> "splinegpu.Context":
+def worker_context(backend: str = "auto") -> splinegpu.Context:
     """This process's context for `backend`, made on first use and kept."""
     with _lock:
         if backend not in _contexts:
@@ -37,7 +37,7 @@ def worker_context(backend: str = "auto") -> "splinegpu.Context":
         return _contexts[backend]
 
 
-def _block(curves, backend: str, kwargs: Dict[str, Any]):
+def _block(curves, backend: str, kwargs: dict[str, Any]):
     """One partition: (t, points, d1, d2, curve_offsets) of its curves, offsets from 0."""
     if not isinstance(curves, np.ndarray):
         curves = list(curves)
@@ -53,7 +53,7 @@ class DaskTessellation:
         self.t, self.points, self.d1, self.d2 = t, points, d1, d2
         self.curve_offsets = curve_offsets
 
-    def compute(self) -> "splinegpu.Tessellation":
+    def compute(self) -> splinegpu.Tessellation:
         """Everything, gathered into one `splinegpu.Tessellation` in this process."""
         import dask
 
@@ -83,7 +83,7 @@ def tessellate(curves, *, backend: str = "auto", **kwargs) -> DaskTessellation:
     meta = dask.compute(*[dask.delayed(_meta)(p) for p in parts])
     starts = np.concatenate([[0], np.cumsum([m["rows"] for m in meta])])
     # The partitions as delayed tuples again (persisted), one getter per array.
-    arrays: List[Any] = []
+    arrays: list[Any] = []
     for index in range(4):
         blocks = []
         for p, m in zip(parts, meta):
@@ -98,7 +98,8 @@ def tessellate(curves, *, backend: str = "auto", **kwargs) -> DaskTessellation:
         for p, m, start in zip(parts, meta, starts[:-1])
     ]
     offsets.append(da.from_array(np.array([starts[-1]], dtype=np.int64)))
-    return DaskTessellation(*arrays, da.concatenate(offsets))
+    t, points, d1, d2 = arrays
+    return DaskTessellation(t, points, d1, d2, da.concatenate(offsets))
 
 
 def _meta(part):

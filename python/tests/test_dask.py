@@ -17,7 +17,7 @@ from distributed import Client, LocalCluster
 import splinegpu
 import splinegpu.dask
 
-KW = dict(kind="bspline", per_segment=8, derivatives=1)
+KW = {"kind": "bspline", "per_segment": 8, "derivatives": 1}
 
 
 @pytest.fixture(scope="module")

@@ -36,7 +36,7 @@ def knots(kind, n, rng):
 
 def data(bc, n, shape, rng, x_kind):
     x = knots(x_kind, n, rng)
-    y = rng.uniform(-2, 2, (n,) + shape)
+    y = rng.uniform(-2, 2, (n, *shape))
     if bc == "periodic":
         y[-1] = y[0]
     return x, y
@@ -84,7 +84,7 @@ def test_cpu_matches_scipy(bc, shape, x_kind):
 def test_not_a_knot_on_two_or_three_points_is_scipys_line_or_parabola(n, shape, x_kind):
     rng = np.random.default_rng(n * 10 + len(shape) + len(x_kind))
     x = knots(x_kind, n, rng) if x_kind == "random" else np.array([0.0, 1e-3, 1e3][:n])
-    y = rng.uniform(-2, 2, (n,) + shape)
+    y = rng.uniform(-2, 2, (n, *shape))
     ours, theirs = splinegpu.CubicSpline(x, y), SciPySpline(x, y)
     q = np.concatenate([x, rng.uniform(x[0], x[-1], 200)])
     for nu in (0, 1, 2):
@@ -101,7 +101,7 @@ def test_not_a_knot_on_two_or_three_points_is_scipys_line_or_parabola(n, shape, 
         np.testing.assert_allclose(a, b, rtol=0, atol=atol, err_msg=f"nu={nu}")
     # In a batch, beside a spline of 5 points: the same splines.
     x5 = np.sort(rng.uniform(-5, 5, 5))
-    y5 = rng.uniform(-2, 2, (5,) + shape)
+    y5 = rng.uniform(-2, 2, (5, *shape))
     batch = splinegpu.CubicSplines([x, x5], [y.reshape(n, -1), y5.reshape(5, -1)])
     values, offsets = batch([q, x5])
     np.testing.assert_array_equal(values[offsets[0]:offsets[1]], ours(q).reshape(len(q), -1))
