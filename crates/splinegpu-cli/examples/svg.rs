@@ -18,7 +18,7 @@ const COLUMNS: usize = 3;
 const PANEL: f64 = 300.0;
 /// Room above the panels for the title, and above each panel's plot for its label.
 const TITLE: f64 = 56.0;
-const LABEL: f64 = 28.0;
+const LABEL: f64 = 40.0;
 
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -127,12 +127,17 @@ fn panel(
         PANEL - 8.0,
         PANEL - 8.0
     )?;
+    let (family, details) = label(curve);
     writeln!(
         svg,
-        "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"13\" fill=\"{colour}\">curve {c}: {}</text>",
+        "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"14\" fill=\"{colour}\">curve {c}: {}</text>\n\
+         <text x=\"{:.1}\" y=\"{:.1}\" font-size=\"11\" fill=\"#555\">{}</text>",
         x0 + 12.0,
         y0 + 22.0,
-        escape(&label(curve))
+        escape(&family),
+        x0 + 12.0,
+        y0 + 37.0,
+        escape(&details)
     )?;
     writeln!(
         svg,
@@ -151,9 +156,9 @@ fn panel(
     )
 }
 
-/// The curve's family and the fields that shape it, as the document gives them:
-/// `cardinal (tension 1, ends repeat), 8 points`.
-fn label(curve: &Value) -> String {
+/// The curve's family, and the fields that shape it as the document gives them with its
+/// point count: (`cardinal`, `ends repeat, tension 1.0; 8 points`).
+fn label(curve: &Value) -> (String, String) {
     let kind = curve["kind"].as_str().unwrap_or("?");
     let fields: Vec<String> = (curve.as_object().into_iter().flatten())
         .filter(|(key, _)| !matches!(key.as_str(), "kind" | "points"))
@@ -163,11 +168,12 @@ fn label(curve: &Value) -> String {
         })
         .collect();
     let points = curve["points"].as_array().map_or(0, Vec::len);
-    if fields.is_empty() {
-        format!("{kind}, {points} points")
+    let details = if fields.is_empty() {
+        format!("{points} points")
     } else {
-        format!("{kind} ({}), {points} points", fields.join(", "))
-    }
+        format!("{}; {points} points", fields.join(", "))
+    };
+    (kind.to_string(), details)
 }
 
 /// A document point's first two coordinates (a 1-D point against its index `i`).

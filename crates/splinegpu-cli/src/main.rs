@@ -1,5 +1,5 @@
 //! The `splinegpu` command line: argument parsing, I/O and exit status only.
-//! The contract it follows is `CLI-CONTRACT.md` in the steering repository's shared folder.
+//! The contract it follows is docs/input-format.md.
 
 use std::io::{self, IsTerminal, Write};
 use std::path::{Path, PathBuf};

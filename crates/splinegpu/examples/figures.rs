@@ -1,18 +1,23 @@
 //! Draws the README's figures with the crate itself, as SVG: every family on the same control
 //! polygon (as the memo draws them), and one curve sampled per segment, by arc length and by
-//! tolerance, side by side.
+//! tolerance, side by side, each polyline over the curve it stands for.
 //!
-//! `cargo run --example figures -- docs` writes `docs/families.svg` and `docs/samplings.svg`.
+//! `cargo run -p splinegpu --example figures -- docs` (from the repository root) writes
+//! `docs/families.svg` and `docs/samplings.svg`; its test (`cargo test --example figures`)
+//! fails when the committed pictures are not what the crate draws now.
 
 use std::error::Error;
 use std::fmt::Write as _;
 
 use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, Points, Sampling};
 
-/// One panel: a title, the control polygon (if any) and the samples to draw.
+/// One panel: a title, the control polygon (if any), the true curve (if it is not the
+/// samples themselves) and the samples to draw.
 struct Panel {
     title: String,
     polygon: Vec<[f64; 2]>,
+    /// The curve, densely sampled, drawn thin under a sampling's polyline.
+    curve: Vec<[f64; 2]>,
     samples: Vec<[f64; 2]>,
     /// Draw each sample as a dot.
     dots: bool,
@@ -34,7 +39,15 @@ fn main() -> Result<(), Box<dyn Error>> {
         .nth(1)
         .unwrap_or_else(|| "docs".to_string());
     std::fs::create_dir_all(&dir)?;
+    for (name, svg) in figures()? {
+        std::fs::write(format!("{dir}/{name}"), svg)?;
+    }
+    println!("wrote {dir}/families.svg and {dir}/samplings.svg");
+    Ok(())
+}
 
+/// The two pictures, by file name.
+fn figures() -> Result<[(&'static str, String); 2], Box<dyn Error>> {
     // 1. Every family on the same polygon ("repeat" ends, so each starts and ends near it).
     let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
     let families: Vec<(&str, CurveKind)> = vec![
@@ -84,11 +97,12 @@ fn main() -> Result<(), Box<dyn Error>> {
         panels.push(Panel {
             title: title.to_string(),
             polygon: POLYGON.to_vec(),
+            curve: Vec::new(),
             samples: sample(&curve, &Sampling::PerSegment(32))?,
             dots: false,
         });
     }
-    std::fs::write(format!("{dir}/families.svg"), svg(&panels, 3))?;
+    let families = svg(&panels, 3);
 
     // 2. One curve, three samplings with about the same number of points.
     let curve = Curve::new(uniform(Basis::CatmullRom), Points::new(2, coords)?)?;
@@ -96,6 +110,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let n = per_segment.len() as u32;
     let by_length = sample(&curve, &Sampling::ArcLength(n))?;
     let by_tolerance = sample(&curve, &Sampling::Tolerance(0.03))?;
+    let dense = sample(&curve, &Sampling::PerSegment(64))?;
     let panels = [
         ("per segment, 4 each", per_segment),
         ("arc length, same count", by_length),
@@ -104,12 +119,14 @@ fn main() -> Result<(), Box<dyn Error>> {
     .map(|(title, samples)| Panel {
         title: format!("{title}: {} points", samples.len()),
         polygon: Vec::new(),
+        curve: dense.clone(),
         samples,
         dots: true,
     });
-    std::fs::write(format!("{dir}/samplings.svg"), svg(&panels, 3))?;
-    println!("wrote {dir}/families.svg and {dir}/samplings.svg");
-    Ok(())
+    Ok([
+        ("families.svg", families),
+        ("samplings.svg", svg(&panels, 3)),
+    ])
 }
 
 fn uniform(basis: Basis) -> CurveKind {
@@ -184,6 +201,13 @@ fn svg(panels: &[Panel], columns: usize) -> String {
                 );
             }
         }
+        if !panel.curve.is_empty() {
+            let _ = writeln!(
+                out,
+                "<polyline fill=\"none\" stroke=\"#bbb\" stroke-width=\"4\" points=\"{}\"/>",
+                path(&panel.curve)
+            );
+        }
         let _ = writeln!(
             out,
             "<polyline fill=\"none\" stroke=\"#d1495b\" stroke-width=\"1.6\" points=\"{}\"/>",
@@ -201,4 +225,21 @@ fn svg(panels: &[Panel], columns: usize) -> String {
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// The committed pictures are what the crate draws now.
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_committed_pictures_are_not_stale() {
+        let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs");
+        for (name, svg) in super::figures().unwrap() {
+            let committed = std::fs::read_to_string(format!("{docs}/{name}")).unwrap_or_default();
+            assert!(
+                committed == svg,
+                "docs/{name} is stale: run `cargo run -p splinegpu --example figures -- docs` \
+                 from the repository root and commit the result"
+            );
+        }
+    }
 }

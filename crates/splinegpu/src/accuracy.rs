@@ -1,6 +1,6 @@
-//! The accuracy the tool promises (CLI contract, "Accuracy the tool promises"), as a bound per
-//! sample and coordinate: for the f32 GPU path against the exact value, and for the f64 CPU
-//! path (1e-9 of the same scales).
+//! The accuracy the tool promises (docs/input-format.md, "Accuracy the tool promises"; how it
+//! is tested: docs/accuracy.md), as a bound per sample and coordinate: for the f32 GPU path
+//! against the exact value, and for the f64 CPU path (1e-9 of the same scales).
 //!
 //! For a sample on a segment P(u) = A u^3 + B u^2 + C u + D of parameter length Δ, in the
 //! curve of extent E, coordinate k, with S_k = |A_k| + |B_k| + |C_k|:
