@@ -134,13 +134,7 @@ impl Context {
         let gpu = match backend {
             "cpu" => None,
             "gpu" => Some(py.detach(GpuContext::new).map_err(runtime_error)?),
-            "auto" => match py.detach(splinegpu::hardware_adapter) {
-                Some(adapter) => Some(
-                    py.detach(|| GpuContext::from_adapter(&adapter))
-                        .map_err(runtime_error)?,
-                ),
-                None => None,
-            },
+            "auto" => py.detach(GpuContext::auto).map_err(runtime_error)?,
             other => {
                 return Err(value_error(format!(
                     "backend: must be \"auto\", \"gpu\" or \"cpu\", got \"{other}\""
@@ -307,14 +301,11 @@ impl<'a> KindSource<'a> {
     fn new(name: &'a str, fields: &'a CurveFields<'_>) -> PyResult<Self> {
         let ends = match fields.ends.as_deref() {
             None => None,
-            Some("control") => Some(Ends::Control),
-            Some("repeat") => Some(Ends::Repeat),
-            Some("closed") => Some(Ends::Closed),
-            Some(other) => {
-                return Err(value_error(format!(
-                    "\"ends\" must be \"control\", \"repeat\" or \"closed\", got \"{other}\""
-                )));
-            }
+            Some(name) => Some(Ends::from_name(name).ok_or_else(|| {
+                value_error(format!(
+                    "\"ends\" must be \"control\", \"repeat\" or \"closed\", got \"{name}\""
+                ))
+            })?),
         };
         let slices = |list: &'a Option<Vec<Option<PyReadonlyArray1<'_, f64>>>>| {
             list.iter()

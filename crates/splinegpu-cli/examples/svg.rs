@@ -66,7 +66,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         let curve = &curves[c];
         let control: Vec<[f64; 2]> = curve["points"]
             .as_array()
-            .map(|points| points.iter().enumerate().map(|(i, p)| point(p, i)).collect())
+            .map(|points| {
+                points
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| point(p, i))
+                    .collect()
+            })
             .unwrap_or_default();
         let (x0, y0) = (
             (c % COLUMNS) as f64 * PANEL,
@@ -147,7 +153,10 @@ fn panel(
     )?;
     for p in control {
         let (x, y) = at(p);
-        writeln!(svg, "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.5\" fill=\"#999\"/>")?;
+        writeln!(
+            svg,
+            "<circle cx=\"{x:.2}\" cy=\"{y:.2}\" r=\"2.5\" fill=\"#999\"/>"
+        )?;
     }
     writeln!(
         svg,

@@ -767,11 +767,9 @@ fn fit_curve(
 }
 
 fn parse_ends(v: &Value) -> Result<Ends, InputError> {
-    match v.as_str() {
-        Some("control") => Ok(Ends::Control),
-        Some("repeat") => Ok(Ends::Repeat),
-        Some("closed") => Ok(Ends::Closed),
-        _ => Err(InputError::field(
+    match v.as_str().and_then(Ends::from_name) {
+        Some(ends) => Ok(ends),
+        None => Err(InputError::field(
             "ends",
             format!(
                 "must be \"control\", \"repeat\" or \"closed\", got {}",

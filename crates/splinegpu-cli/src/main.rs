@@ -169,9 +169,8 @@ fn tessellate(
     let context = match backend {
         Backend::Cpu => None,
         Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
-        Backend::Auto => match splinegpu::hardware_adapter() {
-            Some(adapter) => {
-                let context = GpuContext::from_adapter(&adapter).map_err(Failure::other)?;
+        Backend::Auto => match GpuContext::auto().map_err(Failure::other)? {
+            Some(context) => {
                 let info = context.adapter_info();
                 eprintln!(
                     "splinegpu: backend auto: gpu on {} ({:?})",

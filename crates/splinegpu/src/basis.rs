@@ -18,7 +18,9 @@ use crate::error::{InputError, Shown};
 /// Row-major 4x4 matrix, `rows[r][c]`.
 pub type Rows = [[f64; 4]; 4];
 
-/// A uniform cubic family defined by a 4x4 basis matrix.
+/// A uniform cubic family defined by a 4x4 basis matrix, on a window of four points that
+/// slides by one ([`CurveKind::Uniform`](crate::CurveKind::Uniform)). Bezier curves, whose
+/// windows step by three, are [`CurveKind::Bezier`](crate::CurveKind::Bezier).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Basis {
     /// Cardinal spline C_a (memo, "The Cardinal Splines"): interpolates its knots, C1, tangent at
@@ -46,9 +48,6 @@ pub enum Basis {
         /// The tension b2.
         tension: f64,
     },
-    /// Cubic Bezier in power form (Bernstein polynomials expanded in u), used on windows of four
-    /// control points that step by three.
-    Bezier,
     /// A matrix the user gives, row-major.
     Matrix(Rows),
 }
@@ -85,7 +84,6 @@ impl Basis {
                 check_finite("tension", tension)?;
                 beta_rows(bias, tension)
             }
-            Basis::Bezier => Ok(bezier_rows()),
             Basis::Matrix(rows) => {
                 for (r, row) in rows.iter().enumerate() {
                     for (c, &v) in row.iter().enumerate() {

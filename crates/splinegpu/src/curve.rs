@@ -23,6 +23,27 @@ pub enum Ends {
 }
 
 impl Ends {
+    /// Every convention, as the input format names them.
+    pub const NAMES: [&'static str; 3] = ["control", "repeat", "closed"];
+
+    /// The input format's name of this convention: "control", "repeat" or "closed".
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Ends::Control => "control",
+            Ends::Repeat => "repeat",
+            Ends::Closed => "closed",
+        }
+    }
+
+    /// The convention the input format calls `name`, if any.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        [Ends::Control, Ends::Repeat, Ends::Closed]
+            .into_iter()
+            .find(|ends| ends.name() == name)
+    }
+
     /// The fewest points this convention accepts.
     #[must_use]
     pub fn min_points(self) -> usize {
@@ -125,7 +146,7 @@ impl Curve {
                         format!(
                             "needs at least {} points with ends \"{}\", got {n}",
                             ends.min_points(),
-                            ends_name(*ends)
+                            ends.name()
                         ),
                     ));
                 }
@@ -215,15 +236,5 @@ impl Curve {
                 })
             }
         }
-    }
-}
-
-/// The contract's name of an end convention.
-#[must_use]
-pub(crate) fn ends_name(ends: Ends) -> &'static str {
-    match ends {
-        Ends::Control => "control",
-        Ends::Repeat => "repeat",
-        Ends::Closed => "closed",
     }
 }

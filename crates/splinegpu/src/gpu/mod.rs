@@ -167,6 +167,18 @@ impl GpuContext {
         Ok(Self::with_parts(device, queue, info))
     }
 
+    /// The "auto" backend's choice: a context on the [`hardware_adapter`] when there is one,
+    /// else `None` (evaluate on the CPU then; on a CPU adapter such as lavapipe the CPU
+    /// evaluator is the faster of the two).
+    ///
+    /// # Errors
+    /// [`GpuError::RequestDevice`] when the hardware adapter refuses a device.
+    pub fn auto() -> Result<Option<Self>, GpuError> {
+        hardware_adapter()
+            .map(|adapter| Self::from_adapter(&adapter))
+            .transpose()
+    }
+
     /// A context on a caller's device and queue (a renderer's, say); nothing is copied.
     #[must_use]
     pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
@@ -282,7 +294,7 @@ pub fn adapters() -> Vec<wgpu::AdapterInfo> {
 }
 
 /// The hardware adapter (discrete, integrated or virtual GPU, in that order of preference) that
-/// the CLI's `--backend auto` uses, if there is one.
+/// [`GpuContext::auto`] (the CLI's `--backend auto`) uses, if there is one.
 #[must_use]
 pub fn hardware_adapter() -> Option<wgpu::Adapter> {
     let rank = |t: wgpu::DeviceType| match t {
