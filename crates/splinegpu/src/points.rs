@@ -8,6 +8,24 @@ use crate::error::{InputError, Shown};
 /// The largest number of coordinates per point.
 pub const MAX_DIM: usize = 64;
 
+/// `$f::<D>` for `$dim` coordinates, as a function pointer: one to four coordinates have
+/// builds of their own (`D` = the dimension, so that the loops over a point's coordinates
+/// unroll and vectorise); any other dimension takes the general build `$f::<$general>`, which
+/// reads the dimension at run time (`$general` is 0, or [`MAX_DIM`] for a build that keeps a
+/// point in a stack array).
+macro_rules! for_dimension {
+    ($dim:expr, $f:ident, $general:expr) => {
+        match $dim {
+            1 => $f::<1>,
+            2 => $f::<2>,
+            3 => $f::<3>,
+            4 => $f::<4>,
+            _ => $f::<{ $general }>,
+        }
+    };
+}
+pub(crate) use for_dimension;
+
 /// Points in D dimensions, 1 <= D <= [`MAX_DIM`], stored flat (point i is
 /// `coords[i*D..(i+1)*D]`), all finite.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,13 +153,7 @@ pub(crate) fn extent_and_finite(coords: &[f64], dim: usize) -> (f64, bool) {
     // Stack arrays and plain comparisons: this runs over every point of million-knot fits,
     // with the dimension known at compile time for the common ones (about 3x faster on a
     // million 3-D points).
-    match dim {
-        1 => extent_of::<1>(coords, 1),
-        2 => extent_of::<2>(coords, 2),
-        3 => extent_of::<3>(coords, 3),
-        4 => extent_of::<4>(coords, 4),
-        _ => extent_of::<MAX_DIM>(coords, dim),
-    }
+    for_dimension!(dim, extent_of, MAX_DIM)(coords, dim)
 }
 
 /// [`extent_and_finite`] of `dim`-dimensional points, `dim` <= `D`. The points are finite

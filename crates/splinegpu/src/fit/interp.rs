@@ -33,6 +33,7 @@
 use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
 use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
 use crate::error::{InputError, Shown};
+use crate::points::for_dimension;
 use crate::segment::SegmentTable;
 
 /// How an interpolating spline behaves at its two ends.
@@ -510,13 +511,7 @@ type HermitePass = fn(&[f64], &[f64], &[f64], usize, usize, &mut [f64]);
 /// [`hermite_segments`] compiled for `dim` coordinates: one to four have builds of their own,
 /// so that a segment's loop is unrolled and vectorised.
 fn hermite_segments_for(dim: usize) -> HermitePass {
-    match dim {
-        1 => hermite_segments::<1>,
-        2 => hermite_segments::<2>,
-        3 => hermite_segments::<3>,
-        4 => hermite_segments::<4>,
-        _ => hermite_segments::<0>,
-    }
+    for_dimension!(dim, hermite_segments, 0)
 }
 
 /// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)

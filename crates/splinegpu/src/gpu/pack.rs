@@ -14,6 +14,7 @@ use super::abi::{
 };
 use crate::error::GpuError;
 use crate::job::{Derivatives, EvalJob};
+use crate::points::for_dimension;
 use crate::sampling::{ArcSamples, Grid, Plan, SampleLoc};
 
 /// One dispatch: a range of runs whose output is the float range `values` of each plane.
@@ -364,14 +365,7 @@ fn fill_part(
 /// d_hi = f32(D), d_lo = f32(D − d_hi). One to four coordinates are compiled for their count
 /// ([`write_blocks_of`]), so that a block's stores are unrolled.
 fn write_blocks(table: &crate::SegmentTable, with_inv_dt: bool, blocks: &mut [f32]) {
-    let write = match table.dim() {
-        1 => write_blocks_of::<1>,
-        2 => write_blocks_of::<2>,
-        3 => write_blocks_of::<3>,
-        4 => write_blocks_of::<4>,
-        _ => write_blocks_of::<0>,
-    };
-    write(table, with_inv_dt, blocks);
+    for_dimension!(table.dim(), write_blocks_of, 0)(table, with_inv_dt, blocks);
 }
 
 /// [`write_blocks`] for `D` coordinates, or any where `D` is 0.
