@@ -101,7 +101,8 @@
 //! and `splinegpu bench`) is the crate `splinegpu-cli`; this crate is the fitter, the samplings
 //! and the evaluators, with wgpu, glam, bytemuck and pollster.
 
-// The data path, stage by stage (docs/ARCHITECTURE.md draws it).
+// The stages of the data path, drawn in docs/ARCHITECTURE.md: points, curve, fit, segment,
+// sampling, job, then the cpu and gpu evaluators.
 pub mod accuracy;
 pub mod basis;
 mod cpu;
@@ -111,6 +112,7 @@ mod fit;
 mod gpu;
 mod job;
 pub mod kinds;
+mod parallel;
 mod points;
 mod sampling;
 mod segment;

@@ -11,6 +11,7 @@
 use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
+use crate::parallel::{even_ranges, fan_out, take_front};
 use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
@@ -68,33 +69,19 @@ pub fn evaluate_cpu<F: SampleFloat>(job: &EvalJob, threads: usize) -> Samples<F>
 pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, planes: Planes<'_, F>, threads: usize) {
     let (mut params, planes) = planes.checked(job);
     let layout = job.layout();
-    let total = layout.samples();
-    let threads = threads.clamp(1, total.max(1));
     let [mut points, mut d1, mut d2] = planes;
-    std::thread::scope(|scope| {
-        let mut start = 0;
-        for t in 0..threads {
-            let end = total * (t + 1) / threads;
-            let n = layout.value_of_sample(end) - layout.value_of_sample(start);
-            let parts = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, n));
-            let params = take_front(&mut params, end - start);
-            let work = move || evaluate_range_fastest(job, start..end, params, parts);
-            if t + 1 == threads {
-                work();
-            } else {
-                scope.spawn(work);
-            }
-            start = end;
-        }
+    // One contiguous range of samples per thread, with its part of every plane.
+    let parts: Vec<_> = even_ranges(layout.samples(), threads)
+        .map(|range| {
+            let n = layout.value_of_sample(range.end) - layout.value_of_sample(range.start);
+            let planes = [&mut points, &mut d1, &mut d2].map(|plane| take_front(plane, n));
+            let params = take_front(&mut params, range.len());
+            (range, params, planes)
+        })
+        .collect();
+    fan_out(parts, |(range, params, planes)| {
+        evaluate_range_fastest(job, range, params, planes);
     });
-}
-
-/// The first `n` values of `plane` (none of an empty plane), leaving the rest in `plane`.
-fn take_front<'a, F>(plane: &mut &'a mut [F], n: usize) -> &'a mut [F] {
-    let n = if plane.is_empty() { 0 } else { n };
-    let (head, tail) = std::mem::take(plane).split_at_mut(n);
-    *plane = tail;
-    head
 }
 
 /// `plane[range]`, or an empty plane as it is.

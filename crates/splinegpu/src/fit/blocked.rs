@@ -225,19 +225,12 @@ fn blocks_of<'a>(
 /// Runs `work` on every item, the items split into contiguous groups, one per thread (the last
 /// group on this one; a single item needs no other thread).
 fn on_threads<T: Send>(items: Vec<T>, threads: usize, work: impl Fn(T) + Sync) {
-    let per_thread = items.len().div_ceil(threads.max(1)).max(1);
-    let mut items = items.into_iter().peekable();
-    std::thread::scope(|scope| {
-        let work = &work;
-        loop {
-            let group: Vec<T> = items.by_ref().take(per_thread).collect();
-            if items.peek().is_none() {
-                group.into_iter().for_each(work);
-                break;
-            }
-            scope.spawn(move || group.into_iter().for_each(work));
-        }
-    });
+    let n = items.len();
+    let mut items = items.into_iter();
+    let groups: Vec<Vec<T>> = crate::parallel::even_ranges(n, threads)
+        .map(|range| items.by_ref().take(range.len()).collect())
+        .collect();
+    crate::parallel::fan_out(groups, |group| group.into_iter().for_each(&work));
 }
 
 /// The Thomas algorithm on rows `rows` alone, into the front of `x`, `cp`, `left` and

@@ -253,7 +253,8 @@ impl Fitter {
         out: &mut SegmentTable,
     ) -> Result<(), InputError> {
         let extent = if t.len() > PARALLEL_SEGMENTS {
-            // The points' extent and finiteness on a second thread while this one checks t.
+            // The points' extent and finiteness on a second thread while this one checks t
+            // (and waits for them only where the checks come to the points).
             std::thread::scope(|scope| {
                 let points = scope.spawn(|| crate::points::extent_and_finite(values, dim));
                 let mut extent = f64::NAN;
@@ -322,15 +323,12 @@ impl Fitter {
             knots.copy_from_slice(&t[first..first + knots.len()]);
             hermite(t, values, slopes, dim, first, coeffs);
         };
-        std::thread::scope(|scope| {
-            let parts = coeffs.chunks_mut(per_thread * 4 * dim);
-            let mut parts = parts.zip(knots.chunks_mut(per_thread)).enumerate();
-            let (_, head) = parts.next().expect("at least one segment");
-            for (c, part) in parts {
-                scope.spawn(move || fill(c, part));
-            }
-            fill(0, head);
-        });
+        let parts = coeffs.chunks_mut(per_thread * 4 * dim);
+        let parts: Vec<_> = parts
+            .zip(knots.chunks_mut(per_thread))
+            .enumerate()
+            .collect();
+        crate::parallel::fan_out(parts, |(c, part)| fill(c, part));
     }
 
     /// Natural and clamped ends: every row is strictly diagonally dominant, so the Thomas

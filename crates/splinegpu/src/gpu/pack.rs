@@ -14,6 +14,7 @@ use super::abi::{
 };
 use crate::error::GpuError;
 use crate::job::{Derivatives, EvalJob};
+use crate::parallel::{even_ranges, fan_out, fan_out_map, take_front};
 use crate::points::for_dimension;
 use crate::sampling::{ArcSamples, Grid, Plan, SampleLoc};
 
@@ -278,41 +279,27 @@ fn fill_coefficients(
     // no zeros first).
     segments.resize(total_segments, GpuSegment::default());
     coeffs.resize(total_vec4s, [0.0; 4]);
-    let threads = crate::available_threads().clamp(1, tables.len().max(1));
-    std::thread::scope(|scope| {
-        let (mut segments, mut coeffs) = (segments.as_mut_slice(), coeffs.as_mut_slice());
-        let (mut first, mut coeff_base) = (0, 0);
-        let mut handles = Vec::new();
-        for k in 0..threads {
-            let end = tables.len() * (k + 1) / threads;
-            let part = &tables[first..end];
+    // One contiguous range of curves per thread, with its part of both tables.
+    let (mut segments, mut coeffs) = (segments.as_mut_slice(), coeffs.as_mut_slice());
+    let mut coeff_base = 0;
+    let parts: Vec<_> = even_ranges(tables.len(), crate::available_threads())
+        .map(|curves| {
+            let part = &tables[curves.clone()];
             let n_segments = part.iter().map(|t| t.len()).sum();
             let n_vec4s = part.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
-            let (my_segments, rest) = std::mem::take(&mut segments).split_at_mut(n_segments);
-            segments = rest;
-            let (my_coeffs, rest) = std::mem::take(&mut coeffs).split_at_mut(n_vec4s);
-            coeffs = rest;
-            let curves = first..end;
-            handles.push(scope.spawn(move || {
-                fill_part(
-                    part,
-                    curves,
-                    coeff_base,
-                    with_inv_dt,
-                    my_segments,
-                    my_coeffs,
-                )
-            }));
-            first = end;
+            let my_segments = take_front(&mut segments, n_segments);
+            let my_coeffs = take_front(&mut coeffs, n_vec4s);
+            let base = coeff_base;
             coeff_base += n_vec4s;
-        }
-        // The first error by curve index: the parts are in curve order.
-        handles
-            .into_iter()
-            .map(|h| h.join().expect("a packing thread panicked"))
-            .collect::<Result<Vec<()>, _>>()
-            .map(drop)
+            (curves, part, base, my_segments, my_coeffs)
+        })
+        .collect();
+    // The first error by curve index: the parts are in curve order.
+    fan_out_map(parts, |(curves, part, base, segments, coeffs)| {
+        fill_part(part, curves, base, with_inv_dt, segments, coeffs)
     })
+    .into_iter()
+    .collect()
 }
 
 /// [`fill_coefficients`] for the curves `curves` (whose tables are `tables`), their segments
@@ -421,27 +408,20 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
     }
     let threads = crate::available_threads().clamp(1, computed.len());
     // Curve k of the block goes to thread k mod threads: neighbours differ least in size.
-    let parts: Vec<Vec<(usize, Vec<SampleLoc>)>> = std::thread::scope(|scope| {
-        let computed = &computed;
-        let handles: Vec<_> = (0..threads)
-            .map(|k| {
-                scope.spawn(move || {
-                    (computed.iter().skip(k).step_by(threads))
-                        .map(|&c| {
-                            let plan = job.plan(c);
-                            let mut locs = Vec::with_capacity(plan.len());
-                            plan.locs_into(0..plan.len(), &mut locs);
-                            (c, locs)
-                        })
-                        .collect()
+    let computed = &computed;
+    let parts = fan_out_map(
+        (0..threads).collect(),
+        |k| -> Vec<(usize, Vec<SampleLoc>)> {
+            (computed.iter().skip(k).step_by(threads))
+                .map(|&c| {
+                    let plan = job.plan(c);
+                    let mut locs = Vec::with_capacity(plan.len());
+                    plan.locs_into(0..plan.len(), &mut locs);
+                    (c, locs)
                 })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().expect("a place-computing thread panicked"))
-            .collect()
-    });
+                .collect()
+        },
+    );
     for (c, locs) in parts.into_iter().flatten() {
         places[c - curves.start] = locs;
     }
@@ -543,27 +523,21 @@ fn fill_arc_tables(job: &EvalJob, arcs: &mut Vec<[u32; 4]>) -> Vec<u32> {
         return starts;
     }
     arcs.resize(total, [0; 4]);
-    let threads = crate::available_threads().clamp(1, data.len());
-    std::thread::scope(|scope| {
-        let mut rest = arcs.as_mut_slice();
-        let mut first = 0;
-        for k in 0..threads {
-            let end = data.len() * (k + 1) / threads;
-            let len = lengths[first..end].iter().sum();
-            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(len);
-            rest = tail;
-            let curves = first..end;
-            let (data, lengths, starts) = (&data, &lengths, &starts);
-            scope.spawn(move || {
-                let mut at = 0;
-                for c in curves {
-                    if let Some(d) = data[c] {
-                        write_arc_table(d, &mut mine[at..at + lengths[c]], starts[c]);
-                        at += lengths[c];
-                    }
-                }
-            });
-            first = end;
+    // One contiguous range of curves per thread, with its part of the table.
+    let mut rest = arcs.as_mut_slice();
+    let parts: Vec<_> = even_ranges(data.len(), crate::available_threads())
+        .map(|curves| {
+            let len = lengths[curves.clone()].iter().sum();
+            (curves, take_front(&mut rest, len))
+        })
+        .collect();
+    fan_out(parts, |(curves, mine)| {
+        let mut at = 0;
+        for c in curves {
+            if let Some(d) = data[c] {
+                write_arc_table(d, &mut mine[at..at + lengths[c]], starts[c]);
+                at += lengths[c];
+            }
         }
     });
     starts

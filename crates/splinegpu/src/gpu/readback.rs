@@ -6,6 +6,7 @@ use std::sync::mpsc;
 
 use crate::error::GpuError;
 use crate::job::layout::JobLayout;
+use crate::parallel::fan_out_map;
 
 /// Copies every curve's values from planes in the device layout (`values`, plane p from
 /// `p · stride` on, each the job layout's `device_values()` long) into `planes`, packed as
@@ -81,19 +82,10 @@ pub(super) fn map_write(
         view.copy_from_slice(from);
         Ok(())
     };
-    let copied = std::thread::scope(|scope| {
-        let parts: Vec<_> = (contents.chunks(part).enumerate().skip(1))
-            .map(|(i, from)| scope.spawn(move || copy(i * part, from)))
-            .collect();
-        let first = copy(0, &contents[..part.min(contents.len())]);
-        parts
-            .into_iter()
-            .map(|p| {
-                p.join()
-                    .unwrap_or_else(|_| Err(GpuError::device("a copy thread panicked")))
-            })
-            .fold(first, Result::and)
-    });
+    let parts: Vec<_> = contents.chunks(part).enumerate().collect();
+    let copied = fan_out_map(parts, |(i, from)| copy(i * part, from))
+        .into_iter()
+        .collect();
     buffer.unmap();
     copied
 }

@@ -99,20 +99,15 @@ impl JobLayout {
         threads: usize,
         each: impl Fn(Range<usize>, &mut [T]) + Sync,
     ) {
-        let threads = threads.clamp(1, self.len().max(1));
-        let each = &each;
-        std::thread::scope(|scope| {
-            let mut first = 0;
-            for k in 0..threads {
-                let end = self.len() * (k + 1) / threads;
-                let values = self.value_offsets[end] - self.value_offsets[first];
-                let (part, rest) = std::mem::take(&mut plane).split_at_mut(values);
-                plane = rest;
-                let curves = first..end;
-                scope.spawn(move || each(curves, part));
-                first = end;
-            }
-        });
+        let parts: Vec<_> = crate::parallel::even_ranges(self.len(), threads)
+            .map(|curves| {
+                let values = self.value_offsets[curves.end] - self.value_offsets[curves.start];
+                let part = std::mem::take(&mut plane).split_at_mut(values);
+                plane = part.1;
+                (curves, part.0)
+            })
+            .collect();
+        crate::parallel::fan_out(parts, |(curves, part)| each(curves, part));
     }
 
     /// Where curve `c`'s values start in each device plane (a multiple of 4).
