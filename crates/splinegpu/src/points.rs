@@ -159,6 +159,9 @@ pub(crate) fn extent_and_finite(coords: &[f64], dim: usize) -> (f64, bool) {
 /// [`extent_and_finite`] of `dim`-dimensional points, `dim` <= `D`. The points are finite
 /// when no coordinate is NaN and every bound is finite (an infinity would be one).
 fn extent_of<const D: usize>(coords: &[f64], dim: usize) -> (f64, bool) {
+    // A dimension known at compile time (every build but the general one) is the chunk size
+    // the loops below unroll by.
+    let dim = if D == MAX_DIM { dim } else { D };
     let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
     let mut nan = false;
     for point in coords.chunks_exact(dim) {

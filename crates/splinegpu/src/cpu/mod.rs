@@ -80,7 +80,7 @@ pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, planes: Planes<'_, F>, t
         })
         .collect();
     fan_out(parts, |(range, params, planes)| {
-        evaluate_range_fastest(job, range, params, planes);
+        F::evaluate_range(job, range, params, planes);
     });
 }
 
@@ -98,7 +98,7 @@ fn sub<F>(plane: &mut [F], range: std::ops::Range<usize>) -> &mut [F] {
 /// operations in the same order (Rust never fuses a multiply and an add on its own), so all
 /// give the same bits. On w1, one thread (fastest of three alternated runs of 30): 16.8 ms
 /// baseline, 12.6 AVX2, 9.6 AVX-512.
-fn evaluate_range_fastest<F: SampleFloat>(
+pub(crate) fn evaluate_range_fastest<F: SampleFloat>(
     job: &EvalJob,
     range: std::ops::Range<usize>,
     t: &mut [f64],
