@@ -232,9 +232,10 @@ fn svg(panels: &[Panel], columns: usize) -> String {
 mod tests {
     #[test]
     fn the_committed_pictures_are_not_stale() {
-        let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs");
+        let docs = concat!(env!("CARGO_MANIFEST_DIR"), "/docs");
         for (name, svg) in super::figures().unwrap() {
-            let committed = std::fs::read_to_string(format!("{docs}/{name}")).unwrap_or_default();
+            let committed = std::fs::read_to_string(format!("{docs}/{name}"))
+                .unwrap_or_else(|e| panic!("docs/{name}: {e}"));
             assert!(
                 committed == svg,
                 "docs/{name} is stale: run `cargo run -p splinegpu --example figures -- docs` \
