@@ -1,6 +1,6 @@
 // Evaluates runs of cubic samples, and their t-derivatives, from power-form coefficients.
 // Rust twins of the structs: src/gpu/pack.rs. CPU twin, line by line in f32 (same names, loop
-// order and arithmetic): src/gpu/interpret.rs. (src/cpu.rs is the f64 reference, not a twin.)
+// order and arithmetic): src/gpu/interpret.rs. (src/cpu/ is the f64 reference, not a twin.)
 
 // Rust twin: gpu::pack::Params.
 struct Params {
@@ -73,11 +73,11 @@ const MODE_ARC: u32 = 3u;
 @group(0) @binding(5) var<storage, read_write> locs: array<Loc>;
 // The buffer bound as `coeffs`, float by float: blocks of any dimension.
 @group(0) @binding(6) var<storage, read> coeff_floats: array<f32>;
-// Arc-length tables, floats as their bits (Rust twin: gpu::pack::push_arc_table): a header
-// (m - 1, 1/(m - 1)); per segment (start / L, first piece, pieces); per piece of its length
-// model three vec4s (start / L, L / length, u at its start, width in u), (c1, c2, c3, c4),
-// (c5): the length from its start over its length is c1 x + ... + c5 x^5 in
-// x = (u - start) / width.
+// Arc-length tables, floats as their bits (Rust twin: gpu::pack::write_arc_table): a header
+// (m - 1, 1/(m - 1), 0, 0); per segment (start / L, the vec4 of its first piece, pieces, 0);
+// per piece of its length model two vec4s (start / L, u at its start, c1, c2),
+// (c3, c4, c5, u at its end): the length from its start over its length is
+// c1 x + ... + c5 x^5 in x = (u - u at its start) / its width.
 @group(0) @binding(7) var<storage, read> arcs: array<vec4<u32>>;
 
 const WG_SIZE: u32 = 64u;
@@ -330,7 +330,7 @@ fn explicit_run(run: Run, lane: u32) {
 }
 
 // Steps of the safeguarded Newton iteration that solves a length model (Rust twin:
-// arclen::SOLVE_STEPS, checked by tests/shader.rs).
+// sampling::arc_length::SOLVE_STEPS, checked by gpu/abi_tests.rs).
 const SOLVE_STEPS: u32 = 12u;
 // The step in x below which the solve stops: 2^-22 (its error in length is below 2.4e-7 of
 // the piece's length).
@@ -379,7 +379,7 @@ struct ArcHint {
 // at u = 1 of the last; between them, at length i/(m - 1) of L, the segment that starts last
 // at or before it, the piece of its length model that does, and the x where the model reaches
 // it: Newton's method from the linear guess, kept inside the bracket the signs leave
-// (bisecting where a step would leave it). Rust twin of the solve: arclen::solve_model.
+// (bisecting where a step would leave it). Rust twin of the solve: sampling::arc_length::solve_model.
 fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
     let header = arcs[run.arc];
     if i == 0u {

@@ -230,10 +230,11 @@ pub(crate) fn pack_into(
                 );
                 arc_samples += window.len;
             }
-            // Tolerance: places decided on the host in f64 (on every thread, a block of
-            // curves at a time, so that both backends give the same t), sampled as explicit t
-            // are.
-            Plan::Tolerance(_) => {
+            // Every other plan is placed on the host (tolerance): places decided in f64 (on
+            // every thread, a block of curves at a time, so that both backends give the same
+            // t), sampled as explicit t are.
+            _ => {
+                debug_assert!(plan.is_placed_on_host());
                 let places = &places[c % PLACE_BLOCK];
                 packed.computed_t.extend(places.iter().map(|l| l.t));
                 runs.explicit(places, &mut packed.locs);
@@ -395,12 +396,12 @@ fn write_blocks_of<const D: usize>(
 /// Curves whose places computed on the host (tolerance) are held at once while packing.
 const PLACE_BLOCK: usize = 256;
 
-/// The places of the samples of `curves` sampled by tolerance (empty for the others), computed
-/// on every thread: most of the packing time of such jobs.
+/// The places of the samples of `curves` placed on the host (tolerance; empty for the others),
+/// computed on every thread: most of the packing time of such jobs.
 fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
     let computed: Vec<usize> = curves
         .clone()
-        .filter(|&c| matches!(job.plan(c).0, Plan::Tolerance(_)))
+        .filter(|&c| job.plan(c).is_placed_on_host())
         .collect();
     let mut places = vec![Vec::new(); curves.len()];
     if computed.is_empty() {

@@ -8,7 +8,7 @@ pub(crate) mod layout;
 pub(crate) mod planes;
 pub(crate) mod samples;
 
-use crate::sampling::{Plan, SamplePlan, Sampling};
+use crate::sampling::{SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 use layout::JobLayout;
 
@@ -205,20 +205,7 @@ impl EvalJob {
         c: usize,
         range: std::ops::Range<usize>,
     ) -> (Arc<SegmentTable>, Arc<SamplePlan>) {
-        let (table, plan) = (&self.tables[c], &self.plans[c]);
-        if range.len() == plan.len() {
-            return (Arc::clone(table), Arc::clone(plan));
-        }
-        let (table, plan) = match &plan.0 {
-            Plan::Grid(grid) => {
-                let (segments, part) = grid.slice(range);
-                (Arc::new(table.slice(segments)), Plan::Grid(part))
-            }
-            Plan::At(locs) => (Arc::clone(table), Plan::At(locs[range].to_vec())),
-            Plan::Arc(w) => (Arc::clone(table), Plan::Arc(w.slice(range))),
-            Plan::Tolerance(w) => (Arc::clone(table), Plan::Tolerance(w.slice(range))),
-        };
-        (table, Arc::new(SamplePlan(plan)))
+        self.plans[c].slice(&self.tables[c], range)
     }
 }
 

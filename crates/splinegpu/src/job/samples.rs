@@ -242,21 +242,21 @@ impl<F> Samples<F> {
 }
 
 /// Writes the t of `job`'s samples into `t` (the job's samples long), taking those of the
-/// curves sampled by tolerance from `tolerance` (theirs, curve after curve) and those of the
+/// curves placed on the host (tolerance) from `host_placed` (theirs, curve after curve) and those of the
 /// curves sampled by arc length from the places the GPU found, `arc_places` (curve after
 /// curve), where they hold them, rather than computing the places again. A place's segment
 /// counts from the job's first segment; t = t_i + u·Δ_i is formed in f64, t_{i+1} at u = 1.
 /// An empty `t` (a caller who wants none) is left alone.
 pub(crate) fn fill_t(
     job: &EvalJob,
-    tolerance: &[f64],
+    host_placed: &[f64],
     arc_places: &[crate::gpu::abi::GpuLoc],
     t: &mut [f64],
 ) {
     if t.is_empty() {
         return;
     }
-    let (mut tolerance, mut arc_places) = (tolerance, arc_places);
+    let (mut host_placed, mut arc_places) = (host_placed, arc_places);
     let mut out = Filling::new(t);
     let mut first_segment = 0;
     for c in 0..job.len() {
@@ -270,10 +270,10 @@ pub(crate) fn fill_t(
                 crate::sampling::t_at(knots, segment, f64::from(place.u))
             }));
             arc_places = after;
-        } else if plan.is_tolerance() && tolerance.len() >= n {
-            let (own, after) = tolerance.split_at(n);
+        } else if plan.is_placed_on_host() && host_placed.len() >= n {
+            let (own, after) = host_placed.split_at(n);
             out.extend(own.iter().copied());
-            tolerance = after;
+            host_placed = after;
         } else {
             plan.extend_t(0..n, &mut out);
         }

@@ -473,9 +473,35 @@ impl SamplePlan {
         matches!(self.0, Plan::Arc(_))
     }
 
-    /// True for a tolerance plan.
-    pub(crate) fn is_tolerance(&self) -> bool {
-        matches!(self.0, Plan::Tolerance(_))
+    /// True for the computed plans whose places the host decides for both backends (tolerance:
+    /// the GPU packer hands the kernel their places as explicit ones, so that both backends give
+    /// the same t); false for the plans the kernel reads off (a grid, explicit t) or computes
+    /// itself (arc length). A new sampling whose places the host computes is one of these
+    /// wherever it is evaluated.
+    pub(crate) fn is_placed_on_host(&self) -> bool {
+        self.is_computed() && !self.is_arc_length()
+    }
+
+    /// Samples `range` of this plan on `table`, as a table and a plan of their own (a grid's
+    /// piece keeps only the segments it lies on); the whole plan is shared as it is.
+    pub(crate) fn slice(
+        self: &Arc<Self>,
+        table: &Arc<SegmentTable>,
+        range: Range<usize>,
+    ) -> (Arc<SegmentTable>, Arc<SamplePlan>) {
+        if range.len() == self.len() {
+            return (Arc::clone(table), Arc::clone(self));
+        }
+        let (table, plan) = match &self.0 {
+            Plan::Grid(grid) => {
+                let (segments, part) = grid.slice(range);
+                (Arc::new(table.slice(segments)), Plan::Grid(part))
+            }
+            Plan::At(locs) => (Arc::clone(table), Plan::At(locs[range].to_vec())),
+            Plan::Arc(w) => (Arc::clone(table), Plan::Arc(w.slice(range))),
+            Plan::Tolerance(w) => (Arc::clone(table), Plan::Tolerance(w.slice(range))),
+        };
+        (table, Arc::new(SamplePlan(plan)))
     }
 
     /// Appends the t of samples `range` to `out` (a `Vec<f64>`, say), as [`SamplePlan::loc`]
