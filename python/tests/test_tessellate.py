@@ -222,3 +222,32 @@ def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
         for name, call in calls.items():
             with pytest.raises(ValueError, match=f"^{name}: complex values are not supported"):
                 call()
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+@pytest.mark.parametrize("sampling", [{"per_segment": 2**32 - 1}, {"per_segment": 10**8},
+                                      {"arc_length": 10**9}])
+def test_a_result_larger_than_memory_is_refused_before_it_is_allocated(cpu, gpu, backend,
+                                                                        sampling):
+    # Three curves of 1,000 segments: per_segment=10**8 asks for 3·10**11 samples, terabytes
+    # of arrays, and arc_length=10**9 for 3·10**9 samples, 60 GB or more. The call must raise
+    # MemoryError naming the sampling, the samples and the bytes, not abort.
+    ctx = cpu if backend == "cpu" else gpu
+    curve = np.random.default_rng(9).uniform(-1, 1, (3, 1003, 3))
+    name, value = next(iter(sampling.items()))
+    with pytest.raises(MemoryError, match=rf"{name}={value} gives \d+ samples, whose arrays "
+                                          r"need \d+ bytes"):
+        ctx.tessellate(curve, "bspline", **sampling)
+
+
+def test_a_fresh_result_is_the_same_as_one_written_into_out(cpu, gpu):
+    # Fresh results are NumPy's own arrays filled in place; out= fills given ones. Same values.
+    curves = np.random.default_rng(10).uniform(-1, 1, (50, 9, 2))
+    for ctx in (cpu, gpu):
+        fresh = ctx.tessellate(curves, "catmull-rom", per_segment=7, derivatives=2)
+        again = ctx.tessellate(curves, "catmull-rom", per_segment=7, derivatives=2, out=fresh)
+        want = ctx.tessellate(curves, "catmull-rom", per_segment=7, derivatives=2)
+        for a, b in zip((again.t, again.points, again.d1, again.d2, again.curve_offsets),
+                        (want.t, want.points, want.d1, want.d2, want.curve_offsets)):
+            np.testing.assert_array_equal(a, b)
+        assert fresh.points.flags.c_contiguous and fresh.points.flags.writeable
