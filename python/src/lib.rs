@@ -484,24 +484,26 @@ impl<'py> Out<'py> {
             .take(order + 1)
             .map(|p| p.ok_or_else(|| wrong("a derivative array")))
             .collect::<PyResult<_>>()?;
-        let not_writeable = |what: &str| value_error(format!("out: {what} is not writeable"));
-        curve_offsets
-            .try_readwrite()
-            .map_err(|_| not_writeable("curve_offsets"))?
-            .as_slice_mut()?
-            .copy_from_slice(&offsets);
-        let mut t_view = t.try_readwrite().map_err(|_| not_writeable("t"))?;
-        let t_slice = t_view.as_slice_mut()?;
+        // Every array is checked before any is written.
+        let contiguous = |name: &str| value_error(format!("out: {name} must be contiguous"));
+        let mut offsets_view = writeable(&curve_offsets, "curve_offsets")?;
+        let offsets_slice = offsets_view
+            .as_slice_mut()
+            .map_err(|_| contiguous("curve_offsets"))?;
+        let mut t_view = writeable(&t, "t")?;
+        let t_slice = t_view.as_slice_mut().map_err(|_| contiguous("t"))?;
         match gpu {
-            None => fill_planes::<f64>(&planes, rows * dim, "float64 arrays", |p| {
+            None => fill_planes::<f64>(&planes, [rows, dim], "float64 arrays", |p| {
                 py.detach(|| splinegpu::evaluate_cpu_into(job, p.with_t(t_slice), threads()));
                 Ok(())
             })?,
-            Some(gpu) => fill_planes::<f32>(&planes, rows * dim, "float32 arrays", |p| {
+            Some(gpu) => fill_planes::<f32>(&planes, [rows, dim], "float32 arrays", |p| {
                 py.detach(|| gpu.evaluate_into(job, p.with_t(t_slice)))
                     .map_err(runtime_error)
             })?,
         }
+        offsets_slice.copy_from_slice(&offsets);
+        drop(offsets_view);
         drop(t_view);
         let mut items: Vec<Py<PyAny>> = vec![t.into_any().unbind()];
         for p in 0..3 {
@@ -520,7 +522,7 @@ impl<'py> Out<'py> {
 /// each `len` values, and hands them to `fill` as [`Planes`].
 fn fill_planes<'py, F: numpy::Element>(
     arrays: &[Bound<'py, PyAny>],
-    len: usize,
+    [rows, dim]: [usize; 2],
     dtype: &str,
     fill: impl FnOnce(Planes<'_, F>) -> PyResult<()>,
 ) -> PyResult<()> {
@@ -532,19 +534,23 @@ fn fill_planes<'py, F: numpy::Element>(
     let mut views = Vec::with_capacity(arrays.len());
     for (p, array) in arrays.iter().enumerate() {
         let name = ["points", "d1", "d2"][p];
-        views.push(
-            array
-                .try_readwrite()
-                .map_err(|_| value_error(format!("out: {name} is not writeable")))?,
-        );
+        // The values are written row after row: only a C-ordered (N, D) array holds them so.
+        if array.shape() != [rows, dim] || !array.is_c_contiguous() {
+            return Err(value_error(format!(
+                "out: {name} must be a C-ordered array of shape ({rows}, {dim}), got shape {:?}{}",
+                array.shape(),
+                if array.is_c_contiguous() {
+                    ""
+                } else {
+                    " not C-ordered"
+                }
+            )));
+        }
+        views.push(writeable(array, name)?);
     }
     let mut slices = Vec::with_capacity(views.len());
     for view in &mut views {
-        let slice = view.as_slice_mut()?;
-        if slice.len() != len {
-            return Err(wrong("an (N, D) array"));
-        }
-        slices.push(slice);
+        slices.push(view.as_slice_mut()?);
     }
     let mut slices = slices.into_iter();
     let points = slices.next().ok_or_else(|| wrong("points"))?;
@@ -553,6 +559,20 @@ fn fill_planes<'py, F: numpy::Element>(
         points,
         d1: slices.next(),
         d2: slices.next(),
+    })
+}
+
+/// `array` borrowed for writing, or a ValueError naming it (`out: d1 ...`): read-only, or
+/// sharing its memory with another array of the same call (the same array given twice).
+fn writeable<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
+    array: &Bound<'py, numpy::PyArray<T, D>>,
+    name: &str,
+) -> PyResult<numpy::PyReadwriteArray<'py, T, D>> {
+    array.try_readwrite().map_err(|e| {
+        value_error(match e {
+            numpy::BorrowError::NotWriteable => format!("out: {name} is not writeable"),
+            _ => format!("out: {name} shares its memory with another array of out"),
+        })
     })
 }
 

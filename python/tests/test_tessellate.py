@@ -251,3 +251,38 @@ def test_a_fresh_result_is_the_same_as_one_written_into_out(cpu, gpu):
                         (want.t, want.points, want.d1, want.d2, want.curve_offsets)):
             np.testing.assert_array_equal(a, b)
         assert fresh.points.flags.c_contiguous and fresh.points.flags.writeable
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+def test_out_arrays_that_cannot_hold_the_result_are_refused_by_name(cpu, gpu, backend):
+    # Each would have been written wrongly or crashed: read-only (a pyo3 panic), one array
+    # given twice (a panic on the CPU, wrong values on the GPU), Fortran order or (D, N) shape
+    # (wrong values). Each is a ValueError naming the array, and nothing is written.
+    ctx = cpu if backend == "cpu" else gpu
+    curves = np.random.default_rng(11).uniform(-1, 1, (4, 6, 3))
+    good = ctx.tessellate(curves, per_segment=5, derivatives=1)
+
+    def out(**replace):
+        arrays = dict(t=good.t.copy(), points=good.points.copy(), d1=good.d1.copy(),
+                      d2=None, curve_offsets=good.curve_offsets.copy())
+        arrays.update(replace)
+        return splinegpu.Tessellation(**arrays)
+
+    read_only = good.points.copy()
+    read_only.flags.writeable = False
+    cases = [
+        (out(points=read_only), r"out: points is not writeable"),
+        (out(d1=None), r"out: a derivative array"),
+        (out(points=np.asfortranarray(good.points)), r"out: points must be a C-ordered"),
+        (out(points=np.ascontiguousarray(good.points.T).T), r"out: points must be a C-ordered"),
+        (out(points=np.zeros(good.points.shape[::-1], good.points.dtype)),
+         r"out: points must be a C-ordered array of shape"),
+    ]
+    shared = good.points.copy()
+    cases.append((out(points=shared, d1=shared), r"out: d1 shares its memory"))
+    for given, message in cases:
+        before = [None if a is None else a.copy() for a in (given.points, given.d1)]
+        with pytest.raises(ValueError, match=message):
+            ctx.tessellate(curves, per_segment=5, derivatives=1, out=given)
+        if message != r"out: d1 shares its memory":
+            np.testing.assert_array_equal(given.points, before[0])
