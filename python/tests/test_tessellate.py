@@ -263,8 +263,8 @@ def test_out_arrays_that_cannot_hold_the_result_are_refused_by_name(cpu, gpu, ba
     good = ctx.tessellate(curves, per_segment=5, derivatives=1)
 
     def out(**replace):
-        arrays = dict(t=good.t.copy(), points=good.points.copy(), d1=good.d1.copy(),
-                      d2=None, curve_offsets=good.curve_offsets.copy())
+        arrays = {"t": good.t.copy(), "points": good.points.copy(), "d1": good.d1.copy(),
+                  "d2": None, "curve_offsets": good.curve_offsets.copy()}
         arrays.update(replace)
         return splinegpu.Tessellation(**arrays)
 
