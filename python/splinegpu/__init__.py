@@ -70,11 +70,38 @@ class Tessellation:
 def _float64(a, name: str) -> np.ndarray:
     """`a` as a float64 array (itself where it already is one). Complex values are refused,
     naming `name`, rather than cut to their real part."""
-    a = np.asarray(a)
+    try:
+        a = np.asarray(a)
+    except ValueError as e:
+        # A nested list whose rows differ in length.
+        raise ValueError(f"{name}: {e}") from None
     if np.iscomplexobj(a):
         raise ValueError(f"{name}: complex values are not supported (got {a.dtype}); pass the "
                          f"real and imaginary parts as coordinates of their own")
+    if a.dtype.kind not in "biuf":
+        # Strings would be parsed as numbers by astype, objects are ragged nested lists.
+        raise TypeError(f"{name}: must be numbers, got an array of {a.dtype}"
+                        + (" (rows of different lengths?)" if a.dtype.kind == "O" else ""))
     return a.astype(np.float64, copy=False)
+
+
+def _order(name: str, value, most: int) -> int:
+    """An integer argument `name` in 0..=most (a derivative order), refused by name otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (
+            0 <= value <= most):
+        raise ValueError(f"{name}: must be an integer from 0 to {most}, got {value!r}")
+    return int(value)
+
+
+def _count(name: str, value) -> int:
+    """A sample count `name` (per_segment, arc_length): an integer (0 goes on to the crate,
+    whose message names the curve)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer, float, np.floating)) \
+            or not np.isfinite(value) or int(value) != value:
+        raise ValueError(f"{name}: must be an integer, got {value!r}")
+    if value < 0:
+        raise ValueError(f"{name}: must be >= 1, got {value}")
+    return int(value)
 
 
 def _aligned(a, name: str) -> np.ndarray:
@@ -99,6 +126,14 @@ def _curves(points):
             raise ValueError(f"curve {c}: \"points\" must be an (n, D) array, got shape {a.shape}")
         out.append(_aligned(a, "points"))
     return out
+
+
+def _matrix(matrix) -> list:
+    """A basis matrix: 4 rows of 4 numbers."""
+    m = _float64(matrix, "matrix")
+    if m.shape != (4, 4):
+        raise ValueError(f"matrix: must be 4 rows of 4 numbers, got shape {m.shape}")
+    return m.tolist()
 
 
 def _per_curve(name: str, value, curves: int, ndim: int) -> list | None:
@@ -188,29 +223,33 @@ class Context:
         if name == "at":
             value = _rows("at", value, len(curves))
         elif name in ("per_segment", "arc_length"):
-            if isinstance(value, bool) or int(value) != value:
-                raise ValueError(f"{name}: must be an integer, got {value!r}")
-            if value < 0:
-                raise ValueError(f"{name}: must be >= 1, got {value}")
-            value = int(value)
+            value = _count(name, value)
         else:
-            value = float(value)
+            value = float(_float64(value, "tolerance"))
         fields = {
             "ends": ends,
             "tension": None if tension is None else float(tension),
             "bias": None if bias is None else float(bias),
-            "matrix": None if matrix is None else _float64(matrix, "matrix").tolist(),
+            "matrix": None if matrix is None else _matrix(matrix),
             "t": _per_curve("t", t, len(curves), 1),
             "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
             "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
         }
+        derivatives = _order("derivatives", derivatives, 2)
         reuse = None
         if out is not None:
+            for array, what, dtype in ((out.t, "t", np.float64),
+                                       (out.curve_offsets, "curve_offsets", np.int64)):
+                if not isinstance(array, np.ndarray) or array.dtype != dtype or array.ndim != 1:
+                    raise ValueError(f"out: {what} must be a 1-D {np.dtype(dtype)} array, got "
+                                     f"{getattr(array, 'dtype', type(array).__name__)}")
             reuse = (out.t, out.points, out.d1, out.d2, out.curve_offsets)
-        result = self._native.tessellate(curves, kind, fields, (name, value), int(derivatives),
-                                         reuse)
+        result = self._native.tessellate(curves, kind, fields, (name, value), derivatives, reuse)
         return Tessellation(*result)
 
+
+# The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
+_MAX_COLUMNS = 64
 
 _shared_cpu: Context | None = None
 _shared_lock = threading.Lock()
@@ -261,11 +300,22 @@ class CubicSpline:
                  context: Context | None = None):
         if extrapolate not in (None, False):
             raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
-        x = np.ascontiguousarray(_float64(x, "x"))
+        # A copy of x: the caller's array may change after the fit, the spline's knots may not.
+        x = np.array(_float64(x, "x"), order="C")
         y = np.asarray(y)
         self._complex = np.iscomplexobj(y)
         if x.ndim != 1:
             raise ValueError(f"x: must be 1-D, got shape {x.shape}")
+        if x.shape[0] < 2:
+            raise ValueError(f"x: must contain at least 2 elements, got {x.shape[0]}")
+        if y.ndim == 0:
+            raise ValueError("y: must be at least 1-D, got a 0-d array")
+        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
+                -y.ndim <= axis < y.ndim):
+            raise ValueError(f"axis: must be an integer from {-y.ndim} to {y.ndim - 1} for a "
+                             f"{y.ndim}-D y, got {axis!r}")
+        # As SciPy does: a negative axis counts from the end, and is kept normalised.
+        axis = int(axis) % y.ndim
         y = np.moveaxis(y, axis, 0)
         if y.shape[0] != x.shape[0]:
             raise ValueError(f"y: {y.shape[0]} values along axis {axis} for {x.shape[0]} x")
@@ -274,6 +324,10 @@ class CubicSpline:
         if self._complex:
             y2 = np.concatenate([y2.real, y2.imag], axis=1)
         y2 = np.ascontiguousarray(_float64(y2, "y"))
+        if y2.shape[1] > _MAX_COLUMNS:
+            raise ValueError(f"y: at most {_MAX_COLUMNS} values per x are fitted together "
+                             f"(y's axes but `axis`, a complex y counting twice), got "
+                             f"{y2.shape[1]}")
         name, start, end = _bc(bc_type, self._trailing, self._complex)
         self._native = _native.fit([x], [y2], name, start, end)
         self.x = x
@@ -296,10 +350,11 @@ class CubicSpline:
     def __call__(self, x, nu: int = 0) -> np.ndarray:
         """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
         `axis` as SciPy does)."""
+        nu = _order("nu", nu, 2)
         x = _float64(x, "x")
         flat = _flat(x, "x")
         ctx = self.context or _default_context()
-        values, _ = self._native.evaluate(ctx._native, [flat], int(nu))
+        values, _ = self._native.evaluate(ctx._native, [flat], nu)
         out = self._joined(values).reshape(x.shape + self._trailing)
         if self.axis != 0 and x.ndim > 0:
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
@@ -349,8 +404,13 @@ class CubicSplines:
             trailing = ys.shape[2:]
             ys2 = _aligned(_float64(ys, "ys").reshape(ys.shape[0], ys.shape[1], -1), "ys")
         else:
-            trailing = np.asarray(ys[0]).shape[1:] if len(ys) else ()
-            ys2 = [_aligned(_float64(y, "ys").reshape(len(y), -1), "ys") for y in ys]
+            ys = [_float64(y, "ys") for y in ys]
+            trailing = ys[0].shape[1:] if ys else ()
+            for i, y in enumerate(ys):
+                if y.ndim == 0 or y.shape[1:] != trailing:
+                    raise ValueError(f"ys[{i}]: every spline's values must have the shape "
+                                     f"(n_i,) + {trailing}, got {y.shape}")
+            ys2 = [_aligned(y.reshape(len(y), -1), "ys") for y in ys]
         name, start, end = _bc(bc_type, trailing)
         self._native = _native.fit(xs, ys2, name, start, end)
         self.context = context
@@ -365,4 +425,4 @@ class CubicSplines:
         else:
             flat = [_flat(x, "xs") for x in xs]
         ctx = self.context or _default_context()
-        return self._native.evaluate(ctx._native, flat, int(nu))
+        return self._native.evaluate(ctx._native, flat, _order("nu", nu, 2))

@@ -286,3 +286,55 @@ def test_out_arrays_that_cannot_hold_the_result_are_refused_by_name(cpu, gpu, ba
             ctx.tessellate(curves, per_segment=5, derivatives=1, out=given)
         if message != r"out: d1 shares its memory":
             np.testing.assert_array_equal(given.points, before[0])
+
+
+def test_arguments_are_refused_in_words_that_name_them(cpu):
+    # Each raised an exception that named nothing (OverflowError, AxisError, numpy's reshape
+    # or parse messages, pyo3's extraction errors) or was misread (a string parsed as a number).
+    curve = np.random.default_rng(12).uniform(-1, 1, (6, 2))
+    good = cpu.tessellate([curve], per_segment=3)
+    cases = [
+        (lambda: cpu.tessellate([curve], derivatives=-1), ValueError, "derivatives: must be"),
+        (lambda: cpu.tessellate([curve], per_segment=float("nan")), ValueError,
+         "per_segment: must be an integer"),
+        (lambda: cpu.tessellate([curve], at="0.5"), TypeError, "at: must be numbers"),
+        (lambda: cpu.tessellate([curve], "matrix", matrix=np.eye(3)), ValueError,
+         r"matrix: must be 4 rows of 4 numbers, got shape \(3, 3\)"),
+        (lambda: cpu.tessellate([[[0, 0], [1, 1, 1], [2, 0], [3, 1]]]), ValueError,
+         r'curve 0: "points"'),
+        (lambda: cpu.tessellate([curve], per_segment=3, out=splinegpu.Tessellation(
+            good.t, good.points, None, None, good.curve_offsets.astype(np.int32))),
+         ValueError, "out: curve_offsets must be a 1-D int64 array"),
+    ]
+    x = np.linspace(0, 1, 12)
+    cases += [
+        (lambda: splinegpu.CubicSpline(x, np.sin(x))(0.5, nu=-1), ValueError, "nu: must be"),
+        (lambda: splinegpu.CubicSpline([], []), ValueError, "x: must contain at least 2"),
+        (lambda: splinegpu.CubicSpline(x, np.float64(1.0)), ValueError, "y: must be at least 1-D"),
+        (lambda: splinegpu.CubicSpline(x, np.zeros((12, 65))), ValueError,
+         "y: at most 64 values per x"),
+        (lambda: splinegpu.CubicSpline(x, np.zeros((3, 12)), axis=2), ValueError, "axis: must be"),
+        (lambda: splinegpu.CubicSplines([x, x], [np.zeros((12, 2)), np.zeros((12, 3))]),
+         ValueError, r"ys\[1\]: every spline's values must have the shape"),
+    ]
+    for call, error, message in cases:
+        with pytest.raises(error, match=message):
+            call()
+
+
+def test_negative_axes_mean_what_they_mean_in_scipy():
+    scipy_interpolate = pytest.importorskip("scipy.interpolate")
+    x = np.linspace(0, 3, 12)
+    y = np.random.default_rng(13).uniform(-1, 1, (3, 12))
+    xq = np.random.default_rng(14).uniform(0, 3, (2, 3))
+    for axis in (-1, 1):
+        ours = splinegpu.CubicSpline(x, y, axis=axis)
+        theirs = scipy_interpolate.CubicSpline(x, y, axis=axis)
+        assert ours.axis == theirs.axis == 1
+        assert ours(xq).shape == theirs(xq).shape == (3, 2, 3)
+        np.testing.assert_allclose(ours(xq), theirs(xq), rtol=1e-12, atol=1e-12)
+    y3 = np.random.default_rng(15).uniform(-1, 1, (2, 12, 4))
+    ours, theirs = (splinegpu.CubicSpline(x, y3, axis=-2),
+                    scipy_interpolate.CubicSpline(x, y3, axis=-2))
+    assert ours.axis == theirs.axis == 1
+    np.testing.assert_allclose(ours(xq), theirs(xq), rtol=1e-12, atol=1e-12)
