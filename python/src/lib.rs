@@ -208,7 +208,8 @@ impl Context {
         let value_bytes = if self.gpu.is_some() { 4 } else { 8 };
         check_result_fits(&job, value_bytes, &sampling.describe())?;
         let layout = job.layout();
-        let same_dim = (0..job.len()).all(|c| layout.dim(c) == layout.max_dim());
+        let dim = layout.max_dim();
+        let same_dim = (0..job.len()).all(|c| layout.dim(c) == dim);
         match &self.gpu {
             // NumPy's own arrays, filled in place: its allocator advises large arrays as huge
             // pages, which a Rust Vec handed over does not get (a fresh 318 MB result pays

@@ -338,3 +338,21 @@ def test_negative_axes_mean_what_they_mean_in_scipy():
                     scipy_interpolate.CubicSpline(x, y3, axis=-2))
     assert ours.axis == theirs.axis == 1
     np.testing.assert_allclose(ours(xq), theirs(xq), rtol=1e-12, atol=1e-12)
+
+
+def test_a_list_of_views_of_one_array_is_the_array(cpu):
+    # list(arr) is how many callers hand over a batch; it is stacked into one array once
+    # (it was quadratic: each view's borrow checked every other). Same result as the array.
+    arr = np.random.default_rng(16).uniform(-1, 1, (300, 8, 3))
+    whole = cpu.tessellate(arr, "bspline", per_segment=4, derivatives=1)
+    views = cpu.tessellate(list(arr), "bspline", per_segment=4, derivatives=1)
+    for a, b in zip((whole.t, whole.points, whole.d1, whole.curve_offsets),
+                    (views.t, views.points, views.d1, views.curve_offsets)):
+        np.testing.assert_array_equal(a, b)
+    xs = np.sort(np.random.default_rng(17).uniform(0, 10, (50, 9)), axis=1)
+    ys = np.random.default_rng(18).uniform(-1, 1, (50, 9, 2))
+    xq = np.random.default_rng(19).uniform(0, 10, (50, 4)).clip(xs[:, :1], xs[:, -1:])
+    together = splinegpu.CubicSplines(xs, ys)(xq)
+    apart = splinegpu.CubicSplines(list(xs), list(ys))(list(xq))
+    np.testing.assert_array_equal(together[0], apart[0])
+    np.testing.assert_array_equal(together[1], apart[1])
