@@ -14,6 +14,8 @@ use numpy::{
     PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyReadonlyArray3, PyUntypedArrayMethods,
 };
+use std::sync::Arc;
+
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use splinegpu::kinds::KindFields;
@@ -80,11 +82,15 @@ impl Stack1<'_> {
 }
 
 /// `make(c)` for every c < n, on every thread, in order; the first error in curve order wins.
+/// One item is made on the calling thread: a thread's start costs more than a small fit.
 fn on_threads<T: Send>(
     n: usize,
     make: impl Fn(usize) -> Result<T, InputError> + Sync,
 ) -> Result<Vec<T>, InputError> {
     let threads = splinegpu::available_threads().clamp(1, n.max(1));
+    if threads == 1 {
+        return (0..n).map(make).collect();
+    }
     let parts: Vec<Result<Vec<T>, InputError>> = std::thread::scope(|scope| {
         let make = &make;
         let handles: Vec<_> = (0..threads)
@@ -585,7 +591,8 @@ fn threads() -> usize {
 /// One fitted interpolating spline, or many: what `splinegpu.CubicSpline` holds.
 #[pyclass(frozen, module = "splinegpu._native")]
 struct Splines {
-    tables: Vec<SegmentTable>,
+    /// Shared with every evaluation's job: a call copies no knots.
+    tables: Vec<Arc<SegmentTable>>,
 }
 
 /// The end condition of SciPy's `bc_type` names: "not-a-knot", "natural", "periodic",
@@ -678,7 +685,7 @@ fn fit<'py>(
                 };
                 let curve =
                     Curve::new(kind, Points::new(dim, y.to_vec())?).map_err(|e| e.in_curve(c))?;
-                Ok(curve.fit())
+                Ok(Arc::new(curve.fit()))
             })
         })
         .map_err(value_error)?;
@@ -738,10 +745,16 @@ impl Splines {
         let tables = &self.tables;
         let job = py
             .detach(|| {
-                job_on_threads(tables.len(), derivatives, |c| {
-                    let plan = SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))?;
-                    Ok((tables[c].clone(), plan))
-                })
+                let plans = on_threads(tables.len(), |c| {
+                    SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))
+                        .map_err(|e| e.in_curve(c))
+                })?;
+                let mut job = EvalJob::new(derivatives);
+                for (c, plan) in plans.into_iter().enumerate() {
+                    job.push_shared(Arc::clone(&tables[c]), Arc::new(plan))
+                        .map_err(|e| e.in_curve(c))?;
+                }
+                Ok::<_, InputError>(job)
             })
             .map_err(value_error)?;
         let offsets = offsets(&job);

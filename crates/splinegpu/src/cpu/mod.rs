@@ -58,7 +58,12 @@ pub fn evaluate_cpu<F: SampleFloat>(job: &EvalJob, threads: usize) -> Samples<F>
     samples
 }
 
-/// Evaluates `job` into a caller's [`Planes`] on `threads` threads: each sample's t when they
+/// The fewest samples worth a thread of their own: a thread's start and join (tens of
+/// microseconds) is the time of about this many samples.
+const MIN_PART_SAMPLES: usize = 16_384;
+
+/// Evaluates `job` into a caller's [`Planes`] on `threads` threads (at most one per
+/// [`MIN_PART_SAMPLES`] samples): each sample's t when they
 /// hold it, the positions and the derivatives the job asks for. Nothing is allocated per
 /// sample; the samples are split into one contiguous range per thread, and an arc-length or
 /// tolerance sample's place is computed once for its t and its values. Through
@@ -70,7 +75,9 @@ pub fn evaluate_cpu_into<F: SampleFloat>(job: &EvalJob, planes: Planes<'_, F>, t
     let (mut params, planes) = planes.checked(job);
     let layout = job.layout();
     let [mut points, mut d1, mut d2] = planes;
-    // One contiguous range of samples per thread, with its part of every plane.
+    // One contiguous range of samples per thread, with its part of every plane; a small job
+    // stays on the calling thread, since starting a thread costs more than it would take.
+    let threads = threads.min(layout.samples().div_ceil(MIN_PART_SAMPLES));
     let parts: Vec<_> = even_ranges(layout.samples(), threads)
         .map(|range| {
             let n = layout.value_of_sample(range.end) - layout.value_of_sample(range.start);

@@ -95,8 +95,13 @@ impl EvalJob {
         self.push_shared(Arc::clone(&job.tables[c]), Arc::clone(&job.plans[c]))
     }
 
-    /// [`EvalJob::push_table`] for a table and plan that other jobs may hold too.
-    fn push_shared(
+    /// [`EvalJob::push_table`] for a table and plan that other jobs may hold too: a fitted
+    /// spline evaluated again and again shares its table with each job instead of copying it
+    /// (a copy costs as much as the knots, whatever the number of samples).
+    ///
+    /// # Errors
+    /// As [`EvalJob::push_table`].
+    pub fn push_shared(
         &mut self,
         table: Arc<SegmentTable>,
         plan: Arc<SamplePlan>,

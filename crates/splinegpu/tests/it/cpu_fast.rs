@@ -36,7 +36,8 @@ fn mixed_job(derivatives: Derivatives) -> EvalJob {
         };
         job.push(&curve, &sampling).unwrap();
     }
-    // One long curve, so that thread ranges fall inside it.
+    // One long curve, so that thread ranges fall inside it: over a million samples, so that
+    // even 64 threads get a part each (a part is at least 16,384 samples).
     let long = Curve::new(
         CurveKind::Uniform {
             basis: Basis::BSpline,
@@ -45,7 +46,7 @@ fn mixed_job(derivatives: Derivatives) -> EvalJob {
         rng.points(300, 3, -1.0, 1.0),
     )
     .unwrap();
-    job.push(&long, &Sampling::PerSegment(100)).unwrap();
+    job.push(&long, &Sampling::PerSegment(3600)).unwrap();
     job
 }
 
