@@ -6,10 +6,13 @@
 use super::evaluate_interpreted;
 use crate::gpu::KernelShape;
 use crate::gpu::pack::BatchLimits;
-use crate::support::{Rng, bases, compare, gpu};
+#[cfg(feature = "profiling")]
+use crate::support::gpu;
+use crate::support::{Rng, bases, compare};
+#[cfg(feature = "profiling")]
+use splinegpu::GpuContext;
 use splinegpu::{
-    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, Points, Samples,
-    Sampling,
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Samples, Sampling,
 };
 
 /// Kernel shapes a GPU or a CPU adapter gets, and awkward ones: runs not a multiple of 4, one
@@ -232,6 +235,7 @@ fn a_segment_of_a_billion_samples_is_chunked_without_holding_it() {
 }
 
 /// The interpreter's limits for a context: what its device lets one dispatch hold.
+#[cfg(feature = "profiling")]
 fn limits_of(context: &GpuContext, job: &EvalJob) -> BatchLimits {
     BatchLimits::for_device(
         &context.device().limits(),

@@ -24,27 +24,21 @@ mod sealed {
         );
     }
 
-    impl Sealed for f32 {
-        fn evaluate_range(
-            job: &EvalJob,
-            range: std::ops::Range<usize>,
-            t: &mut [f64],
-            out: [&mut [Self]; 3],
-        ) {
-            crate::cpu::evaluate_range_fastest(job, range, t, out);
-        }
+    macro_rules! evaluated_here {
+        ($($float:ty),*) => {$(
+            impl Sealed for $float {
+                fn evaluate_range(
+                    job: &EvalJob,
+                    range: std::ops::Range<usize>,
+                    t: &mut [f64],
+                    out: [&mut [Self]; 3],
+                ) {
+                    crate::cpu::evaluate_range_fastest(job, range, t, out);
+                }
+            }
+        )*};
     }
-
-    impl Sealed for f64 {
-        fn evaluate_range(
-            job: &EvalJob,
-            range: std::ops::Range<usize>,
-            t: &mut [f64],
-            out: [&mut [Self]; 3],
-        ) {
-            crate::cpu::evaluate_range_fastest(job, range, t, out);
-        }
-    }
+    evaluated_here!(f32, f64);
 }
 
 /// The number type of evaluated values: f32 (the GPU's, and the fast CPU evaluator's on

@@ -1,7 +1,9 @@
 //! The f32 GPU evaluator against the f64 CPU reference, under the contract's accuracy promise
 //! (`splinegpu::accuracy::gpu_bound`). Runs on whatever adapter wgpu finds; in CI that is lavapipe.
 
-use crate::support::{Rng, assert_gpu_matches_cpu, bases, compare, gpu};
+#[cfg(feature = "profiling")]
+use crate::support::compare;
+use crate::support::{Rng, assert_gpu_matches_cpu, bases, gpu};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, Points, Samples, Sampling,
 };
