@@ -63,7 +63,7 @@ pub fn evaluate_cpu<F: SampleFloat>(job: &EvalJob, threads: usize) -> Samples<F>
 const MIN_PART_SAMPLES: usize = 16_384;
 
 /// Evaluates `job` into a caller's [`Planes`] on `threads` threads (at most one per
-/// [`MIN_PART_SAMPLES`] samples): each sample's t when they
+/// 16,384 samples): each sample's t when they
 /// hold it, the positions and the derivatives the job asks for. Nothing is allocated per
 /// sample; the samples are split into one contiguous range per thread, and an arc-length or
 /// tolerance sample's place is computed once for its t and its values. Through
