@@ -4,7 +4,7 @@
 # out/curves.csv, and draws them with their control polygons in out/curves.svg.
 #
 # One build (the binary and the drawing example together); on a fresh 2-core machine the
-# first run spends about 4 minutes compiling, later runs a few seconds.
+# first run spends about 2 minutes compiling (124 s measured), later runs a few seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Mesa's device-select layer warns about XDG_RUNTIME_DIR on headless machines unless told not to.
@@ -14,7 +14,7 @@ say() { echo "demo [$((SECONDS - started)) s]: $*" >&2; }
 
 say "checking for a Vulkan driver (installs mesa-vulkan-drivers when there is none)"
 scripts/ensure-vulkan.sh
-say "building splinegpu and its drawing example (the first build takes about 4 minutes)"
+say "building splinegpu and its drawing example (the first build takes about 2 minutes)"
 cargo build --release -p splinegpu-cli --bin splinegpu --example svg
 input=crates/splinegpu-cli/examples/curves.json
 mkdir -p out
