@@ -117,9 +117,11 @@ def _curves(points):
             raise ValueError(f"points: must be a (C, n, D) array or a list of (n_i, D) arrays, "
                              f"got an array of shape {points.shape}")
         return _aligned(points, "points")
-    stacked = _stacked(points)
-    if stacked is not None and stacked.ndim == 3:
-        return _aligned(stacked, "points")
+    if isinstance(points, (list, tuple)) and points and isinstance(points[0], np.ndarray) \
+            and points[0].ndim == 2:
+        stacked = _stacked(points)
+        if stacked is not None:
+            return _aligned(stacked, "points")
     out = []
     for c, p in enumerate(points):
         a = _float64(p, f"curve {c}: \"points\"")

@@ -60,6 +60,26 @@ impl KernelShape {
         run_len: 32,
     };
 
+    /// The shapes the unit tests run the packer and the kernel's twin in: a GPU's, a CPU
+    /// adapter's, and awkward ones (runs not a multiple of 4, one sample per run, many lanes).
+    #[cfg(test)]
+    pub(crate) const TESTED: [KernelShape; 5] = [
+        KernelShape::LOOPING,
+        KernelShape::PER_SAMPLE,
+        KernelShape {
+            lanes: 4,
+            run_len: 7,
+        },
+        KernelShape {
+            lanes: 1,
+            run_len: 1,
+        },
+        KernelShape {
+            lanes: 8,
+            run_len: 64,
+        },
+    ];
+
     /// The default shape for an adapter of this type.
     #[must_use]
     pub fn for_device_type(device_type: wgpu::DeviceType) -> Self {

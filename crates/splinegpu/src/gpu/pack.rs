@@ -871,23 +871,10 @@ mod tests {
         assert_eq!(packed.device_values, layout.device_values());
     }
 
-    const SHAPES: [KernelShape; 4] = [
-        KernelShape::LOOPING,
-        KernelShape::PER_SAMPLE,
-        KernelShape {
-            lanes: 4,
-            run_len: 7,
-        },
-        KernelShape {
-            lanes: 1,
-            run_len: 1,
-        },
-    ];
-
     #[test]
     fn runs_write_every_float_of_every_curve_once() {
         let job = mixed_job();
-        for shape in SHAPES {
+        for shape in KernelShape::TESTED {
             for limits in [
                 BatchLimits {
                     values: usize::MAX,
@@ -908,7 +895,7 @@ mod tests {
         let job = mixed_job();
         for max in [1, 3, 10, 17] {
             for chunk in job.chunks(max) {
-                for shape in SHAPES {
+                for shape in KernelShape::TESTED {
                     let limits = BatchLimits {
                         values: 64,
                         runs: 4,

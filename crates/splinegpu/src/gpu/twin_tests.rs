@@ -15,25 +15,6 @@ use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Samples, Sampling,
 };
 
-/// Kernel shapes a GPU or a CPU adapter gets, and awkward ones: runs not a multiple of 4, one
-/// sample per run.
-const SHAPES: [KernelShape; 5] = [
-    KernelShape::LOOPING,
-    KernelShape::PER_SAMPLE,
-    KernelShape {
-        lanes: 4,
-        run_len: 7,
-    },
-    KernelShape {
-        lanes: 1,
-        run_len: 1,
-    },
-    KernelShape {
-        lanes: 8,
-        run_len: 64,
-    },
-];
-
 const DIMS: [usize; 6] = [1, 3, 4, 5, 30, 64];
 
 /// No limit on a dispatch: the whole job in one.
@@ -139,7 +120,7 @@ fn interpreter_meets_the_promise_for_every_shape_family_dimension_and_sampling()
     for dim in DIMS {
         for (name, sampling) in samplings() {
             let job = job_of(dim, Derivatives::Second, sampling);
-            for shape in SHAPES {
+            for shape in KernelShape::TESTED {
                 let f32_samples = evaluate_interpreted(&job, shape, UNLIMITED).unwrap();
                 assert_within_promise(&format!("D {dim}, {name}, {shape:?}"), &job, &f32_samples);
             }
@@ -152,7 +133,7 @@ fn small_dispatch_limits_change_nothing() {
     for dim in [1, 3, 5] {
         for (name, sampling) in samplings() {
             let job = job_of(dim, Derivatives::First, sampling);
-            for shape in SHAPES {
+            for shape in KernelShape::TESTED {
                 let whole = evaluate_interpreted(&job, shape, UNLIMITED).unwrap();
                 for limits in [
                     BatchLimits {
@@ -250,7 +231,7 @@ fn gpu_equals_the_interpreter_bit_for_bit_for_every_shape() {
     if gpu().is_none() {
         return;
     }
-    for shape in SHAPES {
+    for shape in KernelShape::TESTED {
         let context = GpuContext::new().unwrap().with_shape(shape);
         for dim in [1, 3, 4, 5, 64] {
             for (name, sampling) in samplings() {
