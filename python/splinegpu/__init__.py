@@ -271,6 +271,7 @@ class Context:
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
+_F64 = np.dtype(np.float64)
 
 _shared_cpu: Context | None = None
 _shared_lock = threading.Lock()
@@ -282,6 +283,11 @@ def _default_context() -> Context:
         if _shared_cpu is None:
             _shared_cpu = Context("cpu")
         return _shared_cpu
+
+
+def _shared_context():
+    """The native half of `self.context`'s default, made once (a call takes no lock after)."""
+    return (_shared_cpu or _default_context())._native
 
 
 def _bc(bc_type, trailing: tuple, complex_y: bool = False):
@@ -371,12 +377,24 @@ class CubicSpline:
     def __call__(self, x, nu: int = 0) -> np.ndarray:
         """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
         `axis` as SciPy does)."""
-        nu = _order("nu", nu, 2)
-        x = _float64(x, "x")
-        flat = _flat(x, "x")
-        ctx = self.context or _default_context()
-        values, _ = self._native.evaluate(ctx._native, [flat], nu)
-        out = self._joined(values).reshape(x.shape + self._trailing)
+        if nu.__class__ is not int or not 0 <= nu <= 2:
+            nu = _order("nu", nu, 2)
+        # The common call, a float64 array or a Python float, skips the general conversion.
+        if x.__class__ is np.ndarray and x.dtype == _F64 and x.flags.c_contiguous \
+                and x.flags.aligned:
+            flat = x.reshape(-1)
+        elif x.__class__ is float:
+            flat = np.array((x,))
+            x = flat.reshape(())
+        else:
+            x = _float64(x, "x")
+            flat = _flat(x, "x")
+        ctx = self.context
+        values = self._native.evaluate_one(
+            _shared_context() if ctx is None else ctx._native, flat, nu)
+        if self._complex:
+            values = self._joined(values)
+        out = values.reshape(x.shape + self._trailing)
         if self.axis != 0 and x.ndim > 0:
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
         return out
@@ -390,8 +408,7 @@ class _Derivative:
     """A derivative of a `CubicSpline`: evaluated through its spline."""
 
     def __init__(self, spline: CubicSpline, nu: int):
-        if nu < 0 or nu > 2:
-            raise ValueError(f"nu: must be 0, 1 or 2, got {nu}")
+        nu = _order("nu", nu, 2)
         self._spline, self._nu = spline, nu
         self.x = spline.x
 

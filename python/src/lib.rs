@@ -81,33 +81,19 @@ impl Stack1<'_> {
     }
 }
 
-/// `make(c)` for every c < n, on every thread, in order; the first error in curve order wins.
-/// One item is made on the calling thread: a thread's start costs more than a small fit.
+/// `make(c)` for every c < n, on the library's pool of threads, in order; the first error in
+/// curve order wins. One item is made on the calling thread, touching no pool.
 fn on_threads<T: Send>(
     n: usize,
     make: impl Fn(usize) -> Result<T, InputError> + Sync,
 ) -> Result<Vec<T>, InputError> {
-    let threads = splinegpu::available_threads().clamp(1, n.max(1));
-    if threads == 1 {
+    use rayon::prelude::*;
+    if n <= 1 {
         return (0..n).map(make).collect();
     }
-    let parts: Vec<Result<Vec<T>, InputError>> = std::thread::scope(|scope| {
-        let make = &make;
-        let handles: Vec<_> = (0..threads)
-            .map(|k| {
-                scope.spawn(move || (n * k / threads..n * (k + 1) / threads).map(make).collect())
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().expect("a builder thread panicked"))
-            .collect()
-    });
-    let mut all = Vec::with_capacity(n);
-    for part in parts {
-        all.extend(part?);
-    }
-    Ok(all)
+    let make = &make;
+    let made: Vec<Result<T, InputError>> = (0..n).into_par_iter().map(make).collect();
+    made.into_iter().collect()
 }
 
 /// A job of `n` curves, each fitted and planned on every thread (`make(c)` gives curve c's
@@ -723,54 +709,164 @@ impl Splines {
         PyArray1::from_vec(py, c).reshape([4, n, m])
     }
 
-    /// Evaluates spline i at `at[i]` for every i (or the one spline at `at[0]`), derivative
-    /// `nu` (0, 1 or 2) with respect to x, on `context`. Returns (values (N, m), offsets).
+    /// Spline 0 at `x` (a contiguous 1-D float64 array), derivative `nu` (0, 1 or 2) with
+    /// respect to x, on `context`: shape (len(x), m), float64 from the CPU, float32 from the
+    /// GPU. On the CPU each x is located and evaluated in one pass straight into the new array
+    /// ([`splinegpu::evaluate_at_into`]); on the GPU through a job.
+    fn evaluate_one<'py>(
+        &self,
+        py: Python<'py>,
+        context: &Context,
+        x: PyReadonlyArray1<'py, f64>,
+        nu: usize,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let table = self
+            .tables
+            .first()
+            .ok_or_else(|| value_error("no spline to evaluate"))?;
+        let x = x.as_slice()?;
+        check_nu(nu)?;
+        if let Some(gpu) = &context.gpu {
+            let job = one_spline_job(table, x, nu)?;
+            let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
+            return gpu_plane(py, samples, nu, table.dim());
+        }
+        let out = values_array(py, x.len(), table.dim())?;
+        {
+            let mut o = out.readwrite();
+            let o = o.as_slice_mut()?;
+            py.detach(|| splinegpu::evaluate_at_into(table, x, nu, o, threads()))
+                .map_err(value_error)?;
+        }
+        Ok(out.into_any())
+    }
+
+    /// Spline i at `at[i]` for every i, derivative `nu` (0, 1 or 2) with respect to x, on
+    /// `context`: (values (N, m), offsets (S + 1,)), spline i's values in rows
+    /// offsets[i]:offsets[i+1]. On the CPU the splines are spread over the pool, each x
+    /// located and evaluated in one pass into the one result array.
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
         context: &Context,
         at: Stack1<'py>,
-        nu: u64,
+        nu: usize,
     ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
-        let derivatives = Derivatives::from_order(nu)
-            .ok_or_else(|| value_error(format!("nu: must be 0, 1 or 2, got {nu}")))?;
         let at = at.items()?;
-        if at.len() != self.tables.len() {
+        check_nu(nu)?;
+        let tables = &self.tables;
+        if at.len() != tables.len() {
             return Err(value_error(format!(
                 "{} arrays of x for {} splines",
                 at.len(),
-                self.tables.len()
+                tables.len()
             )));
         }
-        let tables = &self.tables;
-        let job = py
-            .detach(|| {
-                let plans = on_threads(tables.len(), |c| {
-                    SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))
-                        .map_err(|e| e.in_curve(c))
-                })?;
-                let mut job = EvalJob::new(derivatives);
-                for (c, plan) in plans.into_iter().enumerate() {
-                    job.push_shared(Arc::clone(&tables[c]), Arc::new(plan))
-                        .map_err(|e| e.in_curve(c))?;
-                }
-                Ok::<_, InputError>(job)
-            })
-            .map_err(value_error)?;
-        let offsets = offsets(&job);
-        let order = nu as usize;
-        let tuple = match &context.gpu {
-            None => {
-                let samples = py.detach(|| splinegpu::evaluate_cpu::<f64>(&job, threads()));
-                fresh(py, samples, offsets)?
-            }
+        let dim = tables.first().map_or(1, |t| t.dim());
+        if let Some(c) = tables.iter().position(|t| t.dim() != dim) {
+            return Err(value_error(format!(
+                "spline {c} has {} values per x where spline 0 has {dim}",
+                tables[c].dim()
+            )));
+        }
+        let offsets: Vec<i64> = std::iter::once(0)
+            .chain(at.iter().scan(0usize, |rows, a| {
+                *rows += a.len();
+                Some(*rows as i64)
+            }))
+            .collect();
+        let rows = at.iter().map(|a| a.len()).sum();
+        let offsets = PyArray1::from_vec(py, offsets);
+        match &context.gpu {
             Some(gpu) => {
+                let job = py
+                    .detach(|| {
+                        let plans = on_threads(tables.len(), |c| {
+                            SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))
+                                .map_err(|e| e.in_curve(c))
+                        })?;
+                        let mut job = EvalJob::new(derivatives_for(nu));
+                        for (c, plan) in plans.into_iter().enumerate() {
+                            job.push_shared(Arc::clone(&tables[c]), Arc::new(plan))
+                                .map_err(|e| e.in_curve(c))?;
+                        }
+                        Ok::<_, InputError>(job)
+                    })
+                    .map_err(value_error)?;
                 let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
-                fresh(py, samples, offsets)?
+                (gpu_plane(py, samples, nu, dim)?, offsets).into_pyobject(py)
             }
-        };
-        (tuple.get_item(1 + order)?, tuple.get_item(4)?).into_pyobject(py)
+            _ => {
+                let out = values_array(py, rows, dim)?;
+                {
+                    let mut o = out.readwrite();
+                    let o = o.as_slice_mut()?;
+                    py.detach(|| splinegpu::evaluate_curves_at_into(tables, &at, nu, o, threads()))
+                        .map_err(value_error)?;
+                }
+                (out, offsets).into_pyobject(py)
+            }
+        }
     }
+}
+
+/// A derivative order the package offers (the library's third derivative is not offered
+/// yet: its agreement with SciPy on very uneven x is not established).
+fn check_nu(nu: usize) -> PyResult<()> {
+    if nu > 2 {
+        return Err(value_error(format!("nu: must be 0, 1 or 2, got {nu}")));
+    }
+    Ok(())
+}
+
+/// The job list of derivatives that holds order `nu` (<= 2).
+fn derivatives_for(nu: usize) -> Derivatives {
+    match nu {
+        0 => Derivatives::None,
+        1 => Derivatives::First,
+        _ => Derivatives::Second,
+    }
+}
+
+/// Plane `nu` of a GPU result as a (samples, dim) float32 array, taking over its vector.
+fn gpu_plane(
+    py: Python<'_>,
+    samples: Samples<f32>,
+    nu: usize,
+    dim: usize,
+) -> PyResult<Bound<'_, PyAny>> {
+    let rows = samples.layout().samples();
+    let (_, _, mut planes) = samples.into_parts();
+    let plane = std::mem::take(&mut planes[nu]);
+    Ok(PyArray1::from_vec(py, plane)
+        .reshape([rows, dim])?
+        .into_any())
+}
+
+/// One spline at explicit x as a job, for the GPU.
+fn one_spline_job(table: &Arc<SegmentTable>, x: &[f64], nu: usize) -> PyResult<EvalJob> {
+    let plan = SamplePlan::new(table, &Sampling::At(x.to_vec())).map_err(value_error)?;
+    let mut job = EvalJob::new(derivatives_for(nu));
+    job.push_shared(Arc::clone(table), Arc::new(plan))
+        .map_err(value_error)?;
+    Ok(job)
+}
+
+/// A new (rows, dim) float64 array for values at explicit x (zeroed by NumPy, which maps
+/// fresh pages for a large one). One larger than the memory available is refused first, a
+/// MemoryError naming its size (the check reads /proc/meminfo, so small arrays skip it).
+fn values_array(py: Python<'_>, rows: usize, dim: usize) -> PyResult<Bound<'_, PyArray2<f64>>> {
+    const CHECKED_BYTES: u128 = 1 << 26;
+    let bytes = 8 * rows as u128 * dim as u128;
+    if bytes >= CHECKED_BYTES {
+        if let Some(available) = available_memory().filter(|&a| bytes > a) {
+            return Err(PyMemoryError::new_err(format!(
+                "x: {rows} values of {dim} coordinates need {bytes} bytes; this machine has \
+                 {available} bytes of memory available"
+            )));
+        }
+    }
+    Ok(PyArray2::<f64>::zeros(py, [rows, dim], false))
 }
 
 /// `python -m splinegpu.bench`'s anchor: the crate's own CPU path on the same curves, from Rust

@@ -14,11 +14,12 @@ use crate::stream;
 use splinegpu::GpuError;
 use splinegpu::SegmentTable;
 use splinegpu::profiling::STORE_CEILING_RUN;
-use splinegpu::{Basis, GpuContext, Sampling};
+use splinegpu::{Basis, GpuContext, SamplePlan, Sampling};
 use splinegpu::{Curve, CurveKind, Ends, Points};
 use splinegpu::{Derivatives, EvalJob};
 use splinegpu::{EndCondition, Fitter};
 use splinegpu::{Planes, available_threads, evaluate_cpu_into};
+use std::sync::Arc;
 
 /// Why a bench run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -162,12 +163,12 @@ impl StoreBytes {
 
 /// `buffer` set to `byte`, split evenly between all threads.
 fn fill_on_every_thread(buffer: &mut [u8], byte: u8) {
+    use rayon::prelude::*;
     let chunk = buffer.len().div_ceil(available_threads()).max(1);
-    std::thread::scope(|s| {
-        for part in buffer.chunks_mut(chunk) {
-            s.spawn(move || part.fill(byte));
-        }
-    });
+    // On the pool the crate's stages run on, so that the floor pays what they pay to start.
+    buffer
+        .par_chunks_mut(chunk)
+        .for_each(|part| part.fill(byte));
 }
 
 /// The output number type of a cli-w1 path.
@@ -345,11 +346,7 @@ pub fn run(
             "fit-1m" => fit_1m(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
-            "eval-at" => {
-                let job = eval_at_job();
-                let plain = Some(PlainLoop::at(&job));
-                evaluation(name, &job, plain, gpu, &mut report)?;
-            }
+            "eval-at" => eval_at(&eval_at_job(), gpu, &mut report)?,
             "w1-b" => evaluation(
                 name,
                 &w1_job(Basis::BSpline, Derivatives::None),
@@ -846,22 +843,84 @@ fn gpu_paths(
 enum PlainLoop {
     /// k samples per segment and the final point, positions only.
     Grid(u32),
-    /// Each curve's parameters, located from scratch.
-    At(Vec<Vec<f64>>),
 }
 
-impl PlainLoop {
-    /// eval-at's: the job's parameters, read off its plans before anything is timed.
-    fn at(job: &EvalJob) -> Self {
-        Self::At(
-            (0..job.len())
-                .map(|c| {
-                    let plan = job.plan(c);
-                    (0..plan.len()).map(|i| plan.loc(i).t).collect()
-                })
-                .collect(),
-        )
+/// eval-at as a caller pays it: every path starts from the fitted curves and their parameters,
+/// so locating the parameters is inside each timed region. `cpu-1t` and `cpu-all` (f32, and
+/// f64 on all threads) are `evaluate_curves_at_into`, which locates and evaluates each t in one
+/// pass; `cpu-job` and `gpu-located` build the job (each curve's parameters located into a
+/// plan) and evaluate it on the CPU or the GPU; `plain-loop` binary-searches and evaluates.
+/// The GPU's other paths (`gpu-device`, `gpu-end-to-end`) take the job already built, as
+/// a renderer reusing its plans would.
+fn eval_at(
+    job: &EvalJob,
+    gpu: Option<&GpuContext>,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), GpuError> {
+    let workload = "eval-at";
+    let measurement =
+        |path, times, bytes_per_value| measured(workload, job, path, times, bytes_per_value);
+    report(&memset(workload, job.layout().values() * 4));
+    let tables: Vec<Arc<SegmentTable>> = (0..job.len())
+        .map(|c| Arc::new(job.table(c).clone()))
+        .collect();
+    let ts: Vec<Vec<f64>> = (0..job.len())
+        .map(|c| {
+            let plan = job.plan(c);
+            (0..plan.len()).map(|i| plan.loc(i).t).collect()
+        })
+        .collect();
+    // What a caller with fitted curves and fresh parameters does to get a job.
+    let located = || {
+        let mut job = EvalJob::new(Derivatives::None);
+        for (table, ts) in tables.iter().zip(&ts) {
+            let plan = SamplePlan::new(table, &Sampling::At(ts.clone())).expect("t in range");
+            job.push_shared(Arc::clone(table), Arc::new(plan))
+                .expect("one dimension");
+        }
+        job
+    };
+    let mut f32_out = vec![0f32; job.layout().values()];
+    if let Some(gpu) = gpu {
+        gpu_paths(workload, job, gpu, report)?;
+        let run = time(|| {
+            let job = located();
+            black_box(gpu.evaluate_into(&job, Planes::new(&mut f32_out)).ok());
+            None
+        });
+        report(&measurement("gpu-located", run, 4));
     }
+    for (path, threads) in [("cpu-1t", 1), ("cpu-all", available_threads())] {
+        let run = time(|| {
+            splinegpu::evaluate_curves_at_into(&tables, &ts, 0, &mut f32_out, threads)
+                .expect("t in range");
+            black_box(&f32_out);
+            None
+        });
+        report(&measurement(path, run, 4));
+    }
+    let run = time(|| {
+        let job = located();
+        evaluate_cpu_into(&job, Planes::new(&mut f32_out), available_threads());
+        black_box(&f32_out);
+        None
+    });
+    report(&measurement("cpu-job", run, 4));
+    let run = time(|| {
+        crate::plain::at(job, &ts, &mut f32_out, available_threads());
+        black_box(&f32_out);
+        None
+    });
+    report(&measurement("plain-loop", run, 4));
+    let mut f64_out = vec![0f64; job.layout().values()];
+    let run = time(|| {
+        splinegpu::evaluate_curves_at_into(&tables, &ts, 0, &mut f64_out, available_threads())
+            .expect("t in range");
+        black_box(&f64_out);
+        None
+    });
+    report(&measurement("cpu-all", run, 8));
+    Ok(())
 }
 
 fn evaluation(
@@ -898,10 +957,8 @@ fn evaluation(
         let p = f32_samples.planes_for(job).points;
         let threads = available_threads();
         let run = time(|| {
-            match &plain {
-                PlainLoop::Grid(k) => crate::plain::grid(job, *k, p, threads),
-                PlainLoop::At(ts) => crate::plain::at(job, ts, p, threads),
-            }
+            let PlainLoop::Grid(k) = plain;
+            crate::plain::grid(job, k, p, threads);
             black_box(&p);
             None
         });

@@ -59,6 +59,35 @@ pub fn at(job: &EvalJob, ts: &[Vec<f64>], out: &mut [f32], threads: usize) {
     });
 }
 
+/// "small"'s and "frame"'s work for one curve from its points: a uniform Catmull-Rom curve
+/// through `points` (`dim` per point; control ends, or closed), each segment's coefficients
+/// formed from its four points, then `k` samples per segment and the final point, f32 by Horner,
+/// into `out`. Returns the values written.
+pub fn catmull_rom(points: &[f64], dim: usize, closed: bool, k: u32, out: &mut [f32]) -> usize {
+    let n = points.len() / dim;
+    let (segments, first) = if closed { (n, n - 1) } else { (n - 3, 0) };
+    let p = |j: usize, i: usize| points[((first + j) % n) * dim + i];
+    let mut at = 0;
+    for s in 0..segments {
+        for i in 0..dim {
+            let (p0, p1, p2, p3) = (p(s, i), p(s + 1, i), p(s + 2, i), p(s + 3, i));
+            let a = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
+            let b = 0.5 * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3);
+            let c = 0.5 * (p2 - p0);
+            for j in 0..k {
+                let u = f64::from(j) / f64::from(k);
+                out[at + j as usize * dim + i] = (p1 + u * (c + u * (b + u * a))) as f32;
+            }
+        }
+        at += k as usize * dim;
+    }
+    // The final point: the last segment at u = 1 is its third point.
+    for i in 0..dim {
+        out[at + i] = p(segments + 1, i) as f32;
+    }
+    at + dim
+}
+
 /// fit-1m's work: the natural cubic spline through `values` (`dim` per knot) at knots `t`, by
 /// the textbook second-derivative system solved with the Thomas algorithm (one elimination for
 /// every coordinate), then each segment's power coefficients in its local u, into `out`
@@ -155,6 +184,31 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn the_plain_catmull_rom_writes_the_evaluators_values() {
+        use splinegpu::{Basis, Ends};
+        let coords: Vec<f64> = (0..27).map(|v| f64::from((v * 5) % 7) - 3.0).collect();
+        for ends in [Ends::Control, Ends::Closed] {
+            let kind = CurveKind::Uniform {
+                basis: Basis::CatmullRom,
+                ends,
+            };
+            let curve = Curve::new(kind, Points::new(3, coords.clone()).unwrap()).unwrap();
+            let mut job = EvalJob::new(Derivatives::None);
+            job.push(&curve, &Sampling::PerSegment(6)).unwrap();
+            let want = splinegpu::evaluate_reference(&job);
+            let mut out = vec![f32::NAN; job.layout().values()];
+            let written = catmull_rom(&coords, 3, ends == Ends::Closed, 6, &mut out);
+            assert_eq!(written, out.len());
+            for (got, want) in out.iter().zip(want.planes()[0]) {
+                assert!(
+                    (f64::from(*got) - want).abs() < 1e-5,
+                    "{ends:?}: {got} vs {want}"
+                );
             }
         }
     }

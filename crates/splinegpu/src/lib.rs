@@ -112,6 +112,7 @@ mod fit;
 mod gpu;
 mod job;
 pub mod kinds;
+mod locator;
 mod parallel;
 mod points;
 mod sampling;
@@ -124,6 +125,7 @@ pub mod profiling;
 pub use wgpu;
 
 pub use basis::Basis;
+pub use cpu::at::{evaluate_at_into, evaluate_curves_at_into};
 pub use cpu::{available_threads, evaluate_cpu, evaluate_cpu_into, evaluate_reference};
 pub use curve::{Curve, CurveKind, Ends};
 pub use error::{GpuError, InputError, Location, TargetError};

@@ -1,7 +1,8 @@
 //! Fanning work over threads, written once: every stage that runs on several threads cuts its
 //! work into parts with [`even_ranges`] (and its slices with [`take_front`]) and hands them to
-//! [`fan_out`] or [`fan_out_map`], which run the last part on the calling thread and the others
-//! on threads of their own, joined before they return.
+//! [`fan_out`] or [`fan_out_map`], which run them on the process's one pool of threads
+//! (rayon's global pool, started once) and return when all are done. A single part runs on the
+//! calling thread, touching no pool.
 
 use std::ops::Range;
 
@@ -21,7 +22,7 @@ pub(crate) fn take_front<'a, T>(slice: &mut &'a mut [T], n: usize) -> &'a mut [T
     head
 }
 
-/// Runs `work` on every part: the last on this thread, each other on a thread of its own, all
+/// Runs `work` on every part, each a task of the pool (the calling thread takes part too), all
 /// done when this returns. A single part runs here alone.
 pub(crate) fn fan_out<P: Send>(parts: Vec<P>, work: impl Fn(P) + Sync) {
     fan_out_map(parts, work);
@@ -32,25 +33,13 @@ pub(crate) fn fan_out<P: Send>(parts: Vec<P>, work: impl Fn(P) + Sync) {
 /// # Panics
 /// If `work` panicked on a part (the panic is resumed here).
 pub(crate) fn fan_out_map<P: Send, R: Send>(parts: Vec<P>, work: impl Fn(P) -> R + Sync) -> Vec<R> {
+    use rayon::iter::{IndexedParallelIterator, IntoParallelIterator, ParallelIterator};
+    if parts.len() <= 1 {
+        return parts.into_iter().map(work).collect();
+    }
+    // One task per part: the parts are already sized for a thread each.
     let work = &work;
-    let mut parts = parts;
-    let Some(last) = parts.pop() else {
-        return Vec::new();
-    };
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (parts.into_iter())
-            .map(|part| scope.spawn(move || work(part)))
-            .collect();
-        let last = work(last);
-        let mut results: Vec<R> = (handles.into_iter())
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-            })
-            .collect();
-        results.push(last);
-        results
-    })
+    parts.into_par_iter().with_max_len(1).map(work).collect()
 }
 
 #[cfg(test)]

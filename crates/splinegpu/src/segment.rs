@@ -14,13 +14,16 @@
 //! coefficients. The GPU evaluator reads these coefficients (rounded to f32 only after they were
 //! formed in f64), and the CPU reference evaluates them in f64.
 
+use std::sync::OnceLock;
+
 use crate::error::InputError;
+use crate::locator::Locator;
 
 /// One curve's segments in power form, with the parameter value of every knot.
 ///
 /// `Default` is an empty table, for [`Fitter::fit_into`](crate::fit::interp::Fitter::fit_into)
 /// to fill.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct SegmentTable {
     dim: usize,
     /// `segments + 1` strictly increasing parameter values.
@@ -29,6 +32,17 @@ pub struct SegmentTable {
     coeffs: Vec<f64>,
     /// The curve's extent E: the largest per-axis (max − min) over its input points.
     extent: f64,
+    /// Buckets over the knots for locating many scattered t, made on first use (and `None`
+    /// where they cannot be formed): derived from `knots`, so ignored by `==`.
+    locator: OnceLock<Option<Locator>>,
+}
+
+/// Tables are equal when their dimension, knots, coefficients and extent are.
+impl PartialEq for SegmentTable {
+    fn eq(&self, other: &Self) -> bool {
+        (self.dim, &self.knots, &self.coeffs, self.extent)
+            == (other.dim, &other.knots, &other.coeffs, other.extent)
+    }
 }
 
 /// A borrowed view of one segment of a [`SegmentTable`].
@@ -52,6 +66,7 @@ impl SegmentTable {
             knots,
             coeffs,
             extent,
+            locator: OnceLock::new(),
         }
     }
 
@@ -60,6 +75,7 @@ impl SegmentTable {
     pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
         self.dim = dim;
         self.extent = extent;
+        self.locator = OnceLock::new();
         (&mut self.knots, &mut self.coeffs)
     }
 
@@ -79,6 +95,7 @@ impl SegmentTable {
             knots: self.knots[range.start..=range.end].to_vec(),
             coeffs: self.coeffs[range.start * n..range.end * n].to_vec(),
             extent: self.extent,
+            locator: OnceLock::new(),
         }
     }
 
@@ -98,6 +115,19 @@ impl SegmentTable {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// The locator over the knots, made on the first call (`None` where it cannot be formed).
+    pub(crate) fn locator(&self) -> Option<&Locator> {
+        self.locator
+            .get_or_init(|| Locator::new(&self.knots))
+            .as_ref()
+    }
+
+    /// The locator if one was made: `Some(None)` where it could not be formed, `None` where
+    /// nobody asked yet.
+    pub(crate) fn built_locator(&self) -> Option<Option<&Locator>> {
+        self.locator.get().map(Option::as_ref)
     }
 
     /// Every segment's power-form coefficients, segment after segment, each as A, B, C, D
@@ -322,4 +352,10 @@ pub(crate) fn first_derivative(a: f64, b: f64, c: f64, u: f64, inv_dt: f64) -> f
 #[inline(always)]
 pub(crate) fn second_derivative(a: f64, b: f64, u: f64, inv_dt: f64) -> f64 {
     (2.0 * b + 6.0 * u * a) * inv_dt * inv_dt
+}
+
+/// One coordinate of d³P/dt³ = 6A / Δ³ (constant on the segment), with `inv_dt` = 1/Δ.
+#[inline(always)]
+pub(crate) fn third_derivative(a: f64, inv_dt: f64) -> f64 {
+    6.0 * a * inv_dt * inv_dt * inv_dt
 }

@@ -8,6 +8,8 @@
 //! and applies 1/Δ before Horner. Its line-by-line twin is the f32 interpreter in
 //! `gpu::interpret`.
 
+pub(crate) mod at;
+
 use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
@@ -42,11 +44,14 @@ pub fn evaluate_reference(job: &EvalJob) -> Samples<f64> {
     samples
 }
 
-/// The threads this machine runs at once (at least 1): the default for the `threads`
-/// arguments of this crate.
+/// The threads of the pool this crate's parallel stages run on (at least 1; rayon's global
+/// pool: one per CPU this process may use, or `RAYON_NUM_THREADS`): the default for the
+/// `threads` arguments of this crate. Cheap: the pool's size is read once, where
+/// `std::thread::available_parallelism` reads the cgroup's limits on every call (about 20 us
+/// here, more than a small call's whole work).
 #[must_use]
 pub fn available_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, usize::from)
+    rayon::current_num_threads().max(1)
 }
 
 /// Evaluates every curve of `job` on `threads` threads into new [`Samples`], f32 or f64. With

@@ -253,20 +253,19 @@ impl Fitter {
         out: &mut SegmentTable,
     ) -> Result<(), InputError> {
         let extent = if t.len() > PARALLEL_SEGMENTS {
-            // The points' extent and finiteness on a second thread while this one checks t
-            // (and waits for them only where the checks come to the points).
-            std::thread::scope(|scope| {
-                let points = scope.spawn(|| crate::points::extent_and_finite(values, dim));
-                let mut extent = f64::NAN;
-                check_with(t, values, dim, condition, || {
-                    let finite;
-                    (extent, finite) = points
-                        .join()
-                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                    finite
-                })?;
-                Ok::<_, InputError>(extent)
-            })?
+            // The points' extent and finiteness on the pool while this thread checks the rest;
+            // where the points are not finite, the checks run again in order, so that the
+            // first broken rule is the one reported.
+            let ((extent, finite), checked) = rayon::join(
+                || crate::points::extent_and_finite(values, dim),
+                || check_with(t, values, dim, condition, || true),
+            );
+            if finite {
+                checked?;
+            } else {
+                check_with(t, values, dim, condition, || false)?;
+            }
+            extent
         } else {
             check(t, values, dim, condition)?;
             crate::points::extent(values, dim)
@@ -315,7 +314,7 @@ impl Fitter {
         let (knots, last) = knots.split_at_mut(segments);
         last[0] = t[segments];
         let slopes = &self.slopes;
-        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        let threads = crate::available_threads();
         let per_thread = segments.div_ceil(threads).max(PARALLEL_SEGMENTS);
         let hermite = hermite_segments_for(dim);
         let fill = move |c: usize, (coeffs, knots): (&mut [f64], &mut [f64])| {
@@ -342,7 +341,7 @@ impl Fitter {
             dim,
             condition,
         };
-        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        let threads = crate::available_threads();
         solve_blocked(
             t.len(),
             dim,

@@ -604,7 +604,8 @@ pub(crate) fn locate(knots: &[f64], t: f64) -> Option<SampleLoc> {
     Some(SampleLoc { segment, u, t })
 }
 
-fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
+/// The error of parameter `at[i] = t` outside `table`'s range (or not finite).
+pub(crate) fn out_of_range(table: &SegmentTable, i: usize, t: f64) -> InputError {
     let (lo, hi) = table.t_range();
     InputError::field(
         "at",

@@ -4,6 +4,7 @@
 //! (geometric samplings) do their CPU checks everywhere and compare with the GPU where wgpu
 //! finds an adapter (lavapipe in CI).
 
+mod at;
 mod basis;
 mod cpu_fast;
 mod geometric_sampling;
