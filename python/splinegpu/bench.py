@@ -1,14 +1,20 @@
-"""`python -m splinegpu.bench [--workers]`: the package against the crate and against SciPy, on the
-CPU backend, in one run on the same inputs; each figure the fastest of 5 after a warm-up.
+"""`python -m splinegpu.bench [--workers]`: the package against SciPy (and against the crate
+from Rust), on the CPU backend, in one run on the same inputs; each figure the fastest of 5
+after a warm-up (a call of microseconds: the fastest of 5 loops of many calls, per call).
+Every timed call is the whole call as it is made: arguments converted, points located,
+results allocated.
 
-- w1: 10,000 Catmull-Rom curves (34 points in 3-D, 32 samples per segment: 9.93 M samples)
-  through `ctx.tessellate(..., out=reused)`, against the crate's own path on the same curves
-  from Rust in this process (fit + job + evaluate_into, f64 with t): the package's overhead.
-- fit-1m: `CubicSpline(x, y, bc_type="natural")` on 1,000,000 uneven knots in 3-D, ours vs SciPy.
-- eval-at: 10,000 natural splines of 64 uneven knots in 3-D at 1,000 random unsorted x each:
-  our batched `CubicSplines` + evaluation against SciPy's loop of CubicSpline + __call__.
-- w1 against SciPy's CubicHermiteSpline batched over columns (Catmull-Rom tangents), the same
-  9.93 M samples.
+- s(x) on one spline: one point on 100 and on 1,000,000 knots (the cost per call must not
+  grow with the knots), 1,000 random points on 1,000 knots, 10 M sorted points on 1 M knots
+  in 3-D.
+- CubicSplines: 10,000 natural splines of 64 uneven knots in 3-D, fitted (against SciPy's loop
+  of CubicSpline constructions) and called at 1,000 unsorted x each (against SciPy's loop of
+  calls on splines already made).
+- fit-1m: `CubicSpline(x, y, bc_type="natural")` on 1,000,000 uneven knots in 3-D.
+- tessellate: one curve of 16 points (32 samples per segment), and w1 (10,000 Catmull-Rom
+  curves of 34 points in 3-D, 9.93 M samples) with a fresh result and with `out=`, against
+  SciPy's CubicHermiteSpline with Catmull-Rom tangents on the same curves, and against the
+  crate's own path from Rust in this process (the package's overhead).
 With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4.
 """
 
@@ -25,13 +31,15 @@ from splinegpu import _native
 REPEATS = 5
 
 
-def best(run, repeats=REPEATS):
+def best(run, repeats=REPEATS, calls=1):
+    """The fastest of `repeats` timed runs (after one warm-up) of `calls` calls, per call."""
     run()
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
+        for _ in range(calls):
+            run()
+        times.append((time.perf_counter() - start) / calls)
     return min(times)
 
 
@@ -39,70 +47,112 @@ def w1_curves(count=10_000):
     return np.random.default_rng(1).uniform(-100, 100, (count, 34, 3))
 
 
-def main(argv):
-    ctx = splinegpu.Context("cpu")
-    rows = []
-    curves = w1_curves()
-    first = ctx.tessellate(curves, "catmull-rom", per_segment=32)
-    ours = best(lambda: ctx.tessellate(curves, "catmull-rom", per_segment=32, out=first))
-    rust_whole, rust_eval = _native.time_rust_tessellate(curves, "catmull-rom", 32, REPEATS)
-    rows.append(("w1 tessellate(out=reused)", ours, "crate from Rust (fit+job+evaluate)",
-                 rust_whole, f"overhead {100 * (ours / rust_whole - 1):+.1f} %"))
-    rows.append(("  of which evaluate_into", rust_eval, "", float("nan"), ""))
+def uneven_knots(rng, n):
+    return np.concatenate([[0.0], np.cumsum(10 ** rng.uniform(-1, 1, n - 1))])
 
+
+def faster(ours, theirs, goal=None):
+    ratio = f"{theirs / ours:.2f}x faster" if theirs >= ours else f"{ours / theirs:.2f}x slower"
+    return ratio + (f" (goal {goal})" if goal else "")
+
+
+def main(argv):
     from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
-    rng = np.random.default_rng(2)
-    x = np.concatenate([[0.0], np.cumsum(10 ** rng.uniform(-1, 1, 999_999))])
-    y = rng.uniform(-10, 10, (1_000_000, 3))
-    ours = best(lambda: splinegpu.CubicSpline(x, y, bc_type="natural"))
-    theirs = best(lambda: CubicSpline(x, y, bc_type="natural"))
-    rows.append(("fit-1m CubicSpline natural", ours, "SciPy CubicSpline", theirs,
-                 f"{theirs / ours:.1f}x (goal >= 8x)"))
+    ctx = splinegpu.Context("cpu")
+    rows = []
+    rng = np.random.default_rng(4)
 
-    rng = np.random.default_rng(3)
+    one_point = {}
+    for knots in (100, 1_000_000):
+        x = uneven_knots(rng, knots)
+        y = rng.uniform(-10, 10, knots)
+        ours, theirs = splinegpu.CubicSpline(x, y), CubicSpline(x, y)
+        q = np.array([x[-1] * 0.37])
+        a, b = best(lambda: ours(q), calls=2000), best(lambda: theirs(q), calls=2000)
+        one_point[knots] = a
+        rows.append((f"s(x), {knots:,} knots, 1 point", a, "SciPy", b, faster(a, b, ">= 1x")))
+    rows.append(("  1 M knots / 100 knots", one_point[1_000_000], "", one_point[100],
+                 f"{one_point[1_000_000] / one_point[100]:.2f} (goal <= 1.5)"))
+
+    x = uneven_knots(rng, 1000)
+    y = rng.uniform(-10, 10, 1000)
+    q = rng.uniform(0, x[-1], 1000)
+    ours, theirs = splinegpu.CubicSpline(x, y), CubicSpline(x, y)
+    a, b = best(lambda: ours(q), calls=200), best(lambda: theirs(q), calls=200)
+    rows.append(("s(x), 1,000 knots, 1,000 points", a, "SciPy", b, faster(a, b, ">= 2x")))
+
+    x = uneven_knots(rng, 1_000_000)
+    y = rng.uniform(-10, 10, (1_000_000, 3))
+    q = np.sort(rng.uniform(0, x[-1], 10_000_000))
+    ours, theirs = splinegpu.CubicSpline(x, y), CubicSpline(x, y)
+    a, b = best(lambda: ours(q)), best(lambda: theirs(q), repeats=2)
+    rows.append(("s(x), 1 M knots 3-D, 10 M sorted", a, "SciPy", b, faster(a, b, ">= 3x")))
+    a = best(lambda: splinegpu.CubicSpline(x, y, bc_type="natural"))
+    b = best(lambda: CubicSpline(x, y, bc_type="natural"), repeats=2)
+    rows.append(("CubicSpline fit, 1 M knots 3-D", a, "SciPy", b, faster(a, b, ">= 5x")))
+
     xs = np.concatenate([np.zeros((10_000, 1)),
                          np.cumsum(rng.uniform(0.1, 2.0, (10_000, 63)), axis=1)], axis=1)
     ys = rng.uniform(-10, 10, (10_000, 64, 3))
     qs = rng.uniform(0, 1, (10_000, 1000)) * xs[:, -1:]
+    a = best(lambda: splinegpu.CubicSplines(xs, ys, bc_type="natural"))
+    b = best(lambda: [CubicSpline(k, v, bc_type="natural") for k, v in zip(xs, ys)], repeats=1)
+    rows.append(("CubicSplines fit, 10,000 x 64", a, "SciPy loop (1 run)", b,
+                 faster(a, b, ">= 20x")))
+    batch = splinegpu.CubicSplines(xs, ys, bc_type="natural")
+    splines = [CubicSpline(k, v, bc_type="natural") for k, v in zip(xs, ys)]
+    a = best(lambda: batch(qs))
+    b = best(lambda: [s(q) for s, q in zip(splines, qs)], repeats=2)
+    rows.append(("CubicSplines call, 10,000 x 1,000", a, "SciPy loop", b,
+                 faster(a, b, ">= 6x")))
 
-    def ours_at():
-        splinegpu.CubicSplines(xs, ys, bc_type="natural")(qs)
+    small = np.random.default_rng(5).uniform(-100, 100, (1, 16, 3))
+    a = best(lambda: ctx.tessellate(small, "catmull-rom", per_segment=32), calls=500)
+    knots16, cols16, at16 = _hermite_inputs(small, 32)
+    b = best(lambda: CubicHermiteSpline(knots16, cols16[1:-1],
+                                        (cols16[2:] - cols16[:-2]) / 2)(at16), calls=500)
+    rows.append(("tessellate, 1 curve x 16 points", a, "SciPy CubicHermiteSpline", b,
+                 faster(a, b)))
 
-    def scipy_at():
-        for k, v, q in zip(xs, ys, qs):
-            CubicSpline(k, v, bc_type="natural")(q)
-
-    ours = best(ours_at)
-    theirs = best(scipy_at, repeats=1)
-    rows.append(("eval-at CubicSplines batch", ours, "SciPy loop (1 run)", theirs,
-                 f"{theirs / ours:.1f}x (goal >= 30x)"))
-
-    # Catmull-Rom on "control" ends: segment i runs from P[i+1] to P[i+2] with tangents
-    # (P[i+2] - P[i]) / 2; all curves as columns of one CubicHermiteSpline.
-    n = curves.shape[1]
-    knots = np.arange(n - 2, dtype=np.float64)
-    columns = curves.transpose(1, 0, 2).reshape(n, -1)
-    at = np.concatenate([np.repeat(np.arange(n - 3), 32) + np.tile(np.arange(32) / 32, n - 3),
-                         [n - 3.0]])
+    curves = w1_curves()
+    knots, columns, at = _hermite_inputs(curves, 32)
 
     def scipy_w1():
-        spline = CubicHermiteSpline(knots, columns[1:-1], (columns[2:] - columns[:-2]) / 2)
-        spline(at)
+        CubicHermiteSpline(knots, columns[1:-1], (columns[2:] - columns[:-2]) / 2)(at)
 
-    ours = best(lambda: ctx.tessellate(curves, "catmull-rom", per_segment=32, out=first))
     theirs = best(scipy_w1)
-    rows.append(("w1 tessellate", ours, "SciPy CubicHermiteSpline", theirs,
-                 f"{theirs / ours:.1f}x"))
+    fresh = best(lambda: ctx.tessellate(curves, "catmull-rom", per_segment=32))
+    first = ctx.tessellate(curves, "catmull-rom", per_segment=32)
+    reused = best(lambda: ctx.tessellate(curves, "catmull-rom", per_segment=32, out=first))
+    rows.append(("w1 tessellate, fresh result", fresh, "SciPy CubicHermiteSpline", theirs,
+                 faster(fresh, theirs, ">= 3x")))
+    rows.append(("w1 tessellate(out=reused)", reused, "fresh result", fresh,
+                 f"fresh / out= {fresh / reused:.2f} (goal <= 1.5)"))
+    rust_whole, rust_eval = _native.time_rust_tessellate(curves, "catmull-rom", 32, REPEATS)
+    rows.append(("  the crate from Rust", rust_whole, "of which evaluate_into", rust_eval,
+                 f"out= overhead {100 * (reused / rust_whole - 1):+.1f} %"))
 
     if "--workers" in argv:
         rows.extend(workers())
 
     print(f"splinegpu.bench on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
-    print(f"| {'ours':<28} | {'s':>8} | {'against':<36} | {'s':>8} | ratio |")
-    print(f"|{'-' * 30}|{'-' * 10}|{'-' * 38}|{'-' * 10}|---|")
+    print(f"| {'ours':<34} | {'seconds':>10} | {'against':<26} | {'seconds':>10} | ratio |")
+    print(f"|{'-' * 36}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")
     for name, a, other, b, ratio in rows:
-        print(f"| {name:<28} | {a:8.4f} | {other:<36} | {b:8.4f} | {ratio} |")
+        print(f"| {name:<34} | {a:10.3g} | {other:<26} | {b:10.3g} | {ratio} |")
+
+
+def _hermite_inputs(curves, k):
+    """Catmull-Rom on "control" ends as SciPy's CubicHermiteSpline sees it: segment i runs from
+    P[i+1] to P[i+2] with tangents (P[i+2] - P[i]) / 2; all curves as columns of one spline,
+    evaluated at k points per segment and the end."""
+    n = curves.shape[1]
+    knots = np.arange(n - 2, dtype=np.float64)
+    columns = curves.transpose(1, 0, 2).reshape(n, -1)
+    at = np.concatenate([np.repeat(np.arange(n - 3), k) + np.tile(np.arange(k) / k, n - 3),
+                         [n - 3.0]])
+    return knots, columns, at
 
 
 def workers():

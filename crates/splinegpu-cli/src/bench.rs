@@ -14,6 +14,7 @@ use crate::stream;
 use splinegpu::GpuError;
 use splinegpu::SegmentTable;
 use splinegpu::profiling::STORE_CEILING_RUN;
+use splinegpu::wgpu;
 use splinegpu::{Basis, GpuContext, SamplePlan, Sampling};
 use splinegpu::{Curve, CurveKind, Ends, Points};
 use splinegpu::{Derivatives, EvalJob};
@@ -50,8 +51,9 @@ pub const TIMED_SECONDS: f64 = 0.5;
 pub const MAX_REPETITIONS: usize = 100;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 9] = [
-    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "cli-w1", "w1-x10",
+pub const WORKLOADS: [&str; 11] = [
+    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame", "cli-w1",
+    "w1-x10",
 ];
 
 /// One measurement: a contract `--json` line.
@@ -347,6 +349,8 @@ pub fn run(
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "eval-at" => eval_at(&eval_at_job(), gpu, &mut report)?,
+            "small" => small(gpu, &mut report)?,
+            "frame" => frame(gpu, &mut report)?,
             "w1-b" => evaluation(
                 name,
                 &w1_job(Basis::BSpline, Derivatives::None),
@@ -843,6 +847,185 @@ fn gpu_paths(
 enum PlainLoop {
     /// k samples per segment and the final point, positions only.
     Grid(u32),
+}
+
+/// The job of uniform Catmull-Rom curves through `points` (3-D), `k` samples per segment.
+fn catmull_rom_job(points: &[Vec<f64>], ends: Ends, k: u32) -> EvalJob {
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends,
+    };
+    let mut job = EvalJob::new(Derivatives::None);
+    for p in points {
+        let curve = Curve::new(kind.clone(), Points::new(3, p.clone()).expect("finite"));
+        job.push(&curve.expect("enough points"), &Sampling::PerSegment(k))
+            .expect("valid sampling");
+    }
+    job
+}
+
+/// small: one Catmull-Rom curve of 16 points in 3-D (control ends), 32 samples per segment
+/// (417 samples), the whole call timed as a caller makes it: the curve made from its points,
+/// fitted, planned and evaluated. `cpu-call` returns new f32 samples, `cpu-reused` writes into
+/// reused ones, `gpu-call` is the GPU's `evaluate` (upload, dispatch, readback); `plain-loop`
+/// forms each segment's coefficients from its four points and evaluates them.
+fn small(gpu: Option<&GpuContext>, report: &mut impl FnMut(&Measurement)) -> Result<(), GpuError> {
+    let workload = "small";
+    let mut rng = Rng(16);
+    let points = vec![
+        (0..16 * 3)
+            .map(|_| rng.range(-100.0, 100.0))
+            .collect::<Vec<f64>>(),
+    ];
+    let job = catmull_rom_job(&points, Ends::Control, 32);
+    let measurement = |path, times| measured(workload, &job, path, times, 4);
+    report(&memset(workload, job.layout().values() * 4));
+    if let Some(gpu) = gpu {
+        let run = time(|| {
+            let job = catmull_rom_job(&points, Ends::Control, 32);
+            black_box(gpu.evaluate(&job).ok());
+            None
+        });
+        report(&measurement("gpu-call", run));
+    }
+    let run = time(|| {
+        let job = catmull_rom_job(&points, Ends::Control, 32);
+        black_box(splinegpu::evaluate_cpu::<f32>(&job, available_threads()));
+        None
+    });
+    report(&measurement("cpu-call", run));
+    let mut reused = splinegpu::Samples::<f32>::for_job(&job);
+    let run = time(|| {
+        let job = catmull_rom_job(&points, Ends::Control, 32);
+        let values_only = Planes {
+            t: None,
+            ..reused.planes_for(&job)
+        };
+        evaluate_cpu_into(&job, values_only, available_threads());
+        black_box(&reused);
+        None
+    });
+    report(&measurement("cpu-reused", run));
+    let mut out = vec![0f32; job.layout().values()];
+    let run = time(|| {
+        crate::plain::catmull_rom(&points[0], 3, false, 32, &mut out);
+        black_box(&out);
+        None
+    });
+    report(&measurement("plain-loop", run));
+    Ok(())
+}
+
+/// frame: 1,000 closed Catmull-Rom curves of 9 points in 3-D whose points change every frame
+/// (two sets, alternated), 16 samples per segment (145,000 samples). Each path's timed region is
+/// one frame's host work from the new points, the renderer keeping its job from frame to frame:
+/// `gpu-frame-host` refits every curve ([`EvalJob::refit`]) and records the job with
+/// `record_into` into a renderer's `STORAGE | VERTEX` buffer, then submits (the GPU's own time
+/// is waited for outside the timed region, as a renderer's frame would overlap it);
+/// `cpu-frame` refits and evaluates into reused f32 samples on every thread; `gpu-frame-new-job`
+/// and `cpu-frame-new-job` make a new job each frame instead; `plain-loop` evaluates each curve
+/// from its points on every thread.
+fn frame(gpu: Option<&GpuContext>, report: &mut impl FnMut(&Measurement)) -> Result<(), GpuError> {
+    let workload = "frame";
+    let mut rng = Rng(60);
+    let mut frame_points = || -> Vec<Vec<f64>> {
+        (0..1_000)
+            .map(|_| (0..9 * 3).map(|_| rng.range(-1.0, 1.0)).collect())
+            .collect()
+    };
+    let frames = [frame_points(), frame_points()];
+    let job = catmull_rom_job(&frames[0], Ends::Closed, 16);
+    let measurement = |path, times| measured(workload, &job, path, times, 4);
+    report(&memset(workload, job.layout().values() * 4));
+    let mut next = 0;
+    let mut points = || {
+        next = 1 - next;
+        &frames[next]
+    };
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let mut kept = job.clone();
+    // The renderer's frame: its curves moved, its job refitted.
+    let refit = |job: &mut EvalJob, points: &[Vec<f64>]| {
+        for (c, p) in points.iter().enumerate() {
+            let moved = Points::new(3, p.clone()).expect("finite");
+            let curve = Curve::new(kind.clone(), moved).expect("9 points");
+            job.refit(c, &curve).expect("same knots");
+        }
+    };
+    if let Some(gpu) = gpu {
+        let (device, queue) = (gpu.device(), gpu.queue());
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("renderer vertices"),
+            size: gpu.output_layout(&job).bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+            mapped_at_creation: false,
+        });
+        for (path, new_job) in [("gpu-frame-host", false), ("gpu-frame-new-job", true)] {
+            let mut failure = None;
+            let run = time(|| {
+                let start = Instant::now();
+                let fresh;
+                let job = if new_job {
+                    fresh = catmull_rom_job(points(), Ends::Closed, 16);
+                    &fresh
+                } else {
+                    refit(&mut kept, points());
+                    &kept
+                };
+                let mut encoder = device.create_command_encoder(&Default::default());
+                if let Err(e) = gpu.record_into(&mut encoder, job, &buffer, 0) {
+                    failure = Some(e);
+                }
+                queue.submit([encoder.finish()]);
+                let host = start.elapsed().as_secs_f64();
+                // The frame's GPU work, done before the next frame starts: not host time.
+                let _ = device.poll(wgpu::PollType::wait_indefinitely());
+                Some(host)
+            });
+            if let Some(e) = failure {
+                return Err(e);
+            }
+            report(&measurement(path, run));
+        }
+    }
+    let mut reused = splinegpu::Samples::<f32>::for_job(&job);
+    for (path, new_job) in [("cpu-frame", false), ("cpu-frame-new-job", true)] {
+        let run = time(|| {
+            let fresh;
+            let job = if new_job {
+                fresh = catmull_rom_job(points(), Ends::Closed, 16);
+                &fresh
+            } else {
+                refit(&mut kept, points());
+                &kept
+            };
+            let values_only = Planes {
+                t: None,
+                ..reused.planes_for(job)
+            };
+            evaluate_cpu_into(job, values_only, available_threads());
+            black_box(&reused);
+            None
+        });
+        report(&measurement(path, run));
+    }
+    let mut out = vec![0f32; job.layout().values()];
+    let per_curve = out.len() / 1_000;
+    let run = time(|| {
+        use rayon::prelude::*;
+        (out.par_chunks_mut(per_curve).zip(points()))
+            .with_min_len(1_000 / available_threads())
+            .for_each(|(out, p)| {
+                crate::plain::catmull_rom(p, 3, true, 16, out);
+            });
+        black_box(&out);
+        None
+    });
+    report(&measurement("plain-loop", run));
+    Ok(())
 }
 
 /// eval-at as a caller pays it: every path starts from the fitted curves and their parameters,

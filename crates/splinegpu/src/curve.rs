@@ -72,8 +72,18 @@ impl Ends {
                 Ends::Control => j,
                 // [P0, P0, P1, ..., P_{n-1}, P_{n-1}]
                 Ends::Repeat => j.saturating_sub(1).min(n - 1),
-                // [P_{n-1}, P0, ..., P_{n-1}, P0, P1]
-                Ends::Closed => (j + n - 1) % n,
+                // [P_{n-1}, P0, ..., P_{n-1}, P0, P1]: (j + n − 1) mod n, where j + n − 1 <
+                // 3n (j <= n + 2 and n >= 3), without a division.
+                Ends::Closed => {
+                    let m = j + n - 1;
+                    if m >= 2 * n {
+                        m - 2 * n
+                    } else if m >= n {
+                        m - n
+                    } else {
+                        m
+                    }
+                }
             }
         };
         [at(i), at(i + 1), at(i + 2), at(i + 3)]
@@ -216,25 +226,43 @@ impl Curve {
     /// The curve's segments in power form, formed in f64 (see [`SegmentTable`]).
     #[must_use]
     pub fn fit(&self) -> SegmentTable {
+        let mut table = SegmentTable::default();
+        self.fit_into(&mut table);
+        table
+    }
+
+    /// [`Curve::fit`] into `out`, reusing its buffers: a curve refitted every frame (a
+    /// renderer's moving points) allocates nothing.
+    pub fn fit_into(&self, out: &mut SegmentTable) {
         let (dim, n) = (self.points.dim(), self.points.len());
         let coords = self.points.coords();
         let extent = self.points.extent();
         let segments = self.segment_count();
         match &self.fit {
             FitMethod::Solve { condition, t } => {
-                let mut table = SegmentTable::default();
-                Fitter::new().fit_checked(t, coords, dim, condition, &mut table);
-                table
+                Fitter::new().fit_checked(t, coords, dim, condition, out);
             }
             FitMethod::Windows {
                 rows,
                 ends: Some(ends),
-            } => uniform::from_windows(dim, coords, rows, segments, extent, |i| ends.window(n, i)),
-            FitMethod::Windows { rows, ends: None } => {
-                uniform::from_windows(dim, coords, rows, segments, extent, |i| {
-                    [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3]
-                })
-            }
+            } => uniform::from_windows(
+                dim,
+                coords,
+                rows,
+                segments,
+                extent,
+                |i| ends.window(n, i),
+                out,
+            ),
+            FitMethod::Windows { rows, ends: None } => uniform::from_windows(
+                dim,
+                coords,
+                rows,
+                segments,
+                extent,
+                |i| [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3],
+                out,
+            ),
         }
     }
 }

@@ -121,6 +121,42 @@ impl EvalJob {
         Ok(())
     }
 
+    /// Refits curve `c` from `curve`, keeping its plan and its place in the layout: for curves
+    /// whose points move every frame (a renderer's), so that nothing else is recomputed. The
+    /// new table replaces the old one as a fresh pair of small buffers (allocated and freed
+    /// one curve at a time, which the allocator recycles; making a whole new job freed and
+    /// re-faulted the job's pages every frame).
+    ///
+    /// # Errors
+    /// `curve`'s dimension or knots differ from curve c's (its plan was made for them: the
+    /// error names `"points"`; a uniform family keeps its knots as long as its point count),
+    /// or its values' samples would overflow f64 ([`SegmentTable::check_range`]); curve c is
+    /// then left as it was.
+    ///
+    /// # Panics
+    /// If `c` is not a curve of the job.
+    pub fn refit(&mut self, c: usize, curve: &Curve) -> Result<(), InputError> {
+        let mut table = SegmentTable::default();
+        curve.fit_into(&mut table);
+        let old = &self.tables[c];
+        if table.dim() != old.dim() || table.knots() != old.knots() {
+            return Err(InputError::field(
+                "points",
+                format!(
+                    "a refit must keep the curve's knots and dimension ({} segments of {} \
+                     coordinates), got {} segments of {}",
+                    old.len(),
+                    old.dim(),
+                    table.len(),
+                    table.dim()
+                ),
+            ));
+        }
+        table.check_range(self.derivatives)?;
+        self.tables[c] = Arc::new(table);
+        Ok(())
+    }
+
     /// Where every curve's samples go.
     #[must_use]
     pub fn layout(&self) -> &JobLayout {

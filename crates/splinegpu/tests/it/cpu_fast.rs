@@ -93,3 +93,53 @@ fn a_derivative_plane_the_job_needs_is_not_left_out_silently() {
     let mut points = vec![0.0f64; job.layout().values()];
     splinegpu::evaluate_cpu_into(&job, Planes::new(&mut points), 2);
 }
+
+/// A job refitted with moved points (a renderer's frame) equals a job made from them; a refit
+/// that would change the knots or the dimension is refused and leaves the curve as it was.
+#[test]
+fn a_refitted_job_equals_a_new_one_and_a_bad_refit_changes_nothing() {
+    let mut rng = Rng(8);
+    let closed = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let curves = |rng: &mut Rng| -> Vec<Curve> {
+        (0..5)
+            .map(|_| Curve::new(closed.clone(), rng.points(9, 3, -1.0, 1.0)).unwrap())
+            .collect()
+    };
+    let job_of = |curves: &[Curve]| {
+        let mut job = EvalJob::new(Derivatives::Second);
+        for curve in curves {
+            job.push(curve, &Sampling::PerSegment(7)).unwrap();
+        }
+        job
+    };
+    let mut job = job_of(&curves(&mut rng));
+    let moved = curves(&mut rng);
+    for (c, curve) in moved.iter().enumerate() {
+        job.refit(c, curve).unwrap();
+    }
+    assert_eq!(job, job_of(&moved));
+    let before = job.clone();
+    let fewer = Curve::new(closed.clone(), rng.points(8, 3, -1.0, 1.0)).unwrap();
+    let flat = Curve::new(closed, rng.points(9, 2, -1.0, 1.0)).unwrap();
+    let uneven = Curve::new(
+        CurveKind::Interpolating {
+            condition: EndCondition::Periodic,
+            t: Some((0..10).map(|i| f64::from(i) * 1.5).collect()),
+        },
+        {
+            let mut p = rng.points(10, 3, -1.0, 1.0).coords().to_vec();
+            let first = p[..3].to_vec();
+            p[27..].copy_from_slice(&first);
+            splinegpu::Points::new(3, p).unwrap()
+        },
+    )
+    .unwrap();
+    for bad in [fewer, flat, uneven] {
+        let e = job.refit(1, &bad).unwrap_err();
+        assert!(e.to_string().contains("points"), "{e}");
+        assert_eq!(job, before);
+    }
+}
