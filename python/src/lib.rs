@@ -20,8 +20,8 @@ use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use splinegpu::kinds::KindFields;
 use splinegpu::{
-    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, GpuContext, InputError, Planes,
-    Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Fitter, GpuContext, InputError,
+    Planes, Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
 };
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -665,13 +665,24 @@ fn fit<'py>(
                     EndCondition::NotAKnot => scipy_not_a_knot(xs[c], y, dim),
                     ref other => other.clone(),
                 };
-                let kind = CurveKind::Interpolating {
-                    condition,
-                    t: Some(xs[c].to_vec()),
-                };
-                let curve =
-                    Curve::new(kind, Points::new(dim, y.to_vec())?).map_err(|e| e.in_curve(c))?;
-                Ok(Arc::new(curve.fit()))
+                if dim == 0 || dim > splinegpu::MAX_DIM {
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "must have 1 to {} values per x, got {dim}",
+                            splinegpu::MAX_DIM
+                        ),
+                    )
+                    .in_curve(c));
+                }
+                // Fitted from the caller's arrays where they lie (the fit checks them as a
+                // curve's construction would): a copy of 1 M knots in 3-D is 32 MB of fresh
+                // pages.
+                let mut table = SegmentTable::default();
+                Fitter::new()
+                    .fit_into(xs[c], y, dim, &condition, &mut table)
+                    .map_err(|e| e.in_curve(c))?;
+                Ok(Arc::new(table))
             })
         })
         .map_err(value_error)?;

@@ -113,6 +113,7 @@ mod gpu;
 mod job;
 pub mod kinds;
 mod locator;
+mod memory;
 mod parallel;
 mod points;
 mod sampling;

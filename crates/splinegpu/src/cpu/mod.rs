@@ -159,8 +159,8 @@ fn evaluate_range_with<F: SampleFloat>(
     t: &mut [f64],
     out: [&mut [F]; 3],
 ) {
-    // The crate's only unsafe code: a function compiled for an instruction set may only be
-    // called where the CPU has it.
+    // One of the crate's two unsafe blocks (the other is memory.rs's madvise): a function
+    // compiled for an instruction set may only be called where the CPU has it.
     #[allow(
         unsafe_code,
         reason = "a function compiled for an instruction set is called only where the CPU has it"

@@ -308,6 +308,8 @@ impl Fitter {
         let segments = t.len() - 1;
         let (knots, coeffs) = out.parts_mut(dim, extent);
         // Resized, not cleared: a table refilled at the same size is not zeroed first.
+        crate::memory::reserve_on_huge_pages(knots, t.len());
+        crate::memory::reserve_on_huge_pages(coeffs, 4 * dim * segments);
         knots.resize(t.len(), 0.0);
         coeffs.resize(4 * dim * segments, 0.0);
         // Each thread copies its segments' first knots too; the last knot is copied here.

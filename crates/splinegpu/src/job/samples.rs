@@ -159,6 +159,7 @@ impl<F: Copy + Default> Samples<F> {
     pub(crate) fn prepare_planes(&mut self, job: &EvalJob) {
         self.layout.clone_from(job.layout());
         self.derivatives = job.derivatives();
+        crate::memory::reserve_on_huge_pages(&mut self.t, self.layout.samples());
         self.t.resize(self.layout.samples(), 0.0);
         let values = self.layout.values();
         let order = self.derivatives.order();
@@ -166,7 +167,9 @@ impl<F: Copy + Default> Samples<F> {
             .into_iter()
             .enumerate()
         {
-            plane.resize(if order >= o { values } else { 0 }, F::default());
+            let len = if order >= o { values } else { 0 };
+            crate::memory::reserve_on_huge_pages(plane, len);
+            plane.resize(len, F::default());
         }
     }
 }

@@ -1,0 +1,69 @@
+//! Large buffers backed by transparent huge pages where Linux allows it.
+//!
+//! A fresh page costs a fault on its first touch: about 2.8 us per 4 KiB page on the machines
+//! this crate is measured on, so the 104 MB table of a 1 M-knot fit in 3-D paid some 70 ms
+//! before a value was written. NumPy asks for huge pages on its large arrays
+//! (`madvise(MADV_HUGEPAGE)`), and a system whose transparent huge pages are set to "madvise"
+//! (the usual default) gives them only where asked: a 2 MiB page costs one fault. The crate's
+//! own large buffers ask the same before they are first touched.
+
+/// Bytes below which a buffer is left as the allocator made it (a huge page is 2 MiB; the
+/// advice covers only the whole huge pages inside the buffer).
+const ADVISED_BYTES: usize = 4 << 20;
+
+/// Makes room in `v` for `n` elements in all (its length unchanged). Where that takes a new
+/// allocation of at least 4 MiB, its untouched part is advised onto huge pages.
+pub(crate) fn reserve_on_huge_pages<T>(v: &mut Vec<T>, n: usize) {
+    if v.capacity() >= n {
+        return;
+    }
+    v.reserve_exact(n - v.len());
+    let spare = v.spare_capacity_mut();
+    if size_of_val(spare) >= ADVISED_BYTES {
+        advise_huge_pages(spare.as_mut_ptr().cast(), size_of_val(spare));
+    }
+}
+
+/// Asks Linux to back the whole 2 MiB pages inside `[start, start + bytes)` with huge pages.
+#[cfg(target_os = "linux")]
+fn advise_huge_pages(start: *mut u8, bytes: usize) {
+    const HUGE_PAGE: usize = 2 << 20;
+    let first = (start as usize).next_multiple_of(HUGE_PAGE);
+    let end = (start as usize + bytes) / HUGE_PAGE * HUGE_PAGE;
+    if end <= first {
+        return;
+    }
+    #[allow(
+        unsafe_code,
+        reason = "madvise is a system call without a safe wrapper; the range is memory this \
+                  crate owns"
+    )]
+    // SAFETY: [first, end) lies inside the spare capacity of a Vec this crate owns, which
+    // nothing reads or writes yet; MADV_HUGEPAGE changes how the kernel backs those pages,
+    // never their contents. A refusal (an old kernel, huge pages off) changes nothing, so
+    // its result is not needed.
+    unsafe {
+        libc::madvise(first as *mut libc::c_void, end - first, libc::MADV_HUGEPAGE);
+    }
+}
+
+/// Elsewhere the allocator's pages are kept as they are.
+#[cfg(not(target_os = "linux"))]
+fn advise_huge_pages(_start: *mut u8, _bytes: usize) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn room_is_made_and_the_contents_kept() {
+        for n in [0, 10, (8 << 20) / 8 + 3] {
+            let mut v: Vec<f64> = vec![1.5; 7];
+            reserve_on_huge_pages(&mut v, n.max(7));
+            assert!(v.capacity() >= n);
+            assert_eq!(v, [1.5; 7]);
+            v.resize(n.max(7), 2.0);
+            assert!(v[7..].iter().all(|&x| x == 2.0));
+        }
+    }
+}
