@@ -9,6 +9,14 @@
 //! to `last[b]`, where `last[b]` is the last knot whose bucket is at most b. With B equal to the
 //! number of segments, evenly spread knots leave one or two candidates per bucket; uneven
 //! ones leave more, found by a binary search among them, never worse than one over all knots.
+//! B is [`BUCKETS_PER_SEGMENT`] times the number of segments, so that knots spaced unevenly
+//! within a factor of a few still leave at most two candidates: then the choice between them
+//! is one comparison and no branch.
+
+/// Buckets per segment: 4 u32 (16 bytes) per segment, beside its 32 bytes per coordinate of
+/// coefficients. On eval-at's knots (spacings within a factor of 20) one per segment left
+/// more than two candidates often enough that the search's branches cost most of the time.
+const BUCKETS_PER_SEGMENT: usize = 4;
 
 /// The buckets of one table's knots (see the module's documentation).
 #[derive(Clone, Debug)]
@@ -24,26 +32,27 @@ pub(crate) struct Locator {
 }
 
 impl Locator {
-    /// The buckets of `knots` (strictly increasing, at least two), one per segment; `None`
+    /// The buckets of `knots` (strictly increasing, at least two); `None`
     /// where they cannot be formed (a range too narrow for B/(t_n − t_0) to be finite, or more
     /// knots than a u32 counts).
     pub(crate) fn new(knots: &[f64]) -> Option<Self> {
         let segments = knots.len() - 1;
+        let buckets = segments * BUCKETS_PER_SEGMENT;
         let (start, end) = (knots[0], knots[segments]);
-        let scale = segments as f64 / (end - start);
+        let scale = buckets as f64 / (end - start);
         if !scale.is_finite() || u32::try_from(knots.len()).is_err() {
             return None;
         }
         let mut locator = Self {
             start,
             scale,
-            last_bucket: segments - 1,
-            last: Vec::with_capacity(segments),
+            last_bucket: buckets - 1,
+            last: Vec::with_capacity(buckets),
         };
         // Knots in order, their buckets never decreasing: bucket b's entry is the last knot
         // seen before the first knot of a later bucket.
         let mut knot = 0;
-        for b in 0..segments {
+        for b in 0..buckets {
             while knot + 1 < knots.len() && locator.bucket(knots[knot + 1]) <= b {
                 knot += 1;
             }

@@ -183,32 +183,57 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
     let (lo, hi) = (knots[0], knots[last + 1]);
     let locator = scattered_locator(table, at);
     let mut segment = 0;
-    for (i, (&t, o)) in at.iter().zip(out.chunks_exact_mut(dim)).enumerate() {
-        if !(t >= lo && t <= hi) {
-            return Err(i);
-        }
-        segment = match locator {
-            Some(locator) => {
-                let (first, end) = locator.candidates(t);
-                (first + last_at_or_below(&knots[first..=end], t)).min(last)
+    // In blocks: every t of a block placed first, then every value written. Two short loops
+    // of independent iterations keep more places and Horner chains in flight than one long
+    // loop body (eval-at, one thread: 175 ms fused, see the commit for the blocked figure).
+    let mut places = [(0usize, 0f64); BLOCK];
+    for (b, (at, out)) in at
+        .chunks(BLOCK)
+        .zip(out.chunks_mut(BLOCK * dim))
+        .enumerate()
+    {
+        for (i, (&t, place)) in at.iter().zip(&mut places).enumerate() {
+            if !(t >= lo && t <= hi) {
+                return Err(b * BLOCK + i);
             }
-            None => segment_of(knots, last, segment, t),
-        };
-        let (t0, t1) = (knots[segment], knots[segment + 1]);
-        let u = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
-        let c = &coeffs[4 * dim * segment..][..4 * dim];
-        let inv_dt = 1.0 / (t1 - t0);
-        for k in 0..dim {
-            let (a, b, cc, d) = (c[k], c[dim + k], c[2 * dim + k], c[3 * dim + k]);
-            o[k] = F::from_f64(match NU {
-                0 => position(a, b, cc, d, u),
-                1 => first_derivative(a, b, cc, u, inv_dt),
-                2 => second_derivative(a, b, u, inv_dt),
-                _ => third_derivative(a, inv_dt),
-            });
+            segment = match locator {
+                Some(locator) => located(locator, knots, last, t),
+                None => segment_of(knots, last, segment, t),
+            };
+            let (t0, t1) = (knots[segment], knots[segment + 1]);
+            *place = (segment, ((t - t0) / (t1 - t0)).clamp(0.0, 1.0));
+        }
+        for (&(segment, u), o) in places.iter().zip(out.chunks_exact_mut(dim)) {
+            let c = &coeffs[4 * dim * segment..][..4 * dim];
+            let inv_dt = 1.0 / (knots[segment + 1] - knots[segment]);
+            for k in 0..dim {
+                let (a, b, cc, d) = (c[k], c[dim + k], c[2 * dim + k], c[3 * dim + k]);
+                o[k] = F::from_f64(match NU {
+                    0 => position(a, b, cc, d, u),
+                    1 => first_derivative(a, b, cc, u, inv_dt),
+                    2 => second_derivative(a, b, u, inv_dt),
+                    _ => third_derivative(a, inv_dt),
+                });
+            }
         }
     }
     Ok(())
+}
+
+/// Parameters placed before their values are written (see [`run`]).
+const BLOCK: usize = 64;
+
+/// The segment of t through `locator`: at most two candidates (the common case) are told
+/// apart by one comparison, without a branch on the data; more by binary search.
+#[inline(always)]
+fn located(locator: &Locator, knots: &[f64], last: usize, t: f64) -> usize {
+    let (first, end) = locator.candidates(t);
+    let s = if end - first <= 1 {
+        first + usize::from((end > first) & (knots[end] <= t))
+    } else {
+        first + last_at_or_below(&knots[first..=end], t)
+    };
+    s.min(last)
 }
 
 /// The table's locator, for parameters `at` that are not in increasing order (sorted ones walk

@@ -401,13 +401,12 @@ impl SamplePlan {
                 })))
             }
             Sampling::At(ts) => {
-                let locs = ts
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &t)| {
-                        locate(table.knots(), t).ok_or_else(|| out_of_range(table, i, t))
-                    })
-                    .collect::<Result<_, _>>()?;
+                // 24 bytes a parameter: a large plan's fresh pages are asked for huge.
+                let mut locs = Vec::new();
+                crate::memory::reserve_on_huge_pages(&mut locs, ts.len());
+                for (i, &t) in ts.iter().enumerate() {
+                    locs.push(locate(table.knots(), t).ok_or_else(|| out_of_range(table, i, t))?);
+                }
                 Ok(SamplePlan(Plan::At(locs)))
             }
             &Sampling::ArcLength(m) => {
