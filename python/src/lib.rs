@@ -869,13 +869,13 @@ fn one_spline_job(table: &Arc<SegmentTable>, x: &[f64], nu: usize) -> PyResult<E
 fn values_array(py: Python<'_>, rows: usize, dim: usize) -> PyResult<Bound<'_, PyArray2<f64>>> {
     const CHECKED_BYTES: u128 = 1 << 26;
     let bytes = 8 * rows as u128 * dim as u128;
-    if bytes >= CHECKED_BYTES {
-        if let Some(available) = available_memory().filter(|&a| bytes > a) {
-            return Err(PyMemoryError::new_err(format!(
-                "x: {rows} values of {dim} coordinates need {bytes} bytes; this machine has \
-                 {available} bytes of memory available"
-            )));
-        }
+    if bytes >= CHECKED_BYTES
+        && let Some(available) = available_memory().filter(|&a| bytes > a)
+    {
+        return Err(PyMemoryError::new_err(format!(
+            "x: {rows} values of {dim} coordinates need {bytes} bytes; this machine has \
+             {available} bytes of memory available"
+        )));
     }
     Ok(PyArray2::<f64>::zeros(py, [rows, dim], false))
 }

@@ -186,3 +186,25 @@ def test_batched_splines_match_one_by_one():
     for i, (x, y, q) in enumerate(zip(xs, ys, qs)):
         np.testing.assert_array_equal(values[offsets[i]:offsets[i + 1]],
                                       splinegpu.CubicSpline(x, y, bc_type="natural")(q, 1))
+
+
+def test_every_form_of_x_gives_scipys_values_and_shape():
+    # The call's fast paths (a C-contiguous float64 array, a Python float) and the general
+    # conversion (everything else) against SciPy: values and shapes.
+    rng = np.random.default_rng(11)
+    x = knots("random", 40, rng)
+    y = rng.uniform(-3, 3, (40, 2))
+    ours, theirs = splinegpu.CubicSpline(x, y), SciPySpline(x, y)
+    grid = rng.uniform(x[0], x[-1], (6, 5))
+    read_only = grid.copy()
+    read_only.flags.writeable = False
+    forms = [
+        float(grid[0, 0]), np.float64(grid[0, 1]), np.array(grid[0, 2]), grid, grid[:, ::2],
+        np.asfortranarray(grid), grid.astype(">f8"), read_only, grid.tolist(), grid[::-1, 1],
+        np.sort(rng.uniform(x[0], x[-1], 5000)), rng.uniform(x[0], x[-1], 5000),
+        np.array([x[0], x[-1], x[3]]), np.arange(3),
+    ]
+    for q in forms:
+        a, b = ours(q), theirs(q)
+        assert a.shape == b.shape, (np.shape(q), a.shape, b.shape)
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max() + 1e-300)
