@@ -217,6 +217,7 @@ class Context:
     def tessellate(self, points, kind: str = "catmull-rom", *, ends: str | None = None,
                    tension: float | None = None, bias: float | None = None,
                    matrix=None, t=None, start_derivative=None, end_derivative=None,
+                   tangents=None, method: str | None = None,
                    per_segment: int | None = None, at=None, arc_length: int | None = None,
                    tolerance: float | None = None, derivatives: int = 0,
                    out: Tessellation | None = None) -> Tessellation:
@@ -224,7 +225,9 @@ class Context:
 
         `points`: a (C, n, D) array or a list of (n_i, D) arrays (ragged). `kind` and its fields
         are the command line's (KIND_NAMES); `t`, `at` and the clamped derivatives are one array
-        for every curve, a 2-D array with a row per curve, or a list (ragged). One sampling:
+        for every curve, a 2-D array with a row per curve, or a list (ragged); hermite's
+        `tangents` are an (n, D) array for every curve, a (C, n, D) array or a list of (n_i, D)
+        arrays; akima's `method` is "akima" or "makima". One sampling:
         `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
         (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
         within 1e-5, so their t differ between backends in the low bits; tolerance t are the
@@ -255,6 +258,8 @@ class Context:
             "t": _per_curve("t", t, len(curves), 1),
             "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
             "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
+            "tangents": _per_curve("tangents", tangents, len(curves), 2),
+            "method": None if method is None else str(method),
         }
         derivatives = _order("derivatives", derivatives, 2)
         reuse = None

@@ -44,6 +44,8 @@ class Context:
         t: _Batch | None = None,
         start_derivative: _Batch | None = None,
         end_derivative: _Batch | None = None,
+        tangents: _Batch | None = None,
+        method: str | None = None,
         per_segment: int | None = None,
         at: _Batch | None = None,
         arc_length: int | None = None,

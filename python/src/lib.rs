@@ -240,6 +240,10 @@ struct CurveFields<'py> {
     start_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
     #[pyo3(item)]
     end_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    tangents: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    method: Option<String>,
 }
 
 /// The sampling: its contract name and value; "at" holds one array per curve.
@@ -310,6 +314,8 @@ struct KindSource<'a> {
     t: Vec<Option<&'a [f64]>>,
     start_derivative: Vec<Option<&'a [f64]>>,
     end_derivative: Vec<Option<&'a [f64]>>,
+    tangents: Vec<Option<&'a [f64]>>,
+    method: Option<&'a str>,
 }
 
 impl<'a> KindSource<'a> {
@@ -337,6 +343,8 @@ impl<'a> KindSource<'a> {
             t: slices(&fields.t)?,
             start_derivative: slices(&fields.start_derivative)?,
             end_derivative: slices(&fields.end_derivative)?,
+            tangents: slices(&fields.tangents)?,
+            method: fields.method.as_deref(),
         })
     }
 
@@ -353,6 +361,8 @@ impl<'a> KindSource<'a> {
                 t: own(&self.t),
                 start_derivative: own(&self.start_derivative),
                 end_derivative: own(&self.end_derivative),
+                tangents: own(&self.tangents),
+                method: self.method.map(str::to_owned),
             },
         )
     }

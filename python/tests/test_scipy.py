@@ -208,3 +208,32 @@ def test_every_form_of_x_gives_scipys_values_and_shape():
         a, b = ours(q), theirs(q)
         assert a.shape == b.shape, (np.shape(q), a.shape, b.shape)
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max() + 1e-300)
+
+
+@pytest.mark.parametrize("kind", ["hermite", "pchip", "akima", "makima"])
+@pytest.mark.parametrize("x_kind", ["random", "uneven"])
+def test_hermite_kinds_match_scipy(kind, x_kind, cpu):
+    from scipy.interpolate import Akima1DInterpolator, CubicHermiteSpline, PchipInterpolator
+
+    rng = np.random.default_rng(len(kind) * 10 + len(x_kind))
+    x = knots(x_kind, 12, rng)
+    y = rng.uniform(-3, 3, (12, 3))
+    y[4:7] = y[4]  # a flat run: PCHIP's and Akima's special cases
+    fields = {}
+    if kind == "hermite":
+        tangents = rng.uniform(-2, 2, (12, 3))
+        theirs = CubicHermiteSpline(x, y, tangents)
+        fields = {"tangents": tangents}
+    elif kind == "pchip":
+        theirs = PchipInterpolator(x, y)
+    else:
+        theirs = Akima1DInterpolator(x, y, method=kind)
+        fields = {"method": kind}
+    q = query(x, rng)
+    r = cpu.tessellate(y[None], "akima" if kind == "makima" else kind, t=x, at=q,
+                       derivatives=2, **fields)
+    for got, nu in ((r.points, 0), (r.d1, 1), (r.d2, 2)):
+        want = theirs(q, nu)
+        scale = np.abs(want).max()
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * scale + 1e-12,
+                                   err_msg=f"{kind} nu={nu}")

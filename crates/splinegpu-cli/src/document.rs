@@ -760,6 +760,8 @@ fn fit_curve(
         t: array_field("t")?,
         start_derivative: array_field("start_derivative")?,
         end_derivative: array_field("end_derivative")?,
+        tangents: fields.get("tangents").map(parse_tangents).transpose()?,
+        method: fields.get("method").map(parse_method).transpose()?,
     };
     let kind = CurveKind::named(kind, kind_fields)?;
     let points = points.ok_or_else(|| InputError::field("points", "is missing"))?;
@@ -777,6 +779,56 @@ fn parse_ends(v: &Value) -> Result<Ends, InputError> {
             ),
         )),
     }
+}
+
+/// "tangents": an array of arrays of numbers, all of one length, flattened (their count and
+/// length against the points are the curve's to check).
+fn parse_tangents(value: &Value) -> Result<Vec<f64>, InputError> {
+    let rows = value.as_array().ok_or_else(|| {
+        InputError::field(
+            "tangents",
+            format!(
+                "must be an array of tangents (arrays of numbers), got {}",
+                describe(value)
+            ),
+        )
+    })?;
+    let mut flat = Vec::new();
+    let mut width = None;
+    for (i, row) in rows.iter().enumerate() {
+        let row = number_array(row, "tangents").map_err(|_| {
+            InputError::field(
+                "tangents",
+                format!(
+                    "tangents[{i}] must be an array of numbers, got {}",
+                    describe(row)
+                ),
+            )
+        })?;
+        match width {
+            Some(w) if w != row.len() => {
+                return Err(InputError::field(
+                    "tangents",
+                    format!(
+                        "tangents[{i}] has {} numbers where tangents[0] has {w}",
+                        row.len()
+                    ),
+                ));
+            }
+            _ => width = Some(row.len()),
+        }
+        flat.extend(row);
+    }
+    Ok(flat)
+}
+
+fn parse_method(value: &Value) -> Result<String, InputError> {
+    value.as_str().map(str::to_owned).ok_or_else(|| {
+        InputError::field(
+            "method",
+            format!("must be \"akima\" or \"makima\", got {}", describe(value)),
+        )
+    })
 }
 
 fn parse_matrix(value: &Value) -> Result<[[f64; 4]; 4], InputError> {

@@ -2,6 +2,7 @@
 
 use crate::basis::{Basis, Rows, bezier_rows};
 use crate::error::InputError;
+use crate::fit::hermite::{self, HermiteSlopes};
 use crate::fit::interp::{self, EndCondition, Fitter};
 use crate::fit::uniform;
 use crate::points::Points;
@@ -113,6 +114,15 @@ pub enum CurveKind {
         /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
         t: Option<Vec<f64>>,
     },
+    /// Cubic Hermite pieces through every point, with the derivative at each point given
+    /// ("hermite"'s tangents) or computed by a shape-preserving rule ("pchip", "akima"); see
+    /// [`HermiteSlopes`]. Segment i spans [t_i, t_{i+1}].
+    Hermite {
+        /// Where the derivatives at the points come from.
+        slopes: HermiteSlopes,
+        /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
+        t: Option<Vec<f64>>,
+    },
 }
 
 /// A curve ready to fit: its kind and its points, checked.
@@ -135,6 +145,8 @@ enum FitMethod {
         condition: EndCondition,
         t: Vec<f64>,
     },
+    /// Hermite pieces at knots `t`.
+    Hermite { slopes: HermiteSlopes, t: Vec<f64> },
 }
 
 impl Curve {
@@ -144,7 +156,9 @@ impl Curve {
     /// Too few points for the kind (or, for Bezier, a count that is not 3k + 1), a basis
     /// parameter that is out of its domain (see [`Basis::try_rows`]), or interpolation data
     /// that break a rule of interpolation (t strictly increasing and one per point, enough
-    /// points for the end condition, periodic ends equal, clamped derivatives of D values).
+    /// points for the end condition, periodic ends equal, clamped derivatives of D values), or
+    /// Hermite data that break theirs (at least 2 points, t as above, tangents one per point of
+    /// D finite values).
     pub fn new(kind: CurveKind, points: Points) -> Result<Self, InputError> {
         let n = points.len();
         let fit = match &kind {
@@ -187,6 +201,16 @@ impl Curve {
                     t,
                 }
             }
+            CurveKind::Hermite { slopes, t } => {
+                let t = t
+                    .clone()
+                    .unwrap_or_else(|| (0..n).map(|i| i as f64).collect());
+                hermite::check(&t, points.coords(), points.dim(), slopes)?;
+                FitMethod::Hermite {
+                    slopes: slopes.clone(),
+                    t,
+                }
+            }
         };
         Ok(Self { kind, points, fit })
     }
@@ -210,7 +234,7 @@ impl Curve {
         match &self.kind {
             CurveKind::Uniform { ends, .. } => ends.segments(n),
             CurveKind::Bezier => (n - 1) / 3,
-            CurveKind::Interpolating { .. } => n - 1,
+            CurveKind::Interpolating { .. } | CurveKind::Hermite { .. } => n - 1,
         }
     }
 
@@ -218,7 +242,7 @@ impl Curve {
     #[must_use]
     pub fn t_range(&self) -> (f64, f64) {
         match &self.fit {
-            FitMethod::Solve { t, .. } => (t[0], t[t.len() - 1]),
+            FitMethod::Solve { t, .. } | FitMethod::Hermite { t, .. } => (t[0], t[t.len() - 1]),
             FitMethod::Windows { .. } => (0.0, self.segment_count() as f64),
         }
     }
@@ -241,6 +265,9 @@ impl Curve {
         match &self.fit {
             FitMethod::Solve { condition, t } => {
                 Fitter::new().fit_checked(t, coords, dim, condition, out);
+            }
+            FitMethod::Hermite { slopes, t } => {
+                hermite::fit_into(t, coords, dim, slopes, extent, out);
             }
             FitMethod::Windows {
                 rows,

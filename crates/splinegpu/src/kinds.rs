@@ -5,10 +5,11 @@
 use crate::basis::Basis;
 use crate::curve::{CurveKind, Ends};
 use crate::error::InputError;
+use crate::fit::hermite::HermiteSlopes;
 use crate::fit::interp::EndCondition;
 
 /// Every kind the contract names, in its order.
-pub const KIND_NAMES: [&str; 11] = [
+pub const KIND_NAMES: [&str; 14] = [
     "cardinal",
     "catmull-rom",
     "bspline",
@@ -20,6 +21,9 @@ pub const KIND_NAMES: [&str; 11] = [
     "clamped",
     "periodic",
     "not-a-knot",
+    "hermite",
+    "pchip",
+    "akima",
 ];
 
 /// A kind's optional fields, by the contract's names; `None` where not given (the kind's
@@ -40,6 +44,10 @@ pub struct KindFields {
     pub start_derivative: Option<Vec<f64>>,
     /// "end_derivative" of clamped (required).
     pub end_derivative: Option<Vec<f64>>,
+    /// "tangents" of hermite (required): dP/dt at each point, D values per point, flat.
+    pub tangents: Option<Vec<f64>>,
+    /// "method" of akima: "akima" (default) or "makima".
+    pub method: Option<String>,
 }
 
 impl KindFields {
@@ -53,6 +61,8 @@ impl KindFields {
             ("t", self.t.is_some()),
             ("start_derivative", self.start_derivative.is_some()),
             ("end_derivative", self.end_derivative.is_some()),
+            ("tangents", self.tangents.is_some()),
+            ("method", self.method.is_some()),
         ]
         .into_iter()
         .filter_map(|(name, given)| given.then_some(name))
@@ -71,6 +81,9 @@ pub fn kind_fields(name: &str) -> Option<&'static [&'static str]> {
         "bezier" => &[],
         "natural" | "periodic" | "not-a-knot" => &["t"],
         "clamped" => &["t", "start_derivative", "end_derivative"],
+        "hermite" => &["t", "tangents"],
+        "pchip" => &["t"],
+        "akima" => &["t", "method"],
         _ => return None,
     })
 }
@@ -95,7 +108,8 @@ impl CurveKind {
     /// # Errors
     /// An unknown name (field "kind", listing the names); a field the kind does not take
     /// (listing those it does); "matrix" without its matrix; "clamped" without both end
-    /// derivatives.
+    /// derivatives; "hermite" without its tangents; an akima "method" other than "akima" or
+    /// "makima".
     pub fn named(name: &str, fields: KindFields) -> Result<CurveKind, InputError> {
         let Some(allowed) = kind_fields(name) else {
             return Err(InputError::field(
@@ -123,7 +137,30 @@ impl CurveKind {
             condition,
             t: fields.t.clone(),
         };
+        let hermite = |slopes| CurveKind::Hermite {
+            slopes,
+            t: fields.t.clone(),
+        };
         Ok(match name {
+            "hermite" => hermite(HermiteSlopes::Given(fields.tangents.clone().ok_or_else(
+                || {
+                    InputError::field(
+                        "tangents",
+                        "is missing (a hermite curve needs one per point)",
+                    )
+                },
+            )?)),
+            "pchip" => hermite(HermiteSlopes::Pchip),
+            "akima" => hermite(match fields.method.as_deref() {
+                None | Some("akima") => HermiteSlopes::Akima,
+                Some("makima") => HermiteSlopes::Makima,
+                Some(other) => {
+                    return Err(InputError::field(
+                        "method",
+                        format!("must be \"akima\" or \"makima\", got \"{other}\""),
+                    ));
+                }
+            }),
             "cardinal" => uniform(Basis::Cardinal {
                 tension: fields.tension.unwrap_or(0.5),
             }),

@@ -131,6 +131,7 @@ pub use cpu::{available_threads, evaluate_cpu, evaluate_cpu_into, evaluate_refer
 pub use curve::{Curve, CurveKind, Ends};
 pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
+pub use fit::hermite::HermiteSlopes;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
 pub use gpu::{GpuContext, OutputLayout, adapters, hardware_adapter, new_instance};
 pub use job::layout::JobLayout;

@@ -57,7 +57,10 @@ const MIXED: &str = r#"{
     {"kind": "natural", "t": [10000, 10000.001, 10002, 10002.5], "points": [[0, 1], [0.002, 1.001], [3, -2], [4, 4]]},
     {"kind": "clamped", "start_derivative": [1, 0, -1], "end_derivative": [0, 2, 0.5], "points": [[0, 0, 0], [1, 1, 1], [2, 0, 3]]},
     {"kind": "periodic", "t": [0, 0.5, 2, 2.25], "points": [[1], [3], [-2], [1]], "sampling": {"at": [0, 2.25, 1.1]}},
-    {"kind": "not-a-knot", "points": [[1e6, 0], [1000001, 1], [1000003, -1], [1000004, 0.5], [1000002, 2]]}
+    {"kind": "not-a-knot", "points": [[1e6, 0], [1000001, 1], [1000003, -1], [1000004, 0.5], [1000002, 2]]},
+    {"kind": "hermite", "t": [0, 0.5, 3], "points": [[0, 1], [2, 2], [1, -1]], "tangents": [[1, 0], [0, -2.5], [3, 3]]},
+    {"kind": "pchip", "points": [[0], [0.5], [0.5], [3], [2.75]]},
+    {"kind": "akima", "method": "makima", "t": [-2, -1.5, 0, 0.001, 4], "points": [[1, 2, 3], [1, 2, 3], [0, 5, 1], [0.2, 5, 1], [4, 4, 4]], "sampling": {"at": [4, -2, 0.0005, -1.75]}}
   ]
 }"#;
 
@@ -259,6 +262,30 @@ fn info_lists_adapters_and_exits_0() {
 /// (document, what the message must name).
 const BAD_INPUTS: &[(&str, &[&str])] = &[
     (
+        r#"{"curves": [{"kind": "hermite", "points": [[0], [1], [2]], "tangents": [[0], [1]]}]}"#,
+        &["curve 0", "\"tangents\"", "got 2 numbers"],
+    ),
+    (
+        r#"{"curves": [{"kind": "hermite", "points": [[0], [1]], "tangents": [[0], [1, 2]]}]}"#,
+        &["curve 0", "tangents[1] has 2 numbers"],
+    ),
+    (
+        r#"{"curves": [{"kind": "hermite", "points": [[0], [1]]}]}"#,
+        &["curve 0", "\"tangents\" is missing"],
+    ),
+    (
+        r#"{"curves": [{"kind": "akima", "method": "cubic", "points": [[0], [1], [2]]}]}"#,
+        &["curve 0", "\"method\"", "\"cubic\""],
+    ),
+    (
+        r#"{"curves": [{"kind": "pchip", "ends": "closed", "points": [[0], [1], [2]]}]}"#,
+        &["curve 0", "\"ends\" is not a field of a \"pchip\" curve"],
+    ),
+    (
+        r#"{"curves": [{"kind": "pchip", "points": [[0]]}]}"#,
+        &["curve 0", "at least 2 points"],
+    ),
+    (
         r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [NaN]]}]}"#,
         &["document:", "line 1"],
     ),
@@ -303,8 +330,8 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
         &["curve 0:", "\"tension\"", "d = "],
     ),
     (
-        r#"{"curves": [{"kind": "hermite", "points": [[0], [1], [2], [3]]}]}"#,
-        &["curve 0:", "\"kind\"", "hermite"],
+        r#"{"curves": [{"kind": "lagrange", "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0:", "\"kind\"", "lagrange"],
     ),
     (
         r#"{"curves": [{"kind": "cardinal", "tenson": 0.3, "points": [[0], [1], [2], [3]]}]}"#,

@@ -88,6 +88,8 @@ const WORDS: &[&str] = &[
     "t",
     "start_derivative",
     "end_derivative",
+    "tangents",
+    "method",
     "per_segment",
     "at",
     "arc_length",
@@ -102,6 +104,10 @@ const WORDS: &[&str] = &[
     "clamped",
     "periodic",
     "not-a-knot",
+    "hermite",
+    "pchip",
+    "akima",
+    "makima",
     "control",
     "repeat",
     "closed",
@@ -214,7 +220,7 @@ fn document() -> impl Strategy<Value = Json> {
 /// Random curves of every family that satisfy the contract.
 fn valid_document() -> impl Strategy<Value = String> {
     let coordinate = -1.0e6f64..1.0e6;
-    let curve = (0usize..11, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
+    let curve = (0usize..14, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
         .prop_map(|(family, dim, extra, pool)| {
             let dim = [1, 2, 3, 5, 64][dim - 1];
             let point = |i: usize| {
@@ -250,6 +256,18 @@ fn valid_document() -> impl Strategy<Value = String> {
                     list(4 + extra)
                 ),
                 9 => format!(r#"{{"kind":"not-a-knot","points":[{}]}}"#, list(4 + extra)),
+                10 => {
+                    let tangents = vec![derivative.clone(); 4 + extra].join(",");
+                    format!(
+                        r#"{{"kind":"hermite","t":[{knots}],"tangents":[{tangents}],"points":[{}]}}"#,
+                        list(4 + extra)
+                    )
+                }
+                11 => format!(r#"{{"kind":"pchip","t":[{knots}],"points":[{}]}}"#, list(4 + extra)),
+                12 => {
+                    let method = ["akima", "makima"][extra % 2];
+                    format!(r#"{{"kind":"akima","method":"{method}","points":[{}]}}"#, list(4 + extra))
+                }
                 _ => {
                     let n = 4 + extra;
                     let pts: Vec<String> = (0..n).map(|i| point(i % (n - 1))).collect();

@@ -251,7 +251,7 @@ fn scattered_locator<'a>(table: &'a SegmentTable, at: &[f64]) -> Option<&'a Loca
     }
 }
 
-/// The segment of t in [knots[0], knots[last + 1]]: the last whose first knot is <= t, capped
+/// The segment of t in `[knots[0], knots[last + 1]]`: the last whose first knot is <= t, capped
 /// to `last`, found by walking forward from `from` when t lies at or after its start, and by
 /// binary search otherwise.
 #[inline(always)]

@@ -33,7 +33,7 @@
 use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
 use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
 use crate::error::{InputError, Shown};
-use crate::points::for_dimension;
+use crate::fit::hermite::hermite_segments_for;
 use crate::segment::SegmentTable;
 
 /// How an interpolating spline behaves at its two ends.
@@ -500,50 +500,6 @@ impl Rows for DominantRows<'_> {
                 }
                 (d_here, 2.0 * (d_prev + d_here), d_prev)
             }
-        }
-    }
-}
-
-/// The form of [`hermite_segments`]: times, points, slopes, dimension, first segment, output.
-type HermitePass = fn(&[f64], &[f64], &[f64], usize, usize, &mut [f64]);
-
-/// [`hermite_segments`] compiled for `dim` coordinates: one to four have builds of their own,
-/// so that a segment's loop is unrolled and vectorised.
-fn hermite_segments_for(dim: usize) -> HermitePass {
-    for_dimension!(dim, hermite_segments, 0)
-}
-
-/// Forms the power coefficients of segments `first..` into `out` (4·dim values per segment)
-/// from the points and slopes: the cubic Hermite piece in local u. `D` is the dimension, or
-/// 0 for any `dim`.
-fn hermite_segments<const D: usize>(
-    t: &[f64],
-    values: &[f64],
-    slopes: &[f64],
-    dim: usize,
-    first: usize,
-    out: &mut [f64],
-) {
-    let dim = if D == 0 { dim } else { D };
-    for (s, c) in out.chunks_exact_mut(4 * dim).enumerate() {
-        let i = first + s;
-        let dt = t[i + 1] - t[i];
-        let (f0, f1) = (
-            &values[i * dim..(i + 1) * dim],
-            &values[(i + 1) * dim..(i + 2) * dim],
-        );
-        let (m0, m1) = (
-            &slopes[i * dim..(i + 1) * dim],
-            &slopes[(i + 1) * dim..(i + 2) * dim],
-        );
-        let (a, rest) = c.split_at_mut(dim);
-        let (b, rest) = rest.split_at_mut(dim);
-        let (cc, d) = rest.split_at_mut(dim);
-        for k in 0..dim {
-            a[k] = 2.0 * (f0[k] - f1[k]) + dt * (m0[k] + m1[k]);
-            b[k] = 3.0 * (f1[k] - f0[k]) - dt * (2.0 * m0[k] + m1[k]);
-            cc[k] = dt * m0[k];
-            d[k] = f0[k];
         }
     }
 }

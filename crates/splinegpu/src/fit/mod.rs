@@ -3,12 +3,16 @@
 //!
 //! - [`uniform`]: the memo's 4x4-matrix families and Bezier curves, M·X per window of four points;
 //! - [`interp`]: interpolating splines (natural, clamped, periodic, not-a-knot) on any knots;
+//! - [`hermite`] and [`shape`]: cubic Hermite pieces from derivatives at the points, given
+//!   ("hermite") or computed (PCHIP, Akima);
 //! - [`cardinal`]: cardinal basis functions, for many curves that share their knots;
 //! - [`tridiag`] and [`blocked`]: the O(n) solvers behind them (blocked for the diagonally
 //!   dominant systems, on every thread).
 
 pub(crate) mod blocked;
 pub(crate) mod cardinal;
+pub(crate) mod hermite;
 pub(crate) mod interp;
+pub(crate) mod shape;
 pub(crate) mod tridiag;
 pub(crate) mod uniform;

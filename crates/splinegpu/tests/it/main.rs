@@ -8,6 +8,7 @@ mod at;
 mod basis;
 mod cpu_fast;
 mod geometric_sampling;
+mod hermite;
 mod interpolation;
 mod properties;
 mod support;

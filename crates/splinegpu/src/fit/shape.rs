@@ -1,0 +1,124 @@
+//! Derivatives at the points for the shape-preserving kinds, each coordinate on its own, as
+//! SciPy defines them (`PchipInterpolator`, `Akima1DInterpolator`); the pieces between the
+//! points are then cubic Hermite ([`hermite`](crate::fit::hermite)).
+//!
+//! With h_i = t_{i+1} − t_i and the secant slopes m_i = (y_{i+1} − y_i)/h_i:
+//!
+//! - **PCHIP** (Fritsch and Carlson; Fritsch and Butland's weights): at an interior point, 0
+//!   where m_{i−1} and m_i differ in sign or either is 0 (a local extremum or a flat run stays
+//!   flat), else the weighted harmonic mean 1/d = (w_1/m_{i−1} + w_2/m_i)/(w_1 + w_2) with
+//!   w_1 = 2h_i + h_{i−1}, w_2 = h_i + 2h_{i−1}. At an end, the three-point estimate
+//!   d = ((2h_0 + h_1)m_0 − h_0 m_1)/(h_0 + h_1), set to 0 where its sign differs from m_0's,
+//!   and to 3m_0 where m_0 and m_1 differ in sign and |d| > 3|m_0|. Two points: the line.
+//! - **Akima**: the secants extended by two on each side (m_{−1} = 2m_0 − m_1,
+//!   m_{−2} = 2m_{−1} − m_0, and likewise past the end); at point i, with
+//!   f_1 = |m_{i+1} − m_i| and f_2 = |m_{i−1} − m_{i−2}|, d = (f_1 m_{i−1} + f_2 m_i)/(f_1 + f_2),
+//!   or (m_{i−2} + m_{i+1})/2 where f_1 + f_2 is at most 1e-9 of its largest value over every
+//!   point and coordinate of the curve. **makima** adds |m_{i+1} + m_i|/2 to f_1 and
+//!   |m_{i−1} + m_{i−2}|/2 to f_2 (no overshoot where the data have flat runs). Two points:
+//!   the line.
+
+/// PCHIP's derivative at every point, `dim` values per point (see the module's documentation).
+pub(crate) fn pchip_slopes(t: &[f64], values: &[f64], dim: usize) -> Vec<f64> {
+    let n = t.len();
+    let mut d = vec![0.0; n * dim];
+    for k in 0..dim {
+        let h = |i: usize| t[i + 1] - t[i];
+        let m = |i: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / h(i);
+        if n == 2 {
+            (d[k], d[dim + k]) = (m(0), m(0));
+            continue;
+        }
+        for i in 1..n - 1 {
+            let (m0, m1) = (m(i - 1), m(i));
+            d[i * dim + k] = if sign(m0) != sign(m1) || m0 == 0.0 || m1 == 0.0 {
+                0.0
+            } else {
+                let w1 = 2.0 * h(i) + h(i - 1);
+                let w2 = h(i) + 2.0 * h(i - 1);
+                1.0 / ((w1 / m0 + w2 / m1) / (w1 + w2))
+            };
+        }
+        d[k] = pchip_end(h(0), h(1), m(0), m(1));
+        d[(n - 1) * dim + k] = pchip_end(h(n - 2), h(n - 3), m(n - 2), m(n - 3));
+    }
+    d
+}
+
+/// PCHIP's derivative at an end: h0 and m0 of the end's interval, h1 and m1 of its neighbour.
+fn pchip_end(h0: f64, h1: f64, m0: f64, m1: f64) -> f64 {
+    let d = ((2.0 * h0 + h1) * m0 - h0 * m1) / (h0 + h1);
+    if sign(d) != sign(m0) {
+        0.0
+    } else if sign(m0) != sign(m1) && d.abs() > 3.0 * m0.abs() {
+        3.0 * m0
+    } else {
+        d
+    }
+}
+
+/// −1, 0 or 1, as NumPy's `sign`.
+fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Akima's (or, `modified`, makima's) derivative at every point, `dim` values per point (see
+/// the module's documentation).
+pub(crate) fn akima_slopes(t: &[f64], values: &[f64], dim: usize, modified: bool) -> Vec<f64> {
+    let n = t.len();
+    // Per coordinate: the secants with two more on each side (index j + 2 holds m_j), and
+    // the weights f_1, f_2 of every point.
+    let mut secants = vec![0.0; n + 3];
+    let mut weights = vec![(0.0, 0.0); n * dim];
+    let mut extended = vec![0.0; (n + 3) * dim];
+    for k in 0..dim {
+        for j in 0..n - 1 {
+            let rise = values[(j + 1) * dim + k] - values[j * dim + k];
+            secants[j + 2] = rise / (t[j + 1] - t[j]);
+        }
+        if n == 2 {
+            secants[3] = secants[2];
+        }
+        secants[1] = 2.0 * secants[2] - secants[3];
+        secants[0] = 2.0 * secants[1] - secants[2];
+        secants[n + 1] = 2.0 * secants[n] - secants[n - 1];
+        secants[n + 2] = 2.0 * secants[n + 1] - secants[n];
+        let weight = |j: usize| {
+            let change = (secants[j + 1] - secants[j]).abs();
+            if modified {
+                change + 0.5 * (secants[j + 1] + secants[j]).abs()
+            } else {
+                change
+            }
+        };
+        for i in 0..n {
+            weights[i * dim + k] = (weight(i + 2), weight(i));
+        }
+        for (j, &m) in secants.iter().enumerate() {
+            extended[j * dim + k] = m;
+        }
+    }
+    let largest = weights
+        .iter()
+        .map(|&(f1, f2)| f1 + f2)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut d = vec![0.0; n * dim];
+    for i in 0..n {
+        for k in 0..dim {
+            let m = |j: usize| extended[j * dim + k];
+            let (f1, f2) = weights[i * dim + k];
+            d[i * dim + k] = if f1 + f2 > 1e-9 * largest {
+                (f1 * m(i + 1) + f2 * m(i + 2)) / (f1 + f2)
+            } else {
+                0.5 * (m(i + 3) + m(i))
+            };
+        }
+    }
+    d
+}
