@@ -174,6 +174,17 @@ def _per_curve(name: str, value, curves: int, ndim: int) -> list | None:
     return [None if v is None else _flat(v, name) for v in value]
 
 
+def _per_point(name: str, value, curves: int) -> dict:
+    """A number for every curve (`name`), or per point (`name + "_each"`: an array per curve)."""
+    if value is None:
+        return {name: None, f"{name}_each": None}
+    if isinstance(value, (bool, np.bool_, str)):
+        raise TypeError(f"{name}: must be a number or one number per point, got {value!r}")
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return {name: float(value), f"{name}_each": None}
+    return {name: None, f"{name}_each": _per_curve(name, value, curves, 1)}
+
+
 def _flat(v, name: str) -> np.ndarray:
     """`v` (argument `name`) as an aligned, contiguous 1-D float64 array (a view where it
     already is one)."""
@@ -215,7 +226,7 @@ class Context:
         return f"splinegpu.Context({self.info!r})"
 
     def tessellate(self, points, kind: str = "catmull-rom", *, ends: str | None = None,
-                   tension: float | None = None, bias: float | None = None,
+                   tension=None, bias=None, continuity=None,
                    matrix=None, t=None, start_derivative=None, end_derivative=None,
                    tangents=None, method: str | None = None,
                    per_segment: int | None = None, at=None, arc_length: int | None = None,
@@ -227,7 +238,9 @@ class Context:
         are the command line's (KIND_NAMES); `t`, `at` and the clamped derivatives are one array
         for every curve, a 2-D array with a row per curve, or a list (ragged); hermite's
         `tangents` are an (n, D) array for every curve, a (C, n, D) array or a list of (n_i, D)
-        arrays; akima's `method` is "akima" or "makima". One sampling:
+        arrays; akima's `method` is "akima" or "makima"; kochanek-bartels' `tension`,
+        `continuity` and `bias` are numbers, or per point: an (n,) array for every curve, a
+        (C, n) array or a list of arrays. One sampling:
         `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
         (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
         within 1e-5, so their t differ between backends in the low bits; tolerance t are the
@@ -252,8 +265,9 @@ class Context:
             value = float(_float64(value, "tolerance"))
         fields = {
             "ends": ends,
-            "tension": None if tension is None else float(tension),
-            "bias": None if bias is None else float(bias),
+            **_per_point("tension", tension, len(curves)),
+            **_per_point("continuity", continuity, len(curves)),
+            **_per_point("bias", bias, len(curves)),
             "matrix": None if matrix is None else _matrix(matrix),
             "t": _per_curve("t", t, len(curves), 1),
             "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),

@@ -18,6 +18,7 @@ use std::sync::Arc;
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use splinegpu::PerPoint;
 use splinegpu::kinds::KindFields;
 use splinegpu::{
     Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Fitter, GpuContext, InputError,
@@ -244,6 +245,15 @@ struct CurveFields<'py> {
     tangents: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
     #[pyo3(item)]
     method: Option<String>,
+    #[pyo3(item)]
+    continuity: Option<f64>,
+    /// Kochanek–Bartels' tension, continuity and bias given per point (one array per curve).
+    #[pyo3(item)]
+    tension_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    continuity_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    bias_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
 }
 
 /// The sampling: its contract name and value; "at" holds one array per curve.
@@ -316,6 +326,10 @@ struct KindSource<'a> {
     end_derivative: Vec<Option<&'a [f64]>>,
     tangents: Vec<Option<&'a [f64]>>,
     method: Option<&'a str>,
+    continuity: Option<f64>,
+    tension_each: Vec<Option<&'a [f64]>>,
+    continuity_each: Vec<Option<&'a [f64]>>,
+    bias_each: Vec<Option<&'a [f64]>>,
 }
 
 impl<'a> KindSource<'a> {
@@ -345,18 +359,27 @@ impl<'a> KindSource<'a> {
             end_derivative: slices(&fields.end_derivative)?,
             tangents: slices(&fields.tangents)?,
             method: fields.method.as_deref(),
+            continuity: fields.continuity,
+            tension_each: slices(&fields.tension_each)?,
+            continuity_each: slices(&fields.continuity_each)?,
+            bias_each: slices(&fields.bias_each)?,
         })
     }
 
     /// Curve c's kind.
     fn kind(&self, c: usize) -> Result<CurveKind, InputError> {
         let own = |list: &[Option<&[f64]>]| list.get(c).copied().flatten().map(<[f64]>::to_vec);
+        // Curve c's own values where given per point, else the number for every curve.
+        let per_point = |each: &[Option<&[f64]>], all: Option<f64>| {
+            own(each).map(PerPoint::Each).or(all.map(PerPoint::All))
+        };
         CurveKind::named(
             self.name,
             KindFields {
                 ends: self.ends,
-                tension: self.tension,
-                bias: self.bias,
+                tension: per_point(&self.tension_each, self.tension),
+                bias: per_point(&self.bias_each, self.bias),
+                continuity: per_point(&self.continuity_each, self.continuity),
                 matrix: self.matrix,
                 t: own(&self.t),
                 start_derivative: own(&self.start_derivative),

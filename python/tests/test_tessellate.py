@@ -356,3 +356,29 @@ def test_a_list_of_views_of_one_array_is_the_array(cpu):
     apart = splinegpu.CubicSplines(list(xs), list(ys))(list(xq))
     np.testing.assert_array_equal(together[0], apart[0])
     np.testing.assert_array_equal(together[1], apart[1])
+
+
+def test_kochanek_bartels_keywords(cpu):
+    rng = np.random.default_rng(9)
+    curves = rng.uniform(-1, 1, (3, 6, 2))
+    for ends in ("control", "repeat", "closed"):
+        zero = cpu.tessellate(curves, "kochanek-bartels", ends=ends, per_segment=7)
+        catmull = cpu.tessellate(curves, "catmull-rom", ends=ends, per_segment=7)
+        np.testing.assert_allclose(zero.points, catmull.points, rtol=0, atol=1e-13)
+        cardinal = cpu.tessellate(curves, "cardinal", ends=ends, tension=0.3, per_segment=7)
+        # Tension T gives the cardinal spline of tension (1 - T) / 2, as a number or per point.
+        for tension in (0.4, np.full(6, 0.4), np.full((3, 6), 0.4), [np.full(6, 0.4)] * 3):
+            r = cpu.tessellate(curves, "kochanek-bartels", ends=ends, tension=tension,
+                               per_segment=7)
+            np.testing.assert_allclose(r.points, cardinal.points, rtol=0, atol=1e-13)
+    # Per-point continuity and bias, and keys (n + 1 for closed ends), reach the curve.
+    keys = np.cumsum(rng.uniform(0.1, 2, 7))
+    r = cpu.tessellate(curves, "kochanek-bartels", ends="closed", continuity=np.linspace(-1, 1, 6),
+                       bias=0.3, t=keys, per_segment=4)
+    assert r.t[0] == keys[0] and r.t[-1] == keys[-1]
+    with pytest.raises(ValueError, match=r'curve 0: "continuity" must have one value per point'):
+        cpu.tessellate(curves, "kochanek-bartels", continuity=np.zeros(5))
+    with pytest.raises(ValueError, match=r'"tension" must be a number for a "cardinal" curve'):
+        cpu.tessellate(curves, "cardinal", tension=np.zeros(6))
+    with pytest.raises(TypeError, match="bias"):
+        cpu.tessellate(curves, "kochanek-bartels", bias=True)

@@ -19,6 +19,7 @@ use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
 use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 
+use splinegpu::PerPoint;
 use splinegpu::SegmentTable;
 use splinegpu::kinds::{KindFields, kind_fields, not_a_field};
 use splinegpu::{Curve, CurveKind, Ends, MAX_DIM, Points};
@@ -745,17 +746,27 @@ fn fit_curve(
     if let Some(key) = keys.iter().find(|k| !key_ok(k)) {
         return Err(not_a_field(kind, key));
     }
-    let number_field = |field: &str| fields.get(field).map(|v| number(v, field)).transpose();
     let array_field = |field: &str| {
         fields
             .get(field)
             .map(|v| number_array(v, field))
             .transpose()
     };
+    // A number, or (Kochanek–Bartels) an array of one number per point.
+    let per_point_field = |field: &str| {
+        fields
+            .get(field)
+            .map(|v| match v {
+                Value::Array(_) => number_array(v, field).map(PerPoint::Each),
+                _ => number(v, field).map(PerPoint::All),
+            })
+            .transpose()
+    };
     let kind_fields = KindFields {
         ends: fields.get("ends").map(parse_ends).transpose()?,
-        tension: number_field("tension")?,
-        bias: number_field("bias")?,
+        tension: per_point_field("tension")?,
+        bias: per_point_field("bias")?,
+        continuity: per_point_field("continuity")?,
         matrix: fields.get("matrix").map(parse_matrix).transpose()?,
         t: array_field("t")?,
         start_derivative: array_field("start_derivative")?,

@@ -4,6 +4,7 @@ use crate::basis::{Basis, Rows, bezier_rows};
 use crate::error::InputError;
 use crate::fit::hermite::{self, HermiteSlopes};
 use crate::fit::interp::{self, EndCondition, Fitter};
+use crate::fit::tcb::{self, Tcb};
 use crate::fit::uniform;
 use crate::points::Points;
 use crate::segment::SegmentTable;
@@ -123,6 +124,18 @@ pub enum CurveKind {
         /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
         t: Option<Vec<f64>>,
     },
+    /// A Kochanek–Bartels spline: the points windowed as `ends` windows them, each segment the
+    /// Hermite piece of the tangents its tension, continuity and bias give (see [`Tcb`]).
+    /// Without `t`, segment i spans [i, i + 1]; with it, the segments span the given values.
+    KochanekBartels {
+        /// The end convention.
+        ends: Ends,
+        /// Tension, continuity and bias.
+        tcb: Tcb,
+        /// One strictly increasing value per point (n + 1 for closed ends), with Kochanek and
+        /// Bartels' adjustment for uneven keys; `None` means uniform keys.
+        t: Option<Vec<f64>>,
+    },
 }
 
 /// A curve ready to fit: its kind and its points, checked.
@@ -147,6 +160,12 @@ enum FitMethod {
     },
     /// Hermite pieces at knots `t`.
     Hermite { slopes: HermiteSlopes, t: Vec<f64> },
+    /// Kochanek–Bartels pieces on the windows of `ends`.
+    Tcb {
+        ends: Ends,
+        tcb: Tcb,
+        t: Option<Vec<f64>>,
+    },
 }
 
 impl Curve {
@@ -201,6 +220,14 @@ impl Curve {
                     t,
                 }
             }
+            CurveKind::KochanekBartels { ends, tcb, t } => {
+                tcb::check(*ends, tcb, t.as_deref(), n)?;
+                FitMethod::Tcb {
+                    ends: *ends,
+                    tcb: tcb.clone(),
+                    t: t.clone(),
+                }
+            }
             CurveKind::Hermite { slopes, t } => {
                 let t = t
                     .clone()
@@ -232,7 +259,9 @@ impl Curve {
     pub fn segment_count(&self) -> usize {
         let n = self.points.len();
         match &self.kind {
-            CurveKind::Uniform { ends, .. } => ends.segments(n),
+            CurveKind::Uniform { ends, .. } | CurveKind::KochanekBartels { ends, .. } => {
+                ends.segments(n)
+            }
             CurveKind::Bezier => (n - 1) / 3,
             CurveKind::Interpolating { .. } | CurveKind::Hermite { .. } => n - 1,
         }
@@ -243,7 +272,15 @@ impl Curve {
     pub fn t_range(&self) -> (f64, f64) {
         match &self.fit {
             FitMethod::Solve { t, .. } | FitMethod::Hermite { t, .. } => (t[0], t[t.len() - 1]),
-            FitMethod::Windows { .. } => (0.0, self.segment_count() as f64),
+            FitMethod::Tcb {
+                ends, t: Some(t), ..
+            } => {
+                let first = usize::from(*ends == Ends::Control);
+                (t[first], t[first + self.segment_count()])
+            }
+            FitMethod::Windows { .. } | FitMethod::Tcb { t: None, .. } => {
+                (0.0, self.segment_count() as f64)
+            }
         }
     }
 
@@ -268,6 +305,20 @@ impl Curve {
             }
             FitMethod::Hermite { slopes, t } => {
                 hermite::fit_into(t, coords, dim, slopes, extent, out);
+            }
+            FitMethod::Tcb { ends, tcb, t } => {
+                let window = |i| ends.window(n, i);
+                tcb::fit_into(
+                    coords,
+                    dim,
+                    tcb,
+                    t.as_deref(),
+                    *ends,
+                    segments,
+                    extent,
+                    window,
+                    out,
+                );
             }
             FitMethod::Windows {
                 rows,

@@ -7,9 +7,10 @@ use crate::curve::{CurveKind, Ends};
 use crate::error::InputError;
 use crate::fit::hermite::HermiteSlopes;
 use crate::fit::interp::EndCondition;
+use crate::fit::tcb::{PerPoint, Tcb};
 
 /// Every kind the contract names, in its order.
-pub const KIND_NAMES: [&str; 14] = [
+pub const KIND_NAMES: [&str; 15] = [
     "cardinal",
     "catmull-rom",
     "bspline",
@@ -24,6 +25,7 @@ pub const KIND_NAMES: [&str; 14] = [
     "hermite",
     "pchip",
     "akima",
+    "kochanek-bartels",
 ];
 
 /// A kind's optional fields, by the contract's names; `None` where not given (the kind's
@@ -32,10 +34,14 @@ pub const KIND_NAMES: [&str; 14] = [
 pub struct KindFields {
     /// "ends" of the uniform families (default "control").
     pub ends: Option<Ends>,
-    /// "tension": cardinal (default 0.5), tensioned-bspline (default 1), beta (default 0).
-    pub tension: Option<f64>,
-    /// "bias" of beta (default 1).
-    pub bias: Option<f64>,
+    /// "tension": cardinal (default 0.5), tensioned-bspline (default 1), beta (default 0), a
+    /// number; kochanek-bartels (default 0), a number or one per point.
+    pub tension: Option<PerPoint>,
+    /// "bias": beta (default 1), a number; kochanek-bartels (default 0), a number or one per
+    /// point.
+    pub bias: Option<PerPoint>,
+    /// "continuity" of kochanek-bartels (default 0): a number or one per point.
+    pub continuity: Option<PerPoint>,
     /// "matrix" of matrix (required), row-major.
     pub matrix: Option<[[f64; 4]; 4]>,
     /// "t" of the interpolating kinds: one parameter per point (default 0, 1, ..., n − 1).
@@ -57,6 +63,7 @@ impl KindFields {
             ("ends", self.ends.is_some()),
             ("tension", self.tension.is_some()),
             ("bias", self.bias.is_some()),
+            ("continuity", self.continuity.is_some()),
             ("matrix", self.matrix.is_some()),
             ("t", self.t.is_some()),
             ("start_derivative", self.start_derivative.is_some()),
@@ -84,6 +91,7 @@ pub fn kind_fields(name: &str) -> Option<&'static [&'static str]> {
         "hermite" => &["t", "tangents"],
         "pchip" => &["t"],
         "akima" => &["t", "method"],
+        "kochanek-bartels" => &["ends", "tension", "continuity", "bias", "t"],
         _ => return None,
     })
 }
@@ -141,7 +149,30 @@ impl CurveKind {
             slopes,
             t: fields.t.clone(),
         };
+        // The uniform kinds' parameters are numbers; arrays are Kochanek–Bartels'.
+        let number = |field: &str, value: &Option<PerPoint>| match value {
+            None => Ok(None),
+            Some(PerPoint::All(v)) => Ok(Some(*v)),
+            Some(PerPoint::Each(_)) => Err(InputError::field(
+                field,
+                format!("must be a number for a \"{name}\" curve, got an array"),
+            )),
+        };
+        let tension = number("tension", &fields.tension);
+        let bias = number("bias", &fields.bias);
         Ok(match name {
+            "kochanek-bartels" => {
+                let given = |v: &Option<PerPoint>| v.clone().unwrap_or(PerPoint::All(0.0));
+                CurveKind::KochanekBartels {
+                    ends,
+                    tcb: Tcb {
+                        tension: given(&fields.tension),
+                        continuity: given(&fields.continuity),
+                        bias: given(&fields.bias),
+                    },
+                    t: fields.t.clone(),
+                }
+            }
             "hermite" => hermite(HermiteSlopes::Given(fields.tangents.clone().ok_or_else(
                 || {
                     InputError::field(
@@ -162,16 +193,16 @@ impl CurveKind {
                 }
             }),
             "cardinal" => uniform(Basis::Cardinal {
-                tension: fields.tension.unwrap_or(0.5),
+                tension: tension?.unwrap_or(0.5),
             }),
             "catmull-rom" => uniform(Basis::CatmullRom),
             "bspline" => uniform(Basis::BSpline),
             "tensioned-bspline" => uniform(Basis::TensionedBSpline {
-                tension: fields.tension.unwrap_or(1.0),
+                tension: tension?.unwrap_or(1.0),
             }),
             "beta" => uniform(Basis::Beta {
-                bias: fields.bias.unwrap_or(1.0),
-                tension: fields.tension.unwrap_or(0.0),
+                bias: bias?.unwrap_or(1.0),
+                tension: tension?.unwrap_or(0.0),
             }),
             "matrix" => uniform(Basis::Matrix(
                 fields

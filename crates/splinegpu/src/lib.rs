@@ -133,6 +133,7 @@ pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::hermite::HermiteSlopes;
 pub use fit::interp::{EndCondition, EndKind, Fitter};
+pub use fit::tcb::{PerPoint, Tcb};
 pub use gpu::{GpuContext, OutputLayout, adapters, hardware_adapter, new_instance};
 pub use job::layout::JobLayout;
 pub use job::planes::Planes;

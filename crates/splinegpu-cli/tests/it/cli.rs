@@ -60,6 +60,7 @@ const MIXED: &str = r#"{
     {"kind": "not-a-knot", "points": [[1e6, 0], [1000001, 1], [1000003, -1], [1000004, 0.5], [1000002, 2]]},
     {"kind": "hermite", "t": [0, 0.5, 3], "points": [[0, 1], [2, 2], [1, -1]], "tangents": [[1, 0], [0, -2.5], [3, 3]]},
     {"kind": "pchip", "points": [[0], [0.5], [0.5], [3], [2.75]]},
+    {"kind": "kochanek-bartels", "ends": "closed", "tension": [0, 0.5, -0.5], "continuity": 0.25, "bias": [1, 0, -1], "t": [0, 1, 1.5, 4], "points": [[0, 0], [2, 1], [1, 3]]},
     {"kind": "akima", "method": "makima", "t": [-2, -1.5, 0, 0.001, 4], "points": [[1, 2, 3], [1, 2, 3], [0, 5, 1], [0.2, 5, 1], [4, 4, 4]], "sampling": {"at": [4, -2, 0.0005, -1.75]}}
   ]
 }"#;
@@ -284,6 +285,21 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
     (
         r#"{"curves": [{"kind": "pchip", "points": [[0]]}]}"#,
         &["curve 0", "at least 2 points"],
+    ),
+    (
+        r#"{"curves": [{"kind": "kochanek-bartels", "ends": "closed", "t": [0, 1, 2], "points": [[0], [1], [2]]}]}"#,
+        &["curve 0", "\"t\"", "(4), got 3"],
+    ),
+    (
+        r#"{"curves": [{"kind": "kochanek-bartels", "bias": [0, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &[
+            "curve 0",
+            "\"bias\" must have one value per point (4), got 2",
+        ],
+    ),
+    (
+        r#"{"curves": [{"kind": "cardinal", "tension": [0.5, 0.5, 0.5, 0.5], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"tension\" must be a number"],
     ),
     (
         r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [NaN]]}]}"#,

@@ -90,6 +90,7 @@ const WORDS: &[&str] = &[
     "end_derivative",
     "tangents",
     "method",
+    "continuity",
     "per_segment",
     "at",
     "arc_length",
@@ -108,6 +109,7 @@ const WORDS: &[&str] = &[
     "pchip",
     "akima",
     "makima",
+    "kochanek-bartels",
     "control",
     "repeat",
     "closed",
@@ -220,7 +222,7 @@ fn document() -> impl Strategy<Value = Json> {
 /// Random curves of every family that satisfy the contract.
 fn valid_document() -> impl Strategy<Value = String> {
     let coordinate = -1.0e6f64..1.0e6;
-    let curve = (0usize..14, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
+    let curve = (0usize..15, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
         .prop_map(|(family, dim, extra, pool)| {
             let dim = [1, 2, 3, 5, 64][dim - 1];
             let point = |i: usize| {
@@ -264,6 +266,16 @@ fn valid_document() -> impl Strategy<Value = String> {
                     )
                 }
                 11 => format!(r#"{{"kind":"pchip","t":[{knots}],"points":[{}]}}"#, list(4 + extra)),
+                13 => {
+                    // Per-point tension, global continuity and bias, keys for closed ends.
+                    let n = 4 + extra;
+                    let tension = vec!["0.25"; n].join(",");
+                    let keys = (0..=n).map(|i| format!("{}", i * i + i)).collect::<Vec<_>>().join(",");
+                    format!(
+                        r#"{{"kind":"kochanek-bartels","ends":"closed","tension":[{tension}],"continuity":-0.5,"bias":0.5,"t":[{keys}],"points":[{}]}}"#,
+                        list(n)
+                    )
+                }
                 12 => {
                     let method = ["akima", "makima"][extra % 2];
                     format!(r#"{{"kind":"akima","method":"{method}","points":[{}]}}"#, list(4 + extra))

@@ -5,6 +5,7 @@
 //! - [`interp`]: interpolating splines (natural, clamped, periodic, not-a-knot) on any knots;
 //! - [`hermite`] and [`shape`]: cubic Hermite pieces from derivatives at the points, given
 //!   ("hermite") or computed (PCHIP, Akima);
+//! - [`tcb`]: Kochanek–Bartels splines (tension, continuity, bias), Hermite pieces on windows;
 //! - [`cardinal`]: cardinal basis functions, for many curves that share their knots;
 //! - [`tridiag`] and [`blocked`]: the O(n) solvers behind them (blocked for the diagonally
 //!   dominant systems, on every thread).
@@ -14,5 +15,6 @@ pub(crate) mod cardinal;
 pub(crate) mod hermite;
 pub(crate) mod interp;
 pub(crate) mod shape;
+pub(crate) mod tcb;
 pub(crate) mod tridiag;
 pub(crate) mod uniform;

@@ -10,5 +10,6 @@ mod cpu_fast;
 mod geometric_sampling;
 mod hermite;
 mod interpolation;
+mod kochanek_bartels;
 mod properties;
 mod support;
