@@ -228,7 +228,7 @@ class Context:
     def tessellate(self, points, kind: str = "catmull-rom", *, ends: str | None = None,
                    tension=None, bias=None, continuity=None,
                    matrix=None, t=None, start_derivative=None, end_derivative=None,
-                   tangents=None, method: str | None = None,
+                   tangents=None, method: str | None = None, knots=None, weights=None,
                    per_segment: int | None = None, at=None, arc_length: int | None = None,
                    tolerance: float | None = None, derivatives: int = 0,
                    out: Tessellation | None = None) -> Tessellation:
@@ -240,7 +240,7 @@ class Context:
         `tangents` are an (n, D) array for every curve, a (C, n, D) array or a list of (n_i, D)
         arrays; akima's `method` is "akima" or "makima"; kochanek-bartels' `tension`,
         `continuity` and `bias` are numbers, or per point: an (n,) array for every curve, a
-        (C, n) array or a list of arrays. One sampling:
+        (C, n) array or a list of arrays; nurbs' `knots` (n + 4 per curve) likewise. One sampling:
         `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
         (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
         within 1e-5, so their t differ between backends in the low bits; tolerance t are the
@@ -274,6 +274,8 @@ class Context:
             "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
             "tangents": _per_curve("tangents", tangents, len(curves), 2),
             "method": None if method is None else str(method),
+            "knots": _per_curve("knots", knots, len(curves), 1),
+            "weights": _per_curve("weights", weights, len(curves), 1),
         }
         derivatives = _order("derivatives", derivatives, 2)
         reuse = None

@@ -47,6 +47,8 @@ class Context:
         end_derivative: _Batch | None = None,
         tangents: _Batch | None = None,
         method: str | None = None,
+        knots: _Batch | None = None,
+        weights: _Batch | None = None,
         per_segment: int | None = None,
         at: _Batch | None = None,
         arc_length: int | None = None,

@@ -246,6 +246,10 @@ struct CurveFields<'py> {
     #[pyo3(item)]
     method: Option<String>,
     #[pyo3(item)]
+    knots: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
+    weights: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    #[pyo3(item)]
     continuity: Option<f64>,
     /// Kochanek–Bartels' tension, continuity and bias given per point (one array per curve).
     #[pyo3(item)]
@@ -326,6 +330,8 @@ struct KindSource<'a> {
     end_derivative: Vec<Option<&'a [f64]>>,
     tangents: Vec<Option<&'a [f64]>>,
     method: Option<&'a str>,
+    knots: Vec<Option<&'a [f64]>>,
+    weights: Vec<Option<&'a [f64]>>,
     continuity: Option<f64>,
     tension_each: Vec<Option<&'a [f64]>>,
     continuity_each: Vec<Option<&'a [f64]>>,
@@ -359,6 +365,8 @@ impl<'a> KindSource<'a> {
             end_derivative: slices(&fields.end_derivative)?,
             tangents: slices(&fields.tangents)?,
             method: fields.method.as_deref(),
+            knots: slices(&fields.knots)?,
+            weights: slices(&fields.weights)?,
             continuity: fields.continuity,
             tension_each: slices(&fields.tension_each)?,
             continuity_each: slices(&fields.continuity_each)?,
@@ -386,6 +394,8 @@ impl<'a> KindSource<'a> {
                 end_derivative: own(&self.end_derivative),
                 tangents: own(&self.tangents),
                 method: self.method.map(str::to_owned),
+                knots: own(&self.knots),
+                weights: own(&self.weights),
             },
         )
     }

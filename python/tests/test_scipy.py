@@ -237,3 +237,23 @@ def test_hermite_kinds_match_scipy(kind, x_kind, cpu):
         scale = np.abs(want).max()
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * scale + 1e-12,
                                    err_msg=f"{kind} nu={nu}")
+
+
+@pytest.mark.parametrize("x_kind", ["random", "uneven"])
+def test_nurbs_without_weights_is_scipys_bspline(x_kind, cpu):
+    from scipy.interpolate import BSpline
+
+    rng = np.random.default_rng(len(x_kind))
+    n = 10
+    knots_ = knots(x_kind, n + 4, rng)
+    knots_[5] = knots_[4]  # a double interior knot: an empty span
+    points = rng.uniform(-3, 3, (n, 2))
+    theirs = BSpline(knots_, points, 3)
+    q = rng.uniform(knots_[3], knots_[n], 300)
+    r = cpu.tessellate(points[None], "nurbs", knots=knots_, at=q, derivatives=2)
+    for got, nu in ((r.points, 0), (r.d1, 1), (r.d2, 2)):
+        want = theirs(q, nu)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-11 * np.abs(want).max(),
+                                   err_msg=f"nu={nu}")
+    with pytest.raises(ValueError, match=r'curve 0: "weights" are not supported yet'):
+        cpu.tessellate(points[None], "nurbs", knots=knots_, weights=np.ones(n))

@@ -773,6 +773,8 @@ fn fit_curve(
         end_derivative: array_field("end_derivative")?,
         tangents: fields.get("tangents").map(parse_tangents).transpose()?,
         method: fields.get("method").map(parse_method).transpose()?,
+        knots: array_field("knots")?,
+        weights: array_field("weights")?,
     };
     let kind = CurveKind::named(kind, kind_fields)?;
     let points = points.ok_or_else(|| InputError::field("points", "is missing"))?;

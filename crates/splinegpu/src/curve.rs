@@ -4,6 +4,7 @@ use crate::basis::{Basis, Rows, bezier_rows};
 use crate::error::InputError;
 use crate::fit::hermite::{self, HermiteSlopes};
 use crate::fit::interp::{self, EndCondition, Fitter};
+use crate::fit::nurbs;
 use crate::fit::tcb::{self, Tcb};
 use crate::fit::uniform;
 use crate::points::Points;
@@ -124,6 +125,15 @@ pub enum CurveKind {
         /// One strictly increasing parameter value per point; `None` means 0, 1, ..., n − 1.
         t: Option<Vec<f64>>,
     },
+    /// A cubic B-spline on its own knot vector ("nurbs"): n control points, n + 4 knots;
+    /// segments are its non-empty spans in [knots[3], knots[n]], t the knot parameter.
+    /// `weights` (a rational curve) is refused for now.
+    Nurbs {
+        /// n + 4 non-decreasing knots.
+        knots: Vec<f64>,
+        /// One weight > 0 per control point; not supported yet (`Curve::new` refuses it).
+        weights: Option<Vec<f64>>,
+    },
     /// A Kochanek–Bartels spline: the points windowed as `ends` windows them, each segment the
     /// Hermite piece of the tangents its tension, continuity and bias give (see [`Tcb`]).
     /// Without `t`, segment i spans [i, i + 1]; with it, the segments span the given values.
@@ -160,6 +170,8 @@ enum FitMethod {
     },
     /// Hermite pieces at knots `t`.
     Hermite { slopes: HermiteSlopes, t: Vec<f64> },
+    /// The non-empty spans of a knot vector.
+    Knots { knots: Vec<f64> },
     /// Kochanek–Bartels pieces on the windows of `ends`.
     Tcb {
         ends: Ends,
@@ -220,6 +232,13 @@ impl Curve {
                     t,
                 }
             }
+            CurveKind::Nurbs { knots, weights } => {
+                nurbs::check(knots, weights.as_deref(), n)?;
+                crate::points::check_finite(points.coords(), points.dim())?;
+                FitMethod::Knots {
+                    knots: knots.clone(),
+                }
+            }
             CurveKind::KochanekBartels { ends, tcb, t } => {
                 tcb::check(*ends, tcb, t.as_deref(), n)?;
                 FitMethod::Tcb {
@@ -264,6 +283,7 @@ impl Curve {
             }
             CurveKind::Bezier => (n - 1) / 3,
             CurveKind::Interpolating { .. } | CurveKind::Hermite { .. } => n - 1,
+            CurveKind::Nurbs { knots, .. } => nurbs::spans(knots, n).count(),
         }
     }
 
@@ -278,6 +298,7 @@ impl Curve {
                 let first = usize::from(*ends == Ends::Control);
                 (t[first], t[first + self.segment_count()])
             }
+            FitMethod::Knots { knots } => (knots[3], knots[self.points.len()]),
             FitMethod::Windows { .. } | FitMethod::Tcb { t: None, .. } => {
                 (0.0, self.segment_count() as f64)
             }
@@ -306,6 +327,7 @@ impl Curve {
             FitMethod::Hermite { slopes, t } => {
                 hermite::fit_into(t, coords, dim, slopes, extent, out);
             }
+            FitMethod::Knots { knots } => nurbs::fit_into(knots, coords, dim, extent, out),
             FitMethod::Tcb { ends, tcb, t } => {
                 let window = |i| ends.window(n, i);
                 tcb::fit_into(

@@ -10,7 +10,7 @@ use crate::fit::interp::EndCondition;
 use crate::fit::tcb::{PerPoint, Tcb};
 
 /// Every kind the contract names, in its order.
-pub const KIND_NAMES: [&str; 15] = [
+pub const KIND_NAMES: [&str; 16] = [
     "cardinal",
     "catmull-rom",
     "bspline",
@@ -26,6 +26,7 @@ pub const KIND_NAMES: [&str; 15] = [
     "pchip",
     "akima",
     "kochanek-bartels",
+    "nurbs",
 ];
 
 /// A kind's optional fields, by the contract's names; `None` where not given (the kind's
@@ -54,6 +55,11 @@ pub struct KindFields {
     pub tangents: Option<Vec<f64>>,
     /// "method" of akima: "akima" (default) or "makima".
     pub method: Option<String>,
+    /// "knots" of nurbs (required): n + 4 non-decreasing values.
+    pub knots: Option<Vec<f64>>,
+    /// "weights" of nurbs: one per control point (refused for now: rational curves are
+    /// planned).
+    pub weights: Option<Vec<f64>>,
 }
 
 impl KindFields {
@@ -70,6 +76,8 @@ impl KindFields {
             ("end_derivative", self.end_derivative.is_some()),
             ("tangents", self.tangents.is_some()),
             ("method", self.method.is_some()),
+            ("knots", self.knots.is_some()),
+            ("weights", self.weights.is_some()),
         ]
         .into_iter()
         .filter_map(|(name, given)| given.then_some(name))
@@ -92,6 +100,7 @@ pub fn kind_fields(name: &str) -> Option<&'static [&'static str]> {
         "pchip" => &["t"],
         "akima" => &["t", "method"],
         "kochanek-bartels" => &["ends", "tension", "continuity", "bias", "t"],
+        "nurbs" => &["knots", "weights"],
         _ => return None,
     })
 }
@@ -161,6 +170,12 @@ impl CurveKind {
         let tension = number("tension", &fields.tension);
         let bias = number("bias", &fields.bias);
         Ok(match name {
+            "nurbs" => CurveKind::Nurbs {
+                knots: fields.knots.clone().ok_or_else(|| {
+                    InputError::field("knots", "is missing (a nurbs curve needs n + 4)")
+                })?,
+                weights: fields.weights.clone(),
+            },
             "kochanek-bartels" => {
                 let given = |v: &Option<PerPoint>| v.clone().unwrap_or(PerPoint::All(0.0));
                 CurveKind::KochanekBartels {

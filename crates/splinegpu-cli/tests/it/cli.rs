@@ -60,6 +60,7 @@ const MIXED: &str = r#"{
     {"kind": "not-a-knot", "points": [[1e6, 0], [1000001, 1], [1000003, -1], [1000004, 0.5], [1000002, 2]]},
     {"kind": "hermite", "t": [0, 0.5, 3], "points": [[0, 1], [2, 2], [1, -1]], "tangents": [[1, 0], [0, -2.5], [3, 3]]},
     {"kind": "pchip", "points": [[0], [0.5], [0.5], [3], [2.75]]},
+    {"kind": "nurbs", "knots": [0, 0, 0, 0, 0.5, 2, 2, 2, 5, 5, 5, 5], "points": [[0, 0, 1], [1, 2, 1], [3, 3, 0], [4, 0, 2], [6, -1, 1], [7, 1, 0], [9, 2, 3], [10, 0, 0]]},
     {"kind": "kochanek-bartels", "ends": "closed", "tension": [0, 0.5, -0.5], "continuity": 0.25, "bias": [1, 0, -1], "t": [0, 1, 1.5, 4], "points": [[0, 0], [2, 1], [1, 3]]},
     {"kind": "akima", "method": "makima", "t": [-2, -1.5, 0, 0.001, 4], "points": [[1, 2, 3], [1, 2, 3], [0, 5, 1], [0.2, 5, 1], [4, 4, 4]], "sampling": {"at": [4, -2, 0.0005, -1.75]}}
   ]
@@ -285,6 +286,14 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
     (
         r#"{"curves": [{"kind": "pchip", "points": [[0]]}]}"#,
         &["curve 0", "at least 2 points"],
+    ),
+    (
+        r#"{"curves": [{"kind": "nurbs", "knots": [0, 1, 2, 3, 4, 5, 6], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"knots\"", "got 7"],
+    ),
+    (
+        r#"{"curves": [{"kind": "nurbs", "knots": [0, 1, 2, 3, 4, 5, 6, 7], "weights": [1, 1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"weights\" are not supported yet"],
     ),
     (
         r#"{"curves": [{"kind": "kochanek-bartels", "ends": "closed", "t": [0, 1, 2], "points": [[0], [1], [2]]}]}"#,

@@ -91,6 +91,8 @@ const WORDS: &[&str] = &[
     "tangents",
     "method",
     "continuity",
+    "knots",
+    "weights",
     "per_segment",
     "at",
     "arc_length",
@@ -110,6 +112,7 @@ const WORDS: &[&str] = &[
     "akima",
     "makima",
     "kochanek-bartels",
+    "nurbs",
     "control",
     "repeat",
     "closed",
@@ -222,7 +225,7 @@ fn document() -> impl Strategy<Value = Json> {
 /// Random curves of every family that satisfy the contract.
 fn valid_document() -> impl Strategy<Value = String> {
     let coordinate = -1.0e6f64..1.0e6;
-    let curve = (0usize..15, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
+    let curve = (0usize..16, 1usize..6, 0usize..6, prop::collection::vec(coordinate, 64 * 16))
         .prop_map(|(family, dim, extra, pool)| {
             let dim = [1, 2, 3, 5, 64][dim - 1];
             let point = |i: usize| {
@@ -266,6 +269,23 @@ fn valid_document() -> impl Strategy<Value = String> {
                     )
                 }
                 11 => format!(r#"{{"kind":"pchip","t":[{knots}],"points":[{}]}}"#, list(4 + extra)),
+                14 => {
+                    // Clamped ends, a double interior knot, spacings 1, 11 and 21 in turn.
+                    let n = 4 + extra;
+                    let mut knots = vec![0.0; 4];
+                    let mut at = 0.0;
+                    for i in 0..n - 4 {
+                        at += if i == 1 { 0.0 } else { 1.0 + (i % 3) as f64 * 10.0 };
+                        knots.push(at);
+                    }
+                    knots.extend([at + 1.0; 4]);
+                    let knots: Vec<String> = knots.iter().map(|k| format!("{k}")).collect();
+                    format!(
+                        r#"{{"kind":"nurbs","knots":[{}],"points":[{}]}}"#,
+                        knots.join(","),
+                        list(n)
+                    )
+                }
                 13 => {
                     // Per-point tension, global continuity and bias, keys for closed ends.
                     let n = 4 + extra;

@@ -5,6 +5,7 @@
 //! - [`interp`]: interpolating splines (natural, clamped, periodic, not-a-knot) on any knots;
 //! - [`hermite`] and [`shape`]: cubic Hermite pieces from derivatives at the points, given
 //!   ("hermite") or computed (PCHIP, Akima);
+//! - [`nurbs`]: cubic B-splines on their own knot vectors, span by span;
 //! - [`tcb`]: Kochanek–Bartels splines (tension, continuity, bias), Hermite pieces on windows;
 //! - [`cardinal`]: cardinal basis functions, for many curves that share their knots;
 //! - [`tridiag`] and [`blocked`]: the O(n) solvers behind them (blocked for the diagonally
@@ -14,6 +15,7 @@ pub(crate) mod blocked;
 pub(crate) mod cardinal;
 pub(crate) mod hermite;
 pub(crate) mod interp;
+pub(crate) mod nurbs;
 pub(crate) mod shape;
 pub(crate) mod tcb;
 pub(crate) mod tridiag;

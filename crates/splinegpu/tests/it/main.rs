@@ -11,5 +11,6 @@ mod geometric_sampling;
 mod hermite;
 mod interpolation;
 mod kochanek_bartels;
+mod nurbs;
 mod properties;
 mod support;

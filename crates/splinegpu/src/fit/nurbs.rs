@@ -1,0 +1,171 @@
+//! Cubic B-splines on their own knot vector (kind "nurbs" without weights): each non-empty
+//! span becomes a power-form segment, so the kernel evaluates them as any other kind.
+//!
+//! On span i ([k_i, k_{i+1}], Δ = k_{i+1} − k_i > 0, 3 <= i < n) the curve is
+//! Σ_{j=i−3..i} N_{j,3}(t) P_j. With t = k_i + Δu, each basis function there is a cubic in u,
+//! formed by the Cox–de Boor recursion on polynomials (a term whose denominator is 0 is 0):
+//!
+//! ```text
+//! N_{j,0} = 1 for j = i, else 0
+//! N_{j,p} = ((k_i − k_j) + Δu)/(k_{j+p} − k_j) · N_{j,p−1} + ((k_{j+p+1} − k_i) − Δu)/(k_{j+p+1} − k_{j+1}) · N_{j+1,p−1}
+//! ```
+//!
+//! and the segment's A, B, C, D are the sums of the u³, u², u, 1 coefficients times the points.
+//! Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n].
+
+use crate::error::{InputError, Shown};
+use crate::segment::SegmentTable;
+
+/// Checks a knot vector for `n` control points: n >= 4, n + 4 finite non-decreasing knots,
+/// knots[3] < knots[n], no value more than 4 times, none strictly inside (knots[3], knots[n])
+/// more than 3 times; and no weights (rational curves are not built yet).
+///
+/// # Errors
+/// The first rule broken, naming "points", "knots" or "weights" and the value.
+pub(crate) fn check(knots: &[f64], weights: Option<&[f64]>, n: usize) -> Result<(), InputError> {
+    if n < 4 {
+        return Err(InputError::field(
+            "points",
+            format!("needs at least 4 points for a nurbs curve, got {n}"),
+        ));
+    }
+    if weights.is_some() {
+        return Err(InputError::field(
+            "weights",
+            "are not supported yet: rational curves are planned; without \"weights\" the \
+             curve is the polynomial B-spline of its knots",
+        ));
+    }
+    if knots.len() != n + 4 {
+        return Err(InputError::field(
+            "knots",
+            format!(
+                "must have n + 4 = {} values for {n} points, got {}",
+                n + 4,
+                knots.len()
+            ),
+        ));
+    }
+    if let Some(i) = knots.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::field(
+            "knots",
+            format!("must be finite: knots[{i}] = {}", Shown(knots[i])),
+        ));
+    }
+    if let Some(i) = (1..knots.len()).find(|&i| knots[i] < knots[i - 1]) {
+        return Err(InputError::field(
+            "knots",
+            format!(
+                "must be non-decreasing: knots[{i}] = {} follows knots[{}] = {}",
+                Shown(knots[i]),
+                i - 1,
+                Shown(knots[i - 1])
+            ),
+        ));
+    }
+    let (lo, hi) = (knots[3], knots[n]);
+    if lo >= hi {
+        return Err(InputError::field(
+            "knots",
+            format!(
+                "must have knots[3] < knots[n]: knots[3] = {} and knots[{n}] = {}",
+                Shown(lo),
+                Shown(hi)
+            ),
+        ));
+    }
+    let mut start = 0;
+    while start < knots.len() {
+        let v = knots[start];
+        let count = knots[start..].iter().take_while(|&&k| k == v).count();
+        let inside = v > lo && v < hi;
+        if count > 4 || (inside && count > 3) {
+            let most = if inside {
+                "3 times inside (knots[3], knots[n])"
+            } else {
+                "4 times"
+            };
+            return Err(InputError::field(
+                "knots",
+                format!(
+                    "a value may appear at most {most}: {} appears {count} times from knots[{start}]",
+                    Shown(v)
+                ),
+            ));
+        }
+        start += count;
+    }
+    Ok(())
+}
+
+/// The non-empty spans i (3 <= i < n, knots[i] < knots[i + 1]), in order.
+pub(crate) fn spans(knots: &[f64], n: usize) -> impl Iterator<Item = usize> + '_ {
+    (3..n).filter(move |&i| knots[i] < knots[i + 1])
+}
+
+/// The curve's segments into `out`, one per non-empty span (data already [`check`]ed).
+pub(crate) fn fit_into(
+    knots: &[f64],
+    points: &[f64],
+    dim: usize,
+    extent: f64,
+    out: &mut SegmentTable,
+) {
+    let n = points.len() / dim;
+    let spans: Vec<usize> = spans(knots, n).collect();
+    let (table_knots, coeffs) = out.parts_mut(dim, extent);
+    table_knots.clear();
+    table_knots.extend(spans.iter().map(|&i| knots[i]));
+    table_knots.push(knots[spans[spans.len() - 1] + 1]);
+    coeffs.resize(4 * dim * spans.len(), 0.0);
+    for (&i, c) in spans.iter().zip(coeffs.chunks_exact_mut(4 * dim)) {
+        let basis = span_basis(knots, i);
+        c.fill(0.0);
+        for (offset, poly) in basis.iter().enumerate() {
+            let p = &points[(i - 3 + offset) * dim..][..dim];
+            // A, B, C, D (rows 0..4 of the segment) are the u³, u², u and 1 coefficients.
+            for row in 0..4 {
+                for k in 0..dim {
+                    c[row * dim + k] += poly[3 - row] * p[k];
+                }
+            }
+        }
+    }
+}
+
+/// N_{i−3,3} .. N_{i,3} on span i as cubics in u, coefficients of 1, u, u², u³.
+fn span_basis(knots: &[f64], i: usize) -> [[f64; 4]; 4] {
+    let dt = knots[i + 1] - knots[i];
+    // level[m] is N_{i−3+m, p} for m in 0..5 (m = 4 is N_{i+1}, zero on this span).
+    let mut level = [[0.0; 4]; 5];
+    level[3][0] = 1.0;
+    for p in 1..=3 {
+        let mut next = [[0.0; 4]; 5];
+        for (m, poly) in next.iter_mut().enumerate().take(4).skip(3 - p) {
+            let j = i - 3 + m;
+            // ((k_i − k_j) + Δu) / (k_{j+p} − k_j) · N_{j,p−1}
+            let left = knots[j + p] - knots[j];
+            if left > 0.0 {
+                add_times_linear(poly, &level[m], (knots[i] - knots[j]) / left, dt / left);
+            }
+            // ((k_{j+p+1} − k_i) − Δu) / (k_{j+p+1} − k_{j+1}) · N_{j+1,p−1}
+            let right = knots[j + p + 1] - knots[j + 1];
+            if right > 0.0 {
+                let c0 = (knots[j + p + 1] - knots[i]) / right;
+                add_times_linear(poly, &level[m + 1], c0, -dt / right);
+            }
+        }
+        level = next;
+    }
+    [level[0], level[1], level[2], level[3]]
+}
+
+/// out += (c0 + c1 u) · poly (degrees stay within 3 on a cubic's recursion).
+fn add_times_linear(out: &mut [f64; 4], poly: &[f64; 4], c0: f64, c1: f64) {
+    for d in 0..4 {
+        out[d] += c0 * poly[d];
+        if d + 1 < 4 {
+            out[d + 1] += c1 * poly[d];
+        }
+    }
+}
