@@ -126,7 +126,7 @@ pub enum CurveKind {
         t: Option<Vec<f64>>,
     },
     /// A cubic B-spline on its own knot vector ("nurbs"): n control points, n + 4 knots;
-    /// segments are its non-empty spans in [knots[3], knots[n]], t the knot parameter.
+    /// segments are its non-empty spans in `[knots[3], knots[n]]`, t the knot parameter.
     /// `weights` (a rational curve) is refused for now.
     Nurbs {
         /// n + 4 non-decreasing knots.
