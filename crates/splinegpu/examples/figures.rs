@@ -1,15 +1,20 @@
 //! Draws the README's figures with the crate itself, as SVG: every family on the same control
-//! polygon (as the memo draws them), and one curve sampled per segment, by arc length and by
-//! tolerance, side by side, each polyline over the curve it stands for.
+//! polygon (as the memo draws them), one curve sampled per segment, by arc length and by
+//! tolerance, side by side, each polyline over the curve it stands for, and the kinds people
+//! bring (PCHIP and Akima against the natural spline on monotone data, Kochanek–Bartels over
+//! Catmull-Rom, knot-vector B-splines, Hermite).
 //!
 //! `cargo run -p splinegpu --example figures -- docs` (from the repository root) writes
-//! `docs/families.svg` and `docs/samplings.svg`; its test (`cargo test --example figures`)
-//! fails when the committed pictures are not what the crate draws now.
+//! `docs/families.svg`, `docs/samplings.svg` and `docs/kinds.svg`; its test (`cargo test
+//! --example figures`) fails when the committed pictures are not what the crate draws now.
 
 use std::error::Error;
 use std::fmt::Write as _;
 
-use splinegpu::{Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, Points, Sampling};
+use splinegpu::{
+    Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, HermiteSlopes, PerPoint, Points, Sampling,
+    Tcb,
+};
 
 /// One panel: a title, the control polygon (if any), the true curve (if it is not the
 /// samples themselves) and the samples to draw.
@@ -42,12 +47,12 @@ fn main() -> Result<(), Box<dyn Error>> {
     for (name, svg) in figures()? {
         std::fs::write(format!("{dir}/{name}"), svg)?;
     }
-    println!("wrote {dir}/families.svg and {dir}/samplings.svg");
+    println!("wrote {dir}/families.svg, {dir}/samplings.svg and {dir}/kinds.svg");
     Ok(())
 }
 
-/// The two pictures, by file name.
-fn figures() -> Result<[(&'static str, String); 2], Box<dyn Error>> {
+/// The three pictures, by file name.
+fn figures() -> Result<[(&'static str, String); 3], Box<dyn Error>> {
     // 1. Every family on the same polygon ("repeat" ends, so each starts and ends near it).
     let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
     let families: Vec<(&str, CurveKind)> = vec![
@@ -126,7 +131,136 @@ fn figures() -> Result<[(&'static str, String); 2], Box<dyn Error>> {
     Ok([
         ("families.svg", families),
         ("samplings.svg", svg(&panels, 3)),
+        ("kinds.svg", kinds()?),
     ])
+}
+
+/// Monotone data that a natural spline overshoots: a flat run, a step, a flat run.
+const MONOTONE: [[f64; 2]; 7] = [
+    [0.0, 0.0],
+    [1.0, 0.1],
+    [2.0, 0.2],
+    [3.0, 1.9],
+    [4.0, 2.0],
+    [4.6, 2.1],
+    [6.2, 2.2],
+];
+
+/// The kinds people bring, each on data that shows what it is for.
+fn kinds() -> Result<String, Box<dyn Error>> {
+    let mut panels = Vec::new();
+    // Row 1: interpolation of monotone data (t = x, so each panel is y as a function of x).
+    let monotone: Vec<f64> = MONOTONE.iter().flatten().copied().collect();
+    let t = Some(MONOTONE.iter().map(|p| p[0]).collect::<Vec<f64>>());
+    let shape = |slopes| CurveKind::Hermite {
+        slopes,
+        t: t.clone(),
+    };
+    for (title, kind) in [
+        (
+            "natural: overshoots monotone data",
+            CurveKind::Interpolating {
+                condition: splinegpu::EndCondition::Natural,
+                t: t.clone(),
+            },
+        ),
+        ("pchip: monotone, no overshoot", shape(HermiteSlopes::Pchip)),
+        ("akima, method makima", shape(HermiteSlopes::Makima)),
+    ] {
+        let curve = Curve::new(kind, Points::new(2, monotone.clone())?)?;
+        panels.push(Panel {
+            title: title.to_string(),
+            polygon: MONOTONE.to_vec(),
+            curve: Vec::new(),
+            samples: sample(&curve, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
+    // Row 2: Kochanek–Bartels over Catmull-Rom (thick grey), one parameter at a time.
+    let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
+    let catmull = Curve::new(
+        CurveKind::Uniform {
+            basis: Basis::CatmullRom,
+            ends: Ends::Repeat,
+        },
+        Points::new(2, coords.clone())?,
+    )?;
+    let under = sample(&catmull, &Sampling::PerSegment(32))?;
+    for (title, tcb) in [
+        (
+            "Kochanek-Bartels, tension 0.7",
+            Tcb {
+                tension: PerPoint::All(0.7),
+                ..Tcb::default()
+            },
+        ),
+        (
+            "continuity 0.8: corners",
+            Tcb {
+                continuity: PerPoint::All(0.8),
+                ..Tcb::default()
+            },
+        ),
+        (
+            "bias 0.8, 0, -0.8 in turn",
+            Tcb {
+                bias: PerPoint::Each([0.8, 0.0, -0.8].repeat(3)[..7].to_vec()),
+                ..Tcb::default()
+            },
+        ),
+    ] {
+        let kind = CurveKind::KochanekBartels {
+            ends: Ends::Repeat,
+            tcb,
+            t: None,
+        };
+        let curve = Curve::new(kind, Points::new(2, coords.clone())?)?;
+        panels.push(Panel {
+            title: title.to_string(),
+            polygon: POLYGON.to_vec(),
+            curve: under.clone(),
+            samples: sample(&curve, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
+    // Row 3: knot-vector B-splines (seven control points, eleven knots) and Hermite.
+    for (title, knots) in [
+        (
+            "nurbs, clamped knots",
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0],
+        ),
+        (
+            "nurbs, a triple knot: a corner",
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0],
+        ),
+    ] {
+        let kind = CurveKind::Nurbs {
+            knots,
+            weights: None,
+        };
+        let curve = Curve::new(kind, Points::new(2, coords.clone())?)?;
+        panels.push(Panel {
+            title: title.to_string(),
+            polygon: POLYGON.to_vec(),
+            curve: Vec::new(),
+            samples: sample(&curve, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
+    let tangents: Vec<f64> = [[1.0, 0.0]; 7].iter().flatten().copied().collect();
+    let hermite = CurveKind::Hermite {
+        slopes: HermiteSlopes::Given(tangents),
+        t: None,
+    };
+    let curve = Curve::new(hermite, Points::new(2, coords)?)?;
+    panels.push(Panel {
+        title: "hermite, every tangent (1, 0)".to_string(),
+        polygon: POLYGON.to_vec(),
+        curve: Vec::new(),
+        samples: sample(&curve, &Sampling::PerSegment(32))?,
+        dots: false,
+    });
+    Ok(svg(&panels, 3))
 }
 
 fn uniform(basis: Basis) -> CurveKind {
