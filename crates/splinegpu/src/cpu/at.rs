@@ -179,10 +179,7 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
 ) -> Result<(), usize> {
     let dim = if D == 0 { table.dim() } else { D };
     let (knots, coeffs) = (table.knots(), table.power_coefficients());
-    let last = knots.len() - 2;
-    let (lo, hi) = (knots[0], knots[last + 1]);
-    let locator = scattered_locator(table, at);
-    let mut segment = 0;
+    let mut placer = Placer::new(table, at);
     // In blocks: every t of a block placed first, then every value written. Two short loops
     // of independent iterations keep more places and Horner chains in flight than one long
     // loop body (eval-at, one thread: 175 ms fused, see the commit for the blocked figure).
@@ -193,15 +190,7 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
         .enumerate()
     {
         for (i, (&t, place)) in at.iter().zip(&mut places).enumerate() {
-            if !(t >= lo && t <= hi) {
-                return Err(b * BLOCK + i);
-            }
-            segment = match locator {
-                Some(locator) => located(locator, knots, last, t),
-                None => segment_of(knots, last, segment, t),
-            };
-            let (t0, t1) = (knots[segment], knots[segment + 1]);
-            *place = (segment, ((t - t0) / (t1 - t0)).clamp(0.0, 1.0));
+            *place = placer.place(t).ok_or(b * BLOCK + i)?;
         }
         for (&(segment, u), o) in places.iter().zip(out.chunks_exact_mut(dim)) {
             let c = &coeffs[4 * dim * segment..][..4 * dim];
@@ -218,6 +207,45 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
         }
     }
     Ok(())
+}
+
+/// Places parameters one after the other as [`SamplePlan`](crate::SamplePlan) defines their
+/// places (see the module's documentation): sorted ones by walking forward, scattered ones
+/// through the table's locator where the parameters given to [`Placer::new`] repay it.
+pub(crate) struct Placer<'a> {
+    knots: &'a [f64],
+    last: usize,
+    locator: Option<&'a Locator>,
+    segment: usize,
+}
+
+impl<'a> Placer<'a> {
+    /// A placer for `table`, chosen for the parameters `at` that will be placed.
+    pub(crate) fn new(table: &'a SegmentTable, at: &[f64]) -> Self {
+        let knots = table.knots();
+        Self {
+            knots,
+            last: knots.len() - 2,
+            locator: scattered_locator(table, at),
+            segment: 0,
+        }
+    }
+
+    /// The segment and local u of `t`; `None` outside the curve's range or for a t that is
+    /// not finite.
+    #[inline(always)]
+    pub(crate) fn place(&mut self, t: f64) -> Option<(usize, f64)> {
+        let knots = self.knots;
+        if !(t >= knots[0] && t <= knots[self.last + 1]) {
+            return None;
+        }
+        self.segment = match self.locator {
+            Some(locator) => located(locator, knots, self.last, t),
+            None => segment_of(knots, self.last, self.segment, t),
+        };
+        let (t0, t1) = (knots[self.segment], knots[self.segment + 1]);
+        Some((self.segment, ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)))
+    }
 }
 
 /// Parameters placed before their values are written (see [`run`]).

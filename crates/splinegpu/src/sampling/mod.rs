@@ -404,8 +404,12 @@ impl SamplePlan {
                 // 24 bytes a parameter: a large plan's fresh pages are asked for huge.
                 let mut locs = Vec::new();
                 crate::memory::reserve_on_huge_pages(&mut locs, ts.len());
+                // Placed as the one-pass evaluator places them (the same places as `locate`,
+                // found faster: sorted t walk, scattered ones use the table's locator).
+                let mut placer = crate::cpu::at::Placer::new(table, ts);
                 for (i, &t) in ts.iter().enumerate() {
-                    locs.push(locate(table.knots(), t).ok_or_else(|| out_of_range(table, i, t))?);
+                    let (segment, u) = placer.place(t).ok_or_else(|| out_of_range(table, i, t))?;
+                    locs.push(SampleLoc { segment, u, t });
                 }
                 Ok(SamplePlan(Plan::At(locs)))
             }

@@ -178,3 +178,37 @@ fn a_table_refitted_in_place_is_located_on_its_new_knots() {
         );
     }
 }
+
+/// The places of explicit t, by the definition written out here (the last knot <= t, capped to
+/// the last segment; u = (t − t_i)/Δ_i clamped to [0, 1]): the plan's and therefore both
+/// evaluators', for scattered t (through the locator) and sorted ones (walking).
+#[test]
+fn explicit_t_are_placed_as_the_definition_says() {
+    let mut rng = Rng(77);
+    for n in [2, 5, 300] {
+        let curve = spline(&mut rng, n.max(4), 1);
+        let table = curve.fit();
+        let knots = table.knots();
+        let (lo, hi) = table.t_range();
+        let mut scattered: Vec<f64> = (0..2000).map(|_| rng.range(lo, hi)).collect();
+        scattered.extend_from_slice(knots);
+        scattered.extend([hi, lo]);
+        let mut sorted = scattered.clone();
+        sorted.sort_by(f64::total_cmp);
+        for ts in [scattered, sorted] {
+            let plan = splinegpu::SamplePlan::new(&table, &Sampling::At(ts.clone())).unwrap();
+            for (i, &t) in ts.iter().enumerate() {
+                let last = knots.len() - 2;
+                let segment = (knots.iter().filter(|&&k| k <= t).count() - 1).min(last);
+                let u =
+                    ((t - knots[segment]) / (knots[segment + 1] - knots[segment])).clamp(0.0, 1.0);
+                let loc = plan.loc(i);
+                assert_eq!(
+                    (loc.segment, loc.u.to_bits()),
+                    (segment, u.to_bits()),
+                    "t = {t}"
+                );
+            }
+        }
+    }
+}
