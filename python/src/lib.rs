@@ -779,9 +779,9 @@ impl Splines {
             .first()
             .ok_or_else(|| value_error("no spline to evaluate"))?;
         let x = x.as_slice()?;
-        check_nu(nu)?;
+        let derivatives = derivatives_of(nu)?;
         if let Some(gpu) = &context.gpu {
-            let job = one_spline_job(table, x, nu)?;
+            let job = one_spline_job(table, x, derivatives)?;
             let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
             return gpu_plane(py, samples, nu, table.dim());
         }
@@ -807,7 +807,7 @@ impl Splines {
         nu: usize,
     ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
         let at = at.items()?;
-        check_nu(nu)?;
+        let derivatives = derivatives_of(nu)?;
         let tables = &self.tables;
         if at.len() != tables.len() {
             return Err(value_error(format!(
@@ -839,7 +839,7 @@ impl Splines {
                             SamplePlan::new(&tables[c], &Sampling::At(at[c].to_vec()))
                                 .map_err(|e| e.in_curve(c))
                         })?;
-                        let mut job = EvalJob::new(derivatives_for(nu));
+                        let mut job = EvalJob::new(derivatives);
                         for (c, plan) in plans.into_iter().enumerate() {
                             job.push_shared(Arc::clone(&tables[c]), Arc::new(plan))
                                 .map_err(|e| e.in_curve(c))?;
@@ -864,22 +864,12 @@ impl Splines {
     }
 }
 
-/// A derivative order the package offers (the library's third derivative is not offered
-/// yet: its agreement with SciPy on very uneven x is not established).
-fn check_nu(nu: usize) -> PyResult<()> {
-    if nu > 2 {
-        return Err(value_error(format!("nu: must be 0, 1 or 2, got {nu}")));
-    }
-    Ok(())
-}
-
-/// The job list of derivatives that holds order `nu` (<= 2).
-fn derivatives_for(nu: usize) -> Derivatives {
-    match nu {
-        0 => Derivatives::None,
-        1 => Derivatives::First,
-        _ => Derivatives::Second,
-    }
+/// The job's derivatives for an order the package offers, 0, 1 or 2 (the library's third
+/// derivative is not offered yet: its agreement with SciPy on very uneven x is not
+/// established).
+fn derivatives_of(nu: usize) -> PyResult<Derivatives> {
+    Derivatives::from_order(nu as u64)
+        .ok_or_else(|| value_error(format!("nu: must be 0, 1 or 2, got {nu}")))
 }
 
 /// Plane `nu` of a GPU result as a (samples, dim) float32 array, taking over its vector.
@@ -898,9 +888,13 @@ fn gpu_plane(
 }
 
 /// One spline at explicit x as a job, for the GPU.
-fn one_spline_job(table: &Arc<SegmentTable>, x: &[f64], nu: usize) -> PyResult<EvalJob> {
+fn one_spline_job(
+    table: &Arc<SegmentTable>,
+    x: &[f64],
+    derivatives: Derivatives,
+) -> PyResult<EvalJob> {
     let plan = SamplePlan::new(table, &Sampling::At(x.to_vec())).map_err(value_error)?;
-    let mut job = EvalJob::new(derivatives_for(nu));
+    let mut job = EvalJob::new(derivatives);
     job.push_shared(Arc::clone(table), Arc::new(plan))
         .map_err(value_error)?;
     Ok(job)

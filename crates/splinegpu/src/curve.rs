@@ -57,6 +57,24 @@ impl Ends {
         }
     }
 
+    /// Refuses fewer than [`Ends::min_points`] points, naming "points".
+    ///
+    /// # Errors
+    /// `n` is below the convention's minimum.
+    pub(crate) fn check_points(self, n: usize) -> Result<(), InputError> {
+        if n < self.min_points() {
+            return Err(InputError::field(
+                "points",
+                format!(
+                    "needs at least {} points with ends \"{}\", got {n}",
+                    self.min_points(),
+                    self.name()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Number of segments for `n` points (n >= `min_points`).
     #[must_use]
     pub fn segments(self, n: usize) -> usize {
@@ -195,16 +213,7 @@ impl Curve {
         let fit = match &kind {
             CurveKind::Uniform { basis, ends } => {
                 let rows = basis.try_rows()?;
-                if n < ends.min_points() {
-                    return Err(InputError::field(
-                        "points",
-                        format!(
-                            "needs at least {} points with ends \"{}\", got {n}",
-                            ends.min_points(),
-                            ends.name()
-                        ),
-                    ));
-                }
+                ends.check_points(n)?;
                 FitMethod::Windows {
                     rows,
                     ends: Some(*ends),

@@ -70,23 +70,7 @@ pub(crate) fn check(
             format!("must have one value per point ({n}), got {}", t.len()),
         ));
     }
-    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::field(
-            "t",
-            format!("must be finite: t[{i}] = {}", Shown(t[i])),
-        ));
-    }
-    if let Some(i) = (1..n).find(|&i| t[i] <= t[i - 1]) {
-        return Err(InputError::field(
-            "t",
-            format!(
-                "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
-                Shown(t[i]),
-                i - 1,
-                Shown(t[i - 1])
-            ),
-        ));
-    }
+    crate::fit::interp::check_parameters(t)?;
     crate::points::check_finite(values, dim)?;
     if let HermiteSlopes::Given(tangents) = slopes {
         if tangents.len() != n * dim {

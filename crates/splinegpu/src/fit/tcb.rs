@@ -96,16 +96,7 @@ impl Default for Tcb {
 /// # Errors
 /// The first rule broken, naming its field.
 pub(crate) fn check(ends: Ends, tcb: &Tcb, t: Option<&[f64]>, n: usize) -> Result<(), InputError> {
-    if n < ends.min_points() {
-        return Err(InputError::field(
-            "points",
-            format!(
-                "needs at least {} points with ends \"{}\", got {n}",
-                ends.min_points(),
-                ends.name()
-            ),
-        ));
-    }
+    ends.check_points(n)?;
     tcb.tension.check("tension", n)?;
     tcb.continuity.check("continuity", n)?;
     tcb.bias.check("bias", n)?;
@@ -122,23 +113,7 @@ pub(crate) fn check(ends: Ends, tcb: &Tcb, t: Option<&[f64]>, n: usize) -> Resul
             format!("must have {per} ({wanted}), got {}", t.len()),
         ));
     }
-    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::field(
-            "t",
-            format!("must be finite: t[{i}] = {}", Shown(t[i])),
-        ));
-    }
-    if let Some(i) = (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
-        return Err(InputError::field(
-            "t",
-            format!(
-                "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
-                Shown(t[i]),
-                i - 1,
-                Shown(t[i - 1])
-            ),
-        ));
-    }
+    crate::fit::interp::check_parameters(t)?;
     Ok(())
 }
 

@@ -3,20 +3,10 @@
 //! tests/fixtures/make_scipy_shape_fixtures.py), on the CPU within the contract's f64 scale and
 //! on the GPU within the promise; PCHIP's shape; and their input rules.
 
+use crate::scipy_fixture::{assert_cpu_matches, floats, rows};
 use crate::support::{assert_gpu_matches_cpu, cpu_at};
-use splinegpu::accuracy::cpu_bound;
 use splinegpu::kinds::KindFields;
 use splinegpu::{Curve, CurveKind, Derivatives, EvalJob, HermiteSlopes, Points, Sampling};
-
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    (v.as_array().unwrap().iter())
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
-fn rows(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().flat_map(floats).collect()
-}
 
 /// A fixture case: its description, the curve, x, and SciPy's y, d1 and d2 there.
 struct Case {
@@ -72,32 +62,7 @@ fn the_hermite_kinds_match_scipy_on_the_cpu_and_the_gpu_meets_the_promise() {
         expected,
     } in cases()
     {
-        let table = curve.fit();
-        let plan = splinegpu::SamplePlan::new(&table, &Sampling::At(x.clone())).unwrap();
-        let ours = cpu_at(&curve, &x);
-        let c = ours.curve(0);
-        let dim = c.dim;
-        for (order, plane) in [c.points, c.d1.unwrap(), c.d2.unwrap()]
-            .into_iter()
-            .enumerate()
-        {
-            for (i, (got, want)) in plane.iter().zip(&expected[order]).enumerate() {
-                let segment = table.segment(plan.loc(i / dim).segment);
-                // The contract's scale, and the rounding of the coefficients themselves: A and
-                // B are formed from values of size M = |D| + |C| (f64 differences, eps·M each),
-                // which a line or a flat run (A, B exactly 0 in SciPy) leaves as all there is.
-                let [_, _, c1, d0] = segment.power();
-                let m = d0[i % dim].abs() + c1[i % dim].abs();
-                let rounding = 8.0 * f64::EPSILON * m / segment.dt().powi(order as i32);
-                let bound = cpu_bound(&segment, table.extent(), order, i % dim) + rounding;
-                worst = worst.max((got - want).abs() / bound);
-                assert!(
-                    (got - want).abs() <= bound,
-                    "{what}: order {order} at x = {}: {got} vs SciPy {want} (bound {bound})",
-                    x[i / dim]
-                );
-            }
-        }
+        worst = worst.max(assert_cpu_matches(&what, &curve, &x, &expected, 8.0));
         job.push(&curve, &Sampling::At(x)).unwrap();
     }
     println!("worst CPU error against SciPy: {worst:.2e} of the bound");

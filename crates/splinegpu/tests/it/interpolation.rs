@@ -1,6 +1,7 @@
 //! Interpolating splines: the seeds' worked example and problems, SciPy's CubicSpline, closed
 //! forms, an independent dense solve, and the cardinal basis functions.
 
+use crate::scipy_fixture::{floats, rows};
 use crate::support::{Rng, assert_close, cpu_at};
 use splinegpu::accuracy::cpu_bound;
 use splinegpu::{
@@ -145,16 +146,6 @@ fn fits_match_scipy_cubic_spline() {
     // tests/fixtures/make_scipy_fixtures.py wrote this file with SciPy's CubicSpline.
     let doc: serde_json::Value =
         serde_json::from_str(include_str!("../fixtures/scipy_cubic_spline.json")).unwrap();
-    let floats = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect()
-    };
-    let rows = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array().unwrap().iter().flat_map(floats).collect()
-    };
     let cases = doc["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 12);
     for case in cases {

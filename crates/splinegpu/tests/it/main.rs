@@ -13,4 +13,5 @@ mod interpolation;
 mod kochanek_bartels;
 mod nurbs;
 mod properties;
+mod scipy_fixture;
 mod support;

@@ -2,20 +2,10 @@
 //! tests/fixtures/make_scipy_bspline_fixtures.py) on the CPU within the contract's f64 scale and
 //! on the GPU within the promise; its segments' Bezier export; and its input rules.
 
-use crate::support::{assert_gpu_matches_cpu, cpu_at};
-use splinegpu::accuracy::cpu_bound;
+use crate::scipy_fixture::{assert_cpu_matches, floats, rows};
+use crate::support::assert_gpu_matches_cpu;
 use splinegpu::kinds::KindFields;
 use splinegpu::{Curve, CurveKind, Derivatives, EvalJob, Points, Sampling};
-
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    (v.as_array().unwrap().iter())
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
-fn rows(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().flat_map(floats).collect()
-}
 
 #[test]
 fn nurbs_without_weights_is_scipys_bspline() {
@@ -35,31 +25,8 @@ fn nurbs_without_weights_is_scipys_bspline() {
         };
         let curve = Curve::new(kind, Points::new(dim, rows(&case["points"])).unwrap()).unwrap();
         let x = floats(&case["x"]);
-        let table = curve.fit();
-        let plan = splinegpu::SamplePlan::new(&table, &Sampling::At(x.clone())).unwrap();
-        let ours = cpu_at(&curve, &x);
-        let c = ours.curve(0);
         let expected = [rows(&case["y"]), rows(&case["d1"]), rows(&case["d2"])];
-        for (order, plane) in [c.points, c.d1.unwrap(), c.d2.unwrap()]
-            .into_iter()
-            .enumerate()
-        {
-            for (i, (got, want)) in plane.iter().zip(&expected[order]).enumerate() {
-                let segment = table.segment(plan.loc(i / dim).segment);
-                // The contract's scale, and the f64 rounding of coefficients formed from
-                // points of size M (|D| + |C|): eps·M each.
-                let [_, _, c1, d0] = segment.power();
-                let m = d0[i % dim].abs() + c1[i % dim].abs();
-                let rounding = 16.0 * f64::EPSILON * m / segment.dt().powi(order as i32);
-                let bound = cpu_bound(&segment, table.extent(), order, i % dim) + rounding;
-                worst = worst.max((got - want).abs() / bound);
-                assert!(
-                    (got - want).abs() <= bound,
-                    "{what}: order {order} at t = {}: {got} vs SciPy {want} (bound {bound})",
-                    x[i / dim]
-                );
-            }
-        }
+        worst = worst.max(assert_cpu_matches(&what, &curve, &x, &expected, 16.0));
         job.push(&curve, &Sampling::At(x)).unwrap();
         job.push(&curve, &Sampling::PerSegment(5)).unwrap();
     }
