@@ -404,7 +404,8 @@ fn projected_w1() -> Vec<(Curve, Vec<kurbo::CubicBez>)> {
             let table = projected.fit();
             let beziers = (0..table.len())
                 .map(|i| {
-                    let [p0, p1, p2, p3] = table.segment(i).bezier_points();
+                    let [p0, p1, p2, p3] = (table.segment(i).bezier_points())
+                        .expect("the bench's arc-length curves are polynomial");
                     let pt = |p: &[f64]| kurbo::Point::new(p[0], p[1]);
                     kurbo::CubicBez::new(pt(&p0), pt(&p1), pt(&p2), pt(&p3))
                 })

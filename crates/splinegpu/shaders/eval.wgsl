@@ -25,9 +25,10 @@ struct Params {
 
 // Rust twin: gpu::pack::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
 // the floats a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/(t_{i+1} - t_i),
-// end to end (gpu::pack::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
+// end to end (gpu::abi::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
 // in f64 on the host, d_hi = f32(D) and d_lo = f32(D - d_hi), so that large coordinates keep
-// their low bits.
+// their low bits. A rational segment (pipelines with RATIONAL) has its denominator's
+// a, b, c, d after 1/dt, and P(u) = d_hi + (d_lo + u(c + u(b + u a)) / W(u)) (src/rational.rs).
 struct Segment {
     coeff_offset: u32,
     dim: u32,
@@ -87,6 +88,10 @@ const WG_SIZE: u32 = 64u;
 // the runs of one mode and its pipeline that mode's code only (lavapipe, w1: 31.8 ms device
 // in one kernel of all four modes, 24.9 ms as one dispatch per mode).
 override MODE: u32;
+
+// Whether this pipeline's runs are of rational segments (a weighted NURBS): their samples are
+// the quotient of the numerator and the denominator W, derivatives by the quotient rule.
+override RATIONAL: bool = false;
 
 // Invocations that share one run: 1 loops over the run's samples in one invocation (CPU
 // adapters), a larger value gives each invocation every LANES-th sample or group (GPUs).
@@ -187,6 +192,41 @@ fn derive(piece: Piece, order: u32) -> Cubic {
 
 fn horner(p: Cubic, u: f32) -> vec4<f32> {
     return p.hi + (p.lo + u * (p.c + u * (p.b + u * p.a)));
+}
+
+// A rational segment's denominator W(u) = w.x u^3 + w.y u^2 + w.z u + w.w: the 4 floats after
+// its 1/dt.
+fn denominator(segment: Segment) -> vec4<f32> {
+    let at = 4u * segment.coeff_offset + 5u * segment.dim + 1u;
+    return vec4(coeff_floats[at], coeff_floats[at + 1u], coeff_floats[at + 2u], coeff_floats[at + 3u]);
+}
+
+// A rational piece at u: the position d_hi + (d_lo + R), dP/dt = R'/dt and d2P/dt2 = R''/dt^2,
+// with N = u(c + u(b + u a)), R = N/W, R' = (N' - R W')/W, R'' = (N'' - 2 R' W' - R W'')/W.
+fn quotient(piece: Piece, w: vec4<f32>, u: f32) -> array<vec4<f32>, 3> {
+    let p = piece.p;
+    let s = piece.inv_dt;
+    let wu = w.w + u * (w.z + u * (w.y + u * w.x));
+    let w1 = w.z + u * (2.0 * w.y + 3.0 * u * w.x);
+    let w2 = 2.0 * w.y + 6.0 * u * w.x;
+    let inv = 1.0 / wu;
+    let r = u * (p.c + u * (p.b + u * p.a)) * inv;
+    let r1 = ((p.c + u * (2.0 * p.b + 3.0 * u * p.a)) - r * w1) * inv;
+    let r2 = ((2.0 * p.b + 6.0 * u * p.a) - 2.0 * r1 * w1 - r * w2) * inv;
+    return array(p.hi + (p.lo + r), r1 * s, r2 * (s * s));
+}
+
+// Coordinates 4q..4q+3 (those below `dim`) of one sample of a rational piece at u, and its
+// derivatives, written from float `out` on, each float on its own.
+fn write_rational(piece: Piece, w: vec4<f32>, u: f32, q: u32, dim: u32, out: u32) {
+    let last = min(dim, 4u * q + 4u);
+    var values = quotient(piece, w, u);
+    for (var order = 0u; order <= params.derivatives; order++) {
+        let plane = out + order * params.plane_stride;
+        for (var k = 4u * q; k < last; k++) {
+            samples[(plane + k) / 4u][(plane + k) % 4u] = values[order][k - 4u * q];
+        }
+    }
 }
 
 // Where segment `s` of a vector run starts, in vec4s, in the plane `order`: its group of 4
@@ -294,14 +334,16 @@ const NO_SEGMENT: u32 = 0xffffffffu;
 // The segment whose coefficients a run of samples placed one by one holds: consecutive samples
 // on one segment of at most 4 coordinates load its block once (a CPU adapter pays for every
 // float loaded).
+// `w` is a rational segment's denominator.
 struct Loaded {
     segment: u32,
     piece: Piece,
+    w: vec4<f32>,
 }
 
 fn nothing_loaded() -> Loaded {
     let z = vec4(0.0);
-    return Loaded(NO_SEGMENT, Piece(Cubic(z, z, z, z, z), 0.0));
+    return Loaded(NO_SEGMENT, Piece(Cubic(z, z, z, z, z), 0.0), z);
 }
 
 // Sample j of a run, at its own segment and u, written from float out_offset + j * dim on.
@@ -311,12 +353,23 @@ fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>
     if segment.dim <= 4u {
         if (*loaded).segment != loc.segment {
             (*loaded).piece = piece_small(segment);
+            if RATIONAL {
+                (*loaded).w = denominator(segment);
+            }
             (*loaded).segment = loc.segment;
         }
-        write_group((*loaded).piece, loc.u, 0u, segment.dim, out);
+        if RATIONAL {
+            write_rational((*loaded).piece, (*loaded).w, loc.u, 0u, segment.dim, out);
+        } else {
+            write_group((*loaded).piece, loc.u, 0u, segment.dim, out);
+        }
     } else {
         for (var q = 0u; 4u * q < segment.dim; q++) {
-            write_group(piece_any(segment, q), loc.u, q, segment.dim, out);
+            if RATIONAL {
+                write_rational(piece_any(segment, q), denominator(segment), loc.u, q, segment.dim, out);
+            } else {
+                write_group(piece_any(segment, q), loc.u, q, segment.dim, out);
+            }
         }
     }
 }
@@ -471,6 +524,18 @@ fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
     }
 }
 
+// The run's `count` samples of one rational segment whose block starts at float `out`, each
+// float on its own.
+fn rational_block(segment: Segment, out: u32, run: Run, lane: u32) {
+    let w = denominator(segment);
+    for (var q = 0u; 4u * q < segment.dim; q++) {
+        let piece = piece_any(segment, q);
+        for (var j = lane; j < run.count; j += LANES) {
+            write_rational(piece, w, run.u0 + f32(j) * run.du, q, segment.dim, out + j * segment.dim);
+        }
+    }
+}
+
 @compute @workgroup_size(WG_SIZE)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let index = id.y * params.row_width + id.x;
@@ -492,7 +557,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var out = run.out_offset;
         for (var s = 0u; s < run.segments; s++) {
             let segment = segments[run.segment + s];
-            scalar_block(segment, out, run, lane);
+            if RATIONAL {
+                rational_block(segment, out, run, lane);
+            } else {
+                scalar_block(segment, out, run, lane);
+            }
             out += run.count * segment.dim;
         }
     }

@@ -12,7 +12,15 @@
 //! ```
 //!
 //! ulp(x) is the f32 spacing at |x|. Coordinates are taken one at a time (|A_k| <= |A| for any
-//! norm), so this is never looser than the contract. Nothing but the ulp terms grows with the
+//! norm), so this is never looser than the contract.
+//!
+//! On a rational segment (a weighted NURBS) the contract takes A, B, C, D of the numerator
+//! Σ w_j N_j P_j divided by the segment's smallest weight, and multiplies the position's
+//! relative term by ρ, the first derivative's by ρ² and the second's by ρ³ (ρ = the largest
+//! over the smallest weight of its four control points). The table holds that numerator
+//! relative to the origin O = D (see [`rational`](crate::rational)), so its absolute
+//! coefficients are A + O a, B + O b, C + O c (a, b, c of the denominator); M_k is
+//! |O_k| + S_k, which bounds |P_k| since W >= 1. Nothing but the ulp terms grows with the
 //! distance from the origin: the host forms the coefficients in f64 and splits D into a f32
 //! value and its f32 remainder (the GPU packer).
 
@@ -36,17 +44,26 @@ pub fn ulp_f32(x: f64) -> f64 {
 
 /// The scale the promise is relative to, for coordinate `k` of derivative `order` (0, 1 or 2)
 /// on `segment` of a curve of extent `extent`: max(E, S_k), (3|A_k| + 2|B_k| + |C_k|)/Δ or
-/// (6|A_k| + 2|B_k|)/Δ².
+/// (6|A_k| + 2|B_k|)/Δ², times ρ, ρ² or ρ³ on a rational segment (see the module docs).
 #[must_use]
 pub fn promise_scale(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
-    let [a, b, c, _] = segment.power();
-    let (a, b, c) = (a[k].abs(), b[k].abs(), c[k].abs());
-    let dt = segment.dt();
-    match order {
-        0 => extent.max(a + b + c),
-        1 => (3.0 * a + 2.0 * b + c) / dt,
-        _ => (6.0 * a + 2.0 * b) / (dt * dt),
+    let [a, b, c, d] = segment.power();
+    let (mut a, mut b, mut c) = (a[k], b[k], c[k]);
+    // ρ^(order + 1) on a rational segment, with the numerator's absolute coefficients.
+    let mut growth = 1.0;
+    if let Some(w) = segment.denominator() {
+        let [wa, wb, wc, _] = w.coeffs;
+        (a, b, c) = (a + d[k] * wa, b + d[k] * wb, c + d[k] * wc);
+        growth = w.rho.powi(order as i32 + 1);
     }
+    let (a, b, c) = (a.abs(), b.abs(), c.abs());
+    let dt = segment.dt();
+    growth
+        * match order {
+            0 => extent.max(a + b + c),
+            1 => (3.0 * a + 2.0 * b + c) / dt,
+            _ => (6.0 * a + 2.0 * b) / (dt * dt),
+        }
 }
 
 /// The largest error the GPU path may make in coordinate `k` of derivative `order` (0, 1 or 2)

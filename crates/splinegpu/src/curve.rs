@@ -145,11 +145,11 @@ pub enum CurveKind {
     },
     /// A cubic B-spline on its own knot vector ("nurbs"): n control points, n + 4 knots;
     /// segments are its non-empty spans in `[knots[3], knots[n]]`, t the knot parameter.
-    /// `weights` (a rational curve) is refused for now.
+    /// With `weights` the curve is rational, Σ w_j N_j P_j / Σ w_j N_j.
     Nurbs {
         /// n + 4 non-decreasing knots.
         knots: Vec<f64>,
-        /// One weight > 0 per control point; not supported yet (`Curve::new` refuses it).
+        /// One finite weight > 0 per control point; `None` means all 1 (a polynomial curve).
         weights: Option<Vec<f64>>,
     },
     /// A Kochanek–Bartels spline: the points windowed as `ends` windows them, each segment the
@@ -189,7 +189,10 @@ enum FitMethod {
     /// Hermite pieces at knots `t`.
     Hermite { slopes: HermiteSlopes, t: Vec<f64> },
     /// The non-empty spans of a knot vector.
-    Knots { knots: Vec<f64> },
+    Knots {
+        knots: Vec<f64>,
+        weights: Option<Vec<f64>>,
+    },
     /// Kochanek–Bartels pieces on the windows of `ends`.
     Tcb {
         ends: Ends,
@@ -246,6 +249,7 @@ impl Curve {
                 crate::points::check_finite(points.coords(), points.dim())?;
                 FitMethod::Knots {
                     knots: knots.clone(),
+                    weights: weights.clone(),
                 }
             }
             CurveKind::KochanekBartels { ends, tcb, t } => {
@@ -307,7 +311,7 @@ impl Curve {
                 let first = usize::from(*ends == Ends::Control);
                 (t[first], t[first + self.segment_count()])
             }
-            FitMethod::Knots { knots } => (knots[3], knots[self.points.len()]),
+            FitMethod::Knots { knots, .. } => (knots[3], knots[self.points.len()]),
             FitMethod::Windows { .. } | FitMethod::Tcb { t: None, .. } => {
                 (0.0, self.segment_count() as f64)
             }
@@ -336,7 +340,9 @@ impl Curve {
             FitMethod::Hermite { slopes, t } => {
                 hermite::fit_into(t, coords, dim, slopes, extent, out);
             }
-            FitMethod::Knots { knots } => nurbs::fit_into(knots, coords, dim, extent, out),
+            FitMethod::Knots { knots, weights } => {
+                nurbs::fit_into(knots, weights.as_deref(), coords, dim, extent, out);
+            }
             FitMethod::Tcb { ends, tcb, t } => {
                 let window = |i| ends.window(n, i);
                 tcb::fit_into(

@@ -116,6 +116,7 @@ mod locator;
 mod memory;
 mod parallel;
 mod points;
+mod rational;
 mod sampling;
 mod segment;
 
@@ -140,6 +141,7 @@ pub use job::planes::Planes;
 pub use job::samples::{CurveSamples, SampleFloat, Samples};
 pub use job::{Chunk, Derivatives, EvalJob, Piece};
 pub use points::{MAX_DIM, Points};
+pub use rational::Denominator;
 pub use sampling::arc_length::DEFAULT_ARCLEN_ACCURACY;
 pub use sampling::tolerance::{MAX_SAMPLES_PER_SEGMENT, wang_count};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};

@@ -13,11 +13,16 @@
 //! product M·X formed on the host (`fit::uniform`), interpolating splines from their solved
 //! coefficients. The GPU evaluator reads these coefficients (rounded to f32 only after they were
 //! formed in f64), and the CPU reference evaluates them in f64.
+//!
+//! A weighted NURBS's segments are rational: P(u) = D + (A u³ + B u² + C u) / W(u), with the
+//! cubic W of each segment held beside the table ([`Denominator`], module
+//! [`rational`](crate::rational)); the polynomial case is W ≡ 1.
 
 use std::sync::OnceLock;
 
 use crate::error::InputError;
 use crate::locator::Locator;
+use crate::rational::{Denominator, quotient};
 
 /// One curve's segments in power form, with the parameter value of every knot.
 ///
@@ -32,6 +37,8 @@ pub struct SegmentTable {
     coeffs: Vec<f64>,
     /// The curve's extent E: the largest per-axis (max − min) over its input points.
     extent: f64,
+    /// Per segment its denominator, for a rational curve; empty for a polynomial one.
+    denominators: Vec<Denominator>,
     /// Buckets over the knots for locating many scattered t, made on first use (and `None`
     /// where they cannot be formed): derived from `knots`, so ignored by `==`.
     locator: OnceLock<Option<Locator>>,
@@ -40,8 +47,19 @@ pub struct SegmentTable {
 /// Tables are equal when their dimension, knots, coefficients and extent are.
 impl PartialEq for SegmentTable {
     fn eq(&self, other: &Self) -> bool {
-        (self.dim, &self.knots, &self.coeffs, self.extent)
-            == (other.dim, &other.knots, &other.coeffs, other.extent)
+        (
+            self.dim,
+            &self.knots,
+            &self.coeffs,
+            self.extent,
+            &self.denominators,
+        ) == (
+            other.dim,
+            &other.knots,
+            &other.coeffs,
+            other.extent,
+            &other.denominators,
+        )
     }
 }
 
@@ -53,6 +71,8 @@ pub struct Segment<'a> {
     dim: usize,
     t0: f64,
     dt: f64,
+    /// W(u), for a rational segment.
+    denominator: Option<Denominator>,
 }
 
 impl SegmentTable {
@@ -66,17 +86,31 @@ impl SegmentTable {
             knots,
             coeffs,
             extent,
+            denominators: Vec::new(),
             locator: OnceLock::new(),
         }
     }
 
     /// The knot and coefficient buffers as they are, for a fit to resize and refill (keeping
-    /// their allocations); sets the dimension and extent.
+    /// their allocations); sets the dimension and extent, and makes the table polynomial.
     pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
         self.dim = dim;
         self.extent = extent;
         self.locator = OnceLock::new();
+        self.denominators.clear();
         (&mut self.knots, &mut self.coeffs)
+    }
+
+    /// [`Self::parts_mut`] for a rational curve, with its denominators' buffer besides.
+    pub(crate) fn rational_parts_mut(
+        &mut self,
+        dim: usize,
+        extent: f64,
+    ) -> (&mut Vec<f64>, &mut Vec<f64>, &mut Vec<Denominator>) {
+        self.dim = dim;
+        self.extent = extent;
+        self.locator = OnceLock::new();
+        (&mut self.knots, &mut self.coeffs, &mut self.denominators)
     }
 
     /// Segments `range` as a table of their own (same dimension and extent), knots included.
@@ -95,8 +129,19 @@ impl SegmentTable {
             knots: self.knots[range.start..=range.end].to_vec(),
             coeffs: self.coeffs[range.start * n..range.end * n].to_vec(),
             extent: self.extent,
+            denominators: if self.is_rational() {
+                self.denominators[range].to_vec()
+            } else {
+                Vec::new()
+            },
             locator: OnceLock::new(),
         }
+    }
+
+    /// Whether the curve is rational (a weighted NURBS): its segments have a [`Denominator`].
+    #[must_use]
+    pub fn is_rational(&self) -> bool {
+        !self.denominators.is_empty()
     }
 
     /// Number of coordinates of each point.
@@ -157,7 +202,9 @@ impl SegmentTable {
 
     /// Checks that every sample of the curve, and of its derivatives up to `derivatives`, is
     /// finite in f64: per segment and coordinate, |A| + |B| + |C| + |D| bounds |P(u)|,
-    /// (3|A| + 2|B| + |C|)/Δ bounds |dP/dt| and (6|A| + 2|B|)/Δ² bounds |d2P/dt2|.
+    /// (3|A| + 2|B| + |C|)/Δ bounds |dP/dt| and (6|A| + 2|B|)/Δ² bounds |d2P/dt2|. On a
+    /// rational segment the derivatives' bounds are multiplied by (1 + 3|a| + 2|b| + |c|)^2
+    /// and ^3 (W >= 1 and the quotient rule, see [`rational`](crate::rational)).
     ///
     /// # Errors
     /// The first segment whose bound overflows, naming `"points"` (the input's values are too
@@ -168,12 +215,16 @@ impl SegmentTable {
             let segment = self.segment(i);
             let [a, b, c, d] = segment.power();
             let inv_dt = 1.0 / segment.dt();
+            let growth = segment.denominator.map_or(1.0, |w| {
+                let [wa, wb, wc, _] = w.coeffs.map(f64::abs);
+                1.0 + 3.0 * wa + 2.0 * wb + wc
+            });
             for k in 0..self.dim {
                 let (a, b, c, d) = (a[k].abs(), b[k].abs(), c[k].abs(), d[k].abs());
                 let bounds = [
                     a + b + c + d,
-                    (3.0 * a + 2.0 * b + c) * inv_dt,
-                    (6.0 * a + 2.0 * b) * inv_dt * inv_dt,
+                    (3.0 * a + 2.0 * b + c) * inv_dt * growth * growth,
+                    (6.0 * a + 2.0 * b) * inv_dt * inv_dt * growth * growth * growth,
                 ];
                 if let Some(o) = (0..=order).find(|&o| !bounds[o].is_finite()) {
                     let what = ["positions", "first derivatives", "second derivatives"][o];
@@ -203,6 +254,7 @@ impl SegmentTable {
             dim: self.dim,
             t0: self.knots[i],
             dt: self.knots[i + 1] - self.knots[i],
+            denominator: self.denominators.get(i).copied(),
         }
     }
 }
@@ -215,10 +267,13 @@ impl SegmentTable {
     /// B_i = 2 P1_i − P2_i and B_n = 2 P2_{n−1} − P1_{n−1}. For a natural spline this is those
     /// notes' relaxed B-spline, with B_0 = S_0 and B_n = S_n.
     ///
-    /// `None` for uneven knots, or for a curve that is only C1 (then no B-spline matches every
-    /// segment, and the points returned would describe another curve).
+    /// `None` for uneven knots, for a curve that is only C1 (then no B-spline matches every
+    /// segment, and the points returned would describe another curve), or for a rational one.
     #[must_use]
     pub fn bspline_control_points(&self) -> Option<Vec<f64>> {
+        if self.is_rational() {
+            return None;
+        }
         let n = self.len();
         let h = self.knots[1] - self.knots[0];
         if (0..n).any(|i| ((self.knots[i + 1] - self.knots[i]) - h).abs() > 1e-12 * h) {
@@ -227,15 +282,15 @@ impl SegmentTable {
         let dim = self.dim;
         let mut b = Vec::with_capacity((n + 1) * dim);
         for i in 0..n {
-            let [_, p1, p2, _] = self.segment(i).bezier_points();
+            let [_, p1, p2, _] = self.segment(i).polynomial_bezier_points();
             b.extend((0..dim).map(|k| 2.0 * p1[k] - p2[k]));
         }
-        let [_, p1, p2, _] = self.segment(n - 1).bezier_points();
+        let [_, p1, p2, _] = self.segment(n - 1).polynomial_bezier_points();
         b.extend((0..dim).map(|k| 2.0 * p2[k] - p1[k]));
         // The B_i must also reproduce the joints S_i = (B_{i−1} + 4B_i + B_{i+1})/6.
         let scale = self.coeffs.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         for i in 1..n {
-            let [s, ..] = self.segment(i).bezier_points();
+            let [s, ..] = self.segment(i).polynomial_bezier_points();
             for k in 0..dim {
                 let joint =
                     (b[(i - 1) * dim + k] + 4.0 * b[i * dim + k] + b[(i + 1) * dim + k]) / 6.0;
@@ -266,9 +321,39 @@ impl Segment<'_> {
     }
 
     /// The segment's cubic Bezier control points P0..P3 (`dim` values each): P0 = D,
-    /// P1 = D + C/3, P2 = D + (2C + B)/3, P3 = A + B + C + D.
+    /// P1 = D + C/3, P2 = D + (2C + B)/3, P3 = A + B + C + D. `None` for a rational segment,
+    /// whose Bezier form is [`Segment::rational_bezier`].
     #[must_use]
-    pub fn bezier_points(&self) -> [Vec<f64>; 4] {
+    pub fn bezier_points(&self) -> Option<[Vec<f64>; 4]> {
+        if self.denominator.is_some() {
+            return None;
+        }
+        Some(self.polynomial_bezier_points())
+    }
+
+    /// The segment's rational Bezier control points Q0..Q3 (`dim` values each) and their
+    /// weights ω0..ω3 (> 0): P(u) = Σ ω_i B_i(u) Q_i / Σ ω_i B_i(u), B_i the cubic Bernstein
+    /// polynomials. A polynomial segment gives its Bezier points with weights 1.
+    #[must_use]
+    pub fn rational_bezier(&self) -> ([Vec<f64>; 4], [f64; 4]) {
+        match &self.denominator {
+            None => (self.polynomial_bezier_points(), [1.0; 4]),
+            Some(w) => {
+                let [a, b, c, d] = self.power();
+                crate::rational::bezier(a, b, c, d, w)
+            }
+        }
+    }
+
+    /// W(u) of a rational segment (with the segment's weight ratio ρ); `None` for a
+    /// polynomial one.
+    #[must_use]
+    pub fn denominator(&self) -> Option<Denominator> {
+        self.denominator
+    }
+
+    /// [`Segment::bezier_points`] of a segment known to be polynomial.
+    fn polynomial_bezier_points(&self) -> [Vec<f64>; 4] {
         let [a, b, c, d] = self.power();
         let k = 0..self.dim;
         [
@@ -281,7 +366,8 @@ impl Segment<'_> {
         ]
     }
 
-    /// The power coefficient vectors (A, B, C, D), each `dim` values.
+    /// The power coefficient vectors (A, B, C, D), each `dim` values. On a rational segment
+    /// these are its numerator's A, B, C and its origin D (see [`rational`](crate::rational)).
     #[inline]
     #[must_use]
     pub fn power(&self) -> [&[f64]; 4] {
@@ -308,30 +394,72 @@ impl Segment<'_> {
         self.dt
     }
 
-    /// P(u) into `out` (`dim` values), by Horner: D + u(C + u(B + uA)).
+    /// P(u) into `out` (`dim` values), by Horner: D + u(C + u(B + uA)) (rational: D + R(u)).
     pub fn eval(&self, u: f64, out: &mut [f64]) {
-        let [a, b, c, d] = self.power();
-        for k in 0..self.dim {
-            out[k] = position(a[k], b[k], c[k], d[k], u);
-        }
+        self.derivative_into(0, u, out);
     }
 
-    /// dP/dt at local u into `out`: (C + u(2B + 3uA)) / Δ.
+    /// dP/dt at local u into `out`: (C + u(2B + 3uA)) / Δ (rational: R'(u)/Δ).
     pub fn deriv(&self, u: f64, out: &mut [f64]) {
-        let [a, b, c, _] = self.power();
-        let inv_dt = 1.0 / self.dt;
-        for k in 0..self.dim {
-            out[k] = first_derivative(a[k], b[k], c[k], u, inv_dt);
-        }
+        self.derivative_into(1, u, out);
     }
 
-    /// d2P/dt2 at local u into `out`: (2B + 6uA) / Δ^2.
+    /// d2P/dt2 at local u into `out`: (2B + 6uA) / Δ^2 (rational: R''(u)/Δ²).
     pub fn deriv2(&self, u: f64, out: &mut [f64]) {
-        let [a, b, _, _] = self.power();
+        self.derivative_into(2, u, out);
+    }
+
+    /// d^order P/dt^order (order 0..=3) at local u into `out`, by the formulas of
+    /// [`position`] and its siblings, or of [`rational`](crate::rational) on a rational
+    /// segment.
+    #[inline]
+    pub(crate) fn derivative_into(&self, order: usize, u: f64, out: &mut [f64]) {
+        let [a, b, c, d] = self.power();
         let inv_dt = 1.0 / self.dt;
-        for k in 0..self.dim {
-            out[k] = second_derivative(a[k], b[k], u, inv_dt);
+        match &self.denominator {
+            None => {
+                for k in 0..self.dim {
+                    out[k] = match order {
+                        0 => position(a[k], b[k], c[k], d[k], u),
+                        1 => first_derivative(a[k], b[k], c[k], u, inv_dt),
+                        2 => second_derivative(a[k], b[k], u, inv_dt),
+                        _ => third_derivative(a[k], inv_dt),
+                    };
+                }
+            }
+            Some(w) => {
+                let w = w.at(u);
+                for k in 0..self.dim {
+                    out[k] = rational_derivative(order, a[k], b[k], c[k], d[k], u, inv_dt, &w);
+                }
+            }
         }
+    }
+}
+
+/// One coordinate of d^order P/dt^order (order 0..=3) of a rational segment at u, with
+/// `w` = [W, W', W'', W'''] at u: D + R, R'/Δ, R''/Δ² or R'''/Δ³ (see
+/// [`rational`](crate::rational)).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one coordinate's terms, inlined into loops"
+)]
+#[inline(always)]
+pub(crate) fn rational_derivative(
+    order: usize,
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+    u: f64,
+    inv_dt: f64,
+    w: &[f64; 4],
+) -> f64 {
+    match order {
+        0 => d + quotient::<0>(a, b, c, u, w)[0],
+        1 => quotient::<1>(a, b, c, u, w)[1] * inv_dt,
+        2 => quotient::<2>(a, b, c, u, w)[2] * inv_dt * inv_dt,
+        _ => quotient::<3>(a, b, c, u, w)[3] * inv_dt * inv_dt * inv_dt,
     }
 }
 

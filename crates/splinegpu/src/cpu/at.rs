@@ -180,6 +180,20 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
     let dim = if D == 0 { table.dim() } else { D };
     let (knots, coeffs) = (table.knots(), table.power_coefficients());
     let mut placer = Placer::new(table, at);
+    if table.is_rational() {
+        // The quotient rule per sample (`crate::rational`), as the reference evaluates it.
+        let mut value = [0.0; crate::points::MAX_DIM];
+        for (i, (&t, o)) in at.iter().zip(out.chunks_exact_mut(dim)).enumerate() {
+            let (segment, u) = placer.place(t).ok_or(i)?;
+            table
+                .segment(segment)
+                .derivative_into(NU, u, &mut value[..dim]);
+            for (o, v) in o.iter_mut().zip(&value) {
+                *o = F::from_f64(*v);
+            }
+        }
+        return Ok(());
+    }
     // In blocks: every t of a block placed first, then every value written. Two short loops
     // of independent iterations keep more places and Horner chains in flight than one long
     // loop body (eval-at, one thread: 175 ms fused, see the commit for the blocked figure).

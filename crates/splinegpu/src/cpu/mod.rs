@@ -14,6 +14,7 @@ use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
 use crate::parallel::{even_ranges, fan_out, take_front};
+use crate::points::MAX_DIM;
 use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
@@ -324,6 +325,16 @@ fn curve_range<F: SampleFloat>(
 /// about 3x the arithmetic on eval-at.
 #[inline(always)]
 fn at_places<F: SampleFloat>(table: &SegmentTable, locs: &[SampleLoc], out: [&mut [F]; 3]) {
+    if table.is_rational() {
+        let dim = table.dim();
+        let [points, d1, d2] = out;
+        for (i, loc) in locs.iter().enumerate() {
+            let at = i * dim..(i + 1) * dim;
+            let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
+            block_rational(&table.segment(loc.segment), &[loc.u], parts);
+        }
+        return;
+    }
     match table.dim() {
         1 => places::<1, F>(table, locs, out),
         2 => places::<2, F>(table, locs, out),
@@ -375,6 +386,9 @@ fn places<const D: usize, F: SampleFloat>(
 /// time for D <= 4 (the common cases).
 #[inline(always)]
 fn segment_block<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+    if segment.denominator().is_some() {
+        return block_rational(segment, us, out);
+    }
     match segment.power()[0].len() {
         1 => block::<1, F>(segment, us, out),
         2 => block::<2, F>(segment, us, out),
@@ -432,6 +446,23 @@ fn block_any<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 
     for (&u, o) in us.iter().zip(d2.chunks_exact_mut(dim)) {
         for k in 0..dim {
             o[k] = F::from_f64(second_derivative(a[k], b[k], u, inv_dt));
+        }
+    }
+}
+
+/// One rational segment at the local parameters `us` into `out`, by the quotient rule of
+/// [`rational`](crate::rational), as [`Segment::eval`] and its siblings evaluate it (so the
+/// reference's bits).
+#[inline(always)]
+fn block_rational<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+    let dim = segment.power()[0].len();
+    let mut value = [0.0; MAX_DIM];
+    for (order, plane) in out.into_iter().enumerate() {
+        for (&u, o) in us.iter().zip(plane.chunks_exact_mut(dim)) {
+            segment.derivative_into(order, u, &mut value[..dim]);
+            for (o, v) in o.iter_mut().zip(&value) {
+                *o = F::from_f64(*v);
+            }
         }
     }
 }

@@ -12,13 +12,19 @@
 //!
 //! and the segment's A, B, C, D are the sums of the u³, u², u, 1 coefficients times the points.
 //! Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n].
+//!
+//! With weights the span is rational, Σ w_j N_j P_j / Σ w_j N_j, written as
+//! [`rational`](crate::rational) holds it: with ω_j = w_j / (the smallest of the span's four
+//! weights) and the origin O = P(u = 0), the numerator Σ ω_j N_j (P_j − O) (whose constant
+//! term is zero) and the denominator Σ ω_j N_j.
 
 use crate::error::{InputError, Shown};
+use crate::rational::Denominator;
 use crate::segment::SegmentTable;
 
 /// Checks a knot vector for `n` control points: n >= 4, n + 4 finite non-decreasing knots,
 /// knots[3] < knots[n], no value more than 4 times, none strictly inside (knots[3], knots[n])
-/// more than 3 times; and no weights (rational curves are not built yet).
+/// more than 3 times; weights, where given, n finite values > 0.
 ///
 /// # Errors
 /// The first rule broken, naming "points", "knots" or "weights" and the value.
@@ -29,12 +35,22 @@ pub(crate) fn check(knots: &[f64], weights: Option<&[f64]>, n: usize) -> Result<
             format!("needs at least 4 points for a nurbs curve, got {n}"),
         ));
     }
-    if weights.is_some() {
-        return Err(InputError::field(
-            "weights",
-            "are not supported yet: rational curves are planned; without \"weights\" the \
-             curve is the polynomial B-spline of its knots",
-        ));
+    if let Some(weights) = weights {
+        if weights.len() != n {
+            return Err(InputError::field(
+                "weights",
+                format!("must have one value per point ({n}), got {}", weights.len()),
+            ));
+        }
+        if let Some(i) = weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+            return Err(InputError::field(
+                "weights",
+                format!(
+                    "must be finite and > 0: weights[{i}] = {}",
+                    Shown(weights[i])
+                ),
+            ));
+        }
     }
     if knots.len() != n + 4 {
         return Err(InputError::field(
@@ -103,14 +119,24 @@ pub(crate) fn spans(knots: &[f64], n: usize) -> impl Iterator<Item = usize> + '_
     (3..n).filter(move |&i| knots[i] < knots[i + 1])
 }
 
-/// The curve's segments into `out`, one per non-empty span (data already [`check`]ed).
+/// The curve's segments into `out`, one per non-empty span (data already [`check`]ed):
+/// rational where `weights` are given.
 pub(crate) fn fit_into(
     knots: &[f64],
+    weights: Option<&[f64]>,
     points: &[f64],
     dim: usize,
     extent: f64,
     out: &mut SegmentTable,
 ) {
+    match weights {
+        None => fit_polynomial(knots, points, dim, extent, out),
+        Some(weights) => fit_rational(knots, weights, points, dim, extent, out),
+    }
+}
+
+/// The polynomial B-spline's segments into `out`.
+fn fit_polynomial(knots: &[f64], points: &[f64], dim: usize, extent: f64, out: &mut SegmentTable) {
     let n = points.len() / dim;
     let spans: Vec<usize> = spans(knots, n).collect();
     let (table_knots, coeffs) = out.parts_mut(dim, extent);
@@ -130,6 +156,65 @@ pub(crate) fn fit_into(
                 }
             }
         }
+    }
+}
+
+/// The rational B-spline's segments into `out` (see the module docs).
+fn fit_rational(
+    knots: &[f64],
+    weights: &[f64],
+    points: &[f64],
+    dim: usize,
+    extent: f64,
+    out: &mut SegmentTable,
+) {
+    let n = points.len() / dim;
+    let spans: Vec<usize> = spans(knots, n).collect();
+    let (table_knots, coeffs, denominators) = out.rational_parts_mut(dim, extent);
+    table_knots.clear();
+    table_knots.extend(spans.iter().map(|&i| knots[i]));
+    table_knots.push(knots[spans[spans.len() - 1] + 1]);
+    coeffs.resize(4 * dim * spans.len(), 0.0);
+    denominators.clear();
+    let mut origin = vec![0.0; dim];
+    for (&i, c) in spans.iter().zip(coeffs.chunks_exact_mut(4 * dim)) {
+        let basis = span_basis(knots, i);
+        let w = &weights[i - 3..=i];
+        let smallest = w.iter().copied().fold(f64::INFINITY, f64::min);
+        let largest = w.iter().copied().fold(0.0, f64::max);
+        let omega: [f64; 4] = std::array::from_fn(|j| w[j] / smallest);
+        // W's coefficients (u³, u², u, 1), and O = Σ ω_j N_j(0) P_j / W(0).
+        let mut den = [0.0; 4];
+        for (poly, &o) in basis.iter().zip(&omega) {
+            for row in 0..4 {
+                den[row] += o * poly[3 - row];
+            }
+        }
+        origin.fill(0.0);
+        for (j, (poly, &o)) in basis.iter().zip(&omega).enumerate() {
+            let p = &points[(i - 3 + j) * dim..][..dim];
+            for k in 0..dim {
+                origin[k] += o * poly[0] * p[k];
+            }
+        }
+        for v in &mut origin {
+            *v /= den[3];
+        }
+        // A, B, C of Σ ω_j N_j (P_j − O); its constant term is zero (O is P(0)); D holds O.
+        c.fill(0.0);
+        for (j, (poly, &o)) in basis.iter().zip(&omega).enumerate() {
+            let p = &points[(i - 3 + j) * dim..][..dim];
+            for row in 0..3 {
+                for k in 0..dim {
+                    c[row * dim + k] += o * poly[3 - row] * (p[k] - origin[k]);
+                }
+            }
+        }
+        c[3 * dim..].copy_from_slice(&origin);
+        denominators.push(Denominator {
+            coeffs: den,
+            rho: largest / smallest,
+        });
     }
 }
 

@@ -22,11 +22,15 @@ pub(crate) const LANES_CONSTANT: &str = "LANES";
 /// The pipeline-overridable constant naming the one run mode a pipeline evaluates.
 pub(crate) const MODE_CONSTANT: &str = "MODE";
 
+/// The pipeline-overridable constant saying whether a pipeline's segments are rational.
+pub(crate) const RATIONAL_CONSTANT: &str = "RATIONAL";
+
 /// Coefficient terms per segment: a, b, c, d_lo, d_hi.
 pub(crate) const TERMS: usize = 5;
 
 /// Vec4s in the coefficient block of a segment in `dim` dimensions: the floats
-/// `a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/Δ`, end to end, padded to a
+/// `a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/Δ`, end to end, then for a
+/// `rational` segment its denominator's `a, b, c, d` (see [`crate::rational`]), padded to a
 /// whole vec4 (a 3-D segment's 16 floats are 4 vec4s). Only derivatives use 1/Δ: a job of
 /// positions has 0 there, so that knots closer than 1/`f32::MAX` do not refuse it.
 ///
@@ -34,8 +38,8 @@ pub(crate) const TERMS: usize = 5;
 /// shader loads from a storage buffer: lavapipe 22.3 loads each one through its own loop over
 /// the SIMD lanes.
 #[must_use]
-pub(crate) const fn block_vec4s(dim: usize) -> usize {
-    (TERMS * dim + 1).div_ceil(4)
+pub(crate) const fn block_vec4s(dim: usize, rational: bool) -> usize {
+    (TERMS * dim + 1 + if rational { 4 } else { 0 }).div_ceil(4)
 }
 
 /// Per-dispatch uniforms. WGSL twin: `Params` in `shaders/eval.wgsl`.
@@ -113,8 +117,45 @@ pub(crate) const MODE_EXPLICIT: u32 = 2;
 /// `locs[first_loc + j]` (`u0` and `du` are unused).
 pub(crate) const MODE_ARC: u32 = 3;
 
-/// How many run modes there are: `MODE_SCALAR` to `MODE_ARC`.
-pub(crate) const MODES: usize = 4;
+/// [`Run::mode`]: [`MODE_SCALAR`]'s samples of a rational segment.
+pub(crate) const MODE_RATIONAL_SCALAR: u32 = 4;
+/// [`Run::mode`]: [`MODE_EXPLICIT`]'s samples of a rational curve.
+pub(crate) const MODE_RATIONAL_EXPLICIT: u32 = 5;
+/// [`Run::mode`]: [`MODE_ARC`]'s samples of a rational curve.
+pub(crate) const MODE_RATIONAL_ARC: u32 = 6;
+
+/// How many run modes there are: `MODE_SCALAR` to `MODE_RATIONAL_ARC`.
+pub(crate) const MODES: usize = 7;
+
+/// The kernel's `MODE` and `RATIONAL` for run mode `mode`: a rational mode is its polynomial
+/// mode's code with the quotient.
+#[must_use]
+pub(crate) const fn kernel_mode(mode: u32) -> (u32, bool) {
+    match mode {
+        MODE_RATIONAL_SCALAR => (MODE_SCALAR, true),
+        MODE_RATIONAL_EXPLICIT => (MODE_EXPLICIT, true),
+        MODE_RATIONAL_ARC => (MODE_ARC, true),
+        _ => (mode, false),
+    }
+}
+
+/// The run mode for the samples of polynomial run mode `mode` on a curve that is `rational`
+/// (which has no vector mode).
+#[must_use]
+pub(crate) const fn mode_for(mode: u32, rational: bool) -> u32 {
+    match (mode, rational) {
+        (MODE_SCALAR | MODE_VECTOR, true) => MODE_RATIONAL_SCALAR,
+        (MODE_EXPLICIT, true) => MODE_RATIONAL_EXPLICIT,
+        (MODE_ARC, true) => MODE_RATIONAL_ARC,
+        _ => mode,
+    }
+}
+
+/// Whether the kernel places the samples of a run of mode `mode` by arc length.
+#[must_use]
+pub(crate) const fn is_arc(mode: u32) -> bool {
+    kernel_mode(mode).0 == MODE_ARC
+}
 
 /// One explicitly placed sample. WGSL twin: `Loc` in `shaders/eval.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]

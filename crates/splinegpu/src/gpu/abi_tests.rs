@@ -133,7 +133,7 @@ fn run_modes_and_solve_steps_match_the_wgsl_constants() {
 #[test]
 fn lanes_and_mode_are_overrides() {
     let (module, _) = module();
-    for name in [LANES_CONSTANT, MODE_CONSTANT] {
+    for name in [LANES_CONSTANT, MODE_CONSTANT, RATIONAL_CONSTANT] {
         assert!(
             module
                 .overrides

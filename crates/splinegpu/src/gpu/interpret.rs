@@ -9,7 +9,9 @@
 //! power form, with D whole and 1/Δ applied after Horner. This interpreter is.
 
 use super::KernelShape;
-use super::abi::{GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run};
+use super::abi::{
+    GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run, kernel_mode,
+};
 use super::pack::{self, BatchLimits, Packed};
 use super::readback::unpack_device_planes;
 use crate::error::GpuError;
@@ -48,6 +50,7 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> (Vec<f32>, Vec<GpuLoc>) {
     for batch in &packed.batches {
         // One dispatch per mode, as `GpuContext::dispatch` records them.
         for (mode, runs) in batch.modes.iter().enumerate() {
+            let (mode, rational) = kernel_mode(mode as u32);
             let mut kernel = Kernel {
                 params: Params {
                     run_count: runs.len() as u32,
@@ -58,7 +61,8 @@ fn run_dispatches(packed: &Packed, lanes: u32) -> (Vec<f32>, Vec<GpuLoc>) {
                     first_run: runs.start as u32,
                     _padding: [0; 2],
                 },
-                mode: mode as u32,
+                mode,
+                rational,
                 segments: &packed.segments,
                 coeffs: &packed.coeffs,
                 coeff_floats: bytemuck::cast_slice(&packed.coeffs),
@@ -111,11 +115,13 @@ const SOLVE_RESOLUTION: f32 = 2.384_185_8e-7;
 struct Loaded {
     segment: u32,
     piece: Piece,
+    w: Vec4,
 }
 
 fn nothing_loaded() -> Loaded {
     let z = [0.0; 4];
     Loaded {
+        w: z,
         segment: NO_SEGMENT,
         piece: Piece {
             p: Cubic {
@@ -149,6 +155,8 @@ struct Kernel<'a> {
     lanes: u32,
     /// The pipeline's `MODE`.
     mode: u32,
+    /// The pipeline's `RATIONAL`.
+    rational: bool,
 }
 
 /// `s * v`, component by component.
@@ -158,6 +166,28 @@ fn scale(s: f32, v: Vec4) -> Vec4 {
 
 fn horner(p: &Cubic, u: f32) -> Vec4 {
     std::array::from_fn(|i| p.hi[i] + (p.lo[i] + u * (p.c[i] + u * (p.b[i] + u * p.a[i]))))
+}
+
+/// WGSL `quotient`: the position, dP/dt and d2P/dt2 of a rational piece at u.
+fn quotient(piece: &Piece, w: Vec4, u: f32) -> [Vec4; 3] {
+    let p = piece.p;
+    let s = piece.inv_dt;
+    let wu = w[3] + u * (w[2] + u * (w[1] + u * w[0]));
+    let w1 = w[2] + u * (2.0 * w[1] + 3.0 * u * w[0]);
+    let w2 = 2.0 * w[1] + 6.0 * u * w[0];
+    let inv = 1.0 / wu;
+    let r: Vec4 = std::array::from_fn(|i| u * (p.c[i] + u * (p.b[i] + u * p.a[i])) * inv);
+    let r1: Vec4 = std::array::from_fn(|i| {
+        ((p.c[i] + u * (2.0 * p.b[i] + 3.0 * u * p.a[i])) - r[i] * w1) * inv
+    });
+    let r2: Vec4 = std::array::from_fn(|i| {
+        ((2.0 * p.b[i] + 6.0 * u * p.a[i]) - 2.0 * r1[i] * w1 - r[i] * w2) * inv
+    });
+    [
+        std::array::from_fn(|i| p.hi[i] + (p.lo[i] + r[i])),
+        scale(s, r1),
+        scale(s * s, r2),
+    ]
 }
 
 fn model_at(c: Vec4, c5: f32, x: f32) -> f32 {
@@ -351,21 +381,50 @@ impl Kernel<'_> {
         }
     }
 
+    /// WGSL `denominator`.
+    fn denominator(&self, segment: GpuSegment) -> Vec4 {
+        let at = (4 * segment.coeff_offset + 5 * segment.dim + 1) as usize;
+        std::array::from_fn(|i| self.coeff_floats[at + i])
+    }
+
+    fn write_rational(&mut self, piece: &Piece, w: Vec4, u: f32, q: u32, dim: u32, out: u32) {
+        let last = dim.min(4 * q + 4);
+        let values = quotient(piece, w, u);
+        for order in 0..=self.params.derivatives {
+            let plane = out + order * self.params.plane_stride;
+            for k in 4 * q..last {
+                self.store(plane + k, values[order as usize][(k - 4 * q) as usize]);
+            }
+        }
+    }
+
     fn place_sample(&mut self, loc: GpuLoc, out_offset: u32, j: u32, loaded: &mut Loaded) {
         let segment = self.segments[loc.segment as usize];
         let out = out_offset + j * segment.dim;
         if segment.dim <= 4 {
             if loaded.segment != loc.segment {
                 loaded.piece = self.piece_small(segment);
+                if self.rational {
+                    loaded.w = self.denominator(segment);
+                }
                 loaded.segment = loc.segment;
             }
             let piece = loaded.piece;
-            self.write_group(&piece, loc.u, 0, segment.dim, out);
+            if self.rational {
+                self.write_rational(&piece, loaded.w, loc.u, 0, segment.dim, out);
+            } else {
+                self.write_group(&piece, loc.u, 0, segment.dim, out);
+            }
         } else {
             let mut q = 0;
             while 4 * q < segment.dim {
                 let piece = self.piece_any(segment, q);
-                self.write_group(&piece, loc.u, q, segment.dim, out);
+                if self.rational {
+                    let w = self.denominator(segment);
+                    self.write_rational(&piece, w, loc.u, q, segment.dim, out);
+                } else {
+                    self.write_group(&piece, loc.u, q, segment.dim, out);
+                }
                 q += 1;
             }
         }
@@ -513,6 +572,21 @@ impl Kernel<'_> {
         }
     }
 
+    fn rational_block(&mut self, segment: GpuSegment, out: u32, run: &Run, lane: u32) {
+        let w = self.denominator(segment);
+        let mut q = 0;
+        while 4 * q < segment.dim {
+            let piece = self.piece_any(segment, q);
+            let mut j = lane;
+            while j < run.count {
+                let u = run.u0 + j as f32 * run.du;
+                self.write_rational(&piece, w, u, q, segment.dim, out + j * segment.dim);
+                j += self.lanes;
+            }
+            q += 1;
+        }
+    }
+
     /// The entry point, for the invocation with flat index `index`.
     fn main(&mut self, index: u32) {
         let run_index = index / self.lanes;
@@ -532,7 +606,11 @@ impl Kernel<'_> {
             let mut out = run.out_offset;
             for s in 0..run.segments {
                 let segment = self.segments[(run.segment + s) as usize];
-                self.scalar_block(segment, out, &run, lane);
+                if self.rational {
+                    self.rational_block(segment, out, &run, lane);
+                } else {
+                    self.scalar_block(segment, out, &run, lane);
+                }
                 out += run.count * segment.dim;
             }
         }

@@ -347,6 +347,7 @@ fn compile(
         immediate_size: 0,
     });
     std::array::from_fn(|mode| {
+        let (kernel_mode, rational) = abi::kernel_mode(mode as u32);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("eval"),
             layout: Some(&layout),
@@ -355,7 +356,8 @@ fn compile(
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &[
                     (abi::LANES_CONSTANT, f64::from(shape.lanes)),
-                    (abi::MODE_CONSTANT, mode as f64),
+                    (abi::MODE_CONSTANT, f64::from(kernel_mode)),
+                    (abi::RATIONAL_CONSTANT, f64::from(u8::from(rational))),
                 ],
                 ..Default::default()
             },

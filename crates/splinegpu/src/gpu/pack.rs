@@ -10,7 +10,7 @@ use std::ops::Range;
 use super::KernelShape;
 use super::abi::{
     GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, MODES, Run, TERMS,
-    block_vec4s,
+    block_vec4s, is_arc, mode_for,
 };
 use crate::error::GpuError;
 use crate::job::{Derivatives, EvalJob};
@@ -71,7 +71,7 @@ fn max_binding(limits: &wgpu::Limits) -> u64 {
 pub(crate) struct Packed {
     /// Every curve's segments, curve after curve.
     pub segments: Vec<GpuSegment>,
-    /// Per segment, its coefficient block of [`block_vec4s`]`(dim)` vec4s.
+    /// Per segment, its coefficient block of [`block_vec4s`]`(dim, rational)` vec4s.
     pub coeffs: Vec<[f32; 4]>,
     /// Runs; `out_offset` is relative to the start of the run's batch.
     pub runs: Vec<Run>,
@@ -216,6 +216,7 @@ pub(crate) fn pack_into(
             segments: table.len() as u32,
             value_base: layout.device_start(c),
             dim,
+            rational: table.is_rational(),
             shape,
         };
         match &plan.0 {
@@ -245,7 +246,7 @@ pub(crate) fn pack_into(
     // The places of arc-length samples follow the explicit ones.
     packed.arc_locs = packed.locs.len();
     for (run, _, _) in &mut all_runs {
-        if run.mode == MODE_ARC {
+        if is_arc(run.mode) {
             run.first_loc += packed.arc_locs as u32;
         }
     }
@@ -274,7 +275,7 @@ fn fill_coefficients(
 ) -> Result<(), GpuError> {
     let tables: Vec<_> = (0..job.len()).map(|c| job.table(c)).collect();
     let total_segments = tables.iter().map(|t| t.len()).sum();
-    let total_vec4s = tables.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
+    let total_vec4s = tables.iter().map(|t| blocks_of(t)).sum();
     let with_inv_dt = job.derivatives() != Derivatives::None;
     // Resized, not cleared: every entry is written below (a refill of the same size writes
     // no zeros first).
@@ -287,7 +288,7 @@ fn fill_coefficients(
         .map(|curves| {
             let part = &tables[curves.clone()];
             let n_segments = part.iter().map(|t| t.len()).sum();
-            let n_vec4s = part.iter().map(|t| t.len() * block_vec4s(t.dim())).sum();
+            let n_vec4s = part.iter().map(|t| blocks_of(t)).sum();
             let my_segments = take_front(&mut segments, n_segments);
             let my_coeffs = take_front(&mut coeffs, n_vec4s);
             let base = coeff_base;
@@ -301,6 +302,11 @@ fn fill_coefficients(
     })
     .into_iter()
     .collect()
+}
+
+/// The vec4s of a table's coefficient blocks.
+fn blocks_of(table: &crate::SegmentTable) -> usize {
+    table.len() * block_vec4s(table.dim(), table.is_rational())
 }
 
 /// [`fill_coefficients`] for the curves `curves` (whose tables are `tables`), their segments
@@ -317,7 +323,7 @@ fn fill_part(
     let (mut s_at, mut at) = (0, 0);
     for (c, table) in curves.zip(tables) {
         let dim = table.dim();
-        let block_len = block_vec4s(dim);
+        let block_len = block_vec4s(dim, table.is_rational());
         let curve_blocks = at..at + table.len() * block_len;
         for (s, segment) in segments[s_at..s_at + table.len()].iter_mut().enumerate() {
             *segment = GpuSegment {
@@ -348,8 +354,8 @@ fn fill_part(
 }
 
 /// A curve's coefficient blocks (see [`block_vec4s`]): the coordinate k of term t is float
-/// t·dim + k of a block; 1/Δ (`with_inv_dt`, else 0) follows the terms, then zeros to the
-/// block's end.
+/// t·dim + k of a block; 1/Δ (`with_inv_dt`, else 0) follows the terms, then a rational
+/// segment's denominator (a, b, c, d), then zeros to the block's end.
 /// d_hi = f32(D), d_lo = f32(D − d_hi). One to four coordinates are compiled for their count
 /// ([`write_blocks_of`]), so that a block's stores are unrolled.
 fn write_blocks(table: &crate::SegmentTable, with_inv_dt: bool, blocks: &mut [f32]) {
@@ -363,12 +369,13 @@ fn write_blocks_of<const D: usize>(
     blocks: &mut [f32],
 ) {
     let dim = if D == 0 { table.dim() } else { D };
-    let block_floats = 4 * block_vec4s(dim);
+    let block_floats = 4 * block_vec4s(dim, table.is_rational());
     let (knots, power) = (table.knots(), table.power_coefficients());
     let segments = blocks.chunks_exact_mut(block_floats);
-    for ((block, coeffs), span) in segments
+    for (s, ((block, coeffs), span)) in segments
         .zip(power.chunks_exact(4 * dim))
         .zip(knots.windows(2))
+        .enumerate()
     {
         let (terms, tail) = block.split_at_mut(TERMS * dim);
         let (a, rest) = terms.split_at_mut(dim);
@@ -383,12 +390,23 @@ fn write_blocks_of<const D: usize>(
             d_hi[k] = d as f32;
             d_lo[k] = (d - f64::from(d_hi[k])) as f32;
         }
-        let (inv_dt, padding) = tail.split_first_mut().expect("1/Δ follows the terms");
+        let (inv_dt, mut padding) = tail.split_first_mut().expect("1/Δ follows the terms");
         *inv_dt = if with_inv_dt {
             (1.0 / (span[1] - span[0])) as f32
         } else {
             0.0
         };
+        if let Some(w) = table
+            .is_rational()
+            .then(|| table.segment(s).denominator())
+            .flatten()
+        {
+            let (denominator, rest) = padding.split_at_mut(4);
+            for (f, v) in denominator.iter_mut().zip(w.coeffs) {
+                *f = v as f32;
+            }
+            padding = rest;
+        }
         padding.fill(0.0);
     }
 }
@@ -595,6 +613,8 @@ struct CurveRuns<'a> {
     /// The float where the curve's first sample goes in each device plane.
     value_base: usize,
     dim: usize,
+    /// Whether the curve is rational: its runs take the rational modes (no vector runs).
+    rational: bool,
     shape: KernelShape,
 }
 
@@ -610,7 +630,7 @@ impl CurveRuns<'_> {
                 segments: 1,
                 out_offset: 0,
                 count: chunk.len() as u32,
-                mode: MODE_EXPLICIT,
+                mode: mode_for(MODE_EXPLICIT, self.rational),
                 u0: 0.0,
                 du: 0.0,
                 first_loc: locs.len() as u32,
@@ -637,7 +657,7 @@ impl CurveRuns<'_> {
                 segments: self.segments,
                 out_offset: 0,
                 count: count as u32,
-                mode: MODE_ARC,
+                mode: mode_for(MODE_ARC, self.rational),
                 u0: 0.0,
                 du: 0.0,
                 first_loc: (first_place + c * run_len) as u32,
@@ -686,6 +706,7 @@ impl CurveRuns<'_> {
         let per_run = self.shape.run_len as usize / k;
         let begin = self.value_base + (segments.start * k - g0) * self.dim;
         if self.shape.lanes == 1
+            && !self.rational
             && self.dim <= 4
             && k.is_multiple_of(4)
             && per_run >= 2
@@ -737,7 +758,11 @@ impl CurveRuns<'_> {
         let head = (0..4u32.min(count + 1))
             .find(|&j| (begin + j as usize * dim).is_multiple_of(4))
             .unwrap_or(count);
-        let body = if dim <= 4 { (count - head) / 4 * 4 } else { 0 };
+        let body = if dim <= 4 && !self.rational {
+            (count - head) / 4 * 4
+        } else {
+            0
+        };
         let pieces = [
             (0, head, MODE_SCALAR),
             (head, body, MODE_VECTOR),
@@ -753,7 +778,7 @@ impl CurveRuns<'_> {
                 segments: 1,
                 out_offset: 0,
                 count: n,
-                mode,
+                mode: mode_for(mode, self.rational),
                 u0: (u0 + f64::from(j0) * du) as f32,
                 du: du as f32,
                 first_loc: 0,
@@ -800,12 +825,12 @@ mod tests {
     /// Floats a run writes, from its out_offset on.
     fn run_floats(packed: &Packed, run: &Run) -> usize {
         let dim = packed.segments[run.segment as usize].dim as usize;
-        let dim = if run.mode == MODE_EXPLICIT {
+        let dim = if super::super::abi::kernel_mode(run.mode).0 == MODE_EXPLICIT {
             packed.segments[packed.locs[run.first_loc as usize].segment as usize].dim as usize
         } else {
             dim
         };
-        if run.mode == MODE_ARC {
+        if is_arc(run.mode) {
             // One sample after the other, whichever segments they fall on.
             return run.count as usize * dim;
         }

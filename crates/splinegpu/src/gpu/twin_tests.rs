@@ -48,6 +48,11 @@ fn every_kind(rng: &mut Rng, dim: usize) -> Vec<CurveKind> {
             t: Some(uneven.clone()),
         });
     }
+    // A rational B-spline on clamped, uneven knots with a double knot (7 points).
+    kinds.push(CurveKind::Nurbs {
+        knots: vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.501, 0.501, 3.0, 3.0, 3.0, 3.0],
+        weights: Some((0..7).map(|_| rng.range(0.2, 5.0)).collect()),
+    });
     kinds
 }
 

@@ -21,7 +21,15 @@
 //! du/ds and d²u/ds²) and stopped by a bound rather than one more quadrature: a Newton
 //! step of δ in u from a point whose length error is known leaves an error of at most
 //! ½ max|P''| δ², since |d speed/du| = |P'·P''|/|P'| <= |P''|.
+//!
+//! A rational segment (weighted NURBS, see [`rational`](crate::rational)) goes the same way
+//! with its speed |R'(u)| by the quotient rule: the quadrature and the models are unchanged,
+//! its critical points are the sign changes of R'·R'' on a grid of 64 intervals (bisected to
+//! f64 precision; two within one interval may pass unseen, which costs subdivisions, not
+//! accuracy, where the speed does not vanish), and max|P''| in the Newton bound is the proven
+//! bound of [`RationalCubic::second_derivative_bound`].
 
+use crate::rational::{Denominator, RationalCubic, quotient};
 use crate::segment::{Segment, SegmentTable};
 
 /// Accuracy of arc lengths when the caller has no reason to choose: an error of at most 1e-12
@@ -54,17 +62,34 @@ const MAX_DEPTH: u32 = 40;
 /// coefficients serve only to find its critical points.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Speed {
-    /// (a_k, b_k, c_k) for each coordinate k, divided by `scale`.
+    /// (a_k, b_k, c_k) for each coordinate k, divided by `scale`; on a rational segment its
+    /// numerator's (A_k, B_k, C_k), divided by `scale`.
     terms: Vec<[f64; 3]>,
     /// A power of two near the largest coefficient: the squares of scaled terms neither
     /// overflow nor underflow, whatever the curve's size (points near 1e200 included).
     scale: f64,
+    /// W(u) of a rational segment.
+    denominator: Option<Denominator>,
 }
+
+/// Intervals of the grid on which a rational segment's critical points are looked for.
+const RATIONAL_GRID: usize = 64;
 
 impl Speed {
     /// The derivative's coefficients of `segment`.
     pub(crate) fn of(segment: &Segment<'_>) -> Self {
         let [pa, pb, pc, _] = segment.power();
+        if let Some(w) = segment.denominator() {
+            let largest = (pa.iter().chain(pb).chain(pc)).fold(0.0f64, |m, v| m.max(v.abs()));
+            let scale = power_of_two_near(largest);
+            return Self {
+                terms: (0..pa.len())
+                    .map(|k| [pa[k] / scale, pb[k] / scale, pc[k] / scale])
+                    .collect(),
+                scale,
+                denominator: Some(w),
+            };
+        }
         let largest = (0..pa.len())
             .map(|k| {
                 (3.0 * pa[k])
@@ -79,12 +104,29 @@ impl Speed {
                 .map(|k| [3.0 * pa[k] / scale, 2.0 * pb[k] / scale, pc[k] / scale])
                 .collect(),
             scale,
+            denominator: None,
         }
+    }
+
+    /// R' and R'' of a rational segment at u, scaled: Σ R'², Σ R'·R'', Σ R''².
+    fn rational_at(&self, w: &Denominator, u: f64) -> (f64, f64, f64) {
+        let w = w.at(u);
+        let (mut q, mut dot, mut bend) = (0.0, 0.0, 0.0);
+        for &[a, b, c] in &self.terms {
+            let r = quotient::<2>(a, b, c, u, &w);
+            q += r[1] * r[1];
+            dot += r[1] * r[2];
+            bend += r[2] * r[2];
+        }
+        (q, dot, bend)
     }
 
     /// |P'(u)|.
     #[inline]
     pub(crate) fn at(&self, u: f64) -> f64 {
+        if let Some(w) = &self.denominator {
+            return self.rational_at(w, u).0.sqrt() * self.scale;
+        }
         self.terms
             .iter()
             .map(|[a, b, c]| {
@@ -99,6 +141,12 @@ impl Speed {
     /// The speed and its derivative P'·P''/|P'| at u (0 where the speed vanishes).
     #[inline]
     pub(crate) fn with_slope(&self, u: f64) -> (f64, f64) {
+        if let Some(w) = &self.denominator {
+            let (q, dot, _) = self.rational_at(w, u);
+            let v = q.sqrt();
+            let slope = if v > 0.0 { dot / v * self.scale } else { 0.0 };
+            return (v * self.scale, slope);
+        }
         let (mut q, mut dot) = (0.0, 0.0);
         for [a, b, c] in &self.terms {
             let d = c + u * (b + u * a);
@@ -129,6 +177,9 @@ impl Speed {
     /// The zeros of Q'' (a quadratic, in closed form) cut [0, 1] into parts on which Q' is
     /// monotone, so each part holds at most one zero, found by bisection to f64 precision.
     pub(crate) fn critical_points(&self) -> Vec<f64> {
+        if let Some(w) = &self.denominator {
+            return self.rational_critical_points(w);
+        }
         let q = &self.quartic();
         let dq = |u: f64| q[1] + u * (2.0 * q[2] + u * (3.0 * q[3] + u * 4.0 * q[4]));
         // Q'' = 2 q2 + 6 q3 u + 12 q4 u².
@@ -169,8 +220,40 @@ impl Speed {
         roots
     }
 
+    /// The sign changes of R'·R'' (the speed's extrema) on a rational segment, found on a
+    /// grid of [`RATIONAL_GRID`] intervals and bisected to f64 precision, in order.
+    fn rational_critical_points(&self, w: &Denominator) -> Vec<f64> {
+        let slope = |u: f64| self.rational_at(w, u).1;
+        let mut roots = Vec::new();
+        let mut lo = 0.0;
+        let mut f_lo = slope(0.0);
+        for i in 1..=RATIONAL_GRID {
+            let hi = i as f64 / RATIONAL_GRID as f64;
+            let f_hi = slope(hi);
+            if f_hi == 0.0 && hi < 1.0 {
+                roots.push(hi);
+            } else if f_lo != 0.0 && f_hi != 0.0 && (f_lo < 0.0) != (f_hi < 0.0) {
+                let (mut a, mut b) = (lo, hi);
+                for _ in 0..64 {
+                    let mid = 0.5 * (a + b);
+                    if (slope(mid) < 0.0) == (f_lo < 0.0) {
+                        a = mid;
+                    } else {
+                        b = mid;
+                    }
+                }
+                roots.push(0.5 * (a + b));
+            }
+            (lo, f_lo) = (hi, f_hi);
+        }
+        roots
+    }
+
     /// |P''(u)|.
     pub(crate) fn bend_at(&self, u: f64) -> f64 {
+        if let Some(w) = &self.denominator {
+            return self.rational_at(w, u).2.sqrt() * self.scale;
+        }
         (self.terms.iter())
             .map(|[a, b, _]| (2.0 * a * u + b).powi(2))
             .sum::<f64>()
@@ -181,6 +264,17 @@ impl Speed {
     /// max |P''(u)| over [0, 1]: P'' = 2a u + b is linear, and a norm is convex, so the
     /// largest is at an end.
     pub(crate) fn bend(&self) -> f64 {
+        if let Some(w) = self.denominator {
+            let coefficient = |i: usize| self.terms.iter().map(|t| t[i]).collect::<Vec<_>>();
+            let (a, b, c) = (coefficient(0), coefficient(1), coefficient(2));
+            let cubic = RationalCubic {
+                a: &a,
+                b: &b,
+                c: &c,
+                w,
+            };
+            return cubic.second_derivative_bound() * self.scale;
+        }
         let norm = |f: &dyn Fn(&[f64; 3]) -> f64| {
             self.terms.iter().map(|t| f(t) * f(t)).sum::<f64>().sqrt()
         };
@@ -193,6 +287,14 @@ impl Speed {
     #[inline]
     pub(crate) fn gl8(&self, a: f64, b: f64) -> f64 {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+        if self.denominator.is_some() {
+            let mut sum = 0.0;
+            for i in 0..4 {
+                let x = half * GL8_NODES[i];
+                sum += GL8_WEIGHTS[i] * (self.at(mid - x) + self.at(mid + x));
+            }
+            return sum * half;
+        }
         let u: [f64; 8] = std::array::from_fn(|i| {
             let x = GL8_NODES[i % 4];
             if i < 4 {

@@ -24,8 +24,18 @@
 //! max(1, ceil(sqrt(M/(8 tol)))), M = max |P''| on the segment, uniform placement always passes,
 //! so the count never exceeds n_W. (Past 2^16 samples on a segment the search stops and n_W is
 //! used at once.)
+//!
+//! **Rational segments** (a weighted NURBS, see [`rational`](crate::rational)): P'' is no
+//! longer affine, so the chord check uses the interpolation bound h²/8 · M̂ throughout, with
+//! M̂ a proven bound on max |P''| over the segment
+//! ([`RationalCubic::second_derivative_bound`]: the largest |P''| on a grid plus the most it
+//! can grow between grid points, refined until M̂ <= 2 max |P''|). Under that bound the
+//! fewest samples that pass are uniform ones, so the segment gets Wang's count with M̂,
+//! n_W = max(1, ceil(sqrt(M̂ / (8 tol)))), placed uniformly: at most about sqrt(2) times the
+//! count with the true maximum (the contract allows 2x).
 
 use crate::points::MAX_DIM;
+use crate::rational::RationalCubic;
 use crate::segment::Segment;
 
 /// The most samples a segment may need: more is bad input.
@@ -209,9 +219,15 @@ fn residual_bound(alpha: &[f64], beta: &[f64], h: f64) -> f64 {
 }
 
 /// Wang's count for `segment` at `tol`: max(1, ceil(sqrt(M / (8 tol)))), M = max |P''| (at an
-/// end of the segment). As f64, since it may be huge.
+/// end of the segment; on a rational segment the proven bound M̂ of the module docs). As f64,
+/// since it may be huge.
 #[must_use]
 pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
+    if let Some(w) = segment.denominator() {
+        let [a, b, c, _] = segment.power();
+        let m = RationalCubic { a, b, c, w }.second_derivative_bound();
+        return (m / (8.0 * tol)).sqrt().ceil().max(1.0);
+    }
     let cubic = Cubic::of(segment);
     let m = cubic.max_d2(0.0, 1.0);
     (m / (8.0 * cubic.scaled(tol))).sqrt().ceil().max(1.0)
@@ -223,6 +239,17 @@ pub fn wang_count(segment: &Segment<'_>, tol: f64) -> f64 {
 /// The count the segment needs, when that exceeds [`MAX_SAMPLES_PER_SEGMENT`] (as f64: it can
 /// pass 2^64).
 pub(crate) fn place(segment: &Segment<'_>, tol: f64) -> Result<Placement, f64> {
+    if segment.denominator().is_some() {
+        let wang = wang_count(segment, tol);
+        if wang > MAX_SAMPLES_PER_SEGMENT as f64 {
+            return Err(wang);
+        }
+        return Ok(Placement {
+            count: wang as u32,
+            uniform: true,
+            integral: [0.0; TABLE + 1],
+        });
+    }
     let cubic = Cubic::of(segment);
     let wang = wang_count(segment, tol);
     let tol = cubic.scaled(tol);

@@ -48,7 +48,7 @@ fn a_clamped_knot_vector_on_four_points_is_the_bezier_of_its_points() {
         .unwrap()
         .fit();
     assert_eq!(table.len(), 1);
-    let bezier = table.segment(0).bezier_points().concat();
+    let bezier = table.segment(0).bezier_points().unwrap().concat();
     for (a, b) in bezier.iter().zip(&p) {
         assert!((a - b).abs() < 1e-14, "{bezier:?} vs {p:?}");
     }
