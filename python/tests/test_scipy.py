@@ -255,5 +255,30 @@ def test_nurbs_without_weights_is_scipys_bspline(x_kind, cpu):
         want = theirs(q, nu)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-11 * np.abs(want).max(),
                                    err_msg=f"nu={nu}")
-    with pytest.raises(ValueError, match=r'curve 0: "weights" are not supported yet'):
-        cpu.tessellate(points[None], "nurbs", knots=knots_, weights=np.ones(n))
+    with pytest.raises(ValueError, match=r'curve 0: "weights" must be finite and > 0'):
+        cpu.tessellate(points[None], "nurbs", knots=knots_, weights=np.zeros(n))
+
+
+@pytest.mark.parametrize("x_kind", ["random", "uneven"])
+def test_weighted_nurbs_is_the_quotient_of_scipys_bsplines(x_kind, cpu):
+    # A rational B-spline is BSpline(t, w P) / BSpline(t, w); its derivatives follow by the
+    # quotient rule from SciPy's derivatives of both.
+    from scipy.interpolate import BSpline
+
+    rng = np.random.default_rng(7 + len(x_kind))
+    n = 9
+    knots_ = knots(x_kind, n + 4, rng)
+    points = rng.uniform(-3, 3, (n, 3)) + 1e6
+    weights = 10.0 ** rng.uniform(-1, 1, n)
+    numerator = BSpline(knots_, points * weights[:, None], 3)
+    denominator = BSpline(knots_, weights, 3)
+    q = rng.uniform(knots_[3], knots_[n], 300)
+    c = [numerator(q, nu) for nu in range(3)]
+    w = [denominator(q, nu)[:, None] for nu in range(3)]
+    p0 = c[0] / w[0]
+    p1 = (c[1] - p0 * w[1]) / w[0]
+    p2 = (c[2] - 2 * p1 * w[1] - p0 * w[2]) / w[0]
+    r = cpu.tessellate(points[None], "nurbs", knots=knots_, weights=weights, at=q, derivatives=2)
+    # SciPy's homogeneous sums near 1e6 carry its rounding: 1e-16 of 1e6 times the weights.
+    for got, want, nu in ((r.points, p0, 0), (r.d1, p1, 1), (r.d2, p2, 2)):
+        np.testing.assert_allclose(got, want, rtol=1e-7, atol=1e-7, err_msg=f"nu={nu}")

@@ -47,13 +47,6 @@ impl Denominator {
             6.0 * a,
         ]
     }
-
-    /// Bounds on max |W^(k)| over [0, 1], k = 1, 2, 3 (the triangle inequality on the power
-    /// form: |W'| <= 3|a| + 2|b| + |c|, |W''| <= 6|a| + 2|b|, |W'''| = 6|a|).
-    fn derivative_bounds(&self) -> [f64; 3] {
-        let [a, b, c, _] = self.coeffs.map(f64::abs);
-        [3.0 * a + 2.0 * b + c, 6.0 * a + 2.0 * b, 6.0 * a]
-    }
 }
 
 /// R and its u-derivatives up to `ORDER` (at most 3) in one coordinate, from N's coefficients
@@ -105,36 +98,67 @@ impl RationalCubic<'_> {
             .sqrt()
     }
 
-    /// Bounds on max |R^(k)| over [0, 1], k = 0..=3, from N = R·W differentiated (module
-    /// docs) and W >= 1: |R| <= |A| + |B| + |C|, then each |R^(k)| <= |N^(k)| + Σ binom ·
-    /// |R^(j)| |W^(k−j)|, with the norms of N's derivatives by the triangle inequality.
-    fn derivative_bounds(&self) -> [f64; 4] {
-        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let (a, b, c) = (norm(self.a), norm(self.b), norm(self.c));
-        let n = [a + b + c, 3.0 * a + 2.0 * b + c, 6.0 * a + 2.0 * b, 6.0 * a];
-        let [w1, w2, w3] = self.w.derivative_bounds();
-        let r0 = n[0];
-        let r1 = n[1] + r0 * w1;
-        let r2 = n[2] + 2.0 * r1 * w1 + r0 * w2;
-        let r3 = n[3] + 3.0 * r2 * w1 + 3.0 * r1 * w2 + r0 * w3;
-        [r0, r1, r2, r3]
+    /// |N^(k)(m)| (Euclidean) and W^(k)(m), k = 0..=3.
+    fn at_middle(&self, m: f64) -> ([f64; 4], [f64; 4]) {
+        let mut n = [0.0; 4];
+        for k in 0..self.dim() {
+            let (a, b, c) = (self.a[k], self.b[k], self.c[k]);
+            let terms = [
+                m * (c + m * (b + m * a)),
+                c + m * (2.0 * b + 3.0 * m * a),
+                2.0 * b + 6.0 * m * a,
+                6.0 * a,
+            ];
+            for (n, t) in n.iter_mut().zip(terms) {
+                *n += t * t;
+            }
+        }
+        (n.map(f64::sqrt), self.w.at(m))
     }
 
-    /// A proven bound M̂ on max |R''(u)| over [0, 1] (in u): the largest |R''| on a grid of
-    /// n + 1 points plus the most it can grow between them, h/2 · max|R'''| with h = 1/n and
-    /// max|R'''| bounded as in [`Self::derivative_bounds`]. The grid doubles from 16 points
-    /// until that margin is at most the grid's maximum (then M̂ <= 2 max|R''|), or 2^12
-    /// intervals are reached (then M̂ is still a bound, only a looser one).
+    /// A bound on max |R''| over the cell [m − r, m + r].
+    ///
+    /// A cubic's k-th derivative on the cell is at most Σ_{j>=k} |f^(j)(m)| r^(j−k)/(j−k)!
+    /// (Taylor at m, exact for a cubic); W is at least W(m) minus its bound on the change, and
+    /// at least 1 everywhere. N = R·W differentiated (module docs) then bounds |R^(k)| on the
+    /// cell one order after the other, and |R''(u)| <= |R''(m)| + r max|R'''|.
+    fn cell_bound(&self, m: f64, r: f64) -> f64 {
+        let (n, w) = self.at_middle(m);
+        let over = |f: [f64; 4], k: usize| -> f64 {
+            let mut sum = 0.0;
+            let mut factor = 1.0;
+            for (j, &value) in f.iter().enumerate().skip(k) {
+                sum += value.abs() * factor;
+                factor *= r / (j + 1 - k) as f64;
+            }
+            sum
+        };
+        let w_low = (w[0] - (over(w, 0) - w[0].abs())).max(1.0);
+        let (n1, n2, n3) = (over(n, 1), over(n, 2), over(n, 3));
+        let (w1, w2, w3) = (over(w, 1), over(w, 2), over(w, 3));
+        let r0 = over(n, 0) / w_low;
+        let r1 = (n1 + r0 * w1) / w_low;
+        let r2 = (n2 + 2.0 * r1 * w1 + r0 * w2) / w_low;
+        let r3 = (n3 + 3.0 * r2 * w1 + 3.0 * r1 * w2 + r0 * w3) / w_low;
+        r2.min(self.norm_at(m, 2) + r * r3)
+    }
+
+    /// A proven bound M̂ on max |R''(u)| over [0, 1] (in u): [0, 1] is cut into n cells, each
+    /// bounded by [`Self::cell_bound`]. n doubles from 16 until M̂ is at most twice the largest
+    /// |R''| at the cells' middles (a lower bound of the true maximum, so then
+    /// M̂ <= 2 max|R''|), or n reaches 2^12 (then M̂ is still a bound, only a looser one).
     pub(crate) fn second_derivative_bound(&self) -> f64 {
-        let third = self.derivative_bounds()[3];
         let mut n = 16usize;
         loop {
-            let grid = (0..=n)
-                .map(|i| self.norm_at(i as f64 / n as f64, 2))
-                .fold(0.0f64, f64::max);
-            let margin = 0.5 * third / n as f64;
-            if margin <= grid || n >= MAX_BOUND_INTERVALS || !margin.is_finite() {
-                return grid + margin;
+            let r = 0.5 / n as f64;
+            let (mut bound, mut seen) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let m = (2 * i + 1) as f64 * r;
+                bound = bound.max(self.cell_bound(m, r));
+                seen = seen.max(self.norm_at(m, 2));
+            }
+            if bound <= 2.0 * seen || n >= MAX_BOUND_INTERVALS || !bound.is_finite() {
+                return bound;
             }
             n *= 2;
         }

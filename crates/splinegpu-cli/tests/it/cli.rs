@@ -61,6 +61,7 @@ const MIXED: &str = r#"{
     {"kind": "hermite", "t": [0, 0.5, 3], "points": [[0, 1], [2, 2], [1, -1]], "tangents": [[1, 0], [0, -2.5], [3, 3]]},
     {"kind": "pchip", "points": [[0], [0.5], [0.5], [3], [2.75]]},
     {"kind": "nurbs", "knots": [0, 0, 0, 0, 0.5, 2, 2, 2, 5, 5, 5, 5], "points": [[0, 0, 1], [1, 2, 1], [3, 3, 0], [4, 0, 2], [6, -1, 1], [7, 1, 0], [9, 2, 3], [10, 0, 0]]},
+    {"kind": "nurbs", "knots": [0, 0, 0, 0, 1, 1, 1, 2.5, 2.5, 2.5, 2.5], "weights": [1, 0.8, 0.8, 1, 3, 0.25, 1], "points": [[1e6, 0], [1000001, 1], [1000000, 2], [999999, 2], [999998, 0], [999999, -2], [1000001, -1]], "sampling": {"arc_length": 9}},
     {"kind": "kochanek-bartels", "ends": "closed", "tension": [0, 0.5, -0.5], "continuity": 0.25, "bias": [1, 0, -1], "t": [0, 1, 1.5, 4], "points": [[0, 0], [2, 1], [1, 3]]},
     {"kind": "akima", "method": "makima", "t": [-2, -1.5, 0, 0.001, 4], "points": [[1, 2, 3], [1, 2, 3], [0, 5, 1], [0.2, 5, 1], [4, 4, 4]], "sampling": {"at": [4, -2, 0.0005, -1.75]}}
   ]
@@ -292,8 +293,12 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
         &["curve 0", "\"knots\"", "got 7"],
     ),
     (
-        r#"{"curves": [{"kind": "nurbs", "knots": [0, 1, 2, 3, 4, 5, 6, 7], "weights": [1, 1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
-        &["curve 0", "\"weights\" are not supported yet"],
+        r#"{"curves": [{"kind": "nurbs", "knots": [0, 1, 2, 3, 4, 5, 6, 7], "weights": [1, -1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"weights\"", "weights[1] = -1"],
+    ),
+    (
+        r#"{"curves": [{"kind": "nurbs", "knots": [0, 1, 2, 3, 4, 5, 6, 7], "weights": [1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"weights\"", "(4), got 3"],
     ),
     (
         r#"{"curves": [{"kind": "kochanek-bartels", "ends": "closed", "t": [0, 1, 2], "points": [[0], [1], [2]]}]}"#,

@@ -280,8 +280,16 @@ fn valid_document() -> impl Strategy<Value = String> {
                     }
                     knots.extend([at + 1.0; 4]);
                     let knots: Vec<String> = knots.iter().map(|k| format!("{k}")).collect();
+                    // Every other curve rational, its weights from 0.25 to 4.
+                    let weights = if extra % 2 == 1 {
+                        let w: Vec<String> =
+                            (0..n).map(|i| format!("{}", [0.25, 1.0, 4.0][i % 3])).collect();
+                        format!(r#","weights":[{}]"#, w.join(","))
+                    } else {
+                        String::new()
+                    };
                     format!(
-                        r#"{{"kind":"nurbs","knots":[{}],"points":[{}]}}"#,
+                        r#"{{"kind":"nurbs","knots":[{}]{weights},"points":[{}]}}"#,
                         knots.join(","),
                         list(n)
                     )

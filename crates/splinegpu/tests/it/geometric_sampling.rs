@@ -185,6 +185,19 @@ fn curves(dim: usize) -> Vec<Curve> {
         ends: Ends::Control,
     };
     out.push(Curve::new(bspline, Points::new(dim, still).unwrap()).unwrap());
+    // Rational B-splines: weights in [0.1, 10] on uneven knots, and one near 1e6.
+    for (knots, offset) in [
+        (vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 3.0, 3.0, 3.0, 3.0], 0.0),
+        (vec![0.0, 0.0, 0.0, 0.0, 1e-3, 1.0, 3.0, 3.0, 3.0, 3.0], 1e6),
+    ] {
+        let weights = (0..6).map(|_| 10f64.powf(rng.range(-1.0, 1.0))).collect();
+        let kind = CurveKind::Nurbs {
+            knots,
+            weights: Some(weights),
+        };
+        let points = rng.points(6, dim, offset - 3.0, offset + 3.0);
+        out.push(Curve::new(kind, points).unwrap());
+    }
     out
 }
 
