@@ -169,8 +169,8 @@ fn rational_at(
     let n = weights.len();
     // The span: the last non-empty [k_i, k_{i+1}) with k_i <= t, 3 <= i < n.
     let span = (3..n)
-        .filter(|&i| knots[i] < knots[i + 1] && knots[i] <= t)
-        .last()
+        .rev()
+        .find(|&i| knots[i] < knots[i + 1] && knots[i] <= t)
         .unwrap();
     let mut c = [vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]];
     let mut w = [0.0; 3];
