@@ -51,9 +51,9 @@ pub const TIMED_SECONDS: f64 = 0.5;
 pub const MAX_REPETITIONS: usize = 100;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 11] = [
-    "w1", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame", "cli-w1",
-    "w1-x10",
+pub const WORKLOADS: [&str; 12] = [
+    "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
+    "cli-w1", "w1-x10",
 ];
 
 /// One measurement: a contract `--json` line.
@@ -248,6 +248,33 @@ fn w1_job_sampled(
     job
 }
 
+/// w1-nurbs: w1's points as clamped rational B-splines (34 points, knots 0 four times, 30
+/// interior knots with spacings 10^U(-1, 1), the end four times; weights in [0.5, 2]), 32
+/// samples per span: w1's 31 segments per curve and its 9,930,000 samples.
+#[must_use]
+pub fn w1_nurbs_job() -> EvalJob {
+    let mut rng = Rng(3);
+    let mut job = EvalJob::new(Derivatives::None);
+    for curve in w1_curves(&Basis::CatmullRom) {
+        let mut knots = vec![0.0; 4];
+        let mut at = 0.0;
+        for _ in 0..30 {
+            at += 10f64.powf(rng.range(-1.0, 1.0));
+            knots.push(at);
+        }
+        at += 10f64.powf(rng.range(-1.0, 1.0));
+        knots.extend([at; 4]);
+        let kind = CurveKind::Nurbs {
+            knots,
+            weights: Some((0..34).map(|_| rng.range(0.5, 2.0)).collect()),
+        };
+        let curve = Curve::new(kind, curve.points().clone()).expect("a valid knot vector");
+        job.push(&curve, &Sampling::PerSegment(32))
+            .expect("valid sampling");
+    }
+    job
+}
+
 /// w1-x10: 100,000 curves made as w1's (99.3 M samples, 1.19 GB of f32 positions), so that
 /// on a GPU the timed region dwarfs launch overhead.
 #[must_use]
@@ -348,6 +375,13 @@ pub fn run(
             "fit-1m" => fit_1m(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
+            "w1-nurbs" => evaluation(
+                name,
+                &w1_nurbs_job(),
+                Some(PlainLoop::RationalGrid(32)),
+                gpu,
+                &mut report,
+            )?,
             "eval-at" => eval_at(&eval_at_job(), gpu, &mut report)?,
             "small" => small(gpu, &mut report)?,
             "frame" => frame(gpu, &mut report)?,
@@ -848,6 +882,8 @@ fn gpu_paths(
 enum PlainLoop {
     /// k samples per segment and the final point, positions only.
     Grid(u32),
+    /// The same on rational segments.
+    RationalGrid(u32),
 }
 
 /// The job of uniform Catmull-Rom curves through `points` (3-D), `k` samples per segment.
@@ -1141,8 +1177,10 @@ fn evaluation(
         let p = f32_samples.planes_for(job).points;
         let threads = available_threads();
         let run = time(|| {
-            let PlainLoop::Grid(k) = plain;
-            crate::plain::grid(job, k, p, threads);
+            match plain {
+                PlainLoop::Grid(k) => crate::plain::grid(job, k, p, threads),
+                PlainLoop::RationalGrid(k) => crate::plain::rational_grid(job, k, p, threads),
+            }
             black_box(&p);
             None
         });

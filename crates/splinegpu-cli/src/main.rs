@@ -38,11 +38,13 @@ enum Command {
     /// Run the named benchmark workloads.
     ///
     /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
-    /// Catmull-Rom with two derivatives), w1-arc (w1's curves at 993 points by arc length),
+    /// Catmull-Rom with two derivatives), w1-nurbs (w1's points as clamped NURBS on uneven
+    /// knots with weights in [0.5, 2], 32 samples per span), w1-arc (w1's curves at 993 points by arc length),
     /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at, cli-w1 (w1's document
     /// through tessellate into a temporary file), w1-x10 (100,000 curves made as w1's, for
     /// GPUs). Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit,
-    /// plain-loop (on w1, w1-b, w1-x10, eval-at and fit-1m: a plain loop over the same work);
+    /// plain-loop (on w1, w1-nurbs, w1-b, w1-x10, eval-at and fit-1m: a plain loop over the
+    /// same work);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),

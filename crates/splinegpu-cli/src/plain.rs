@@ -33,6 +33,43 @@ pub fn grid(job: &EvalJob, k: u32, out: &mut [f32], threads: usize) {
     });
 }
 
+/// w1-nurbs's work: as [`grid`] on rational segments, P(u) = D + u(C + u(B + uA)) / W(u) with
+/// W(u) = d + u(c + u(b + ua)) (the crate's rational power form).
+pub fn rational_grid(job: &EvalJob, k: u32, out: &mut [f32], threads: usize) {
+    job.layout().per_thread_curves(out, threads, |curves, out| {
+        let mut at = 0;
+        for c in curves {
+            let table = job.table(c);
+            let dim = table.dim();
+            for s in 0..table.len() {
+                let segment = table.segment(s);
+                let [a, b, cc, d] = segment.power();
+                let [wa, wb, wc, wd] = segment.denominator().expect("a rational segment").coeffs;
+                for j in 0..k {
+                    let u = f64::from(j) / f64::from(k);
+                    let w = wd + u * (wc + u * (wb + u * wa));
+                    for i in 0..dim {
+                        out[at + i] = (d[i] + u * (cc[i] + u * (b[i] + u * a[i])) / w) as f32;
+                    }
+                    at += dim;
+                }
+            }
+            let segment = table.segment(table.len() - 1);
+            let [a, b, cc, d] = segment.power();
+            let w = segment
+                .denominator()
+                .expect("a rational segment")
+                .coeffs
+                .iter()
+                .sum::<f64>();
+            for i in 0..dim {
+                out[at + i] = (d[i] + (a[i] + b[i] + cc[i]) / w) as f32;
+            }
+            at += dim;
+        }
+    });
+}
+
 /// eval-at's work from scratch: each t located by binary search among its curve's knots, then
 /// Horner there, as f32, on `threads` threads (`ts[c]` are curve c's parameters).
 pub fn at(job: &EvalJob, ts: &[Vec<f64>], out: &mut [f32], threads: usize) {

@@ -14,7 +14,6 @@ use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
 use crate::parallel::{even_ranges, fan_out, take_front};
-use crate::points::MAX_DIM;
 use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 
@@ -451,17 +450,55 @@ fn block_any<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 
 }
 
 /// One rational segment at the local parameters `us` into `out`, by the quotient rule of
-/// [`rational`](crate::rational), as [`Segment::eval`] and its siblings evaluate it (so the
-/// reference's bits).
+/// [`rational`](crate::rational) with the same operations in the same order as
+/// [`Segment::eval`] and its siblings (so the reference's bits), the dimension known at compile
+/// time for D <= 4: W(u) once per sample, one division per sample.
 #[inline(always)]
 fn block_rational<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
-    let dim = segment.power()[0].len();
-    let mut value = [0.0; MAX_DIM];
-    for (order, plane) in out.into_iter().enumerate() {
+    match segment.power()[0].len() {
+        1 => rational::<1, F>(segment, us, out),
+        2 => rational::<2, F>(segment, us, out),
+        3 => rational::<3, F>(segment, us, out),
+        4 => rational::<4, F>(segment, us, out),
+        _ => rational::<0, F>(segment, us, out),
+    }
+}
+
+/// Samples of a rational segment whose 1/W are formed together.
+const RATIONAL_BLOCK: usize = 64;
+
+/// [`block_rational`] for `D` coordinates (0: read at run time).
+#[inline(always)]
+fn rational<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
+    let [a, b, c, d] = segment.power();
+    let dim = if D == 0 { a.len() } else { D };
+    let w = segment.denominator().expect("a rational segment");
+    let [points, d1, d2] = out;
+    // 1/W(u) for a block of samples first: a loop of divisions alone, which vectorizes
+    // (w1-nurbs, 2 threads: 28.9 ms with one division inside each sample's loop).
+    let [wa, wb, wc, wd] = w.coeffs;
+    let mut inv = [0.0; RATIONAL_BLOCK];
+    for (us, points) in us
+        .chunks(RATIONAL_BLOCK)
+        .zip(points.chunks_mut(RATIONAL_BLOCK * dim))
+    {
+        for (inv, &u) in inv.iter_mut().zip(us) {
+            *inv = 1.0 / (wd + u * (wc + u * (wb + u * wa)));
+        }
+        for ((&u, &inv), o) in us.iter().zip(&inv).zip(points.chunks_exact_mut(dim)) {
+            for k in 0..dim {
+                o[k] = F::from_f64(d[k] + u * (c[k] + u * (b[k] + u * a[k])) * inv);
+            }
+        }
+    }
+    let inv_dt = 1.0 / segment.dt();
+    for (order, plane) in [(1, d1), (2, d2)] {
         for (&u, o) in us.iter().zip(plane.chunks_exact_mut(dim)) {
-            segment.derivative_into(order, u, &mut value[..dim]);
-            for (o, v) in o.iter_mut().zip(&value) {
-                *o = F::from_f64(*v);
+            let at = w.at(u);
+            for k in 0..dim {
+                o[k] = F::from_f64(crate::segment::rational_derivative(
+                    order, a[k], b[k], c[k], d[k], u, inv_dt, &at,
+                ));
             }
         }
     }
@@ -472,8 +509,8 @@ mod tests {
     use super::*;
     use crate::{Basis, Curve, CurveKind, Derivatives, Ends, Points, Sampling};
 
-    /// Curves of every dimension the evaluator specializes (1-4) and one it does not, under
-    /// every kind of sampling, with both derivatives.
+    /// Curves of every dimension the evaluator specializes (1-4) and one it does not, polynomial
+    /// and rational, under every kind of sampling, with both derivatives.
     fn job() -> EvalJob {
         let mut job = EvalJob::new(Derivatives::Second);
         let samplings = [
@@ -491,8 +528,16 @@ mod tests {
                     basis: Basis::CatmullRom,
                     ends: Ends::Repeat,
                 };
-                let curve = Curve::new(kind, Points::new(dim, coords).unwrap()).unwrap();
+                let points = Points::new(dim, coords).unwrap();
+                let curve = Curve::new(kind, points.clone()).unwrap();
                 job.push(&curve, sampling).unwrap();
+                // The same points as a rational B-spline.
+                let kind = CurveKind::Nurbs {
+                    knots: vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.5, 2.6, 5.0, 5.0, 5.0, 5.0],
+                    weights: Some((0..7).map(|j| 0.5 + (j * j % 5) as f64).collect()),
+                };
+                job.push(&Curve::new(kind, points).unwrap(), sampling)
+                    .unwrap();
             }
         }
         job
