@@ -194,37 +194,59 @@ fn horner(p: Cubic, u: f32) -> vec4<f32> {
     return p.hi + (p.lo + u * (p.c + u * (p.b + u * p.a)));
 }
 
-// A rational segment's denominator W(u) = w.x u^3 + w.y u^2 + w.z u + w.w: the 4 floats after
-// its 1/dt.
-fn denominator(segment: Segment) -> vec4<f32> {
-    let at = 4u * segment.coeff_offset + 5u * segment.dim + 1u;
+// Vec4s in a segment's coefficient block in `dim` dimensions (gpu::abi::block_vec4s): 5 dim
+// terms and 1/dt, and a rational segment's denominator.
+fn block_vec4s(dim: u32) -> u32 {
+    return (5u * dim + 1u + select(0u, 4u, RATIONAL) + 3u) / 4u;
+}
+
+// The denominator W(u) = w.x u^3 + w.y u^2 + w.z u + w.w of the rational segment whose block
+// starts at vec4 `block`: the 4 floats after its 1/dt.
+fn denominator(block: u32, dim: u32) -> vec4<f32> {
+    let at = 4u * block + 5u * dim + 1u;
     return vec4(coeff_floats[at], coeff_floats[at + 1u], coeff_floats[at + 2u], coeff_floats[at + 3u]);
 }
 
-// A rational piece at u: the position d_hi + (d_lo + R), dP/dt = R'/dt and d2P/dt2 = R''/dt^2,
-// with N = u(c + u(b + u a)), R = N/W, R' = (N' - R W')/W, R'' = (N'' - 2 R' W' - R W'')/W.
-fn quotient(piece: Piece, w: vec4<f32>, u: f32) -> array<vec4<f32>, 3> {
+// Derivative `order` (0, 1 or 2) with respect to t of a rational piece at u, by the quotient
+// rule: with N = u(c + u(b + u a)) and R = N/W, the position d_hi + (d_lo + R), dP/dt = R'/dt
+// with R' = (N' - R W')/W, d2P/dt2 = R''/dt^2 with R'' = (N'' - 2 R' W' - R W'')/W. Only the
+// terms the order needs are formed.
+fn rational_value(piece: Piece, w: vec4<f32>, u: f32, order: u32) -> vec4<f32> {
     let p = piece.p;
     let s = piece.inv_dt;
-    let wu = w.w + u * (w.z + u * (w.y + u * w.x));
-    let w1 = w.z + u * (2.0 * w.y + 3.0 * u * w.x);
-    let w2 = 2.0 * w.y + 6.0 * u * w.x;
-    let inv = 1.0 / wu;
+    let inv = 1.0 / (w.w + u * (w.z + u * (w.y + u * w.x)));
     let r = u * (p.c + u * (p.b + u * p.a)) * inv;
+    if order == 0u {
+        return p.hi + (p.lo + r);
+    }
+    let w1 = w.z + u * (2.0 * w.y + 3.0 * u * w.x);
     let r1 = ((p.c + u * (2.0 * p.b + 3.0 * u * p.a)) - r * w1) * inv;
+    if order == 1u {
+        return r1 * s;
+    }
+    let w2 = 2.0 * w.y + 6.0 * u * w.x;
     let r2 = ((2.0 * p.b + 6.0 * u * p.a) - 2.0 * r1 * w1 - r * w2) * inv;
-    return array(p.hi + (p.lo + r), r1 * s, r2 * (s * s));
+    return r2 * (s * s);
+}
+
+// Derivative `order` of a piece at u: `p` is derive(piece, order), `w` a rational piece's
+// denominator (RATIONAL is a constant: the driver keeps one branch).
+fn value_at(piece: Piece, p: Cubic, w: vec4<f32>, u: f32, order: u32) -> vec4<f32> {
+    if RATIONAL {
+        return rational_value(piece, w, u, order);
+    }
+    return horner(p, u);
 }
 
 // Coordinates 4q..4q+3 (those below `dim`) of one sample of a rational piece at u, and its
 // derivatives, written from float `out` on, each float on its own.
 fn write_rational(piece: Piece, w: vec4<f32>, u: f32, q: u32, dim: u32, out: u32) {
     let last = min(dim, 4u * q + 4u);
-    var values = quotient(piece, w, u);
     for (var order = 0u; order <= params.derivatives; order++) {
+        let v = rational_value(piece, w, u, order);
         let plane = out + order * params.plane_stride;
         for (var k = 4u * q; k < last; k++) {
-            samples[(plane + k) / 4u][(plane + k) % 4u] = values[order][k - 4u * q];
+            samples[(plane + k) / 4u][(plane + k) % 4u] = v[k - 4u * q];
         }
     }
 }
@@ -246,69 +268,90 @@ fn vector_run(run: Run, lane: u32) {
     let du = run.du;
     let first = segments[run.segment];
     let at = first.coeff_offset;
+    var den = vec4(0.0);
     switch first.dim {
         case 1u: {
             for (var s = 0u; s < run.segments; s++) {
-                let piece = piece1(at + s * 2u);
+                let block = at + s * block_vec4s(1u);
+                let piece = piece1(block);
+                if RATIONAL {
+                    den = denominator(block, 1u);
+                }
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
                     let w0 = segment_start(run, 1u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        samples[w0 + g] = vec4(horner(p, u).x, horner(p, u + du).x,
-                            horner(p, u + 2.0 * du).x, horner(p, u + 3.0 * du).x);
+                        samples[w0 + g] = vec4(value_at(piece, p, den, u, order).x,
+                            value_at(piece, p, den, u + du, order).x,
+                            value_at(piece, p, den, u + 2.0 * du, order).x,
+                            value_at(piece, p, den, u + 3.0 * du, order).x);
                     }
                 }
             }
         }
         case 2u: {
             for (var s = 0u; s < run.segments; s++) {
-                let piece = piece2(at + s * 3u);
+                let block = at + s * block_vec4s(2u);
+                let piece = piece2(block);
+                if RATIONAL {
+                    den = denominator(block, 2u);
+                }
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
                     let w0 = segment_start(run, 2u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        let w = w0 + 2u * g;
-                        samples[w] = vec4(horner(p, u).xy, horner(p, u + du).xy);
-                        samples[w + 1u] = vec4(horner(p, u + 2.0 * du).xy, horner(p, u + 3.0 * du).xy);
+                        let o = w0 + 2u * g;
+                        samples[o] = vec4(value_at(piece, p, den, u, order).xy,
+                            value_at(piece, p, den, u + du, order).xy);
+                        samples[o + 1u] = vec4(value_at(piece, p, den, u + 2.0 * du, order).xy,
+                            value_at(piece, p, den, u + 3.0 * du, order).xy);
                     }
                 }
             }
         }
         case 3u: {
             for (var s = 0u; s < run.segments; s++) {
-                let piece = piece3(at + s * 4u);
+                let block = at + s * block_vec4s(3u);
+                let piece = piece3(block);
+                if RATIONAL {
+                    den = denominator(block, 3u);
+                }
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
                     let w0 = segment_start(run, 3u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        let s0 = horner(p, u);
-                        let s1 = horner(p, u + du);
-                        let s2 = horner(p, u + 2.0 * du);
-                        let s3 = horner(p, u + 3.0 * du);
-                        let w = w0 + 3u * g;
-                        samples[w] = vec4(s0.xyz, s1.x);
-                        samples[w + 1u] = vec4(s1.yz, s2.xy);
-                        samples[w + 2u] = vec4(s2.z, s3.xyz);
+                        let s0 = value_at(piece, p, den, u, order);
+                        let s1 = value_at(piece, p, den, u + du, order);
+                        let s2 = value_at(piece, p, den, u + 2.0 * du, order);
+                        let s3 = value_at(piece, p, den, u + 3.0 * du, order);
+                        let o = w0 + 3u * g;
+                        samples[o] = vec4(s0.xyz, s1.x);
+                        samples[o + 1u] = vec4(s1.yz, s2.xy);
+                        samples[o + 2u] = vec4(s2.z, s3.xyz);
                     }
                 }
             }
         }
         default: {
             for (var s = 0u; s < run.segments; s++) {
-                let piece = piece4(at + s * 6u);
+                let block = at + s * block_vec4s(4u);
+                let piece = piece4(block);
+                if RATIONAL {
+                    den = denominator(block, 4u);
+                }
                 for (var order = 0u; order <= params.derivatives; order++) {
                     let p = derive(piece, order);
                     let w0 = segment_start(run, 4u, order, s);
                     for (var g = lane; g < groups; g += LANES) {
                         let u = run.u0 + f32(4u * g) * du;
-                        let w = w0 + 4u * g;
-                        samples[w] = horner(p, u);
-                        samples[w + 1u] = horner(p, u + du);
-                        samples[w + 2u] = horner(p, u + 2.0 * du);
-                        samples[w + 3u] = horner(p, u + 3.0 * du);
+                        let o = w0 + 4u * g;
+                        samples[o] = value_at(piece, p, den, u, order);
+                        samples[o + 1u] = value_at(piece, p, den, u + du, order);
+                        samples[o + 2u] = value_at(piece, p, den, u + 2.0 * du, order);
+                        samples[o + 3u] = value_at(piece, p, den, u + 3.0 * du, order);
                     }
                 }
             }
@@ -354,7 +397,7 @@ fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>
         if (*loaded).segment != loc.segment {
             (*loaded).piece = piece_small(segment);
             if RATIONAL {
-                (*loaded).w = denominator(segment);
+                (*loaded).w = denominator(segment.coeff_offset, segment.dim);
             }
             (*loaded).segment = loc.segment;
         }
@@ -366,7 +409,7 @@ fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>
     } else {
         for (var q = 0u; 4u * q < segment.dim; q++) {
             if RATIONAL {
-                write_rational(piece_any(segment, q), denominator(segment), loc.u, q, segment.dim, out);
+                write_rational(piece_any(segment, q), denominator(segment.coeff_offset, segment.dim), loc.u, q, segment.dim, out);
             } else {
                 write_group(piece_any(segment, q), loc.u, q, segment.dim, out);
             }
@@ -527,7 +570,7 @@ fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
 // The run's `count` samples of one rational segment whose block starts at float `out`, each
 // float on its own.
 fn rational_block(segment: Segment, out: u32, run: Run, lane: u32) {
-    let w = denominator(segment);
+    let w = denominator(segment.coeff_offset, segment.dim);
     for (var q = 0u; 4u * q < segment.dim; q++) {
         let piece = piece_any(segment, q);
         for (var j = lane; j < run.count; j += LANES) {

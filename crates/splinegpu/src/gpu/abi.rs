@@ -123,9 +123,11 @@ pub(crate) const MODE_RATIONAL_SCALAR: u32 = 4;
 pub(crate) const MODE_RATIONAL_EXPLICIT: u32 = 5;
 /// [`Run::mode`]: [`MODE_ARC`]'s samples of a rational curve.
 pub(crate) const MODE_RATIONAL_ARC: u32 = 6;
+/// [`Run::mode`]: [`MODE_VECTOR`]'s samples of rational segments.
+pub(crate) const MODE_RATIONAL_VECTOR: u32 = 7;
 
-/// How many run modes there are: `MODE_SCALAR` to `MODE_RATIONAL_ARC`.
-pub(crate) const MODES: usize = 7;
+/// How many run modes there are: `MODE_SCALAR` to `MODE_RATIONAL_VECTOR`.
+pub(crate) const MODES: usize = 8;
 
 /// The kernel's `MODE` and `RATIONAL` for run mode `mode`: a rational mode is its polynomial
 /// mode's code with the quotient.
@@ -135,16 +137,17 @@ pub(crate) const fn kernel_mode(mode: u32) -> (u32, bool) {
         MODE_RATIONAL_SCALAR => (MODE_SCALAR, true),
         MODE_RATIONAL_EXPLICIT => (MODE_EXPLICIT, true),
         MODE_RATIONAL_ARC => (MODE_ARC, true),
+        MODE_RATIONAL_VECTOR => (MODE_VECTOR, true),
         _ => (mode, false),
     }
 }
 
-/// The run mode for the samples of polynomial run mode `mode` on a curve that is `rational`
-/// (which has no vector mode).
+/// The run mode for the samples of polynomial run mode `mode` on a curve that is `rational`.
 #[must_use]
 pub(crate) const fn mode_for(mode: u32, rational: bool) -> u32 {
     match (mode, rational) {
-        (MODE_SCALAR | MODE_VECTOR, true) => MODE_RATIONAL_SCALAR,
+        (MODE_SCALAR, true) => MODE_RATIONAL_SCALAR,
+        (MODE_VECTOR, true) => MODE_RATIONAL_VECTOR,
         (MODE_EXPLICIT, true) => MODE_RATIONAL_EXPLICIT,
         (MODE_ARC, true) => MODE_RATIONAL_ARC,
         _ => mode,

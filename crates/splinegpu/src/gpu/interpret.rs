@@ -168,26 +168,27 @@ fn horner(p: &Cubic, u: f32) -> Vec4 {
     std::array::from_fn(|i| p.hi[i] + (p.lo[i] + u * (p.c[i] + u * (p.b[i] + u * p.a[i]))))
 }
 
-/// WGSL `quotient`: the position, dP/dt and d2P/dt2 of a rational piece at u.
-fn quotient(piece: &Piece, w: Vec4, u: f32) -> [Vec4; 3] {
+/// WGSL `rational_value`: derivative `order` of a rational piece at u, by the quotient rule.
+fn rational_value(piece: &Piece, w: Vec4, u: f32, order: u32) -> Vec4 {
     let p = piece.p;
     let s = piece.inv_dt;
-    let wu = w[3] + u * (w[2] + u * (w[1] + u * w[0]));
-    let w1 = w[2] + u * (2.0 * w[1] + 3.0 * u * w[0]);
-    let w2 = 2.0 * w[1] + 6.0 * u * w[0];
-    let inv = 1.0 / wu;
+    let inv = 1.0 / (w[3] + u * (w[2] + u * (w[1] + u * w[0])));
     let r: Vec4 = std::array::from_fn(|i| u * (p.c[i] + u * (p.b[i] + u * p.a[i])) * inv);
+    if order == 0 {
+        return std::array::from_fn(|i| p.hi[i] + (p.lo[i] + r[i]));
+    }
+    let w1 = w[2] + u * (2.0 * w[1] + 3.0 * u * w[0]);
     let r1: Vec4 = std::array::from_fn(|i| {
         ((p.c[i] + u * (2.0 * p.b[i] + 3.0 * u * p.a[i])) - r[i] * w1) * inv
     });
+    if order == 1 {
+        return scale(s, r1);
+    }
+    let w2 = 2.0 * w[1] + 6.0 * u * w[0];
     let r2: Vec4 = std::array::from_fn(|i| {
         ((2.0 * p.b[i] + 6.0 * u * p.a[i]) - 2.0 * r1[i] * w1 - r[i] * w2) * inv
     });
-    [
-        std::array::from_fn(|i| p.hi[i] + (p.lo[i] + r[i])),
-        scale(s, r1),
-        scale(s * s, r2),
-    ]
+    scale(s * s, r2)
 }
 
 fn model_at(c: Vec4, c5: f32, x: f32) -> f32 {
@@ -329,19 +330,19 @@ impl Kernel<'_> {
         let first = self.segments[run.segment as usize];
         let at = first.coeff_offset;
         // The kernel's `switch first.dim`: one loop nest per dimension, the same body each.
-        let (dim, block) = match first.dim {
-            1 => (1, 2),
-            2 => (2, 3),
-            3 => (3, 4),
-            _ => (4, 6),
-        };
+        let dim = first.dim.min(4);
+        let mut den = [0.0; 4];
         for s in 0..run.segments {
+            let block = at + s * self.block_vec4s(dim);
             let piece = match dim {
-                1 => self.piece1(at + s * block),
-                2 => self.piece2(at + s * block),
-                3 => self.piece3(at + s * block),
-                _ => self.piece4(at + s * block),
+                1 => self.piece1(block),
+                2 => self.piece2(block),
+                3 => self.piece3(block),
+                _ => self.piece4(block),
             };
+            if self.rational {
+                den = self.denominator(block, dim);
+            }
             for order in 0..=self.params.derivatives {
                 let p = derive(&piece, order);
                 let w0 = self.segment_start(run, dim, order, s);
@@ -349,10 +350,10 @@ impl Kernel<'_> {
                 while g < groups {
                     let u = run.u0 + (4 * g) as f32 * du;
                     let values = [
-                        horner(&p, u),
-                        horner(&p, u + du),
-                        horner(&p, u + 2.0 * du),
-                        horner(&p, u + 3.0 * du),
+                        self.value_at(&piece, &p, den, u, order),
+                        self.value_at(&piece, &p, den, u + du, order),
+                        self.value_at(&piece, &p, den, u + 2.0 * du, order),
+                        self.value_at(&piece, &p, den, u + 3.0 * du, order),
                     ];
                     // 4 samples of `dim` floats, written as `dim` whole vec4s.
                     let w = (w0 + dim * g) as usize;
@@ -381,19 +382,32 @@ impl Kernel<'_> {
         }
     }
 
+    /// WGSL `block_vec4s`.
+    fn block_vec4s(&self, dim: u32) -> u32 {
+        (5 * dim + 1 + if self.rational { 4 } else { 0 }).div_ceil(4)
+    }
+
     /// WGSL `denominator`.
-    fn denominator(&self, segment: GpuSegment) -> Vec4 {
-        let at = (4 * segment.coeff_offset + 5 * segment.dim + 1) as usize;
+    fn denominator(&self, block: u32, dim: u32) -> Vec4 {
+        let at = (4 * block + 5 * dim + 1) as usize;
         std::array::from_fn(|i| self.coeff_floats[at + i])
+    }
+
+    /// WGSL `value_at`.
+    fn value_at(&self, piece: &Piece, p: &Cubic, w: Vec4, u: f32, order: u32) -> Vec4 {
+        if self.rational {
+            return rational_value(piece, w, u, order);
+        }
+        horner(p, u)
     }
 
     fn write_rational(&mut self, piece: &Piece, w: Vec4, u: f32, q: u32, dim: u32, out: u32) {
         let last = dim.min(4 * q + 4);
-        let values = quotient(piece, w, u);
         for order in 0..=self.params.derivatives {
+            let v = rational_value(piece, w, u, order);
             let plane = out + order * self.params.plane_stride;
             for k in 4 * q..last {
-                self.store(plane + k, values[order as usize][(k - 4 * q) as usize]);
+                self.store(plane + k, v[(k - 4 * q) as usize]);
             }
         }
     }
@@ -405,7 +419,7 @@ impl Kernel<'_> {
             if loaded.segment != loc.segment {
                 loaded.piece = self.piece_small(segment);
                 if self.rational {
-                    loaded.w = self.denominator(segment);
+                    loaded.w = self.denominator(segment.coeff_offset, segment.dim);
                 }
                 loaded.segment = loc.segment;
             }
@@ -420,7 +434,7 @@ impl Kernel<'_> {
             while 4 * q < segment.dim {
                 let piece = self.piece_any(segment, q);
                 if self.rational {
-                    let w = self.denominator(segment);
+                    let w = self.denominator(segment.coeff_offset, segment.dim);
                     self.write_rational(&piece, w, loc.u, q, segment.dim, out);
                 } else {
                     self.write_group(&piece, loc.u, q, segment.dim, out);
@@ -573,7 +587,7 @@ impl Kernel<'_> {
     }
 
     fn rational_block(&mut self, segment: GpuSegment, out: u32, run: &Run, lane: u32) {
-        let w = self.denominator(segment);
+        let w = self.denominator(segment.coeff_offset, segment.dim);
         let mut q = 0;
         while 4 * q < segment.dim {
             let piece = self.piece_any(segment, q);

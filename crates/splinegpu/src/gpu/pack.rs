@@ -613,7 +613,7 @@ struct CurveRuns<'a> {
     /// The float where the curve's first sample goes in each device plane.
     value_base: usize,
     dim: usize,
-    /// Whether the curve is rational: its runs take the rational modes (no vector runs).
+    /// Whether the curve is rational: its runs take the rational modes.
     rational: bool,
     shape: KernelShape,
 }
@@ -706,7 +706,6 @@ impl CurveRuns<'_> {
         let per_run = self.shape.run_len as usize / k;
         let begin = self.value_base + (segments.start * k - g0) * self.dim;
         if self.shape.lanes == 1
-            && !self.rational
             && self.dim <= 4
             && k.is_multiple_of(4)
             && per_run >= 2
@@ -721,7 +720,7 @@ impl CurveRuns<'_> {
                     segments: n as u32,
                     out_offset: 0,
                     count: k as u32,
-                    mode: MODE_VECTOR,
+                    mode: mode_for(MODE_VECTOR, self.rational),
                     u0: 0.0,
                     du: (1.0 / k as f64) as f32,
                     first_loc: 0,
@@ -758,11 +757,7 @@ impl CurveRuns<'_> {
         let head = (0..4u32.min(count + 1))
             .find(|&j| (begin + j as usize * dim).is_multiple_of(4))
             .unwrap_or(count);
-        let body = if dim <= 4 && !self.rational {
-            (count - head) / 4 * 4
-        } else {
-            0
-        };
+        let body = if dim <= 4 { (count - head) / 4 * 4 } else { 0 };
         let pieces = [
             (0, head, MODE_SCALAR),
             (head, body, MODE_VECTOR),
@@ -795,17 +790,28 @@ mod tests {
     use super::*;
     use crate::{Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, Points, Sampling};
 
-    /// Curves of 1 to 6 dimensions, per-segment (k from 1 to 9), explicit, arc-length and
-    /// tolerance samplings.
+    /// Curves of 1 to 6 dimensions, polynomial and rational, per-segment (k from 1 to 9),
+    /// explicit, arc-length and tolerance samplings.
     fn mixed_job() -> EvalJob {
         let mut job = EvalJob::new(Derivatives::First);
         for i in 0..24usize {
             let dim = 1 + i % 6;
             let n = 4 + i % 5;
             let coords = (0..n * dim).map(|v| ((v * 7 + i) % 11) as f64).collect();
-            let kind = CurveKind::Uniform {
-                basis: Basis::CatmullRom,
-                ends: Ends::Repeat,
+            let kind = if i % 5 == 4 {
+                // A rational B-spline: clamped knots, interior ones 0.5 apart.
+                let interior = (1..n - 3).map(|j| j as f64 * 0.5);
+                let last = (n - 3) as f64 * 0.5;
+                let knots = [0.0; 4].into_iter().chain(interior).chain([last; 4]);
+                CurveKind::Nurbs {
+                    knots: knots.collect(),
+                    weights: Some((0..n).map(|j| 1.0 + (j % 3) as f64).collect()),
+                }
+            } else {
+                CurveKind::Uniform {
+                    basis: Basis::CatmullRom,
+                    ends: Ends::Repeat,
+                }
             };
             let curve = Curve::new(kind, Points::new(dim, coords).unwrap()).unwrap();
             let sampling = if i % 4 == 3 {
@@ -862,7 +868,7 @@ mod tests {
                     start >= batch.values.start && end <= batch.values.end,
                     "{shape:?}: run inside its dispatch"
                 );
-                if run.mode == MODE_VECTOR {
+                if super::super::abi::kernel_mode(run.mode).0 == MODE_VECTOR {
                     assert_eq!(start % 4, 0, "{shape:?}: vector runs aligned");
                 }
                 for w in &mut writes[start..end] {

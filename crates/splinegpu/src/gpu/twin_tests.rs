@@ -15,7 +15,7 @@ use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Samples, Sampling,
 };
 
-const DIMS: [usize; 6] = [1, 3, 4, 5, 30, 64];
+const DIMS: [usize; 7] = [1, 2, 3, 4, 5, 30, 64];
 
 /// No limit on a dispatch: the whole job in one.
 const UNLIMITED: BatchLimits = BatchLimits {
@@ -238,7 +238,7 @@ fn gpu_equals_the_interpreter_bit_for_bit_for_every_shape() {
     }
     for shape in KernelShape::TESTED {
         let context = GpuContext::new().unwrap().with_shape(shape);
-        for dim in [1, 3, 4, 5, 64] {
+        for dim in [1, 2, 3, 4, 5, 64] {
             for (name, sampling) in samplings() {
                 let job = job_of(dim, Derivatives::Second, sampling);
                 let on_gpu = context.evaluate(&job).unwrap();
