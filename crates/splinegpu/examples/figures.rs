@@ -252,7 +252,7 @@ fn kinds() -> Result<String, Box<dyn Error>> {
         slopes: HermiteSlopes::Given(tangents),
         t: None,
     };
-    let curve = Curve::new(hermite, Points::new(2, coords)?)?;
+    let curve = Curve::new(hermite, Points::new(2, coords.clone())?)?;
     panels.push(Panel {
         title: "hermite, every tangent (1, 0)".to_string(),
         polygon: POLYGON.to_vec(),
@@ -260,7 +260,70 @@ fn kinds() -> Result<String, Box<dyn Error>> {
         samples: sample(&curve, &Sampling::PerSegment(32))?,
         dots: false,
     });
+    // Row 4: weights. An exact circle, then one weight raised and lowered on the clamped knots.
+    let (polygon, weights) = circle([3.1, 1.1], 1.5);
+    let (a, b) = (weights[0], weights[1]);
+    let kind = CurveKind::Nurbs {
+        knots: CIRCLE_KNOTS.to_vec(),
+        weights: Some(weights),
+    };
+    let curve = Curve::new(
+        kind,
+        Points::new(2, polygon.iter().flatten().copied().collect())?,
+    )?;
+    panels.push(Panel {
+        title: format!("nurbs circle, weights {a} and {b:.3}"),
+        polygon,
+        curve: Vec::new(),
+        samples: sample(&curve, &Sampling::PerSegment(16))?,
+        dots: false,
+    });
+    for weight in [4.0, 0.25] {
+        let mut weights = vec![1.0; 7];
+        weights[2] = weight;
+        let kind = CurveKind::Nurbs {
+            knots: vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0],
+            weights: Some(weights),
+        };
+        let curve = Curve::new(kind, Points::new(2, coords.clone())?)?;
+        panels.push(Panel {
+            title: format!("nurbs, weight {weight} on point 2, else 1"),
+            polygon: POLYGON.to_vec(),
+            curve: Vec::new(),
+            samples: sample(&curve, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
     Ok(svg(&panels, 3))
+}
+
+/// The circle's knots: four cubic Bezier arcs, each interior knot triple.
+const CIRCLE_KNOTS: [f64; 17] = [
+    0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0, 4.0, 4.0, 4.0, 4.0,
+];
+
+/// The 13 control points and weights of a circle about `center` of radius `r` as four rational
+/// cubic arcs: each is the exact quadratic quarter arc (weights 1, sqrt(2)/2, 1 on the corner
+/// of its square) raised to degree 3, whose inner points lie on the square's sides, at
+/// (P0 + sqrt(2) P1)/(1 + sqrt(2)) and its mirror, with weight (1 + sqrt(2))/3.
+fn circle(center: [f64; 2], r: f64) -> (Vec<[f64; 2]>, Vec<f64>) {
+    let inner = std::f64::consts::SQRT_2 / (1.0 + std::f64::consts::SQRT_2);
+    let weight = (1.0 + std::f64::consts::SQRT_2) / 3.0;
+    let at = |x: f64, y: f64| [center[0] + r * x, center[1] + r * y];
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    // Quarter q goes from angle q pi/2 to (q + 1) pi/2 through the corner (c, s) + (-s, c).
+    for q in 0..4 {
+        let (s, c) = (f64::from(q) * std::f64::consts::FRAC_PI_2).sin_cos();
+        let (s, c) = (s.round(), c.round());
+        points.push(at(c, s));
+        points.push(at(c - inner * s, s + inner * c));
+        points.push(at(-s + inner * c, c + inner * s));
+        weights.extend([1.0, weight, weight]);
+    }
+    points.push(points[0]);
+    weights.push(1.0);
+    (points, weights)
 }
 
 fn uniform(basis: Basis) -> CurveKind {
