@@ -188,7 +188,7 @@ enum FitMethod {
     },
     /// Hermite pieces at knots `t`.
     Hermite { slopes: HermiteSlopes, t: Vec<f64> },
-    /// The non-empty spans of a knot vector.
+    /// The non-empty spans of a knot vector; rational where `weights` are given.
     Knots {
         knots: Vec<f64>,
         weights: Option<Vec<f64>>,

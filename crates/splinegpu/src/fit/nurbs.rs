@@ -1,5 +1,6 @@
-//! Cubic B-splines on their own knot vector (kind "nurbs" without weights): each non-empty
-//! span becomes a power-form segment, so the kernel evaluates them as any other kind.
+//! Cubic B-splines on their own knot vector (kind "nurbs"): each non-empty span becomes a
+//! power-form segment, so the kernel evaluates them as any other kind, and with weights a
+//! rational one (a numerator and a denominator in power form).
 //!
 //! On span i ([k_i, k_{i+1}], Δ = k_{i+1} − k_i > 0, 3 <= i < n) the curve is
 //! Σ_{j=i−3..i} N_{j,3}(t) P_j. With t = k_i + Δu, each basis function there is a cubic in u,
