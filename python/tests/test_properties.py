@@ -71,13 +71,44 @@ samplings = st.one_of(
     st.just({}),
 )
 
+# "knots" and "weights" may be "fit": made right for the points (clamped knots, weights of
+# every size), so that the rational paths are reached, not only the refusals.
 kind_fields = st.fixed_dictionaries({}, optional={
     "ends": st.sampled_from(["control", "repeat", "closed", "open", 3]),
     "tension": numbers,
     "bias": numbers,
+    "continuity": st.one_of(numbers, st.lists(numbers, max_size=10)),
     "t": st.lists(numbers, max_size=10),
     "matrix": st.sampled_from([np.eye(4), np.eye(3), [[1, 2, 3, 4]] * 4, "identity"]),
+    "tangents": st.one_of(st.just("fit"), st.lists(numbers, max_size=6), st.just(np.eye(3))),
+    "method": st.sampled_from(["akima", "makima", "bogus", 3, None]),
+    "knots": st.one_of(st.just("fit"), st.lists(numbers, max_size=14)),
+    "weights": st.one_of(st.just("fit"), st.lists(numbers, max_size=10)),
 })
+
+
+def fitted(points, fields, seed):
+    """`fields` with each "fit" made right for `points` where they have one shape (n points of
+    dim coordinates per curve), else left for the call to refuse."""
+    fields = dict(fields)
+    shape = np.shape(points) if isinstance(points, np.ndarray) else None
+    rng = np.random.default_rng(seed)
+    for name in ("knots", "weights", "tangents"):
+        if not (isinstance(fields.get(name), str) and fields[name] == "fit"):
+            continue
+        if shape is None or len(shape) != 3:
+            fields[name] = [0.5]
+            continue
+        curves, n, dim = shape
+        if name == "knots":
+            inner = np.cumsum(10 ** rng.uniform(-3, 3, max(n - 3, 1)))
+            fields[name] = np.tile(np.concatenate([[0.0] * 4, inner[:-1], [inner[-1]] * 4]),
+                                   (curves, 1))[:, :n + 4]
+        elif name == "weights":
+            fields[name] = 10 ** rng.uniform(-1, 1, (curves, n))
+        else:
+            fields[name] = rng.uniform(-2, 2, (curves, n, dim))
+    return fields
 
 
 def holds_together(r, derivatives):
@@ -93,9 +124,11 @@ def holds_together(r, derivatives):
 @cases(6000)
 @given(points=point_arrays(), kind=st.sampled_from([*splinegpu.KIND_NAMES, "nurbs"]),
        fields=kind_fields, sampling=samplings,
-       derivatives=st.one_of(st.integers(-1, 3), st.just(1.5), st.just(True)))
+       derivatives=st.one_of(st.integers(-1, 3), st.just(1.5), st.just(True)),
+       seed=st.integers(0, 2**32 - 1))
 def test_tessellate_returns_a_sound_result_or_refuses(points, kind, fields, sampling,
-                                                      derivatives):
+                                                      derivatives, seed):
+    fields = fitted(points, fields, seed)
     try:
         r = CPU.tessellate(points, kind, derivatives=derivatives, **fields, **sampling)
     except REFUSED:
@@ -220,3 +253,44 @@ def gpu_good(gpu):
 def test_out_on_the_gpu_is_used_right_or_refused(gpu_good, data):
     gpu, good = gpu_good
     used_right_or_refused(gpu, good, data.draw(out_arrays(good)))
+
+
+@cases(300)
+@given(n=st.integers(4, 12), dim=st.integers(1, 3), seed=st.integers(0, 2**32 - 1),
+       multiplicity=st.integers(1, 3), decades=st.integers(0, 6),
+       samples=st.sampled_from(["at", "per_segment"]))
+def test_random_weighted_nurbs_are_scipys_quotient(n, dim, seed, multiplicity, decades,
+                                                   samples):
+    """A random rational B-spline (clamped knots whose spacings span `decades` decades, one
+    interior knot repeated `multiplicity` times, weights in [0.1, 10]) at random or grid t:
+    BSpline(t, w P) / BSpline(t, w) and its quotient-rule derivatives, on the CPU."""
+    from scipy.interpolate import BSpline
+
+    rng = np.random.default_rng(seed)
+    # n - 4 interior knots and the end: n + 4 in all.
+    inner = np.cumsum(10.0 ** rng.uniform(-decades / 2, decades / 2, n - 3))
+    interior, end = inner[:-1], inner[-1]
+    if n > 4 and multiplicity > 1:
+        j = rng.integers(0, n - 4)
+        interior = np.sort(np.concatenate([interior, [interior[j]] * (multiplicity - 1)]))
+        interior = interior[: n - 4]
+    knots = np.concatenate([[0.0] * 4, interior, [end] * 4])
+    points = rng.uniform(-3, 3, (n, dim))
+    weights = 10.0 ** rng.uniform(-1, 1, n)
+    if samples == "at":
+        r = CPU.tessellate(points[None], "nurbs", knots=knots, weights=weights, derivatives=2,
+                           at=rng.uniform(knots[3], knots[n], 50))
+    else:
+        r = CPU.tessellate(points[None], "nurbs", knots=knots, weights=weights, derivatives=2,
+                           per_segment=5)
+    numerator = BSpline(knots, points * weights[:, None], 3)
+    denominator = BSpline(knots, weights, 3)
+    c = [numerator(r.t, nu) for nu in range(3)]
+    w = [denominator(r.t, nu)[:, None] for nu in range(3)]
+    p0 = c[0] / w[0]
+    p1 = (c[1] - p0 * w[1]) / w[0]
+    p2 = (c[2] - 2 * p1 * w[1] - p0 * w[2]) / w[0]
+    for got, want, nu in ((r.points, p0, 0), (r.d1, p1, 1), (r.d2, p2, 2)):
+        # SciPy's sums carry its own rounding, scaled by the largest value of the order.
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * np.abs(want).max(),
+                                   err_msg=f"nu={nu}")
