@@ -157,15 +157,21 @@ def _matrix(matrix) -> list:
     return m.tolist()
 
 
-def _per_curve(name: str, value, curves: int, ndim: int) -> list | None:
-    """A per-curve argument (t, at, derivatives): one array for all curves, a 2-D array of one
-    row per curve, or a list of arrays (ragged)."""
+def _per_curve(name: str, value, curves: int, ndim: int):
+    """A per-curve argument (t, at, derivatives, knots, ...) of `ndim` dimensions per curve: one
+    array for all curves, an array of one more dimension (a row per curve) or a list of arrays
+    (ragged). To the native side as one (C, k) array where every curve's has one shape (see
+    `_stacked`), else as a list of flat arrays (or None)."""
     if value is None:
         return None
     if isinstance(value, np.ndarray) and value.ndim == ndim:
         value = [value] * curves
-    elif isinstance(value, np.ndarray) and value.ndim == ndim + 1:
-        value = list(value)
+    else:
+        stacked = value if isinstance(value, np.ndarray) else _stacked(value)
+        if isinstance(stacked, np.ndarray) and stacked.ndim == ndim + 1:
+            if len(stacked) != curves:
+                raise ValueError(f"{name}: {len(stacked)} entries for {curves} curves")
+            return _aligned(stacked.reshape(curves, stacked[0].size if curves else 0), name)
     value = list(value)
     if value and np.ndim(value[0]) == 0 and ndim == 1:
         value = [_float64(value, name)] * curves

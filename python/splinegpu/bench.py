@@ -15,6 +15,8 @@ results allocated.
   curves of 34 points in 3-D, 9.93 M samples) with a fresh result and with `out=`, against
   SciPy's CubicHermiteSpline with Catmull-Rom tangents on the same curves, and against the
   crate's own path from Rust in this process (the package's overhead).
+- nurbs: w1's curves as clamped NURBS with weights (w1-nurbs) against w1 in the same run, and
+  100 of them against geomdl's NURBS curves on the same parameters (`pip install geomdl`).
 With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4.
 """
 
@@ -134,6 +136,8 @@ def main(argv):
     rows.append(("  the crate from Rust", rust_whole, "of which evaluate_into", rust_eval,
                  f"out= overhead {100 * (reused / rust_whole - 1):+.1f} %"))
 
+    rows.extend(nurbs(ctx, fresh))
+
     if "--workers" in argv:
         rows.extend(workers())
 
@@ -142,6 +146,59 @@ def main(argv):
     print(f"|{'-' * 36}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")
     for name, a, other, b, ratio in rows:
         print(f"| {name:<34} | {a:10.3g} | {other:<26} | {b:10.3g} | {ratio} |")
+
+
+def w1_nurbs(count):
+    """w1's points as clamped NURBS, as `splinegpu bench`'s w1-nurbs makes them: knots 0 four
+    times, 30 interior knots with spacings 10^U(-1, 1), the end four times (scaled to [0, 1],
+    which geomdl requires), weights in [0.5, 2]."""
+    rng = np.random.default_rng(3)
+    spacings = 10 ** rng.uniform(-1, 1, (count, 31))
+    inner = np.cumsum(spacings, axis=1)
+    inner /= inner[:, -1:]
+    knots = np.concatenate([np.zeros((count, 4)), inner[:, :30], np.ones((count, 4))], axis=1)
+    return w1_curves(count), knots, rng.uniform(0.5, 2.0, (count, 34))
+
+
+def nurbs(ctx, w1_fresh):
+    """Weighted NURBS: w1-nurbs (10,000 curves, 32 samples per span) against w1 in this run,
+    and 100 of its curves against geomdl (pure Python, the NURBS package of PyPI most used
+    without a CAD kernel) on the same parameters, after checking that the two agree."""
+    curves, knots, weights = w1_nurbs(10_000)
+
+    def ours(n):
+        return ctx.tessellate(curves[:n], "nurbs", knots=knots[:n], weights=weights[:n],
+                              per_segment=32)
+
+    whole = best(lambda: ours(10_000))
+    rows = [("w1-nurbs tessellate, fresh result", whole, "w1 (Catmull-Rom)", w1_fresh,
+             f"{whole / w1_fresh:.2f}x w1's time (goal <= 1.5)")]
+    try:
+        from geomdl import NURBS
+    except ImportError:
+        return [*rows, ("nurbs vs geomdl: not installed", 0.0, "pip install geomdl", 0.0, "")]
+
+    n = 100
+    result = ours(n)
+    offsets = result.curve_offsets
+
+    def theirs():
+        points = []
+        for i in range(n):
+            curve = NURBS.Curve()
+            curve.degree = 3
+            curve.ctrlpts = curves[i].tolist()
+            curve.weights = weights[i].tolist()
+            curve.knotvector = knots[i].tolist()
+            points.append(curve.evaluate_list(result.t[offsets[i]:offsets[i + 1]].tolist()))
+        return points
+
+    worst = np.abs(np.concatenate(theirs()) - result.points).max()
+    if worst > 1e-9:
+        raise AssertionError(f"geomdl and splinegpu differ by {worst:.3g} on w1-nurbs")
+    a, b = best(lambda: ours(n)), best(theirs, repeats=1)
+    return [*rows, (f"nurbs, {n} curves ({offsets[-1]:,} samples)", a,
+                    "geomdl loop (same t; 1 run)", b, faster(a, b))]
 
 
 def _hermite_inputs(curves, k):

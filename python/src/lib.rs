@@ -82,6 +82,35 @@ impl Stack1<'_> {
     }
 }
 
+/// A per-curve kind field: one C-contiguous (C, k) array, a row per curve (one borrow: the
+/// rows of one array handed over as thousands of views made each borrow check the others,
+/// 10,000 curves' knots and weights 150 ms), or a list with an array or None per curve.
+#[derive(FromPyObject)]
+enum PerCurve<'py> {
+    Dense(PyReadonlyArray2<'py, f64>),
+    Ragged(Vec<Option<PyReadonlyArray1<'py, f64>>>),
+}
+
+impl PerCurve<'_> {
+    fn items(&self) -> PyResult<Vec<Option<&[f64]>>> {
+        match self {
+            PerCurve::Dense(a) => {
+                let k = a.shape()[1];
+                Ok(a.as_slice()?
+                    .chunks_exact(k.max(1))
+                    .take(a.shape()[0])
+                    .map(|row| Some(&row[..k]))
+                    .collect())
+            }
+            PerCurve::Ragged(list) => list
+                .iter()
+                .map(|a| a.as_ref().map(|a| a.as_slice()).transpose())
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(Into::into),
+        }
+    }
+}
+
 /// `make(c)` for every c < n, on the library's pool of threads, in order; the first error in
 /// curve order wins. One item is made on the calling thread, touching no pool.
 fn on_threads<T: Send>(
@@ -236,28 +265,28 @@ struct CurveFields<'py> {
     #[pyo3(item)]
     matrix: Option<[[f64; 4]; 4]>,
     #[pyo3(item)]
-    t: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    t: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    start_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    start_derivative: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    end_derivative: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    end_derivative: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    tangents: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    tangents: Option<PerCurve<'py>>,
     #[pyo3(item)]
     method: Option<String>,
     #[pyo3(item)]
-    knots: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    knots: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    weights: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    weights: Option<PerCurve<'py>>,
     #[pyo3(item)]
     continuity: Option<f64>,
     /// Kochanek–Bartels' tension, continuity and bias given per point (one array per curve).
     #[pyo3(item)]
-    tension_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    tension_each: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    continuity_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    continuity_each: Option<PerCurve<'py>>,
     #[pyo3(item)]
-    bias_each: Option<Vec<Option<PyReadonlyArray1<'py, f64>>>>,
+    bias_each: Option<PerCurve<'py>>,
 }
 
 /// The sampling: its contract name and value; "at" holds one array per curve.
@@ -348,11 +377,9 @@ impl<'a> KindSource<'a> {
                 ))
             })?),
         };
-        let slices = |list: &'a Option<Vec<Option<PyReadonlyArray1<'_, f64>>>>| {
-            list.iter()
-                .flatten()
-                .map(|a| a.as_ref().map(|a| a.as_slice()).transpose())
-                .collect::<Result<Vec<_>, _>>()
+        let slices = |list: &'a Option<PerCurve<'_>>| match list {
+            None => Ok(Vec::new()),
+            Some(list) => list.items(),
         };
         Ok(Self {
             name,
