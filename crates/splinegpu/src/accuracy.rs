@@ -18,7 +18,7 @@
 //! Σ w_j N_j P_j divided by the segment's smallest weight, and multiplies the position's
 //! relative term by ρ, the first derivative's by ρ² and the second's by ρ³ (ρ = the largest
 //! over the smallest weight of its four control points). The table holds that numerator
-//! relative to the origin O = D (see [`rational`](crate::rational)), so its absolute
+//! relative to the origin O = D (see [`Denominator`](crate::Denominator)), so its absolute
 //! coefficients are A + O a, B + O b, C + O c (a, b, c of the denominator); M_k is
 //! |O_k| + S_k, which bounds |P_k| since W >= 1. Nothing but the ulp terms grows with the
 //! distance from the origin: the host forms the coefficients in f64 and splits D into a f32

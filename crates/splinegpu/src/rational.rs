@@ -26,6 +26,16 @@
 /// A rational segment's denominator W(u) = a u³ + b u² + c u + d (the weights divided by the
 /// smallest of the segment's four control points' weights, so W >= 1 on [0, 1]), and ρ, the
 /// largest of those weights over the smallest (the factor of the GPU promise on the segment).
+///
+/// A weighted NURBS span Σ w_j N_j P_j / Σ w_j N_j is held relative to its start O = P(0):
+///
+/// ```text
+/// P(u) = D + N(u) / W(u)      D = O, N(u) = A u³ + B u² + C u (Segment::power's A, B, C)
+/// R' = (N' − R W') / W,  R'' = (N'' − 2 R' W' − R W'') / W      (R = N / W)
+/// ```
+///
+/// so that N and W are of the size of the span, not of its distance from the origin, and
+/// W ≡ 1 is the polynomial case.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Denominator {
     /// a, b, c, d: the u³, u², u and 1 coefficients.

@@ -91,6 +91,75 @@ impl SegmentTable {
         }
     }
 
+    /// A polynomial table from its power form, as [`Segment::power`] and [`Self::knots`] give
+    /// it back: `knots` (segments + 1 strictly increasing finite values), `coeffs` (per
+    /// segment A, B, C, D, `dim` values each, finite) and the extent E of the accuracy promise
+    /// (finite, >= 0). A table saved as these parts is restored bit for bit (the Python
+    /// package pickles its splines this way).
+    ///
+    /// # Errors
+    /// The first part that breaks a rule, naming "points", "knots", "coefficients" or
+    /// "extent" and the value.
+    pub fn from_power(
+        dim: usize,
+        knots: Vec<f64>,
+        coeffs: Vec<f64>,
+        extent: f64,
+    ) -> Result<Self, InputError> {
+        use crate::error::Shown;
+        if dim == 0 || dim > crate::points::MAX_DIM {
+            return Err(InputError::field(
+                "points",
+                format!("must have 1 to {} coordinates, got {dim}", crate::points::MAX_DIM),
+            ));
+        }
+        if knots.len() < 2 {
+            return Err(InputError::field(
+                "knots",
+                format!("needs at least 2 values, got {}", knots.len()),
+            ));
+        }
+        if let Some(i) = knots.iter().position(|k| !k.is_finite()) {
+            return Err(InputError::field(
+                "knots",
+                format!("must be finite: knots[{i}] = {}", Shown(knots[i])),
+            ));
+        }
+        if let Some(i) = (1..knots.len()).find(|&i| knots[i] <= knots[i - 1]) {
+            return Err(InputError::field(
+                "knots",
+                format!(
+                    "must be strictly increasing: knots[{i}] = {} follows {}",
+                    Shown(knots[i]),
+                    Shown(knots[i - 1])
+                ),
+            ));
+        }
+        let wanted = 4 * dim * (knots.len() - 1);
+        if coeffs.len() != wanted {
+            return Err(InputError::field(
+                "coefficients",
+                format!(
+                    "must have 4 * {dim} values per segment ({wanted}), got {}",
+                    coeffs.len()
+                ),
+            ));
+        }
+        if let Some(i) = coeffs.iter().position(|c| !c.is_finite()) {
+            return Err(InputError::field(
+                "coefficients",
+                format!("must be finite: coefficients[{i}] = {}", Shown(coeffs[i])),
+            ));
+        }
+        if !(extent.is_finite() && extent >= 0.0) {
+            return Err(InputError::field(
+                "extent",
+                format!("must be finite and >= 0, got {}", Shown(extent)),
+            ));
+        }
+        Ok(Self::from_parts(dim, knots, coeffs, extent))
+    }
+
     /// The knot and coefficient buffers as they are, for a fit to resize and refill (keeping
     /// their allocations); sets the dimension and extent, and makes the table polynomial.
     pub(crate) fn parts_mut(&mut self, dim: usize, extent: f64) -> (&mut Vec<f64>, &mut Vec<f64>) {
@@ -204,7 +273,7 @@ impl SegmentTable {
     /// finite in f64: per segment and coordinate, |A| + |B| + |C| + |D| bounds |P(u)|,
     /// (3|A| + 2|B| + |C|)/Δ bounds |dP/dt| and (6|A| + 2|B|)/Δ² bounds |d2P/dt2|. On a
     /// rational segment the derivatives' bounds are multiplied by (1 + 3|a| + 2|b| + |c|)^2
-    /// and ^3 (W >= 1 and the quotient rule, see [`rational`](crate::rational)).
+    /// and ^3 (W >= 1 and the quotient rule, see [`Denominator`](crate::Denominator)).
     ///
     /// # Errors
     /// The first segment whose bound overflows, naming `"points"` (the input's values are too
@@ -367,7 +436,7 @@ impl Segment<'_> {
     }
 
     /// The power coefficient vectors (A, B, C, D), each `dim` values. On a rational segment
-    /// these are its numerator's A, B, C and its origin D (see [`rational`](crate::rational)).
+    /// these are its numerator's A, B, C and its origin D (see [`Denominator`](crate::Denominator)).
     #[inline]
     #[must_use]
     pub fn power(&self) -> [&[f64]; 4] {
