@@ -110,7 +110,10 @@ impl SegmentTable {
         if dim == 0 || dim > crate::points::MAX_DIM {
             return Err(InputError::field(
                 "points",
-                format!("must have 1 to {} coordinates, got {dim}", crate::points::MAX_DIM),
+                format!(
+                    "must have 1 to {} coordinates, got {dim}",
+                    crate::points::MAX_DIM
+                ),
             ));
         }
         if knots.len() < 2 {

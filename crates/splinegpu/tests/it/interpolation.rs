@@ -787,3 +787,50 @@ fn large_fits_formed_on_several_threads_interpolate_and_join_smoothly() {
         }
     }
 }
+
+#[test]
+fn a_table_rebuilt_from_its_power_form_is_the_same_table() {
+    let mut rng = Rng(41);
+    for condition in conditions(3) {
+        let points = data(&mut rng, 9, 3, &condition);
+        let t = Some(uneven_knots(9, 1e4, -3.0));
+        let table = interpolating(condition, t, points).fit();
+        let coeffs: Vec<f64> = (0..table.len())
+            .flat_map(|i| table.segment(i).power().concat())
+            .collect();
+        let again =
+            SegmentTable::from_power(3, table.knots().to_vec(), coeffs, table.extent()).unwrap();
+        assert_eq!(again, table);
+    }
+}
+
+#[test]
+fn a_power_form_that_breaks_a_rule_is_refused_by_name() {
+    let refused = |dim, knots: Vec<f64>, coeffs: Vec<f64>, extent: f64, wanted: &str| {
+        let e = SegmentTable::from_power(dim, knots, coeffs, extent).unwrap_err();
+        assert!(
+            e.to_string().contains(wanted),
+            "{e} should contain {wanted}"
+        );
+    };
+    let c = vec![1.0; 4];
+    refused(0, vec![0.0, 1.0], c.clone(), 1.0, "\"points\"");
+    refused(1, vec![0.0], Vec::new(), 1.0, "at least 2 values, got 1");
+    refused(1, vec![0.0, f64::NAN], c.clone(), 1.0, "knots[1]");
+    refused(
+        1,
+        vec![1.0, 1.0],
+        c.clone(),
+        1.0,
+        "strictly increasing: knots[1] = 1",
+    );
+    refused(1, vec![0.0, 1.0], vec![1.0; 5], 1.0, "(4), got 5");
+    refused(
+        1,
+        vec![0.0, 1.0],
+        vec![1.0, 1.0, f64::INFINITY, 1.0],
+        1.0,
+        "coefficients[2]",
+    );
+    refused(1, vec![0.0, 1.0], c, -1.0, "\"extent\"");
+}
