@@ -217,6 +217,12 @@ class Context:
 
     def __init__(self, backend: str = "auto"):
         self._native = _native.Context(backend)
+        self._requested = backend
+
+    def __reduce__(self):
+        # A context pickles as the backend asked for, and opens it again where it is unpickled
+        # (a Dask worker, a process pool): an adapter cannot travel.
+        return (Context, (self._requested,))
 
     @property
     def info(self) -> str:
@@ -338,22 +344,52 @@ def _bc(bc_type, trailing: tuple, complex_y: bool = False):
     return "clamped", flat(v0), flat(v1)
 
 
+def _extrapolate(value):
+    """SciPy's `extrapolate`: True, False or "periodic" (None: the spline's own)."""
+    if value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, str):
+        if value != "periodic":
+            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
+        return value
+    return bool(value)
+
+
+def _restore(cls, attributes: dict, state):
+    """A spline `__reduce__` saved: its attributes, and its tables restored bit for bit."""
+    spline = cls.__new__(cls)
+    spline.__dict__.update(attributes)
+    spline._native = _native.Splines.from_state(state)
+    return spline
+
+
 class CubicSpline:
-    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot")` for the cases it
-    covers: bc_type "not-a-knot", "natural", "clamped", "periodic" or ((1, v0), (1, vn)).
+    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot", extrapolate=None)`
+    for the cases it covers: bc_type "not-a-knot", "natural", "clamped", "periodic" or
+    ((1, v0), (1, vn)).
 
     Fitted in float64 on the host (O(n)); evaluated through `context` (None: a shared CPU
     context, float64; a GPU context gives float32 values within the crate's promise).
-    Differences from SciPy: no extrapolation (x outside [x[0], x[-1]] raises ValueError naming
-    it), nu <= 2, second-derivative ends not supported. Like SciPy's, "not-a-knot" on 2 or 3
-    points gives the line or the parabola through them, and a complex y gives a complex spline
-    (its real and imaginary parts fitted apart, the fit being linear in y).
+    `extrapolate` is SciPy's: True (the end pieces continue past the knots), False (NaN outside
+    [x[0], x[-1]]) or "periodic" (x wrapped into it); None means "periodic" for a periodic
+    bc_type, else True; a call may override it. Derivatives nu = 0 to 3; the third, piecewise
+    constant, is formed from `c` in float64 on either backend, and so are values outside the
+    knots. Like SciPy's, "not-a-knot" on 2 or 3 points gives the line or the parabola through
+    them, and a complex y gives a complex spline (its real and imaginary parts fitted apart,
+    the fit being linear in y). Splines pickle and deep-copy (their fitted tables, bit for bit,
+    and their context as its backend choice), so they travel to Dask workers and process pools.
+
+    Differences from SciPy: second-derivative ends ((2, v)), mixed ends and bc_type pairs are
+    refused; `x` and `c` are read-only (the fit is not redone when they change, so writing
+    raises instead of being ignored); nu > 3 is refused; the object is not a `PPoly`.
     """
 
     def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,
                  context: Context | None = None):
-        if extrapolate not in (None, False):
-            raise ValueError("extrapolate: not supported (x outside the knots raises ValueError)")
+        extrapolate = _extrapolate(extrapolate)
+        if extrapolate is None:
+            extrapolate = "periodic" if isinstance(bc_type, str) and bc_type == "periodic" \
+                else True
         # A copy of x: the caller's array may change after the fit, the spline's knots may not.
         x = np.array(_float64(x, "x"), order="C")
         y = np.asarray(y)
@@ -384,14 +420,34 @@ class CubicSpline:
                              f"{y2.shape[1]}")
         name, start, end = _bc(bc_type, self._trailing, self._complex)
         self._native = _native.fit([x], [y2], name, start, end)
+        x.flags.writeable = False
         self.x = x
         self.axis = axis
+        self.extrapolate = extrapolate
         self.context = context
+        self._pieces = None
+        self._c = None
+
+    def __reduce__(self):
+        attributes = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        attributes["_pieces"] = attributes["_c"] = None
+        return (_restore, (type(self), attributes, self._native.state()))
 
     @property
     def c(self) -> np.ndarray:
-        """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes."""
-        return self._joined(self._native.coefficients(0)).reshape((4, -1, *self._trailing))
+        """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes
+        (read-only: the spline does not follow changes to them)."""
+        if self._c is None:
+            c = self._joined(self._coefficients()).reshape((4, -1, *self._trailing))
+            c.flags.writeable = False
+            self._c = c
+        return self._c
+
+    def _coefficients(self) -> np.ndarray:
+        """The fitted columns' coefficients, (4, n - 1, m), made once."""
+        if self._pieces is None:
+            self._pieces = self._native.coefficients(0)
+        return self._pieces
 
     def _joined(self, values: np.ndarray) -> np.ndarray:
         """`values` (..., m) of the fitted columns as y's: for a complex y, the real parts'
@@ -401,11 +457,13 @@ class CubicSpline:
         m = values.shape[-1] // 2
         return values[..., :m] + 1j * values[..., m:]
 
-    def __call__(self, x, nu: int = 0) -> np.ndarray:
-        """The nu-th derivative (0, 1 or 2) at x; shape x.shape + y's other axes (moved to
-        `axis` as SciPy does)."""
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        """The nu-th derivative (0 to 3) at x; shape x.shape + y's other axes (moved to
+        `axis` as SciPy does). `extrapolate`: None (the spline's), True, False or
+        "periodic"."""
         if nu.__class__ is not int or not 0 <= nu <= 2:
-            nu = _order("nu", nu, 2)
+            nu = _order("nu", nu, 3)
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         # The common call, a float64 array or a Python float, skips the general conversion.
         if x.__class__ is np.ndarray and x.dtype == _F64 and x.flags.c_contiguous \
                 and x.flags.aligned:
@@ -417,8 +475,17 @@ class CubicSpline:
             x = _float64(x, "x")
             flat = _flat(x, "x")
         ctx = self.context
-        values = self._native.evaluate_one(
-            _shared_context() if ctx is None else ctx._native, flat, nu)
+        native = _shared_context() if ctx is None else ctx._native
+        values = None
+        if nu <= 2 and mode != "periodic":
+            try:
+                values = self._native.evaluate_one(native, flat, nu)
+            except ValueError:
+                # x outside the knots, or NaN: the general route below, which raises again
+                # where the reason is another.
+                pass
+        if values is None:
+            values = self._anywhere(native, flat, nu, mode)
         if self._complex:
             values = self._joined(values)
         out = values.reshape(x.shape + self._trailing)
@@ -426,8 +493,48 @@ class CubicSpline:
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
         return out
 
+    def _anywhere(self, native, flat: np.ndarray, nu: int, mode) -> np.ndarray:
+        """Derivative nu at any x, as (len(x), m) in the fitted columns: inside the knots
+        through the context (nu <= 2), elsewhere by the pieces (see `_by_pieces`); NaN outside
+        when `mode` is False, x wrapped into the knots when it is "periodic"."""
+        lo, hi = self.x[0], self.x[-1]
+        if mode == "periodic":
+            flat = lo + np.mod(flat - lo, hi - lo)
+        inside = (flat >= lo) & (flat <= hi)
+        dtype = np.float32 if native.backend == "gpu" else np.float64
+        out = np.empty((len(flat), self._coefficients().shape[2]), dtype=dtype)
+        if nu == 3:
+            out[...] = self._by_pieces(flat, 3)
+        else:
+            if inside.any():
+                out[inside] = self._native.evaluate_one(
+                    native, np.ascontiguousarray(flat[inside]), nu)
+            outside = ~inside
+            if outside.any():
+                out[outside] = self._by_pieces(flat[outside], nu)
+        if mode is False:
+            out[~inside] = np.nan
+        return out
+
+    def _by_pieces(self, x: np.ndarray, nu: int) -> np.ndarray:
+        """Derivative nu at x from `c` in float64, as SciPy's PPoly evaluates it: the piece
+        of the last knot at or below x (the first piece below x[0], the last at and above
+        x[-1]), in powers of x - x_i; NaN at NaN."""
+        c = self._coefficients()
+        i = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, c.shape[1] - 1)
+        dx = (x - self.x[i])[:, None]
+        a, b, cc, d = c[0, i], c[1, i], c[2, i], c[3, i]
+        if nu == 0:
+            return d + dx * (cc + dx * (b + dx * a))
+        if nu == 1:
+            return cc + dx * (2 * b + dx * 3 * a)
+        if nu == 2:
+            return 2 * b + dx * 6 * a
+        return 6 * a + 0 * dx
+
     def derivative(self, nu: int = 1) -> _Derivative:
-        """The nu-th derivative as a callable with `.x` and `.c` (SciPy returns a PPoly)."""
+        """The nu-th derivative (1 to 3) as a callable with `.x` and `.c` (SciPy returns a
+        PPoly)."""
         return _Derivative(self, nu)
 
 
@@ -435,7 +542,7 @@ class _Derivative:
     """A derivative of a `CubicSpline`: evaluated through its spline."""
 
     def __init__(self, spline: CubicSpline, nu: int):
-        nu = _order("nu", nu, 2)
+        nu = _order("nu", nu, 3)
         self._spline, self._nu = spline, nu
         self.x = spline.x
 
@@ -448,8 +555,8 @@ class _Derivative:
             c = c[:-1] * powers
         return c
 
-    def __call__(self, x, nu: int = 0) -> np.ndarray:
-        return self._spline(x, self._nu + nu)
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        return self._spline(x, self._nu + _order("nu", nu, 3 - self._nu), extrapolate)
 
 
 class CubicSplines:
@@ -480,6 +587,10 @@ class CubicSplines:
         name, start, end = _bc(bc_type, trailing)
         self._native = _native.fit(xs, ys2, name, start, end)
         self.context = context
+
+    def __reduce__(self):
+        # As a CubicSpline's: the fitted tables bit for bit, the context as its backend.
+        return (_restore, (type(self), {"context": self.context}, self._native.state()))
 
     def __len__(self) -> int:
         return len(self._native)

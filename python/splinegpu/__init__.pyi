@@ -28,6 +28,7 @@ class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
     def __init__(self, backend: str = "auto") -> None: ...
+    def __reduce__(self) -> Any: ...
     @property
     def info(self) -> str: ...
     @property
@@ -64,6 +65,7 @@ class CubicSpline:
 
     x: npt.NDArray[np.float64]
     axis: int
+    extrapolate: bool | str
     context: Context | None
     def __init__(
         self,
@@ -71,12 +73,15 @@ class CubicSpline:
         y: _ArrayLike,
         axis: int = 0,
         bc_type: _BcType = "not-a-knot",
-        extrapolate: bool | None = None,
+        extrapolate: bool | str | None = None,
         context: Context | None = None,
     ) -> None: ...
+    def __reduce__(self) -> Any: ...
     @property
     def c(self) -> npt.NDArray[Any]: ...  # float64, or complex128 for a complex y
-    def __call__(self, x: _ArrayLike, nu: int = 0) -> npt.NDArray[Any]: ...
+    def __call__(
+        self, x: _ArrayLike, nu: int = 0, extrapolate: bool | str | None = None
+    ) -> npt.NDArray[Any]: ...
     def derivative(self, nu: int = 1) -> Any: ...
 
 class CubicSplines:
@@ -87,6 +92,7 @@ class CubicSplines:
         self, xs: _Batch, ys: _Batch, bc_type: _BcType = "not-a-knot",
         context: Context | None = None,
     ) -> None: ...
+    def __reduce__(self) -> Any: ...
     def __len__(self) -> int: ...
     def __call__(
         self, xs: _Batch, nu: int = 0

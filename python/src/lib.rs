@@ -759,11 +759,66 @@ fn fit<'py>(
     Ok(Splines { tables })
 }
 
+/// One table's parts for pickling: its dimension, knots, power coefficients (A, B, C, D per
+/// segment) and extent.
+type TableState<'py> = (
+    usize,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    f64,
+);
+
 #[pymethods]
 impl Splines {
     /// Number of splines.
     fn __len__(&self) -> usize {
         self.tables.len()
+    }
+
+    /// Every spline's table as parts (`from_state` restores them bit for bit): what pickling
+    /// a spline saves, so that it reaches a Dask worker or a process pool without a refit.
+    fn state<'py>(&self, py: Python<'py>) -> Vec<TableState<'py>> {
+        self.tables
+            .iter()
+            .map(|table| {
+                let coeffs: Vec<f64> = (0..table.len())
+                    .flat_map(|i| table.segment(i).power().concat())
+                    .collect();
+                (
+                    table.dim(),
+                    PyArray1::from_slice(py, table.knots()),
+                    PyArray1::from_vec(py, coeffs),
+                    table.extent(),
+                )
+            })
+            .collect()
+    }
+
+    /// The splines `state` saved; a part that breaks a rule is a ValueError naming it.
+    #[staticmethod]
+    fn from_state(
+        state: Vec<(
+            usize,
+            PyReadonlyArray1<'_, f64>,
+            PyReadonlyArray1<'_, f64>,
+            f64,
+        )>,
+    ) -> PyResult<Self> {
+        let tables = state
+            .iter()
+            .enumerate()
+            .map(|(c, (dim, knots, coeffs, extent))| {
+                SegmentTable::from_power(
+                    *dim,
+                    knots.as_slice()?.to_vec(),
+                    coeffs.as_slice()?.to_vec(),
+                    *extent,
+                )
+                .map(Arc::new)
+                .map_err(|e| value_error(e.in_curve(c)))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        Ok(Self { tables })
     }
 
     /// Spline `i`'s coefficients as SciPy's PPoly holds them: c[k, j, :] multiplies

@@ -84,3 +84,18 @@ def test_a_killed_worker_is_retried(client, curves, single):
     # The kill happened (its nanny started a new worker at another address).
     client.wait_for_workers(2, timeout=30)
     assert victim not in client.scheduler_info()["workers"]
+
+
+def test_a_spline_travels_to_a_worker_and_answers_as_scipy(client):
+    # client.submit pickles the spline (its tables, bit for bit, and its context as "cpu").
+    from scipy.interpolate import CubicSpline
+
+    rng = np.random.default_rng(5)
+    x = np.cumsum(10 ** rng.uniform(-1, 1, 30))
+    y = rng.uniform(-1, 1, (30, 2))
+    q = rng.uniform(x[0] - 1, x[-1] + 1, 200)
+    spline = splinegpu.CubicSpline(x, y, bc_type="natural", context=splinegpu.Context("cpu"))
+    got = client.submit(lambda s, q: s(q, 1), spline, q).result()
+    np.testing.assert_array_equal(got, spline(q, 1))
+    np.testing.assert_allclose(got, CubicSpline(x, y, bc_type="natural")(q, 1), rtol=0,
+                               atol=1e-12 * np.abs(got).max())

@@ -195,10 +195,8 @@ def test_backends_and_bc_types_are_checked():
     with pytest.raises(ValueError, match=r'"t"'):
         splinegpu.CubicSpline(np.array([0, 1, 1, 2, 3.0]), x)
     spline = splinegpu.CubicSpline(x, x)
-    with pytest.raises(ValueError, match=r'"at"'):
-        spline(7.0)
     with pytest.raises(ValueError, match="nu"):
-        spline(1.0, nu=3)
+        spline(1.0, nu=4)
 
 
 def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
