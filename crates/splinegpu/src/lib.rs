@@ -133,7 +133,7 @@ pub use curve::{Curve, CurveKind, Ends};
 pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::hermite::HermiteSlopes;
-pub use fit::interp::{EndCondition, EndKind, Fitter};
+pub use fit::interp::{End, EndCondition, EndKind, Fitter};
 pub use fit::tcb::{PerPoint, Tcb};
 pub use gpu::{GpuContext, OutputLayout, adapters, hardware_adapter, new_instance};
 pub use job::layout::JobLayout;

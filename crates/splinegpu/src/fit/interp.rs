@@ -12,6 +12,10 @@
 //! and the ends add one row each:
 //! - natural (Eberly §2, "free"): S''(t_0) = 0 gives 2m_0 + m_1 = 3q_0; likewise at the end;
 //! - clamped (Eberly §3): m_0 = σ_0 and m_{n−1} = σ_1, derivatives with respect to t;
+//! - a second derivative v given at an end (the natural end is v = 0): from the Hermite piece's
+//!   S''(t_0) = (6q_0 − 4m_0 − 2m_1)/Δ_0, 2m_0 + m_1 = 3q_0 − vΔ_0/2, and at the last knot
+//!   m_{n−2} + 2m_{n−1} = 3q_{n−2} + vΔ_{n−2}/2; each end may be given on its own
+//!   ([`EndCondition::Each`], SciPy's bc_type pairs);
 //! - not-a-knot (the course notes "Cubic spline curves", §9): S''' continuous at t_1 and
 //!   t_{n−2}, which gives
 //!   Δ_1 m_0 + (Δ_0 + Δ_1) m_1 = ((Δ_0 + 2(Δ_0 + Δ_1)) Δ_1 q_0 + Δ_0² q_1)/(Δ_0 + Δ_1)
@@ -53,6 +57,45 @@ pub enum EndCondition {
     Periodic,
     /// Third derivative continuous at the second and the next-to-last knot. n >= 4.
     NotAKnot,
+    /// Each end on its own: a first or second derivative, or not-a-knot (SciPy's
+    /// `bc_type=((1, a), (2, b))` and its pairs of names). n >= 2, or 3 with a not-a-knot end
+    /// (4 with two).
+    Each {
+        /// The condition at t_0.
+        start: End,
+        /// The condition at t_{n−1}.
+        end: End,
+    },
+}
+
+/// One end of an interpolating spline given on its own ([`EndCondition::Each`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum End {
+    /// dP/dt there: D values.
+    FirstDerivative(Vec<f64>),
+    /// d²P/dt² there: D values (zeros: the natural end).
+    SecondDerivative(Vec<f64>),
+    /// The third derivative continuous at the knot next to this end.
+    NotAKnot,
+}
+
+/// How one end enters the slope system: a slope, a second derivative (`None`: zero) or
+/// not-a-knot.
+#[derive(Clone, Copy, Debug)]
+enum Side<'a> {
+    Slope(&'a [f64]),
+    Curvature(Option<&'a [f64]>),
+    NotAKnot,
+}
+
+impl<'a> Side<'a> {
+    fn of(end: &'a End) -> Self {
+        match end {
+            End::FirstDerivative(v) => Side::Slope(v),
+            End::SecondDerivative(v) => Side::Curvature(Some(v)),
+            End::NotAKnot => Side::NotAKnot,
+        }
+    }
 }
 
 /// An end condition without its data, for [`CardinalBasis`](super::cardinal::CardinalBasis):
@@ -70,15 +113,28 @@ pub enum EndKind {
 }
 
 impl EndCondition {
-    /// The condition without its data.
+    /// The condition without its data, as [`CardinalBasis`](super::cardinal::CardinalBasis) takes
+    /// it; `None` for [`EndCondition::Each`], which has no cardinal basis.
     #[must_use]
-    pub fn kind(&self) -> EndKind {
-        match self {
+    pub fn kind(&self) -> Option<EndKind> {
+        Some(match self {
             EndCondition::Natural => EndKind::Natural,
             EndCondition::Clamped { .. } => EndKind::Clamped,
             EndCondition::Periodic => EndKind::Periodic,
             EndCondition::NotAKnot => EndKind::NotAKnot,
-        }
+            EndCondition::Each { .. } => return None,
+        })
+    }
+
+    /// The two ends' rows of the slope system; `None` for a periodic spline, which has none.
+    fn sides(&self) -> Option<[Side<'_>; 2]> {
+        Some(match self {
+            EndCondition::Natural => [Side::Curvature(None); 2],
+            EndCondition::Clamped { start, end } => [Side::Slope(start), Side::Slope(end)],
+            EndCondition::NotAKnot => [Side::NotAKnot; 2],
+            EndCondition::Each { start, end } => [Side::of(start), Side::of(end)],
+            EndCondition::Periodic => return None,
+        })
     }
 
     /// The contract's name of the condition ("natural", "clamped", ...).
@@ -89,6 +145,7 @@ impl EndCondition {
             EndCondition::Clamped { .. } => "clamped",
             EndCondition::Periodic => "periodic",
             EndCondition::NotAKnot => "not-a-knot",
+            EndCondition::Each { .. } => "per-end",
         }
     }
 
@@ -99,6 +156,9 @@ impl EndCondition {
             EndCondition::Natural | EndCondition::Clamped { .. } => 2,
             EndCondition::Periodic => 3,
             EndCondition::NotAKnot => 4,
+            EndCondition::Each { start, end } => {
+                2 + usize::from(*start == End::NotAKnot) + usize::from(*end == End::NotAKnot)
+            }
         }
     }
 }
@@ -183,42 +243,50 @@ fn check_with(
     if !points_finite() {
         crate::points::check_finite(values, dim)?;
     }
-    match condition {
-        EndCondition::Clamped { start, end } => {
-            for (field, v) in [("start_derivative", start), ("end_derivative", end)] {
-                if v.len() != dim {
-                    return Err(InputError::field(
-                        field,
-                        format!(
-                            "must have {dim} values (the points' dimension), got {}",
-                            v.len()
-                        ),
-                    ));
-                }
-                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
-                    return Err(InputError::field(
-                        field,
-                        format!("must be finite: {field}[{k}] = {}", Shown(v[k])),
-                    ));
-                }
-            }
+    // The end derivatives given, each of D finite values.
+    fn given(end: &End) -> Option<&[f64]> {
+        match end {
+            End::FirstDerivative(v) | End::SecondDerivative(v) => Some(v),
+            End::NotAKnot => None,
         }
-        EndCondition::Periodic => {
-            let extent = crate::points::extent(values, dim);
-            let (first, last) = (&values[..dim], &values[(n - 1) * dim..]);
-            if let Some(k) = (0..dim).find(|&k| (first[k] - last[k]).abs() > 1e-12 * extent) {
-                return Err(InputError::field(
-                    "points",
-                    format!(
-                        "of a periodic spline must end where they start: points[{}][{k}] = {} but points[0][{k}] = {}",
-                        n - 1,
-                        Shown(last[k]),
-                        Shown(first[k])
-                    ),
-                ));
-            }
+    }
+    let ends = match condition {
+        EndCondition::Clamped { start, end } => [Some(start.as_slice()), Some(end.as_slice())],
+        EndCondition::Each { start, end } => [given(start), given(end)],
+        _ => [None, None],
+    };
+    for (field, v) in ["start_derivative", "end_derivative"].into_iter().zip(ends) {
+        let Some(v) = v else { continue };
+        if v.len() != dim {
+            return Err(InputError::field(
+                field,
+                format!(
+                    "must have {dim} values (the points' dimension), got {}",
+                    v.len()
+                ),
+            ));
         }
-        EndCondition::Natural | EndCondition::NotAKnot => {}
+        if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+            return Err(InputError::field(
+                field,
+                format!("must be finite: {field}[{k}] = {}", Shown(v[k])),
+            ));
+        }
+    }
+    if *condition == EndCondition::Periodic {
+        let extent = crate::points::extent(values, dim);
+        let (first, last) = (&values[..dim], &values[(n - 1) * dim..]);
+        if let Some(k) = (0..dim).find(|&k| (first[k] - last[k]).abs() > 1e-12 * extent) {
+            return Err(InputError::field(
+                "points",
+                format!(
+                    "of a periodic spline must end where they start: points[{}][{k}] = {} but points[0][{k}] = {}",
+                    n - 1,
+                    Shown(last[k]),
+                    Shown(first[k])
+                ),
+            ));
+        }
     }
     Ok(())
 }
@@ -306,13 +374,14 @@ impl Fitter {
         extent: f64,
         out: &mut SegmentTable,
     ) {
-        match condition {
-            EndCondition::Natural | EndCondition::Clamped { .. } => {
-                self.solve_dominant(t, values, dim, condition);
-            }
-            EndCondition::NotAKnot | EndCondition::Periodic => {
-                self.solve_general(t, values, dim, condition)
-            }
+        // Slopes and second derivatives at the ends keep every row diagonally dominant.
+        let dominant = condition
+            .sides()
+            .is_some_and(|sides| !sides.iter().any(|s| matches!(s, Side::NotAKnot)));
+        if dominant {
+            self.solve_dominant(t, values, dim, condition);
+        } else {
+            self.solve_general(t, values, dim, condition);
         }
         let segments = t.len() - 1;
         let (knots, coeffs) = out.parts_mut(dim, extent);
@@ -350,7 +419,7 @@ impl Fitter {
             t,
             values,
             dim,
-            condition,
+            sides: condition.sides().expect("ends with rows of their own"),
         };
         let threads = crate::available_threads();
         solve_blocked(
@@ -401,7 +470,10 @@ impl Fitter {
                 solve_cyclic(a, &mut rhs[..rows * dim], dim, &mut self.cyclic)
             }
         } else {
-            end_rows(a, rhs, t, values, dim, condition);
+            let sides = condition
+                .sides()
+                .expect("a non-periodic spline has end rows");
+            end_rows(a, rhs, t, values, dim, sides);
             solve_tridiagonal(a, rhs, dim, &mut self.fill)
         };
         // Strictly increasing knots make every one of these systems nonsingular.
@@ -413,13 +485,13 @@ impl Fitter {
     }
 }
 
-/// The slope system of natural and clamped ends, row by row (each row scaled by its Δs, as
+/// The slope system of ends given by slopes or second derivatives (natural, clamped), row by row (each row scaled by its Δs, as
 /// the interior rows are):
 ///
 /// ```text
-/// first:    natural 2 m_0 + m_1 = 3 q_0;                clamped m_0 = start
+/// first:    S'' = v: 2 m_0 + m_1 = 3 q_0 − vΔ_0/2;                 slope: m_0 = start
 /// interior: Δ_i m_{i−1} + 2(Δ_{i−1} + Δ_i) m_i + Δ_{i−1} m_{i+1} = 3(Δ_i q_{i−1} + Δ_{i−1} q_i)
-/// last:     natural m_{n−2} + 2 m_{n−1} = 3 q_{n−2};    clamped m_{n−1} = end
+/// last:     S'' = v: m_{n−2} + 2 m_{n−1} = 3 q_{n−2} + vΔ_{n−2}/2;   slope: m_{n−1} = end
 /// ```
 ///
 /// with q_i = (f_{i+1} − f_i)/Δ_i, the chord slopes.
@@ -427,7 +499,8 @@ struct DominantRows<'a> {
     t: &'a [f64],
     values: &'a [f64],
     dim: usize,
-    condition: &'a EndCondition,
+    /// Each a slope or a second derivative.
+    sides: [Side<'a>; 2],
 }
 
 /// What a sweep down [`DominantRows`] carries: the chord slopes q_{i−1} of the row it reaches,
@@ -481,21 +554,35 @@ impl Rows for DominantRows<'_> {
                 rhs[k] = 3.0 * (f1[k] - f0[k]) * inv;
             }
         };
-        match (i, self.condition) {
-            (0, EndCondition::Clamped { start, .. }) => {
+        // A second derivative v at an end moves its row's right side by ∓vΔ/2.
+        let curvature = |rhs: &mut [f64], v: Option<&[f64]>, dt: f64| {
+            if let Some(v) = v {
+                for k in 0..dim {
+                    rhs[k] += v[k] * dt;
+                }
+            }
+        };
+        match (i, self.sides) {
+            (0, [Side::Slope(start), _]) => {
                 rhs.copy_from_slice(start);
                 (0.0, 1.0, 0.0)
             }
-            (0, _) => {
+            (0, [start, _]) => {
                 chords(rhs, 0);
+                if let Side::Curvature(v) = start {
+                    curvature(rhs, v, -0.5 * (t[1] - t[0]));
+                }
                 (0.0, 2.0, 1.0)
             }
-            (i, EndCondition::Clamped { end, .. }) if i == n - 1 => {
+            (i, [_, Side::Slope(end)]) if i == n - 1 => {
                 rhs.copy_from_slice(end);
                 (0.0, 1.0, 0.0)
             }
-            (i, _) if i == n - 1 => {
+            (i, [_, end]) if i == n - 1 => {
                 chords(rhs, i - 1);
+                if let Side::Curvature(v) = end {
+                    curvature(rhs, v, 0.5 * (t[i] - t[i - 1]));
+                }
                 (1.0, 2.0, 0.0)
             }
             (i, _) => {
@@ -520,49 +607,66 @@ fn end_rows(
     t: &[f64],
     values: &[f64],
     dim: usize,
-    condition: &EndCondition,
+    sides: [Side<'_>; 2],
 ) {
     let n = t.len();
     let dt = |i: usize| t[i + 1] - t[i];
     let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
-    let (first, last) = (0, n - 1);
-    match condition {
-        EndCondition::Natural => {
-            // Δ (2 m_0 + m_1) = 3 Δ q_0, and Δ (m_{n−2} + 2 m_{n−1}) = 3 Δ q_{n−2}.
-            let (d0, dl) = (dt(0), dt(n - 2));
-            (a.diag[first], a.sup[first]) = (2.0 * d0, d0);
-            (a.sub[last], a.diag[last]) = (dl, 2.0 * dl);
+    let last = n - 1;
+    let (first_rhs, rest) = rhs.split_at_mut(dim);
+    let last_rhs = &mut rest[(last - 1) * dim..];
+    match sides[0] {
+        Side::Curvature(v) => {
+            // Δ (2 m_0 + m_1) = Δ (3 q_0 − vΔ/2).
+            let d0 = dt(0);
+            (a.diag[0], a.sup[0]) = (2.0 * d0, d0);
             for k in 0..dim {
-                rhs[k] = 3.0 * d0 * q(0, k);
-                rhs[last * dim + k] = 3.0 * dl * q(n - 2, k);
+                first_rhs[k] = d0 * (3.0 * q(0, k) - v.map_or(0.0, |v| 0.5 * v[k] * d0));
             }
         }
-        EndCondition::Clamped { start, end } => {
-            let (d0, dl) = (dt(0), dt(n - 2));
-            (a.diag[first], a.sup[first]) = (d0, 0.0);
-            (a.sub[last], a.diag[last]) = (0.0, dl);
+        Side::Slope(start) => {
+            let d0 = dt(0);
+            (a.diag[0], a.sup[0]) = (d0, 0.0);
             for k in 0..dim {
-                rhs[k] = d0 * start[k];
-                rhs[last * dim + k] = dl * end[k];
+                first_rhs[k] = d0 * start[k];
             }
         }
-        EndCondition::NotAKnot => {
+        Side::NotAKnot => {
             let (d0, d1) = (dt(0), dt(1));
             let s = d0 + d1;
-            (a.diag[first], a.sup[first]) = (d1, s);
+            (a.diag[0], a.sup[0]) = (d1, s);
+            // Each product of two spacings divided by s first: the spacings' product alone
+            // underflows for knots 1e-160 apart (overflows for 1e160).
+            let (w0, w1) = ((d0 + 2.0 * s) / s * d1, d0 / s * d0);
+            for (k, r) in first_rhs.iter_mut().enumerate() {
+                *r = w0 * q(0, k) + w1 * q(1, k);
+            }
+        }
+    }
+    match sides[1] {
+        Side::Curvature(v) => {
+            // Δ (m_{n−2} + 2 m_{n−1}) = Δ (3 q_{n−2} + vΔ/2).
+            let dl = dt(n - 2);
+            (a.sub[last], a.diag[last]) = (dl, 2.0 * dl);
+            for k in 0..dim {
+                last_rhs[k] = dl * (3.0 * q(n - 2, k) + v.map_or(0.0, |v| 0.5 * v[k] * dl));
+            }
+        }
+        Side::Slope(end) => {
+            let dl = dt(n - 2);
+            (a.sub[last], a.diag[last]) = (0.0, dl);
+            for k in 0..dim {
+                last_rhs[k] = dl * end[k];
+            }
+        }
+        Side::NotAKnot => {
             let (dl, dm) = (dt(n - 2), dt(n - 3));
             let e = dl + dm;
             (a.sub[last], a.diag[last]) = (e, dm);
-            // Each product of two spacings divided by s or e first: the spacings' product
-            // alone underflows for knots 1e-160 apart (overflows for 1e160).
-            let (w0, w1) = ((d0 + 2.0 * s) / s * d1, d0 / s * d0);
             let (wm, wl) = (dl / e * dl, (2.0 * e + dl) / e * dm);
-            for k in 0..dim {
-                rhs[k] = w0 * q(0, k) + w1 * q(1, k);
-                rhs[last * dim + k] = wm * q(n - 3, k) + wl * q(n - 2, k);
+            for (k, r) in last_rhs.iter_mut().enumerate() {
+                *r = wm * q(n - 3, k) + wl * q(n - 2, k);
             }
         }
-        // A cyclic system has no end rows: its first and last rows are interior rows.
-        EndCondition::Periodic => {}
     }
 }

@@ -5,7 +5,7 @@ use crate::scipy_fixture::{floats, rows};
 use crate::support::{Rng, assert_close, cpu_at};
 use splinegpu::accuracy::cpu_bound;
 use splinegpu::{
-    CardinalBasis, Curve, CurveKind, EndCondition, EndKind, Fitter, Points, SegmentTable,
+    CardinalBasis, Curve, CurveKind, End, EndCondition, EndKind, Fitter, Points, SegmentTable,
 };
 
 fn interpolating(condition: EndCondition, t: Option<Vec<f64>>, points: Points) -> Curve {
@@ -29,6 +29,26 @@ fn conditions(dim: usize) -> Vec<EndCondition> {
 }
 
 /// `n` points, closed when `condition` is periodic.
+/// Ends given one at a time (SciPy's bc_type pairs): second derivatives, a slope and a
+/// second derivative, not-a-knot and a second derivative.
+fn each_conditions(dim: usize) -> Vec<EndCondition> {
+    let values = |scale: f64| (0..dim).map(|k| scale * (k as f64 - 0.7)).collect();
+    vec![
+        EndCondition::Each {
+            start: End::SecondDerivative(values(3.0)),
+            end: End::SecondDerivative(values(-1.5)),
+        },
+        EndCondition::Each {
+            start: End::FirstDerivative(values(2.0)),
+            end: End::SecondDerivative(values(0.5)),
+        },
+        EndCondition::Each {
+            start: End::NotAKnot,
+            end: End::SecondDerivative(values(-4.0)),
+        },
+    ]
+}
+
 fn data(rng: &mut Rng, n: usize, dim: usize, condition: &EndCondition) -> Points {
     let mut coords: Vec<f64> = (0..n * dim).map(|_| rng.range(-5.0, 5.0)).collect();
     if *condition == EndCondition::Periodic {
@@ -193,7 +213,7 @@ fn fits_match_scipy_cubic_spline() {
 #[test]
 fn every_end_condition_is_c2_and_meets_its_ends() {
     let mut rng = Rng(41);
-    for condition in conditions(3) {
+    for condition in conditions(3).into_iter().chain(each_conditions(3)) {
         let t = uneven_knots(15, 1e3, 10.0);
         let points = data(&mut rng, 15, 3, &condition);
         let curve = interpolating(condition.clone(), Some(t.clone()), points.clone());
@@ -245,6 +265,26 @@ fn every_end_condition_is_c2_and_meets_its_ends() {
                 .map(|k| splinegpu::accuracy::promise_scale(&first, table.extent(), o, k))
                 .fold(0.0, f64::max)
         };
+        // Not-a-knot between segments x and y: the third derivative 6A/Δ³ is the same on both
+        // sides, to 1e-9 of its coefficient scale 6(|A| + |B| + |C|)/Δ³, like the other
+        // derivatives.
+        let not_a_knot = |x: usize, y: usize| {
+            let third =
+                |s: &splinegpu::Segment<'_>, k: usize| 6.0 * s.power()[0][k] / s.dt().powi(3);
+            let third_scale = |s: &splinegpu::Segment<'_>, k: usize| {
+                let [a, b, c, _] = s.power();
+                6.0 * (a[k].abs() + b[k].abs() + c[k].abs()) / s.dt().powi(3)
+            };
+            let (sx, sy) = (table.segment(x), table.segment(y));
+            for k in 0..3 {
+                let (p, q) = (third(&sx, k), third(&sy, k));
+                let tol = 1e-9 * third_scale(&sx, k).max(third_scale(&sy, k));
+                assert!(
+                    (p - q).abs() <= tol,
+                    "not-a-knot at {y}: {p} vs {q} (tolerance {tol})"
+                );
+            }
+        };
         match &condition {
             EndCondition::Natural => {
                 first.deriv2(0.0, &mut l);
@@ -276,23 +316,25 @@ fn every_end_condition_is_c2_and_meets_its_ends() {
                 }
             }
             EndCondition::NotAKnot => {
-                // The third derivative 6A/Δ³ is the same on both sides of t_1 and t_{n−2}, to
-                // 1e-9 of its coefficient scale 6(|A| + |B| + |C|)/Δ³, like the other derivatives.
-                let third =
-                    |s: &splinegpu::Segment<'_>, k: usize| 6.0 * s.power()[0][k] / s.dt().powi(3);
-                let third_scale = |s: &splinegpu::Segment<'_>, k: usize| {
-                    let [a, b, c, _] = s.power();
-                    6.0 * (a[k].abs() + b[k].abs() + c[k].abs()) / s.dt().powi(3)
-                };
-                for (x, y) in [(0, 1), (table.len() - 2, table.len() - 1)] {
-                    let (sx, sy) = (table.segment(x), table.segment(y));
-                    for k in 0..3 {
-                        let (p, q) = (third(&sx, k), third(&sy, k));
-                        let tol = 1e-9 * third_scale(&sx, k).max(third_scale(&sy, k));
-                        assert!(
-                            (p - q).abs() <= tol,
-                            "not-a-knot at {y}: {p} vs {q} (tolerance {tol})"
-                        );
+                not_a_knot(0, 1);
+                not_a_knot(table.len() - 2, table.len() - 1);
+            }
+            EndCondition::Each { start, end } => {
+                let ends = [
+                    (start, &first, 0.0, (0, 1)),
+                    (end, &last, 1.0, (table.len() - 2, table.len() - 1)),
+                ];
+                for (condition, segment, u, (x, y)) in ends {
+                    match condition {
+                        End::FirstDerivative(v) => {
+                            segment.deriv(u, &mut l);
+                            close(&l, v, end_scale(1).max(1.0), "a given slope");
+                        }
+                        End::SecondDerivative(v) => {
+                            segment.deriv2(u, &mut l);
+                            close(&l, v, end_scale(2).max(1.0), "a given second derivative");
+                        }
+                        End::NotAKnot => not_a_knot(x, y),
                     }
                 }
             }
@@ -409,24 +451,35 @@ fn dense_fit(
         ));
     }
     let last = segments - 1;
-    match condition {
-        EndCondition::Natural => {
-            rows.push((row(&curve_start(0)), zero.clone()));
-            rows.push((row(&curve_end(last)), zero.clone()));
-        }
-        EndCondition::Clamped { start, end } => {
-            rows.push((row(&slope_start(0)), start.clone()));
-            rows.push((row(&slope_end(last)), end.clone()));
-        }
-        EndCondition::NotAKnot => {
-            for (i, j) in [(0, 1), (last - 1, last)] {
-                rows.push((
-                    row(&[(4 * i, 1.0 / dt[i].powi(3)), (4 * j, -1.0 / dt[j].powi(3))]),
-                    zero.clone(),
-                ));
-            }
-        }
-        EndCondition::Periodic => {}
+    let natural = End::SecondDerivative(zero.clone());
+    let ends = match condition {
+        EndCondition::Natural => vec![natural.clone(), natural],
+        EndCondition::Clamped { start, end } => vec![
+            End::FirstDerivative(start.clone()),
+            End::FirstDerivative(end.clone()),
+        ],
+        EndCondition::NotAKnot => vec![End::NotAKnot, End::NotAKnot],
+        EndCondition::Each { start, end } => vec![start.clone(), end.clone()],
+        EndCondition::Periodic => Vec::new(),
+    };
+    // Per end: its slope, second derivative, or the third derivative's jump at its neighbour.
+    let sides = [
+        (slope_start(0), curve_start(0), (0, 1)),
+        (
+            slope_end(last),
+            curve_end(last),
+            (last.saturating_sub(1), last),
+        ),
+    ];
+    for (end, (slope, curve, (i, j))) in ends.iter().zip(sides) {
+        rows.push(match end {
+            End::FirstDerivative(v) => (row(&slope), v.clone()),
+            End::SecondDerivative(v) => (row(&curve), v.clone()),
+            End::NotAKnot => (
+                row(&[(4 * i, 1.0 / dt[i].powi(3)), (4 * j, -1.0 / dt[j].powi(3))]),
+                zero.clone(),
+            ),
+        });
     }
     assert_eq!(rows.len(), unknowns);
     (0..dim)
@@ -474,7 +527,7 @@ fn o_n_fits_agree_with_a_dense_solve_at_spacing_ratios_up_to_1e6() {
     // with Sherman–Morrison must agree with dense pivoted elimination even at extreme spacings.
     let mut rng = Rng(1e6 as u64);
     for ratio in [1.0, 1e3, 1e6] {
-        for condition in conditions(2) {
+        for condition in conditions(2).into_iter().chain(each_conditions(2)) {
             let n = 14;
             let t = uneven_knots(n, ratio, 1e4);
             let points = data(&mut rng, n, 2, &condition);
@@ -542,7 +595,7 @@ fn cardinal_basis_combinations_equal_direct_fits() {
     let mut rng = Rng(8);
     for condition in conditions(4) {
         let t = uneven_knots(11, 20.0, -2.0);
-        let basis = CardinalBasis::new(&t, condition.kind()).unwrap();
+        let basis = CardinalBasis::new(&t, condition.kind().unwrap()).unwrap();
         for _channel in 0..3 {
             let points = data(&mut rng, 11, 4, &condition);
             let direct = interpolating(condition.clone(), Some(t.clone()), points.clone()).fit();
