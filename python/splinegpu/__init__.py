@@ -323,25 +323,51 @@ def _shared_context():
     return (_shared_cpu or _default_context())._native
 
 
+_END_NAMES = {"natural": "second", "clamped": "first", "not-a-knot": "not-a-knot"}
+
+
 def _bc(bc_type, trailing: tuple, complex_y: bool = False):
-    """SciPy's bc_type as (name, start, end) for the native fit; derivative values broadcast to
-    y's trailing shape, flattened as y is (for a complex y, real parts then imaginary parts)."""
+    """SciPy's bc_type as (name, start, end) for the native fit: a name, "clamped" with first
+    derivatives at both ends, or "each" with every end on its own: (order name, values) where
+    order name is "first", "second" or "not-a-knot". Derivative values broadcast to y's
+    trailing shape, flattened as y is (for a complex y, real parts then imaginary parts)."""
     if isinstance(bc_type, str):
         return bc_type, None, None
+    wrong = ("bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\", a "
+             "pair of those but \"periodic\", or a pair of (order, value) with order 1 or 2, "
+             f"got {bc_type!r}")
     try:
-        (o0, v0), (o1, v1) = bc_type
+        first, last = bc_type
     except (TypeError, ValueError):
-        raise ValueError(f"bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\" "
-                         f"or ((1, v0), (1, vn)), got {bc_type!r}") from None
-    if o0 != 1 or o1 != 1:
-        raise ValueError(f"bc_type: only first-derivative ends (order 1) are supported, got "
-                         f"orders {o0} and {o1}")
+        raise ValueError(wrong) from None
+
     def flat(v):
-        v = np.broadcast_to(np.asarray(v) if complex_y else _float64(v, "bc_type"), trailing)
-        v = v.ravel()
+        v = np.asarray(v) if complex_y else _float64(v, "bc_type")
+        try:
+            v = np.broadcast_to(v, trailing).ravel()
+        except ValueError:
+            raise ValueError(f"bc_type: an end's value of shape {v.shape} does not broadcast "
+                             f"to y's other axes {trailing}") from None
         return np.concatenate([v.real, v.imag]).tolist() if complex_y else v.tolist()
 
-    return "clamped", flat(v0), flat(v1)
+    def end(spec):
+        if isinstance(spec, str):
+            if spec not in _END_NAMES:
+                raise ValueError(wrong)
+            return (_END_NAMES[spec], None)
+        try:
+            order, value = spec
+        except (TypeError, ValueError):
+            raise ValueError(wrong) from None
+        if isinstance(order, bool) or order not in (1, 2):
+            raise ValueError(f"bc_type: the derivative order at an end must be 1 or 2, got "
+                             f"{order!r}")
+        return ("first" if order == 1 else "second", flat(value))
+
+    start, end_ = end(first), end(last)
+    if start[0] == end_[0] == "first" and start[1] is not None and end_[1] is not None:
+        return "clamped", start, end_
+    return "each", start, end_
 
 
 def _extrapolate(value):
@@ -364,9 +390,10 @@ def _restore(cls, attributes: dict, state):
 
 
 class CubicSpline:
-    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot", extrapolate=None)`
-    for the cases it covers: bc_type "not-a-knot", "natural", "clamped", "periodic" or
-    ((1, v0), (1, vn)).
+    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot", extrapolate=None)`:
+    bc_type "not-a-knot", "natural", "clamped", "periodic" (on 2 points too), or a pair of
+    ends, each "not-a-knot", "natural", "clamped" or (order, value) with order 1 or 2 (a
+    first or second derivative, value broadcast to y's other axes).
 
     Fitted in float64 on the host (O(n)); evaluated through `context` (None: a shared CPU
     context, float64; a GPU context gives float32 values within the crate's promise).
@@ -379,9 +406,9 @@ class CubicSpline:
     the fit being linear in y). Splines pickle and deep-copy (their fitted tables, bit for bit,
     and their context as its backend choice), so they travel to Dask workers and process pools.
 
-    Differences from SciPy: second-derivative ends ((2, v)), mixed ends and bc_type pairs are
-    refused; `x` and `c` are read-only (the fit is not redone when they change, so writing
-    raises instead of being ignored); nu > 3 is refused; the object is not a `PPoly`.
+    Differences from SciPy: `x` and `c` are read-only (the fit is not redone when they
+    change, so writing raises instead of being ignored); nu > 3 is refused; the object is not
+    a `PPoly`.
     """
 
     def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,

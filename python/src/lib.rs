@@ -21,8 +21,8 @@ use pyo3::prelude::*;
 use splinegpu::PerPoint;
 use splinegpu::kinds::KindFields;
 use splinegpu::{
-    Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Fitter, GpuContext, InputError,
-    Planes, Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+    Curve, CurveKind, Derivatives, End, EndCondition, Ends, EvalJob, Fitter, GpuContext,
+    InputError, Planes, Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
 };
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -651,27 +651,71 @@ struct Splines {
     tables: Vec<Arc<SegmentTable>>,
 }
 
-/// The end condition of SciPy's `bc_type` names: "not-a-knot", "natural", "periodic",
-/// "clamped" (first derivative zero), or first derivatives given at both ends.
-fn condition(
-    bc: &str,
-    start: Option<Vec<f64>>,
-    end: Option<Vec<f64>>,
-    dim: usize,
-) -> PyResult<EndCondition> {
+/// One end given on its own, as the Python side spells it: ("first" | "second", values) or
+/// ("not-a-knot", None); `None` is a first derivative of zero (SciPy's "clamped").
+type EndArg = Option<(String, Option<Vec<f64>>)>;
+
+/// An end's derivative values, zeros where none are given.
+fn end_values(end: &EndArg, dim: usize) -> Vec<f64> {
+    end.as_ref()
+        .and_then(|(_, v)| v.clone())
+        .unwrap_or_else(|| vec![0.0; dim])
+}
+
+/// An end given on its own ([`End`]).
+fn end_of(end: &EndArg, dim: usize) -> PyResult<End> {
+    Ok(match end.as_ref().map(|(order, _)| order.as_str()) {
+        None | Some("first") => End::FirstDerivative(end_values(end, dim)),
+        Some("second") => End::SecondDerivative(end_values(end, dim)),
+        Some("not-a-knot") => End::NotAKnot,
+        Some(other) => {
+            return Err(value_error(format!(
+                "bc_type: an end \"{other}\" is not known"
+            )));
+        }
+    })
+}
+
+/// The end condition of SciPy's `bc_type`: "not-a-knot", "natural", "periodic", "clamped"
+/// (first derivatives, zero unless given at both ends), or "each" (SciPy's pairs, each end on
+/// its own).
+fn condition(bc: &str, start: &EndArg, end: &EndArg, dim: usize) -> PyResult<EndCondition> {
     Ok(match bc {
         "not-a-knot" => EndCondition::NotAKnot,
         "natural" => EndCondition::Natural,
         "periodic" => EndCondition::Periodic,
         "clamped" => EndCondition::Clamped {
-            start: start.unwrap_or_else(|| vec![0.0; dim]),
-            end: end.unwrap_or_else(|| vec![0.0; dim]),
+            start: end_values(start, dim),
+            end: end_values(end, dim),
+        },
+        "each" => EndCondition::Each {
+            start: end_of(start, dim)?,
+            end: end_of(end, dim)?,
         },
         other => {
             return Err(value_error(format!(
-                "bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\" or ((1, v0), (1, vn)), got \"{other}\""
+                "bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\", a pair of those but \"periodic\", or ((order, value), (order, value)) with order 1 or 2, got \"{other}\""
             )));
         }
+    })
+}
+
+/// SciPy's periodic spline on 2 points: equal points give the constant (the one periodic
+/// cubic through them), which is the spline clamped to slopes zero; elsewhere the condition
+/// itself (the fit checks it).
+fn scipy_periodic(x: &[f64], y: &[f64], dim: usize) -> Result<EndCondition, InputError> {
+    if x.len() != 2 || y.len() != 2 * dim {
+        return Ok(EndCondition::Periodic);
+    }
+    if y[..dim] != y[dim..] {
+        return Err(InputError::field(
+            "points",
+            "of a periodic spline must end where they start (2 points: equal)",
+        ));
+    }
+    Ok(EndCondition::Clamped {
+        start: vec![0.0; dim],
+        end: vec![0.0; dim],
     })
 }
 
@@ -714,8 +758,8 @@ fn fit<'py>(
     xs: Stack1<'py>,
     ys: Stack2<'py>,
     bc_type: &str,
-    start: Option<Vec<f64>>,
-    end: Option<Vec<f64>>,
+    start: EndArg,
+    end: EndArg,
 ) -> PyResult<Splines> {
     let (xs, ys) = (xs.items()?, ys.items()?);
     if xs.len() != ys.len() {
@@ -726,13 +770,16 @@ fn fit<'py>(
         )));
     }
     let dim = ys.first().map_or(1, |y| y.0);
-    let condition = condition(bc_type, start, end, dim)?;
+    let condition = condition(bc_type, &start, &end, dim)?;
     let tables = py
         .detach(|| {
             on_threads(xs.len(), |c| {
                 let (dim, y) = ys[c];
                 let condition = match condition {
                     EndCondition::NotAKnot => scipy_not_a_knot(xs[c], y, dim),
+                    EndCondition::Periodic => {
+                        scipy_periodic(xs[c], y, dim).map_err(|e| e.in_curve(c))?
+                    }
                     ref other => other.clone(),
                 };
                 if dim == 0 || dim > splinegpu::MAX_DIM {

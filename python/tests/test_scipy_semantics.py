@@ -1,4 +1,5 @@
-"""What SciPy users rely on without thinking, against SciPy itself: extrapolation (True, False,
+"""What SciPy users rely on without thinking, against SciPy itself: every bc_type form (second
+derivative ends, mixed ends, pairs of names, periodic on 2 points), extrapolation (True, False,
 "periodic", the spline's default and a call's override), the third derivative, read-only
 copies of x and c, and splines and contexts that pickle and deep-copy."""
 
@@ -12,7 +13,10 @@ import splinegpu
 
 interpolate = pytest.importorskip("scipy.interpolate")
 
-BC_TYPES = ["not-a-knot", "natural", "clamped", "periodic", ((1, 0.5), (1, -2.0))]
+BC_TYPES = ["not-a-knot", "natural", "clamped", "periodic", ((1, 0.5), (1, -2.0)),
+            ((2, 0.0), (2, 0.0)), ((2, 3.0), (2, -1.5)), ((1, 0.5), (2, 4.0)),
+            ((2, -2.0), (1, 1.0)), ("natural", "clamped"), ("clamped", "not-a-knot"),
+            ("not-a-knot", (2, 1.0)), ("natural", "not-a-knot"), ((1, 2.0), "natural")]
 
 
 def spline_data(bc, shape, seed):
@@ -52,7 +56,8 @@ def test_extrapolation_and_every_derivative_match_scipy(bc, shape, axis):
     x, y = spline_data(bc, shape, seed=len(str(bc)) + len(shape))
     if isinstance(bc, tuple):
         # SciPy wants the end values in y's trailing shape (ours broadcasts them).
-        bc = tuple((order, np.full(shape, value)) for order, value in bc)
+        bc = tuple(end if isinstance(end, str) else (end[0], np.full(shape, end[1]))
+                   for end in bc)
     y = np.moveaxis(y, 0, axis)
     q = queries(x, np.random.default_rng(3))
     for extrapolate in (None, True, False, "periodic"):
@@ -152,3 +157,34 @@ def test_a_damaged_pickle_is_refused_with_the_part_named():
         restore(cls, attributes, [(dim, knots[::-1].copy(), coeffs, extent)])
     with pytest.raises(ValueError, match=r'"coefficients" must have'):
         restore(cls, attributes, [(dim, knots, coeffs[:-1].copy(), extent)])
+
+
+def test_small_periodic_and_mixed_splines_are_scipys():
+    q = np.linspace(-1, 3, 41)
+    cases = [
+        ([0.0, 2.0], [1.5, 1.5], "periodic"),
+        ([0.0, 2.0], [[1.0, -1.0], [1.0, -1.0]], "periodic"),
+        ([0.0, 1.0], [0.0, 2.0], ((2, 1.0), (1, -3.0))),
+        ([0.0, 1.0, 2.5], [0.0, 2.0, 1.0], ("not-a-knot", (2, 1.0))),
+        ([0.0, 1.0], [0.0, 2.0], ("natural", "natural")),
+    ]
+    for x, y, bc in cases:
+        ours, theirs = splinegpu.CubicSpline(x, y, bc_type=bc), \
+            interpolate.CubicSpline(x, y, bc_type=bc)
+        for nu in range(4):
+            assert_scipy(ours(q, nu), theirs(q, nu), f"{x}, {bc}, nu={nu}")
+
+
+def test_bad_ends_are_refused_by_name():
+    x, y = np.arange(5.0), np.arange(5.0) ** 2
+    for bc, message in [
+        (("natural", "periodic"), "a pair of those but"),
+        (((3, 0.0), (1, 0.0)), "order at an end must be 1 or 2, got 3"),
+        (((2, np.nan), (1, 0.0)), r'"start_derivative" must be finite'),
+        (((2, [1.0, 2.0]), (1, 0.0)), "bc_type"),
+        (("natural",), "bc_type"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            splinegpu.CubicSpline(x, y, bc_type=bc)
+    with pytest.raises(ValueError, match="must end where they start"):
+        splinegpu.CubicSpline([0.0, 1.0], [0.0, 1.0], bc_type="periodic")
