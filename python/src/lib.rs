@@ -22,7 +22,8 @@ use splinegpu::PerPoint;
 use splinegpu::kinds::KindFields;
 use splinegpu::{
     Curve, CurveKind, Derivatives, End, EndCondition, Ends, EvalJob, Fitter, GpuContext,
-    InputError, Planes, Points, SampleFloat, SamplePlan, Samples, Sampling, SegmentTable,
+    HermiteSlopes, InputError, Planes, Points, SampleFloat, SamplePlan, Samples, Sampling,
+    SegmentTable,
 };
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -815,6 +816,57 @@ type TableState<'py> = (
     f64,
 );
 
+/// Fits one cubic Hermite spline per (x, y) pair: y an (n, m) array at the n strictly
+/// increasing x, its derivatives at the points given (`method` "given", `dydx` arrays like
+/// the ys) or by SciPy's rules for each column ("pchip", "akima", "makima").
+#[pyfunction]
+#[pyo3(signature = (xs, ys, method, dydx = None))]
+fn fit_hermite<'py>(
+    py: Python<'py>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    method: &str,
+    dydx: Option<Stack2<'py>>,
+) -> PyResult<Splines> {
+    let (xs, ys) = (xs.items()?, ys.items()?);
+    let dydx = dydx.as_ref().map(Stack2::items).transpose()?;
+    if xs.len() != ys.len() || dydx.as_ref().is_some_and(|d| d.len() != ys.len()) {
+        return Err(value_error(format!(
+            "{} x arrays for {} y arrays",
+            xs.len(),
+            ys.len()
+        )));
+    }
+    let tables = py
+        .detach(|| {
+            on_threads(xs.len(), |c| {
+                let (dim, y) = ys[c];
+                let slopes = match (method, &dydx) {
+                    ("given", Some(dydx)) => HermiteSlopes::Given(dydx[c].1.to_vec()),
+                    ("pchip", None) => HermiteSlopes::Pchip,
+                    ("akima", None) => HermiteSlopes::Akima,
+                    ("makima", None) => HermiteSlopes::Makima,
+                    _ => {
+                        return Err(InputError::field(
+                            "method",
+                            format!("\"{method}\" is not a way to form the derivatives"),
+                        ));
+                    }
+                };
+                let kind = CurveKind::Hermite {
+                    slopes,
+                    t: Some(xs[c].to_vec()),
+                };
+                let points = Points::new(dim, y.to_vec()).map_err(|e| e.in_curve(c))?;
+                Ok(Arc::new(
+                    Curve::new(kind, points).map_err(|e| e.in_curve(c))?.fit(),
+                ))
+            })
+        })
+        .map_err(value_error)?;
+    Ok(Splines { tables })
+}
+
 #[pymethods]
 impl Splines {
     /// Number of splines.
@@ -1095,6 +1147,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Context>()?;
     m.add_class::<Splines>()?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_hermite, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())

@@ -1,0 +1,155 @@
+"""`Context` (where splines are evaluated) and `Tessellation` (what `Context.tessellate`
+returns), and the shared CPU context that calls without a context use."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from . import _native
+from ._arrays import _count, _curves, _float64, _matrix, _order, _per_curve, _per_point, _rows
+
+_SAMPLINGS = ("per_segment", "at", "arc_length", "tolerance")
+
+
+class Tessellation:
+    """The samples of a `Context.tessellate` call.
+
+    Attributes: `t` (N,) float64; `points` (N, D); `d1`, `d2` (N, D) or None when not asked
+    for; `curve_offsets` (C + 1,) int64: curve c owns rows curve_offsets[c]:curve_offsets[c+1].
+    """
+
+    __slots__ = ("curve_offsets", "d1", "d2", "points", "t")
+
+    def __init__(self, t, points, d1, d2, curve_offsets):
+        self.t = t
+        self.points = points
+        self.d1 = d1
+        self.d2 = d2
+        self.curve_offsets = curve_offsets
+
+    def curve(self, c: int) -> Tessellation:
+        """Curve c's rows (views, no copy)."""
+        a, b = self.curve_offsets[c], self.curve_offsets[c + 1]
+        pick = lambda x: None if x is None else x[a:b]  # noqa: E731
+        return Tessellation(self.t[a:b], self.points[a:b], pick(self.d1), pick(self.d2),
+                            np.array([0, b - a], dtype=np.int64))
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def __repr__(self) -> str:
+        return (f"Tessellation({len(self.curve_offsets) - 1} curves, {len(self.t)} samples, "
+                f"points {self.points.dtype} {self.points.shape})")
+
+
+class Context:
+    """Where splines are evaluated: made once and reused (threads may share it).
+
+    `backend`: "auto" (a hardware GPU when there is one, else the CPU), "gpu" (any adapter,
+    lavapipe included; RuntimeError without one) or "cpu" (float64 on every thread).
+    """
+
+    def __init__(self, backend: str = "auto"):
+        self._native = _native.Context(backend)
+        self._requested = backend
+
+    def __reduce__(self):
+        # A context pickles as the backend asked for, and opens it again where it is unpickled
+        # (a Dask worker, a process pool): an adapter cannot travel.
+        return (Context, (self._requested,))
+
+    @property
+    def info(self) -> str:
+        """The adapter (or the CPU) this context evaluates on."""
+        return self._native.info
+
+    @property
+    def backend(self) -> str:
+        """"gpu" or "cpu"."""
+        return self._native.backend
+
+    def __repr__(self) -> str:
+        return f"splinegpu.Context({self.info!r})"
+
+    def tessellate(self, points, kind: str = "catmull-rom", *, ends: str | None = None,
+                   tension=None, bias=None, continuity=None,
+                   matrix=None, t=None, start_derivative=None, end_derivative=None,
+                   tangents=None, method: str | None = None, knots=None, weights=None,
+                   per_segment: int | None = None, at=None, arc_length: int | None = None,
+                   tolerance: float | None = None, derivatives: int = 0,
+                   out: Tessellation | None = None) -> Tessellation:
+        """Fits and samples a batch of curves of one kind.
+
+        `points`: a (C, n, D) array or a list of (n_i, D) arrays (ragged). `kind` and its fields
+        are the command line's (KIND_NAMES); `t`, `at` and the clamped derivatives are one array
+        for every curve, a 2-D array with a row per curve, or a list (ragged); hermite's
+        `tangents` are an (n, D) array for every curve, a (C, n, D) array or a list of (n_i, D)
+        arrays; akima's `method` is "akima" or "makima"; kochanek-bartels' `tension`,
+        `continuity` and `bias` are numbers, or per point: an (n,) array for every curve, a
+        (C, n) array or a list of arrays; nurbs' `knots` (n + 4 per curve) likewise. One sampling:
+        `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
+        (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
+        within 1e-5, so their t differ between backends in the low bits; tolerance t are the
+        same on both). `derivatives`: 0, 1 or 2 (d/dt). `out`: an earlier result of the same
+        shape, whose arrays are filled again instead of new ones.
+
+        Raises ValueError naming the curve, field and value for bad input.
+        """
+        curves = _curves(points)
+        given = [(name, v) for name, v in
+                 (("per_segment", per_segment), ("at", at), ("arc_length", arc_length),
+                  ("tolerance", tolerance)) if v is not None]
+        if len(given) > 1:
+            raise ValueError(f"sampling: give one of {', '.join(_SAMPLINGS)}, got "
+                             f"{', '.join(n for n, _ in given)}")
+        name, value = given[0] if given else ("per_segment", 16)
+        if name == "at":
+            value = _rows("at", value, len(curves))
+        elif name in ("per_segment", "arc_length"):
+            value = _count(name, value)
+        else:
+            value = float(_float64(value, "tolerance"))
+        fields = {
+            "ends": ends,
+            **_per_point("tension", tension, len(curves)),
+            **_per_point("continuity", continuity, len(curves)),
+            **_per_point("bias", bias, len(curves)),
+            "matrix": None if matrix is None else _matrix(matrix),
+            "t": _per_curve("t", t, len(curves), 1),
+            "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
+            "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
+            "tangents": _per_curve("tangents", tangents, len(curves), 2),
+            "method": None if method is None else str(method),
+            "knots": _per_curve("knots", knots, len(curves), 1),
+            "weights": _per_curve("weights", weights, len(curves), 1),
+        }
+        derivatives = _order("derivatives", derivatives, 2)
+        reuse = None
+        if out is not None:
+            for array, what, dtype in ((out.t, "t", np.float64),
+                                       (out.curve_offsets, "curve_offsets", np.int64)):
+                if not isinstance(array, np.ndarray) or array.dtype != dtype or array.ndim != 1:
+                    raise ValueError(f"out: {what} must be a 1-D {np.dtype(dtype)} array, got "
+                                     f"{getattr(array, 'dtype', type(array).__name__)}")
+            reuse = (out.t, out.points, out.d1, out.d2, out.curve_offsets)
+        result = self._native.tessellate(curves, kind, fields, (name, value), derivatives, reuse)
+        return Tessellation(*result)
+
+
+_shared_cpu: Context | None = None
+_shared_lock = threading.Lock()
+
+
+def _default_context() -> Context:
+    global _shared_cpu
+    with _shared_lock:
+        if _shared_cpu is None:
+            _shared_cpu = Context("cpu")
+        return _shared_cpu
+
+
+def _shared_context():
+    """The native half of `self.context`'s default, made once (a call takes no lock after)."""
+    return (_shared_cpu or _default_context())._native

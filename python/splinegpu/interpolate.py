@@ -1,0 +1,428 @@
+"""SciPy's 1-D cubic splines (`scipy.interpolate`'s names and signatures for the cubic case),
+fitted in float64 on the host and evaluated through a `Context`: `import
+splinegpu.interpolate as si` runs SciPy code unchanged where it is covered (python/README.md
+has the table of what is and how it differs).
+
+    >>> import numpy as np, splinegpu.interpolate as si
+    >>> x = np.linspace(0, 10, 11)
+    >>> s = si.PchipInterpolator(x, np.sqrt(x))
+    >>> float(s(2.5))  # doctest: +ELLIPSIS
+    1.57...
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from . import _native
+from ._arrays import _aligned, _flat, _float64, _order, _stacked
+from ._context import Context, _default_context, _shared_context
+
+__all__ = ["Akima1DInterpolator", "CubicHermiteSpline", "CubicSpline", "CubicSplines",
+           "PchipInterpolator", "pchip_interpolate"]
+
+# The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
+_MAX_COLUMNS = 64
+_F64 = np.dtype(np.float64)
+
+
+_END_NAMES = {"natural": "second", "clamped": "first", "not-a-knot": "not-a-knot"}
+
+
+def _bc(bc_type, trailing: tuple, complex_y: bool = False):
+    """SciPy's bc_type as (name, start, end) for the native fit: a name, "clamped" with first
+    derivatives at both ends, or "each" with every end on its own: (order name, values) where
+    order name is "first", "second" or "not-a-knot". Derivative values broadcast to y's
+    trailing shape, flattened as y is (for a complex y, real parts then imaginary parts)."""
+    if isinstance(bc_type, str):
+        return bc_type, None, None
+    wrong = ("bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\", a "
+             "pair of those but \"periodic\", or a pair of (order, value) with order 1 or 2, "
+             f"got {bc_type!r}")
+    try:
+        first, last = bc_type
+    except (TypeError, ValueError):
+        raise ValueError(wrong) from None
+
+    def flat(v):
+        v = np.asarray(v) if complex_y else _float64(v, "bc_type")
+        try:
+            v = np.broadcast_to(v, trailing).ravel()
+        except ValueError:
+            raise ValueError(f"bc_type: an end's value of shape {v.shape} does not broadcast "
+                             f"to y's other axes {trailing}") from None
+        return np.concatenate([v.real, v.imag]).tolist() if complex_y else v.tolist()
+
+    def end(spec):
+        if isinstance(spec, str):
+            if spec not in _END_NAMES:
+                raise ValueError(wrong)
+            return (_END_NAMES[spec], None)
+        try:
+            order, value = spec
+        except (TypeError, ValueError):
+            raise ValueError(wrong) from None
+        if isinstance(order, bool) or order not in (1, 2):
+            raise ValueError(f"bc_type: the derivative order at an end must be 1 or 2, got "
+                             f"{order!r}")
+        return ("first" if order == 1 else "second", flat(value))
+
+    start, end_ = end(first), end(last)
+    if start[0] == end_[0] == "first" and start[1] is not None and end_[1] is not None:
+        return "clamped", start, end_
+    return "each", start, end_
+
+
+def _extrapolate(value):
+    """SciPy's `extrapolate`: True, False or "periodic" (None: the spline's own)."""
+    if value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, str):
+        if value != "periodic":
+            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
+        return value
+    return bool(value)
+
+
+def _restore(cls, attributes: dict, state):
+    """A spline `__reduce__` saved: its attributes, and its tables restored bit for bit."""
+    spline = cls.__new__(cls)
+    spline.__dict__.update(attributes)
+    spline._native = _native.Splines.from_state(state)
+    return spline
+
+
+class _Piecewise:
+    """What every spline of this module shares: knots `x` (a read-only copy), the fitted
+    tables, SciPy's `extrapolate`, `axis` and `c`, calls with nu = 0 to 3, derivatives,
+    pickling. Its subclasses are the constructors."""
+
+    x: np.ndarray
+    axis: int
+    extrapolate: bool | str
+    context: Context | None
+    # The fitted tables (the extension's Splines), the coefficients and `c`, made once.
+    _native: Any
+    _pieces: np.ndarray | None
+    _c: np.ndarray | None
+    _complex: bool
+    _trailing: tuple
+
+    def _columns(self, x, y, axis, extrapolate, context, complex_ok: str | None = None):
+        """x as a read-only float64 copy and y as (n, m) float64 columns (axis `axis` first,
+        the other axes flattened; a complex y's real parts then its imaginary parts, refused
+        where `complex_ok` names the class that cannot take it), the attributes set."""
+        # A copy of x: the caller's array may change after the fit, the spline's knots may not.
+        x = np.array(_float64(x, "x"), order="C")
+        y = np.asarray(y)
+        self._complex = np.iscomplexobj(y)
+        if self._complex and complex_ok is not None:
+            raise ValueError(f"y: {complex_ok} only works with real values (as SciPy's)")
+        if x.ndim != 1:
+            raise ValueError(f"x: must be 1-D, got shape {x.shape}")
+        if x.shape[0] < 2:
+            raise ValueError(f"x: must contain at least 2 elements, got {x.shape[0]}")
+        if y.ndim == 0:
+            raise ValueError("y: must be at least 1-D, got a 0-d array")
+        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
+                -y.ndim <= axis < y.ndim):
+            raise ValueError(f"axis: must be an integer from {-y.ndim} to {y.ndim - 1} for a "
+                             f"{y.ndim}-D y, got {axis!r}")
+        # As SciPy does: a negative axis counts from the end, and is kept normalised.
+        axis = int(axis) % y.ndim
+        self._trailing = np.moveaxis(y, axis, 0).shape[1:]
+        y2 = self._as_columns(y, axis, "y")
+        if y2.shape[0] != x.shape[0]:
+            raise ValueError(f"y: {y2.shape[0]} values along axis {axis} for {x.shape[0]} x")
+        x.flags.writeable = False
+        self.x = x
+        self.axis = axis
+        self.extrapolate = extrapolate
+        self.context = context
+        self._pieces = None
+        self._c = None
+        return x, y2
+
+    def _as_columns(self, y, axis: int, name: str) -> np.ndarray:
+        """An array of y's shape (`name`: y, or dydx) as the fitted columns."""
+        y = np.moveaxis(np.asarray(y), axis, 0)
+        y2 = y.reshape(y.shape[0], -1)
+        if self._complex:
+            y2 = np.concatenate([y2.real, y2.imag], axis=1)
+        y2 = np.ascontiguousarray(_float64(y2, name))
+        if y2.shape[1] > _MAX_COLUMNS:
+            raise ValueError(f"{name}: at most {_MAX_COLUMNS} values per x are fitted together "
+                             f"(y's axes but `axis`, a complex y counting twice), got "
+                             f"{y2.shape[1]}")
+        return y2
+
+    def __reduce__(self):
+        attributes = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        attributes["_pieces"] = attributes["_c"] = None
+        return (_restore, (type(self), attributes, self._native.state()))
+
+    @property
+    def c(self) -> np.ndarray:
+        """Coefficients as SciPy's PPoly holds them: shape (4, n - 1) + y's other axes
+        (read-only: the spline does not follow changes to them)."""
+        if self._c is None:
+            c = self._joined(self._coefficients()).reshape((4, -1, *self._trailing))
+            c.flags.writeable = False
+            self._c = c
+        return self._c
+
+    def _coefficients(self) -> np.ndarray:
+        """The fitted columns' coefficients, (4, n - 1, m), made once."""
+        if self._pieces is None:
+            self._pieces = self._native.coefficients(0)
+        return self._pieces
+
+    def _joined(self, values: np.ndarray) -> np.ndarray:
+        """`values` (..., m) of the fitted columns as y's: for a complex y, the real parts'
+        columns and the imaginary parts' joined into complex numbers."""
+        if not self._complex:
+            return values
+        m = values.shape[-1] // 2
+        return values[..., :m] + 1j * values[..., m:]
+
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        """The nu-th derivative (0 to 3) at x; shape x.shape + y's other axes (moved to
+        `axis` as SciPy does). `extrapolate`: None (the spline's), True, False or
+        "periodic"."""
+        if nu.__class__ is not int or not 0 <= nu <= 2:
+            nu = _order("nu", nu, 3)
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        # The common call, a float64 array or a Python float, skips the general conversion.
+        if x.__class__ is np.ndarray and x.dtype == _F64 and x.flags.c_contiguous \
+                and x.flags.aligned:
+            flat = x.reshape(-1)
+        elif x.__class__ is float:
+            flat = np.array((x,))
+            x = flat.reshape(())
+        else:
+            x = _float64(x, "x")
+            flat = _flat(x, "x")
+        ctx = self.context
+        native = _shared_context() if ctx is None else ctx._native
+        values = None
+        if nu <= 2 and mode != "periodic":
+            try:
+                values = self._native.evaluate_one(native, flat, nu)
+            except ValueError:
+                # x outside the knots, or NaN: the general route below, which raises again
+                # where the reason is another.
+                pass
+        if values is None:
+            values = self._anywhere(native, flat, nu, mode)
+        if self._complex:
+            values = self._joined(values)
+        out = values.reshape(x.shape + self._trailing)
+        if self.axis != 0 and x.ndim > 0:
+            out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
+        return out
+
+    def _anywhere(self, native, flat: np.ndarray, nu: int, mode) -> np.ndarray:
+        """Derivative nu at any x, as (len(x), m) in the fitted columns: inside the knots
+        through the context (nu <= 2), elsewhere by the pieces (see `_by_pieces`); NaN outside
+        when `mode` is False, x wrapped into the knots when it is "periodic"."""
+        lo, hi = self.x[0], self.x[-1]
+        if mode == "periodic":
+            flat = lo + np.mod(flat - lo, hi - lo)
+        inside = (flat >= lo) & (flat <= hi)
+        dtype = np.float32 if native.backend == "gpu" else np.float64
+        out = np.empty((len(flat), self._coefficients().shape[2]), dtype=dtype)
+        if nu == 3:
+            out[...] = self._by_pieces(flat, 3)
+        else:
+            if inside.any():
+                out[inside] = self._native.evaluate_one(
+                    native, np.ascontiguousarray(flat[inside]), nu)
+            outside = ~inside
+            if outside.any():
+                out[outside] = self._by_pieces(flat[outside], nu)
+        if mode is False:
+            out[~inside] = np.nan
+        return out
+
+    def _by_pieces(self, x: np.ndarray, nu: int) -> np.ndarray:
+        """Derivative nu at x from `c` in float64, as SciPy's PPoly evaluates it: the piece
+        of the last knot at or below x (the first piece below x[0], the last at and above
+        x[-1]), in powers of x - x_i; NaN at NaN."""
+        c = self._coefficients()
+        i = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, c.shape[1] - 1)
+        dx = (x - self.x[i])[:, None]
+        a, b, cc, d = c[0, i], c[1, i], c[2, i], c[3, i]
+        if nu == 0:
+            return d + dx * (cc + dx * (b + dx * a))
+        if nu == 1:
+            return cc + dx * (2 * b + dx * 3 * a)
+        if nu == 2:
+            return 2 * b + dx * 6 * a
+        return 6 * a + 0 * dx
+
+    def derivative(self, nu: int = 1) -> _Derivative:
+        """The nu-th derivative (1 to 3) as a callable with `.x` and `.c` (SciPy returns a
+        PPoly)."""
+        return _Derivative(self, nu)
+
+
+class CubicSpline(_Piecewise):
+    """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot", extrapolate=None)`:
+    bc_type "not-a-knot", "natural", "clamped", "periodic" (on 2 points too), or a pair of
+    ends, each "not-a-knot", "natural", "clamped" or (order, value) with order 1 or 2 (a
+    first or second derivative, value broadcast to y's other axes).
+
+    Fitted in float64 on the host (O(n)); evaluated through `context` (None: a shared CPU
+    context, float64; a GPU context gives float32 values within the crate's promise).
+    `extrapolate` is SciPy's: True (the end pieces continue past the knots), False (NaN outside
+    [x[0], x[-1]]) or "periodic" (x wrapped into it); None means "periodic" for a periodic
+    bc_type, else True; a call may override it. Derivatives nu = 0 to 3; the third, piecewise
+    constant, is formed from `c` in float64 on either backend, and so are values outside the
+    knots. Like SciPy's, "not-a-knot" on 2 or 3 points gives the line or the parabola through
+    them, and a complex y gives a complex spline (its real and imaginary parts fitted apart,
+    the fit being linear in y). Splines pickle and deep-copy (their fitted tables, bit for bit,
+    and their context as its backend choice), so they travel to Dask workers and process pools.
+
+    Differences from SciPy: `x` and `c` are read-only (the fit is not redone when they
+    change, so writing raises instead of being ignored); nu > 3 is refused; the object is not
+    a `PPoly`.
+    """
+
+    def __init__(self, x, y, axis: int = 0, bc_type="not-a-knot", extrapolate=None,
+                 context: Context | None = None):
+        extrapolate = _extrapolate(extrapolate)
+        if extrapolate is None:
+            extrapolate = "periodic" if isinstance(bc_type, str) and bc_type == "periodic" \
+                else True
+        x, y2 = self._columns(x, y, axis, extrapolate, context)
+        name, start, end = _bc(bc_type, self._trailing, self._complex)
+        self._native = _native.fit([x], [y2], name, start, end)
+
+
+class CubicHermiteSpline(_Piecewise):
+    """`scipy.interpolate.CubicHermiteSpline(x, y, dydx, axis=0, extrapolate=None)`: the
+    cubic through every point with the derivative `dydx` there (y's shape; complex with a
+    complex y). As `CubicSpline` in everything else; `extrapolate` None means True."""
+
+    def __init__(self, x, y, dydx, axis: int = 0, extrapolate=None,
+                 context: Context | None = None):
+        extrapolate = _extrapolate(extrapolate)
+        x, y2 = self._columns(x, y, axis, True if extrapolate is None else extrapolate, context)
+        dydx = np.asarray(dydx)
+        if dydx.shape != np.shape(y):
+            raise ValueError(f"dydx: must have y's shape {np.shape(y)}, got {dydx.shape}")
+        if np.iscomplexobj(dydx) and not self._complex:
+            raise ValueError("dydx: complex values with a real y (make y complex too)")
+        slopes = self._as_columns(dydx, self.axis, "dydx")
+        self._native = _native.fit_hermite([x], [y2], "given", [slopes])
+
+
+class PchipInterpolator(_Piecewise):
+    """`scipy.interpolate.PchipInterpolator(x, y, axis=0, extrapolate=None)`: monotone cubic
+    interpolation (Fritsch-Carlson-Butland slopes, SciPy's ends), each of y's columns on its
+    own; real y only, as SciPy's. As `CubicSpline` in everything else; `extrapolate` None
+    means True."""
+
+    def __init__(self, x, y, axis: int = 0, extrapolate=None, context: Context | None = None):
+        extrapolate = _extrapolate(extrapolate)
+        x, y2 = self._columns(x, y, axis, True if extrapolate is None else extrapolate, context,
+                              complex_ok="PchipInterpolator")
+        self._native = _native.fit_hermite([x], [y2], "pchip", None)
+
+
+class Akima1DInterpolator(_Piecewise):
+    """`scipy.interpolate.Akima1DInterpolator(x, y, axis=0, *, method="akima",
+    extrapolate=None)`: Akima's slopes, or the modified ("makima") ones, each of y's columns
+    on its own; real y only, as SciPy's. As `CubicSpline` in everything else; `extrapolate`
+    None means False, as SciPy's."""
+
+    def __init__(self, x, y, axis: int = 0, *, method: str = "akima", extrapolate=None,
+                 context: Context | None = None):
+        if method not in ("akima", "makima"):
+            raise ValueError(f"method: must be \"akima\" or \"makima\", got {method!r}")
+        extrapolate = _extrapolate(extrapolate)
+        x, y2 = self._columns(x, y, axis, False if extrapolate is None else extrapolate,
+                              context, complex_ok="Akima1DInterpolator")
+        self._native = _native.fit_hermite([x], [y2], method, None)
+
+
+def pchip_interpolate(xi, yi, x, der=0, axis: int = 0):
+    """`scipy.interpolate.pchip_interpolate(xi, yi, x, der=0, axis=0)`: the PCHIP through
+    (xi, yi) at x, derivative `der` (an order, or a list of orders for a list of arrays)."""
+    spline = PchipInterpolator(xi, yi, axis=axis)
+    if isinstance(der, (list, tuple, np.ndarray)):
+        return [spline(x, int(nu)) for nu in der]
+    return spline(x, der)
+
+
+class _Derivative:
+    """A derivative of a spline of this module: evaluated through its spline."""
+
+    def __init__(self, spline: _Piecewise, nu: int):
+        nu = _order("nu", nu, 3)
+        self._spline, self._nu = spline, nu
+        self.x = spline.x
+
+    @property
+    def c(self) -> np.ndarray:
+        c = self._spline.c
+        for _ in range(self._nu):
+            k = c.shape[0]
+            powers = np.arange(k - 1, 0, -1).reshape((k - 1,) + (1,) * (c.ndim - 1))
+            c = c[:-1] * powers
+        return c
+
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        return self._spline(x, self._nu + _order("nu", nu, 3 - self._nu), extrapolate)
+
+
+class CubicSplines:
+    """Many cubic splines with their own knots, fitted and evaluated in one batch.
+
+    `xs`: a list of 1-D knot arrays (or a 2-D array, one row per spline); `ys`: matching
+    (n_i, m) arrays. Calling with one array of x per spline returns (values (N, m),
+    offsets (S + 1,)): spline i's values are rows offsets[i]:offsets[i+1].
+    """
+
+    def __init__(self, xs, ys, bc_type="not-a-knot", context: Context | None = None):
+        xs, ys = _stacked(xs, xs), _stacked(ys, ys)
+        if isinstance(xs, np.ndarray) and xs.ndim == 2:
+            xs = _aligned(xs, "xs")
+        else:
+            xs = [_flat(x, "xs") for x in xs]
+        # One (S, n, m) array, or a list of (n_i, m) arrays.
+        ys2: Any
+        if isinstance(ys, np.ndarray) and ys.ndim >= 2:
+            trailing = ys.shape[2:]
+            ys2 = _aligned(_float64(ys, "ys").reshape(ys.shape[0], ys.shape[1], -1), "ys")
+        else:
+            ys = [_float64(y, "ys") for y in ys]
+            trailing = ys[0].shape[1:] if ys else ()
+            for i, y in enumerate(ys):
+                if y.ndim == 0 or y.shape[1:] != trailing:
+                    raise ValueError(f"ys[{i}]: every spline's values must have the shape "
+                                     f"(n_i,) + {trailing}, got {y.shape}")
+            ys2 = [_aligned(y.reshape(len(y), -1), "ys") for y in ys]
+        name, start, end = _bc(bc_type, trailing)
+        self._native = _native.fit(xs, ys2, name, start, end)
+        self.context = context
+
+    def __reduce__(self):
+        # As a CubicSpline's: the fitted tables bit for bit, the context as its backend.
+        return (_restore, (type(self), {"context": self.context}, self._native.state()))
+
+    def __len__(self) -> int:
+        return len(self._native)
+
+    def __call__(self, xs: Sequence[Any], nu: int = 0):
+        """Spline i at xs[i] (a list of arrays, or a (S, k) array) -> (values, offsets)."""
+        xs = _stacked(xs, xs)
+        if isinstance(xs, np.ndarray) and xs.ndim == 2:
+            flat = _aligned(xs, "xs")
+        else:
+            flat = [_flat(x, "xs") for x in xs]
+        ctx = self.context or _default_context()
+        return self._native.evaluate(ctx._native, flat, _order("nu", nu, 2))
