@@ -21,8 +21,9 @@ from . import _native
 from ._arrays import _aligned, _flat, _float64, _order, _stacked
 from ._context import Context, _default_context, _shared_context
 
-__all__ = ["Akima1DInterpolator", "CubicHermiteSpline", "CubicSpline", "CubicSplines",
-           "PchipInterpolator", "pchip_interpolate"]
+__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "CubicHermiteSpline",
+           "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PchipInterpolator",
+           "PchipInterpolators", "pchip_interpolate"]
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
@@ -379,15 +380,19 @@ class _Derivative:
         return self._spline(x, self._nu + _order("nu", nu, 3 - self._nu), extrapolate)
 
 
-class CubicSplines:
-    """Many cubic splines with their own knots, fitted and evaluated in one batch.
+class _Batch:
+    """Many splines with their own knots, fitted and evaluated in one batch: `xs` a list of
+    1-D knot arrays (or a 2-D array, one row per spline), `ys` matching (n_i, m) arrays (or an
+    (S, n, m) array). Calling with one array of x per spline returns (values (N, m),
+    offsets (S + 1,)): spline i's values are rows offsets[i]:offsets[i+1], every spline in one
+    call on the context. Its subclasses are the constructors."""
 
-    `xs`: a list of 1-D knot arrays (or a 2-D array, one row per spline); `ys`: matching
-    (n_i, m) arrays. Calling with one array of x per spline returns (values (N, m),
-    offsets (S + 1,)): spline i's values are rows offsets[i]:offsets[i+1].
-    """
+    context: Context | None
+    _native: Any
 
-    def __init__(self, xs, ys, bc_type="not-a-knot", context: Context | None = None):
+    @staticmethod
+    def _arrays(xs, ys, name: str = "ys"):
+        """xs and ys as the extension takes them, and ys' trailing shape (its values per x)."""
         xs, ys = _stacked(xs, xs), _stacked(ys, ys)
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
             xs = _aligned(xs, "xs")
@@ -397,28 +402,27 @@ class CubicSplines:
         ys2: Any
         if isinstance(ys, np.ndarray) and ys.ndim >= 2:
             trailing = ys.shape[2:]
-            ys2 = _aligned(_float64(ys, "ys").reshape(ys.shape[0], ys.shape[1], -1), "ys")
+            ys2 = _aligned(_float64(ys, name).reshape(ys.shape[0], ys.shape[1], -1), name)
         else:
-            ys = [_float64(y, "ys") for y in ys]
+            ys = [_float64(y, name) for y in ys]
             trailing = ys[0].shape[1:] if ys else ()
             for i, y in enumerate(ys):
                 if y.ndim == 0 or y.shape[1:] != trailing:
-                    raise ValueError(f"ys[{i}]: every spline's values must have the shape "
+                    raise ValueError(f"{name}[{i}]: every spline's values must have the shape "
                                      f"(n_i,) + {trailing}, got {y.shape}")
-            ys2 = [_aligned(y.reshape(len(y), -1), "ys") for y in ys]
-        name, start, end = _bc(bc_type, trailing)
-        self._native = _native.fit(xs, ys2, name, start, end)
-        self.context = context
+            ys2 = [_aligned(y.reshape(len(y), -1), name) for y in ys]
+        return xs, ys2, trailing
 
     def __reduce__(self):
-        # As a CubicSpline's: the fitted tables bit for bit, the context as its backend.
+        # As a single spline's: the fitted tables bit for bit, the context as its backend.
         return (_restore, (type(self), {"context": self.context}, self._native.state()))
 
     def __len__(self) -> int:
         return len(self._native)
 
     def __call__(self, xs: Sequence[Any], nu: int = 0):
-        """Spline i at xs[i] (a list of arrays, or a (S, k) array) -> (values, offsets)."""
+        """Spline i at xs[i] (a list of arrays, or a (S, k) array), derivative nu (0 to 2)
+        -> (values, offsets). Every x must lie within its spline's knots."""
         xs = _stacked(xs, xs)
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
             flat = _aligned(xs, "xs")
@@ -426,3 +430,43 @@ class CubicSplines:
             flat = [_flat(x, "xs") for x in xs]
         ctx = self.context or _default_context()
         return self._native.evaluate(ctx._native, flat, _order("nu", nu, 2))
+
+
+class CubicSplines(_Batch):
+    """Many `CubicSpline`s (any `bc_type` form, the same for all) in one batch; see `_Batch`."""
+
+    def __init__(self, xs, ys, bc_type="not-a-knot", context: Context | None = None):
+        xs, ys2, trailing = self._arrays(xs, ys)
+        name, start, end = _bc(bc_type, trailing)
+        self._native = _native.fit(xs, ys2, name, start, end)
+        self.context = context
+
+
+class CubicHermiteSplines(_Batch):
+    """Many `CubicHermiteSpline`s in one batch: `dydxs` shaped as `ys`; see `_Batch`."""
+
+    def __init__(self, xs, ys, dydxs, context: Context | None = None):
+        xs, ys2, _ = self._arrays(xs, ys)
+        _, slopes, _ = self._arrays(xs, dydxs, "dydxs")
+        self._native = _native.fit_hermite(xs, ys2, "given", slopes)
+        self.context = context
+
+
+class PchipInterpolators(_Batch):
+    """Many `PchipInterpolator`s in one batch; see `_Batch`."""
+
+    def __init__(self, xs, ys, context: Context | None = None):
+        xs, ys2, _ = self._arrays(xs, ys)
+        self._native = _native.fit_hermite(xs, ys2, "pchip", None)
+        self.context = context
+
+
+class Akima1DInterpolators(_Batch):
+    """Many `Akima1DInterpolator`s (one `method` for all) in one batch; see `_Batch`."""
+
+    def __init__(self, xs, ys, *, method: str = "akima", context: Context | None = None):
+        if method not in ("akima", "makima"):
+            raise ValueError(f"method: must be \"akima\" or \"makima\", got {method!r}")
+        xs, ys2, _ = self._arrays(xs, ys)
+        self._native = _native.fit_hermite(xs, ys2, method, None)
+        self.context = context

@@ -133,3 +133,31 @@ def test_the_classes_pickle_and_refuse_what_scipys_refuse(cpu):
     with pytest.raises(ValueError, match=r'"t" must be strictly increasing'):
         si.PchipInterpolator(x[::-1], y)
     assert splinegpu.CubicSpline is si.CubicSpline
+
+
+def test_batches_equal_their_single_splines_on_ragged_knots(cpu):
+    rng = np.random.default_rng(21)
+    xs = [np.cumsum(10 ** rng.uniform(-2, 2, n)) for n in rng.integers(2, 40, 30)]
+    ys = [rng.uniform(-1, 1, (len(x), 3)) for x in xs]
+    dydxs = [rng.uniform(-1, 1, (len(x), 3)) for x in xs]
+    qs = [rng.uniform(x[0], x[-1], rng.integers(0, 50)) for x in xs]
+    batches = [
+        (si.PchipInterpolators(xs, ys), lambda x, y, d: si.PchipInterpolator(x, y)),
+        (si.Akima1DInterpolators(xs, ys, method="makima"),
+         lambda x, y, d: si.Akima1DInterpolator(x, y, method="makima")),
+        (si.CubicHermiteSplines(xs, ys, dydxs, context=cpu),
+         lambda x, y, d: si.CubicHermiteSpline(x, y, d)),
+        (si.CubicSplines(xs, ys, bc_type=("natural", (1, 0.5))),
+         lambda x, y, d: si.CubicSpline(x, y, bc_type=("natural", (1, 0.5)))),
+    ]
+    for batch, single in batches:
+        assert len(batch) == len(xs)
+        for nu in range(3):
+            values, offsets = batch(qs, nu)
+            for i, (x, y, d, q) in enumerate(zip(xs, ys, dydxs, qs)):
+                np.testing.assert_array_equal(values[offsets[i]:offsets[i + 1]],
+                                              single(x, y, d)(q, nu))
+        again = pickle.loads(pickle.dumps(batch))
+        np.testing.assert_array_equal(again(qs)[0], batch(qs)[0])
+    with pytest.raises(ValueError, match="curve 3"):
+        si.PchipInterpolators([*xs[:3], xs[3][::-1]], ys[:4])
