@@ -161,3 +161,36 @@ def test_batches_equal_their_single_splines_on_ragged_knots(cpu):
         np.testing.assert_array_equal(again(qs)[0], batch(qs)[0])
     with pytest.raises(ValueError, match="curve 3"):
         si.PchipInterpolators([*xs[:3], xs[3][::-1]], ys[:4])
+
+
+@pytest.mark.parametrize("shape", [(), (2, 3)])
+def test_integrals_are_scipys_in_every_extrapolate_mode(shape):
+    x, y, _ = data(shape, seed=31 + len(shape))
+    periodic_y = y.copy()
+    periodic_y[-1] = periodic_y[0]
+    lo, hi = x[0], x[-1]
+    span = hi - lo
+    bounds = [(lo, hi), (hi, lo), (x[3], x[3]), (x[2] + 0.3, x[7] - 0.1), (lo - span / 3, x[4]),
+              (x[5], hi + span / 2), (lo - 2.5 * span, hi + 1.7 * span), (hi + 1, lo - 4 * span)]
+    splines = [
+        (si.CubicSpline(x, periodic_y, bc_type="periodic"),
+         interpolate.CubicSpline(x, periodic_y, bc_type="periodic")),
+        (si.CubicSpline(x, y * (1 - 2j), bc_type=((2, 1.0), "not-a-knot")),
+         interpolate.CubicSpline(x, y * (1 - 2j),
+                                 bc_type=((2, np.full(shape, 1.0)), "not-a-knot"))),
+        (si.PchipInterpolator(x, y), interpolate.PchipInterpolator(x, y)),
+        (si.Akima1DInterpolator(x, y, method="makima"),
+         interpolate.Akima1DInterpolator(x, y, method="makima")),
+    ]
+    for ours, theirs in splines:
+        for extrapolate in (None, True, False, "periodic"):
+            for a, b in bounds:
+                got = ours.integrate(a, b, extrapolate=extrapolate)
+                want = theirs.integrate(a, b, extrapolate=extrapolate)
+                # Within 1e-12 of the integral of the largest value over the interval, or
+                # of the integral itself (the end pieces grow far past the knots).
+                scale = np.abs(y).max() * max(abs(b - a), span)
+                np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * scale,
+                                           equal_nan=True,
+                                           err_msg=f"{type(ours).__name__} {extrapolate} "
+                                                   f"[{a}, {b}]")
