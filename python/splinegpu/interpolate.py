@@ -20,9 +20,10 @@ import numpy as np
 from . import _native
 from ._arrays import _aligned, _flat, _float64, _order, _stacked
 from ._context import Context, _default_context, _shared_context
+from ._ppoly import PPoly
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "CubicHermiteSpline",
-           "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PchipInterpolator",
+           "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
            "PchipInterpolators", "pchip_interpolate"]
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
@@ -268,6 +269,23 @@ class _Piecewise:
         """The nu-th derivative (1 to 3) as a callable with `.x` and `.c` (SciPy returns a
         PPoly)."""
         return _Derivative(self, nu)
+
+    def ppoly(self) -> PPoly:
+        """The spline as a `PPoly` (its `c`, `x`, `extrapolate` and `axis`; SciPy's classes
+        are PPoly subclasses, these convert)."""
+        return PPoly._made(self.c.copy(), self.x, self.extrapolate, self.axis)
+
+    def antiderivative(self, nu: int = 1) -> PPoly:
+        """The nu-th antiderivative as a `PPoly` of degree 3 + nu, as SciPy's."""
+        return self.ppoly().antiderivative(nu)
+
+    def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
+        """The x where the spline equals y, as SciPy's (see `PPoly.solve`)."""
+        return self.ppoly().solve(y, discontinuity, extrapolate)
+
+    def roots(self, discontinuity: bool = True, extrapolate=None):
+        """The spline's zeros, as SciPy's (see `PPoly.solve`)."""
+        return self.ppoly().roots(discontinuity, extrapolate)
 
     def integrate(self, a, b, extrapolate=None) -> np.ndarray:
         """The integral from a to b (b < a: its negative), shape y's other axes, in float64

@@ -1,0 +1,318 @@
+"""`PPoly`: SciPy's piecewise polynomial in the power basis, any degree, evaluated in NumPy
+(float64 or complex128) on the CPU. The cubic splines of `splinegpu.interpolate` turn into one
+for what SciPy answers through PPoly: antiderivatives (of degree 4 and up), roots and solve.
+
+Piece i on [x_i, x_{i+1}] is sum_m c[m, i] (x - x_i)^(k-1-m), the highest power first, as
+SciPy holds it. Where SciPy's x may also descend, this PPoly's must increase (a ValueError
+names it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _extrapolate(value):
+    """SciPy's `extrapolate`: True, False or "periodic" (None: the object's own)."""
+    if value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, str):
+        if value != "periodic":
+            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
+        return value
+    return bool(value)
+
+
+class PPoly:
+    """`scipy.interpolate.PPoly(c, x, extrapolate=None, axis=0)`: c of shape (k, m, ...)
+    (with `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing
+    breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0, `derivative`,
+    `antiderivative`, `integrate`, `solve`, `roots` and `extend` answer as SciPy's (roots by
+    the eigenvalues of each piece's companion matrix, as SciPy finds them, refined by one
+    Newton step). Evaluated in NumPy on the CPU."""
+
+    def __init__(self, c, x, extrapolate=None, axis: int = 0):
+        c = np.asarray(c)
+        if c.dtype.kind not in "biufc":
+            raise TypeError(f"c: must be numbers, got an array of {c.dtype}")
+        c = np.array(c, dtype=np.complex128 if c.dtype.kind == "c" else np.float64)
+        x = np.array(x, dtype=np.float64)
+        if c.ndim < 2:
+            raise ValueError(f"c: must have at least 2 dimensions (k, m, ...), got {c.ndim}")
+        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
+                0 <= axis < c.ndim - 1):
+            raise ValueError(f"axis: must be an integer from 0 to {c.ndim - 2}, got {axis!r}")
+        # As SciPy's: with axis a, c's k and m are its axes a and a + 1; held as (k, m, ...).
+        c = np.moveaxis(np.moveaxis(c, axis + 1, 0), axis + 1, 0)
+        if x.ndim != 1 or len(x) < 2:
+            raise ValueError(f"x: must be 1-D with at least 2 breakpoints, got shape {x.shape}")
+        if c.shape[0] == 0:
+            raise ValueError("c: the polynomial order must be at least 0 (k >= 1)")
+        if c.shape[1] != len(x) - 1:
+            raise ValueError(f"c: {c.shape[1]} pieces for {len(x)} breakpoints (wants "
+                             f"{len(x) - 1})")
+        if not np.all(np.isfinite(x)) or np.any(np.diff(x) <= 0):
+            raise ValueError("x: must be finite and strictly increasing")
+        self.c, self.x = np.ascontiguousarray(c), x
+        self.axis = int(axis)
+        extrapolate = _extrapolate(extrapolate)
+        self.extrapolate = True if extrapolate is None else extrapolate
+
+    @classmethod
+    def _made(cls, c, x, extrapolate, axis) -> PPoly:
+        poly = cls.__new__(cls)
+        poly.c, poly.x, poly.extrapolate, poly.axis = c, x, extrapolate, axis
+        return poly
+
+    def _columns(self) -> np.ndarray:
+        """c as (k, m, columns)."""
+        return self.c.reshape(self.c.shape[0], self.c.shape[1], -1)
+
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        """Derivative nu (>= 0) at x, shape x.shape + c.shape[2:] (x's axes moved to `axis`);
+        NaN at NaN, and outside the breakpoints when extrapolate is False."""
+        if isinstance(nu, bool) or not isinstance(nu, (int, np.integer)) or nu < 0:
+            raise ValueError(f"nu: must be an integer >= 0, got {nu!r}")
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        x = np.asarray(x, dtype=np.float64)
+        flat = x.ravel()
+        lo, hi = self.x[0], self.x[-1]
+        if mode == "periodic":
+            flat = lo + np.mod(flat - lo, hi - lo)
+        c = self._columns()
+        for _ in range(nu):
+            c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
+        i = np.clip(np.searchsorted(self.x, flat, side="right") - 1, 0, c.shape[1] - 1)
+        dx = (flat - self.x[i])[:, None]
+        out = np.zeros((len(flat), c.shape[2]), dtype=c.dtype)
+        for m in range(c.shape[0]):
+            out = out * dx + c[m, i]
+        if mode is False:
+            out[~((flat >= lo) & (flat <= hi))] = np.nan
+        out[np.isnan(flat)] = np.nan
+        out = out.reshape(x.shape + self.c.shape[2:])
+        if self.axis != 0 and x.ndim > 0:
+            axes = list(range(out.ndim))
+            axes = axes[x.ndim:x.ndim + self.axis] + axes[:x.ndim] + axes[x.ndim + self.axis:]
+            out = out.transpose(axes)
+        return out
+
+    def derivative(self, nu: int = 1) -> PPoly:
+        """The nu-th derivative as a PPoly (nu < 0: the antiderivative)."""
+        if nu < 0:
+            return self.antiderivative(-nu)
+        c = self.c
+        for _ in range(nu):
+            shape = (c.shape[0] - 1,) + (1,) * (c.ndim - 1)
+            c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1).reshape(shape)
+        if c.shape[0] == 0:
+            c = np.zeros((1, *self.c.shape[1:]), dtype=self.c.dtype)
+        return self._made(c, self.x, self.extrapolate, self.axis)
+
+    def antiderivative(self, nu: int = 1) -> PPoly:
+        """The nu-th antiderivative (zero at x[0], continuous with its nu - 1 derivatives) as
+        a PPoly of degree k - 1 + nu; a periodic extrapolation becomes False, as SciPy's."""
+        if nu <= 0:
+            return self.derivative(-nu)
+        k = self.c.shape[0]
+        c = np.zeros((k + nu, *self.c.shape[1:]), dtype=self.c.dtype)
+        # Term m (power k - 1 - m) gains nu powers: divided by (p + 1)(p + 2)...(p + nu).
+        powers = np.arange(k - 1, -1, -1)
+        factor = np.ones(k)
+        for j in range(1, nu + 1):
+            factor *= powers + j
+        c[:k] = self.c / factor.reshape((k,) + (1,) * (self.c.ndim - 1))
+        # The new low-order terms of each piece continue the previous piece's values and
+        # derivatives up to nu - 1 at their shared breakpoint (the first piece's are zero).
+        flat = c.reshape(c.shape[0], c.shape[1], -1)
+        for i in range(1, flat.shape[1]):
+            h = self.x[i] - self.x[i - 1]
+            for d in range(nu - 1, -1, -1):
+                value = _derivative_at(flat[:, i - 1], h, d)
+                flat[k + nu - 1 - d, i] = value / _factorial(d)
+        extrapolate = False if self.extrapolate == "periodic" else self.extrapolate
+        return self._made(c, self.x, extrapolate, self.axis)
+
+    def integrate(self, a, b, extrapolate=None) -> np.ndarray:
+        """The integral from a to b, shape c.shape[2:], as SciPy's (see
+        `splinegpu.interpolate.CubicSpline.integrate`)."""
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        a, b = float(a), float(b)
+        sign = 1.0
+        if b < a:
+            a, b, sign = b, a, -1.0
+        lo, hi = self.x[0], self.x[-1]
+        primitive = self.antiderivative()
+
+        def g(t: float) -> np.ndarray:
+            return primitive(t, extrapolate=True)
+
+        if mode == "periodic":
+            period = hi - lo
+            periods, left = divmod(b - a, period)
+            total = periods * (g(hi) - g(lo))
+            a = lo + (a - lo) % period
+            if a + left <= hi:
+                total = total + g(a + left) - g(a)
+            else:
+                total = total + (g(hi) - g(a) + g(lo + left + a - hi) - g(lo))
+        elif mode is False and not (lo <= a and b <= hi):
+            total = np.full(self.c.shape[2:], np.nan)
+        else:
+            total = g(b) - g(a)
+        return sign * np.asarray(total)
+
+    def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
+        """The x where the polynomial equals y, as SciPy finds them: per piece the real roots
+        of its polynomial minus y (companion-matrix eigenvalues from degree 3, closed forms
+        below), refined by one Newton step, kept inside the piece (the first and last pieces
+        half-open outward when extrapolating; "periodic" extrapolates, as SciPy's), a
+        repeated value once; a piece equal to y everywhere gives its start and NaN; with
+        `discontinuity`, a breakpoint where the value jumps across y. One array for a 1-D
+        polynomial, else an object array of them, shape c.shape[2:]."""
+        if np.iscomplexobj(self.c):
+            raise ValueError("Root finding is only for real-valued polynomials")
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        y = float(y)
+        c = self._columns()
+        found = [_real_roots(c[:, :, j], self.x, y, bool(discontinuity), bool(mode))
+                 for j in range(c.shape[2])]
+        if self.c.ndim == 2:
+            return found[0]
+        out = np.empty(len(found), dtype=object)
+        for j, roots in enumerate(found):
+            out[j] = roots
+        return out.reshape(self.c.shape[2:])
+
+    def roots(self, discontinuity: bool = True, extrapolate=None):
+        """`solve(0, ...)`."""
+        return self.solve(0.0, discontinuity, extrapolate)
+
+    def extend(self, c, x) -> None:
+        """Adds pieces c (k', m', ...) on the right (x[0] >= self.x[-1]) or the left
+        (x[-1] <= self.x[0]) with breakpoints x (m' values: the new pieces' far ends), as
+        SciPy's `extend`."""
+        c, x = np.asarray(c), np.asarray(x, dtype=np.float64)
+        if c.ndim != self.c.ndim or c.shape[2:] != self.c.shape[2:]:
+            raise ValueError(f"c: shape {c.shape} does not match the polynomial's "
+                             f"{self.c.shape}")
+        if x.ndim != 1 or x.shape[0] != c.shape[1]:
+            raise ValueError(f"x: must be 1-D with one breakpoint per new piece "
+                             f"({c.shape[1]}), got shape {x.shape}")
+        if c.size == 0:
+            return
+        if np.any(np.diff(x) <= 0):
+            raise ValueError("x: must be strictly increasing")
+        if x[0] > self.x[-1]:
+            right = True
+        elif x[-1] < self.x[0]:
+            right = False
+        else:
+            raise ValueError("x: must lie wholly to the right or to the left of the "
+                             "breakpoints")
+        dtype = np.result_type(self.c, c)
+        k = max(c.shape[0], self.c.shape[0])
+        merged = np.zeros((k, self.c.shape[1] + c.shape[1], *self.c.shape[2:]), dtype=dtype)
+        old, new = (slice(0, self.c.shape[1]), slice(self.c.shape[1], None)) if right else \
+            (slice(c.shape[1], None), slice(0, c.shape[1]))
+        merged[k - self.c.shape[0]:, old] = self.c
+        merged[k - c.shape[0]:, new] = c
+        self.c = merged
+        self.x = np.concatenate([self.x, x] if right else [x, self.x])
+
+
+def _factorial(d: int) -> float:
+    out = 1.0
+    for j in range(2, d + 1):
+        out *= j
+    return out
+
+
+def _derivative_at(piece: np.ndarray, s: float, d: int) -> np.ndarray:
+    """Derivative d of one piece's polynomial (coefficients (k, columns), highest power
+    first) at s."""
+    k = piece.shape[0]
+    out = np.zeros(piece.shape[1:], dtype=piece.dtype)
+    for m in range(k - d):
+        p = k - 1 - m
+        factor = 1.0
+        for j in range(d):
+            factor *= p - j
+        out = out * s + piece[m] * factor
+    return out
+
+
+def _piece_roots(a: np.ndarray, y: float):
+    """The complex roots (real parts, imaginary parts) of one piece's polynomial minus y,
+    `a` highest power first; None where it equals y everywhere."""
+    nonzero = np.flatnonzero(a != 0)
+    order = len(a) - 1 - nonzero[0] if len(nonzero) else -1
+    if order < 0:
+        return None if y == 0 else (np.array([]), np.array([]))
+    if order == 0:
+        return None if a[-1] == y else (np.array([]), np.array([]))
+    a = a[len(a) - 1 - order:].astype(np.float64)
+    a[-1] -= y
+    if order == 1:
+        return np.array([-a[1] / a[0]]), np.zeros(1)
+    if order == 2:
+        d = a[1] * a[1] - 4 * a[0] * a[2]
+        if d < 0:
+            root = np.sqrt(-d)
+            return (np.full(2, -a[1] / (2 * a[0])),
+                    np.array([-root / (2 * a[0]), root / (2 * a[0])]))
+        d = np.sqrt(d)
+        # The larger root by the formula, the other from the product (no cancellation).
+        if d == 0:
+            pair = [-a[1] / (2 * a[0])] * 2
+        elif a[1] < 0:
+            pair = [(2 * a[2]) / (-a[1] + d), (-a[1] + d) / (2 * a[0])]
+        else:
+            pair = [(-a[1] - d) / (2 * a[0]), (2 * a[2]) / (-a[1] - d)]
+        return np.array(pair), np.zeros(2)
+    # The companion matrix whose last column is -a[order - j] / a[0] (j = 0 .. order - 1).
+    companion = np.zeros((order, order))
+    companion[1:, :-1] = np.eye(order - 1)
+    companion[:, -1] = -a[:0:-1] / a[0]
+    w = np.linalg.eigvals(companion)
+    w = w[np.argsort(w.real, kind="stable")]
+    return w.real.copy(), w.imag.copy()
+
+
+def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
+                extrapolate: bool) -> np.ndarray:
+    """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`)."""
+    m = c.shape[1]
+    roots: list = []
+    last = np.nan
+    for i in range(m):
+        if i > 0 and discontinuity:
+            before = _derivative_at(c[:, i - 1:i], x[i] - x[i - 1], 0)[0] - y
+            after = c[-1, i] - y
+            if (before < 0 < after) or (before > 0 > after):
+                if x[i] != last:
+                    last = x[i]
+                    roots.append(last)
+        found = _piece_roots(c[:, i], y)
+        if found is None:
+            roots.extend([x[i], np.nan])
+            last = np.nan
+            continue
+        for real, imag in zip(*found):
+            if imag != 0:
+                continue
+            f = _derivative_at(c[:, i:i + 1], real, 0)[0] - y
+            df = _derivative_at(c[:, i:i + 1], real, 1)[0]
+            if df != 0 and abs(f / df) < abs(real):
+                real -= f / df
+            root = real + x[i]
+            if i == 0 and extrapolate:
+                keep = root <= x[i + 1]
+            elif i == m - 1 and extrapolate:
+                keep = root >= x[i]
+            else:
+                keep = x[i] <= root <= x[i + 1]
+            if keep and root != last:
+                last = root
+                roots.append(root)
+    return np.array(roots, dtype=float)

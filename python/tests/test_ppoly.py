@@ -1,0 +1,128 @@
+"""`splinegpu.interpolate.PPoly` and the splines' antiderivative, roots and solve against
+SciPy's: evaluation, derivatives and antiderivatives of any degree, integrals, extend, and
+roots with double roots, roots at knots, pieces equal to y everywhere, jumps across y and
+extrapolation."""
+
+import numpy as np
+import pytest
+
+import splinegpu.interpolate as si
+
+interpolate = pytest.importorskip("scipy.interpolate")
+
+
+def close(got, want, what, tolerance=1e-10):
+    assert np.shape(got) == np.shape(want), what
+    finite = np.abs(np.asarray(want))[np.isfinite(want)]
+    scale = max(finite.max() if finite.size else 1.0, 1e-300)
+    np.testing.assert_allclose(got, want, rtol=0, atol=tolerance * scale, equal_nan=True,
+                               err_msg=what)
+
+
+def same_roots(got, want, x, what, within=1e-10):
+    """The same count, each within `within` of the breakpoints' span (NaN where SciPy has
+    NaN)."""
+    assert len(got) == len(want), f"{what}: {got} vs {want}"
+    close(np.asarray(got, float), np.asarray(want, float), what,
+          tolerance=within * (x[-1] - x[0]) / max(np.abs(want[np.isfinite(want)]).max(
+              initial=0.0), 1e-300))
+
+
+@pytest.mark.parametrize("k", [1, 2, 4, 6])
+@pytest.mark.parametrize("shape,axis", [((), 0), ((2, 3), 0), ((2, 3), 1)])
+def test_ppoly_evaluates_differentiates_and_integrates_as_scipy(k, shape, axis):
+    rng = np.random.default_rng(k + len(shape) + axis)
+    x = np.concatenate([[0.0], np.cumsum(10 ** rng.uniform(-1, 1, 7))])
+    # With axis a, k and m are c's axes a and a + 1 (SciPy's layout).
+    c = rng.uniform(-1, 1, (*shape[:axis], k, 7, *shape[axis:]))
+    q = np.concatenate([rng.uniform(x[0] - 1, x[-1] + 1, 50), x, [np.nan]])
+    for extrapolate in (None, True, False, "periodic"):
+        ours = si.PPoly(c, x, extrapolate=extrapolate, axis=axis)
+        theirs = interpolate.PPoly(c, x, extrapolate=extrapolate, axis=axis)
+        for nu in range(k + 1):
+            close(ours(q, nu), theirs(q, nu), f"k={k} {extrapolate} nu={nu}")
+            close(ours.derivative(nu)(q), theirs.derivative(nu)(q), f"derivative({nu})")
+        for nu in (1, 2, 3):
+            a, b = ours.antiderivative(nu), theirs.antiderivative(nu)
+            assert a.extrapolate == b.extrapolate
+            close(a.c, b.c, f"antiderivative({nu}).c")
+            close(a(q), b(q), f"antiderivative({nu})")
+        for lo, hi in [(x[1] + 0.1, x[5]), (x[-1], x[0] - 3), (x[0] - 20, x[-1] + 33)]:
+            close(ours.integrate(lo, hi), theirs.integrate(lo, hi), f"integrate({lo}, {hi})",
+                  tolerance=1e-9)
+
+
+def test_extend_on_both_sides_is_scipys():
+    rng = np.random.default_rng(2)
+    c, x = rng.uniform(-1, 1, (4, 3)), np.array([0.0, 1.0, 2.0, 3.5])
+    ours, theirs = si.PPoly(c, x), interpolate.PPoly(c, x)
+    for more_c, more_x in [(rng.uniform(-1, 1, (2, 2)), [4.0, 5.0]),
+                           (rng.uniform(-1, 1, (4, 1)), [-2.0])]:
+        ours.extend(more_c, more_x)
+        theirs.extend(more_c, more_x)
+        close(ours.c, theirs.c, "c")
+        np.testing.assert_array_equal(ours.x, theirs.x)
+        q = np.linspace(-3, 6, 40)
+        close(ours(q), theirs(q), "extended")
+    with pytest.raises(ValueError, match="wholly to the right or to the left"):
+        ours.extend(c[:, :1], [1.5])
+
+
+def test_roots_and_solve_are_scipys_on_the_hard_cases():
+    x = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    cases = {
+        # (x - 0.5)^2 (x - 0.8) on [0, 1]: a double root; a root exactly at the knot 2.
+        "double root": np.array([[1, 0, 1, 0], [-1.8, 0, 0, 0], [1.05, 0, -1, 1],
+                                 [-0.2, 0, 0, 0]]),
+        "zero piece": np.array([[0, 1, 0, 0], [0, -1, 0, 0], [0, 0, 0, 1], [0, 0, 0, -1]]),
+        "jump across zero": np.array([[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 1, 1],
+                                      [-1, 1, -1, 0.5]]),
+    }
+    for name, c in cases.items():
+        ours, theirs = si.PPoly(c, x), interpolate.PPoly(c, x)
+        for discontinuity in (True, False):
+            for extrapolate in (True, False):
+                for y in (0.0, 0.5, -1.0):
+                    # A double root moves by about sqrt(eps) under the last bit of its
+                    # coefficients (SciPy's own roots there are that far from the exact
+                    # 0.5): within 1e-7 of the span, the rest within 1e-10.
+                    same_roots(ours.solve(y, discontinuity, extrapolate),
+                               theirs.solve(y, discontinuity, extrapolate), x,
+                               f"{name}, y={y}, {discontinuity}, {extrapolate}",
+                               within=1e-7 if name == "double root" else 1e-10)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_spline_roots_antiderivatives_and_solve_match_scipy(seed):
+    rng = np.random.default_rng(seed)
+    x = np.concatenate([[0.0], np.cumsum(10 ** rng.uniform(-2, 2, 20))])
+    y = rng.uniform(-1, 1, (21, 2))
+    pairs = [(si.CubicSpline(x, y), interpolate.CubicSpline(x, y)),
+             (si.PchipInterpolator(x, y), interpolate.PchipInterpolator(x, y)),
+             (si.Akima1DInterpolator(x, y[:, 0], method="makima"),
+              interpolate.Akima1DInterpolator(x, y[:, 0], method="makima"))]
+    for ours, theirs in pairs:
+        for extrapolate in (None, True, False):
+            got, want = ours.roots(extrapolate=extrapolate), theirs.roots(
+                extrapolate=extrapolate)
+            for g, w in zip(np.atleast_1d(got), np.atleast_1d(want)) if got.dtype == object \
+                    else [(got, want)]:
+                same_roots(g, w, x, f"{type(ours).__name__} roots, {extrapolate}")
+        got, want = ours.solve(0.3), theirs.solve(0.3)
+        for g, w in zip(np.atleast_1d(got), np.atleast_1d(want)) if got.dtype == object \
+                else [(got, want)]:
+            same_roots(g, w, x, f"{type(ours).__name__} solve(0.3)")
+        q = rng.uniform(x[0] - 1, x[-1] + 1, 40)
+        close(ours.antiderivative(2)(q), theirs.antiderivative(2)(q), "antiderivative(2)",
+              tolerance=1e-9)
+
+
+def test_ppoly_refuses_what_it_cannot_hold():
+    with pytest.raises(ValueError, match="x: must be finite and strictly increasing"):
+        si.PPoly(np.ones((4, 2)), [2.0, 1.0, 0.0])
+    with pytest.raises(ValueError, match="c: 2 pieces for 4 breakpoints"):
+        si.PPoly(np.ones((4, 2)), [0.0, 1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="only for real-valued"):
+        si.PPoly(np.ones((4, 1)) * 1j, [0.0, 1.0]).roots()
+    with pytest.raises(ValueError, match="nu: must be an integer >= 0"):
+        si.PPoly(np.ones((4, 1)), [0.0, 1.0])(0.5, nu=-1)
