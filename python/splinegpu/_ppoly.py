@@ -242,77 +242,114 @@ def _derivative_at(piece: np.ndarray, s: float, d: int) -> np.ndarray:
     return out
 
 
-def _piece_roots(a: np.ndarray, y: float):
-    """The complex roots (real parts, imaginary parts) of one piece's polynomial minus y,
-    `a` highest power first; None where it equals y everywhere."""
-    nonzero = np.flatnonzero(a != 0)
-    order = len(a) - 1 - nonzero[0] if len(nonzero) else -1
-    if order < 0:
-        return None if y == 0 else (np.array([]), np.array([]))
-    if order == 0:
-        return None if a[-1] == y else (np.array([]), np.array([]))
-    a = a[len(a) - 1 - order:].astype(np.float64)
-    a[-1] -= y
-    if order == 1:
-        return np.array([-a[1] / a[0]]), np.zeros(1)
-    if order == 2:
-        d = a[1] * a[1] - 4 * a[0] * a[2]
-        if d < 0:
-            root = np.sqrt(-d)
-            return (np.full(2, -a[1] / (2 * a[0])),
-                    np.array([-root / (2 * a[0]), root / (2 * a[0])]))
-        d = np.sqrt(d)
-        # The larger root by the formula, the other from the product (no cancellation).
-        if d == 0:
-            pair = [-a[1] / (2 * a[0])] * 2
-        elif a[1] < 0:
-            pair = [(2 * a[2]) / (-a[1] + d), (-a[1] + d) / (2 * a[0])]
+def _candidates(c: np.ndarray, y: float):
+    """Every piece's complex roots of its polynomial minus y, for all pieces at once: (piece,
+    real part, imaginary part) arrays, each piece's sorted by real part, and the pieces equal
+    to y everywhere. A piece's degree is that of its highest nonzero coefficient: from 3 the
+    roots are the eigenvalues of its companion matrix (last column -a_j / a_lead), below it
+    the closed forms, the quadratic's without cancellation."""
+    k = c.shape[0]
+    nonzero = c != 0
+    lead = np.where(nonzero.any(axis=0), nonzero.argmax(axis=0), k)
+    order = k - 1 - lead
+    constant = c[-1] - y
+    flat = (order < 0) | (order == 0)
+    everywhere = np.flatnonzero(flat & np.where(order < 0, y == 0, constant == 0))
+    pieces, real, imag = [], [], []
+    for n in np.unique(order[order >= 1]):
+        idx = np.flatnonzero(order == n)
+        a = c[k - 1 - n:, idx].T.copy()  # (pieces, n + 1), highest power first
+        a[:, -1] -= y
+        if n == 1:
+            wr, wi = (-a[:, 1] / a[:, 0])[:, None], np.zeros((len(idx), 1))
+        elif n == 2:
+            wr, wi = _quadratic(a)
         else:
-            pair = [(-a[1] - d) / (2 * a[0]), (2 * a[2]) / (-a[1] - d)]
-        return np.array(pair), np.zeros(2)
-    # The companion matrix whose last column is -a[order - j] / a[0] (j = 0 .. order - 1).
-    companion = np.zeros((order, order))
-    companion[1:, :-1] = np.eye(order - 1)
-    companion[:, -1] = -a[:0:-1] / a[0]
-    w = np.linalg.eigvals(companion)
-    w = w[np.argsort(w.real, kind="stable")]
-    return w.real.copy(), w.imag.copy()
+            companion = np.zeros((len(idx), n, n))
+            companion[:, np.arange(1, n), np.arange(n - 1)] = 1.0
+            companion[:, :, -1] = -a[:, :0:-1] / a[:, :1]
+            w = np.linalg.eigvals(companion)
+            w = np.take_along_axis(w, np.argsort(w.real, axis=1, kind="stable"), axis=1)
+            wr, wi = w.real, w.imag
+        pieces.append(np.repeat(idx, n))
+        real.append(wr.ravel())
+        imag.append(wi.ravel())
+    if not pieces:
+        return np.array([], int), np.array([]), np.array([]), everywhere
+    pieces, real, imag = np.concatenate(pieces), np.concatenate(real), np.concatenate(imag)
+    order_of = np.argsort(pieces, kind="stable")
+    return pieces[order_of], real[order_of], imag[order_of], everywhere
+
+
+def _quadratic(a: np.ndarray):
+    """The roots of a0 u^2 + a1 u + a2 for rows of `a`: a complex pair where the discriminant
+    is negative, else the larger root by the formula and the other from the product."""
+    a0, a1, a2 = a[:, 0], a[:, 1], a[:, 2]
+    d = a1 * a1 - 4 * a0 * a2
+    root = np.sqrt(np.abs(d))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        first = np.where(a1 < 0, (2 * a2) / (-a1 + root), (-a1 - root) / (2 * a0))
+        second = np.where(a1 < 0, (-a1 + root) / (2 * a0), (2 * a2) / (-a1 - root))
+    double = d == 0
+    first = np.where(double, -a1 / (2 * a0), first)
+    second = np.where(double, -a1 / (2 * a0), second)
+    complex_pair = d < 0
+    wr = np.where(complex_pair[:, None], (-a1 / (2 * a0))[:, None],
+                  np.stack([first, second], axis=1))
+    wi = np.where(complex_pair[:, None],
+                  np.stack([-root / (2 * a0), root / (2 * a0)], axis=1), 0.0)
+    return wr, wi
+
+
+def _values(c: np.ndarray, pieces: np.ndarray, s: np.ndarray, d: int) -> np.ndarray:
+    """Derivative d (0 or 1) of pieces `pieces` at local s, all at once."""
+    k = c.shape[0]
+    out = np.zeros(len(s))
+    for m in range(k - d):
+        p = k - 1 - m
+        out = out * s + c[m, pieces] * (p if d else 1)
+    return out
 
 
 def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
                 extrapolate: bool) -> np.ndarray:
-    """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`)."""
+    """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`): the candidates
+    of every piece found at once, then walked in order (a breakpoint where the value jumps
+    across y, then the piece's roots), each kept unless it equals the one kept last."""
     m = c.shape[1]
-    roots: list = []
+    pieces, real, imag, everywhere = _candidates(c, y)
+    keep = imag == 0
+    pieces, real = pieces[keep], real[keep]
+    # One Newton step where it moves the root by less than the root's own size.
+    f = _values(c, pieces, real, 0) - y
+    df = _values(c, pieces, real, 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.where(df != 0, f / df, 0.0)
+    real = np.where((df != 0) & (np.abs(step) < np.abs(real)), real - step, real)
+    roots = real + x[pieces]
+    inside = (x[pieces] <= roots) & (roots <= x[pieces + 1])
+    if extrapolate:
+        inside = np.where(pieces == 0, roots <= x[pieces + 1], inside)
+        if m > 1:
+            inside = np.where(pieces == m - 1, roots >= x[pieces], inside)
+    pieces, roots = pieces[inside], roots[inside]
+    # Events in order: (piece, rank, value): a jump at the piece's start, its roots, or the
+    # piece equal to y everywhere (then it has no roots of its own).
+    events = [(int(i), 1, r) for i, r in zip(pieces, roots)]
+    events += [(int(i), 2, x[i]) for i in everywhere]
+    if discontinuity and m > 1:
+        before = _values(c, np.arange(m - 1), np.diff(x)[:-1], 0) - y
+        after = c[-1, 1:] - y
+        jumps = np.flatnonzero(((before < 0) & (after > 0)) | ((before > 0) & (after < 0)))
+        events += [(int(j) + 1, 0, x[j + 1]) for j in jumps]
+    events.sort(key=lambda e: (e[0], e[1]))
+    found: list = []
     last = np.nan
-    for i in range(m):
-        if i > 0 and discontinuity:
-            before = _derivative_at(c[:, i - 1:i], x[i] - x[i - 1], 0)[0] - y
-            after = c[-1, i] - y
-            if (before < 0 < after) or (before > 0 > after):
-                if x[i] != last:
-                    last = x[i]
-                    roots.append(last)
-        found = _piece_roots(c[:, i], y)
-        if found is None:
-            roots.extend([x[i], np.nan])
+    for _, rank, value in events:
+        if rank == 2:
+            found += [value, np.nan]
             last = np.nan
-            continue
-        for real, imag in zip(*found):
-            if imag != 0:
-                continue
-            f = _derivative_at(c[:, i:i + 1], real, 0)[0] - y
-            df = _derivative_at(c[:, i:i + 1], real, 1)[0]
-            if df != 0 and abs(f / df) < abs(real):
-                real -= f / df
-            root = real + x[i]
-            if i == 0 and extrapolate:
-                keep = root <= x[i + 1]
-            elif i == m - 1 and extrapolate:
-                keep = root >= x[i]
-            else:
-                keep = x[i] <= root <= x[i + 1]
-            if keep and root != last:
-                last = root
-                roots.append(root)
-    return np.array(roots, dtype=float)
+        elif value != last:
+            last = value
+            found.append(value)
+    return np.array(found, dtype=float)
