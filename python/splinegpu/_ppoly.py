@@ -242,14 +242,19 @@ def _derivative_at(piece: np.ndarray, s: float, d: int) -> np.ndarray:
     return out
 
 
-def _candidates(c: np.ndarray, y: float):
+def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
     """Every piece's complex roots of its polynomial minus y, for all pieces at once: (piece,
     real part, imaginary part) arrays, each piece's sorted by real part, and the pieces equal
-    to y everywhere. A piece's degree is that of its highest nonzero coefficient: from 3 the
-    roots are the eigenvalues of its companion matrix (last column -a_j / a_lead), below it
-    the closed forms, the quadratic's without cancellation."""
+    to y everywhere. A piece's degree is that of its highest term that is not negligible:
+    nonzero, and larger over the piece's width than 8 eps of all its terms there (a fitted
+    spline's coefficients carry the fit's rounding where SciPy's are exact zeros: a line's
+    cubic term of 1e-20 would put a root at 1e8). From degree 3 the roots are the eigenvalues
+    of the companion matrix (last column -a_j / a_lead), below it the closed forms, the
+    quadratic's without cancellation."""
     k = c.shape[0]
-    nonzero = c != 0
+    powers = np.arange(k - 1, -1, -1)[:, None]
+    size = np.abs(c) * np.abs(widths)[None, :] ** powers
+    nonzero = (c != 0) & (size > 8 * np.finfo(float).eps * size.sum(axis=0))
     lead = np.where(nonzero.any(axis=0), nonzero.argmax(axis=0), k)
     order = k - 1 - lead
     constant = c[-1] - y
@@ -313,11 +318,26 @@ def _values(c: np.ndarray, pieces: np.ndarray, s: np.ndarray, d: int) -> np.ndar
 
 def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
                 extrapolate: bool) -> np.ndarray:
-    """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`): the candidates
-    of every piece found at once, then walked in order (a breakpoint where the value jumps
-    across y, then the piece's roots), each kept unless it equals the one kept last."""
+    """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`)."""
     m = c.shape[1]
-    pieces, real, imag, everywhere = _candidates(c, y)
+    return _roots(c, x[:-1], x[1:], np.array([0, m]), y, discontinuity, extrapolate)[0]
+
+
+def _roots(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray, y: float,
+           discontinuity: bool, extrapolate: bool):
+    """The roots minus y of many splines at once: spline s's pieces are columns
+    offsets[s]:offsets[s+1] of c (k, P), piece p spanning [start[p], end[p]]. Every piece's
+    candidates are found together, then put in SciPy's order (per spline and piece: a
+    breakpoint where the value jumps across y, then the piece's roots by real part), a value
+    dropped where it equals the one before it, and a piece equal to y everywhere gives its
+    start and NaN. Returns (roots, offsets of each spline's roots)."""
+    pieces_of = np.diff(offsets)
+    spline = np.repeat(np.arange(len(pieces_of)), pieces_of)
+    first = np.zeros(c.shape[1], bool)
+    last = np.zeros(c.shape[1], bool)
+    first[offsets[:-1][pieces_of > 0]] = True
+    last[offsets[1:][pieces_of > 0] - 1] = True
+    pieces, real, imag, everywhere = _candidates(c, y, end - start)
     keep = imag == 0
     pieces, real = pieces[keep], real[keep]
     # One Newton step where it moves the root by less than the root's own size.
@@ -326,30 +346,38 @@ def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.where(df != 0, f / df, 0.0)
     real = np.where((df != 0) & (np.abs(step) < np.abs(real)), real - step, real)
-    roots = real + x[pieces]
-    inside = (x[pieces] <= roots) & (roots <= x[pieces + 1])
+    roots = real + start[pieces]
+    inside = (start[pieces] <= roots) & (roots <= end[pieces])
     if extrapolate:
-        inside = np.where(pieces == 0, roots <= x[pieces + 1], inside)
-        if m > 1:
-            inside = np.where(pieces == m - 1, roots >= x[pieces], inside)
+        # The first piece open to the left, the last open to the right (one piece: both).
+        open_left = first[pieces] & (roots <= end[pieces])
+        open_right = last[pieces] & (roots >= start[pieces])
+        inside = np.where(first[pieces] & last[pieces], True, inside | open_left | open_right)
     pieces, roots = pieces[inside], roots[inside]
-    # Events in order: (piece, rank, value): a jump at the piece's start, its roots, or the
-    # piece equal to y everywhere (then it has no roots of its own).
-    events = [(int(i), 1, r) for i, r in zip(pieces, roots)]
-    events += [(int(i), 2, x[i]) for i in everywhere]
-    if discontinuity and m > 1:
-        before = _values(c, np.arange(m - 1), np.diff(x)[:-1], 0) - y
-        after = c[-1, 1:] - y
-        jumps = np.flatnonzero(((before < 0) & (after > 0)) | ((before > 0) & (after < 0)))
-        events += [(int(j) + 1, 0, x[j + 1]) for j in jumps]
-    events.sort(key=lambda e: (e[0], e[1]))
-    found: list = []
-    last = np.nan
-    for _, rank, value in events:
-        if rank == 2:
-            found += [value, np.nan]
-            last = np.nan
-        elif value != last:
-            last = value
-            found.append(value)
-    return np.array(found, dtype=float)
+    # Events: (piece, rank, value, whole): rank 0 a jump at the piece's start, 1 a root, 2
+    # the piece equal to y everywhere (its start, then NaN).
+    event_piece = [pieces, everywhere, everywhere]
+    event_rank = [np.ones(len(pieces)), np.full(len(everywhere), 2), np.full(len(everywhere), 3)]
+    event_value = [roots, start[everywhere], np.full(len(everywhere), np.nan)]
+    if discontinuity:
+        inner = np.flatnonzero(~first)
+        before = _values(c, inner - 1, end[inner - 1] - start[inner - 1], 0) - y
+        after = c[-1, inner] - y
+        jumps = inner[((before < 0) & (after > 0)) | ((before > 0) & (after < 0))]
+        event_piece.append(jumps)
+        event_rank.append(np.zeros(len(jumps)))
+        event_value.append(start[jumps])
+    piece = np.concatenate(event_piece).astype(np.int64)
+    rank = np.concatenate(event_rank)
+    value = np.concatenate(event_value)
+    order = np.lexsort((rank, piece))
+    piece, rank, value = piece[order], rank[order], value[order]
+    owner = spline[piece]
+    # A value equal to the one kept before it in its spline is dropped (the zero pieces'
+    # start and NaN are always kept, and the NaN makes the next value new).
+    new = np.ones(len(value), bool)
+    new[1:] = (owner[1:] != owner[:-1]) | (value[1:] != value[:-1])
+    new |= rank >= 2
+    value, owner = value[new], owner[new]
+    counts = np.bincount(owner, minlength=len(pieces_of))
+    return value, np.concatenate([[0], np.cumsum(counts)])

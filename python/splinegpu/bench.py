@@ -13,7 +13,8 @@ results allocated.
 - fit-1m: `CubicSpline(x, y, bc_type="natural")` on 1,000,000 uneven knots in 3-D.
 - splinegpu.interpolate's batches (CubicSplines, CubicHermiteSplines, PchipInterpolators,
   Akima1DInterpolators): the same 10,000 splines made and called at their 1,000 x, against
-  SciPy's loop of the single classes.
+  SciPy's loop of the single classes; and the roots of 10,000 1-D splines, one batch against
+  SciPy's loop.
 - tessellate: one curve of 16 points (32 samples per segment), and w1 (10,000 Catmull-Rom
   curves of 34 points in 3-D, 9.93 M samples) with a fresh result and with `out=`, against
   SciPy's CubicHermiteSpline with Catmull-Rom tangents on the same curves, and against the
@@ -178,6 +179,13 @@ def batches(xs, ys, qs):
         b = best(lambda theirs=theirs: [theirs(k, v, d)(q)
                                         for k, v, d, q in zip(xs, ys, dydxs, qs)], repeats=1)
         rows.append((f"{name} make + call", a, "SciPy loop (1 run)", b, faster(a, b, ">= 10x")))
+    # Roots of 10,000 1-D splines already made: ours in one batch, SciPy's one by one.
+    ours = si.CubicSplines(xs, ys[:, :, :1])
+    theirs = [scipy.CubicSpline(k, v[:, 0]) for k, v in zip(xs, ys)]
+    a = best(ours.roots)
+    b = best(lambda: [s.roots() for s in theirs], repeats=1)
+    rows.append(("CubicSplines.roots, 10,000 1-D", a, "SciPy loop (1 run)", b,
+                 faster(a, b, ">= 10x")))
     return rows
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from . import _native
 from ._arrays import _aligned, _flat, _float64, _order, _stacked
 from ._context import Context, _default_context, _shared_context
-from ._ppoly import PPoly
+from ._ppoly import PPoly, _roots
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "CubicHermiteSpline",
            "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
@@ -476,6 +476,25 @@ class _Batch:
     def __len__(self) -> int:
         return len(self._native)
 
+    # The single class's `extrapolate` default, which `solve` and `roots` take.
+    _extrapolates = True
+
+    def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
+        """Every spline's x where it equals y, as the single class's `solve` finds them, all
+        splines' pieces at once: (roots (R,), offsets (S + 1,)), spline i's roots in
+        roots[offsets[i]:offsets[i+1]] (NaN after the start of a piece equal to y
+        everywhere). For splines of one value per x."""
+        c, start, end, offsets = self._native.pieces()
+        if c.shape[2] != 1:
+            raise ValueError(f"solve: the splines have {c.shape[2]} values per x; roots are "
+                             f"found for splines of one")
+        mode = self._extrapolates if extrapolate is None else _extrapolate(extrapolate)
+        return _roots(c[:, :, 0], start, end, offsets, float(y), bool(discontinuity), bool(mode))
+
+    def roots(self, discontinuity: bool = True, extrapolate=None):
+        """`solve(0, ...)`."""
+        return self.solve(0.0, discontinuity, extrapolate)
+
     def __call__(self, xs: Sequence[Any], nu: int = 0):
         """Spline i at xs[i] (a list of arrays, or a (S, k) array), derivative nu (0 to 2)
         -> (values, offsets). Every x must lie within its spline's knots."""
@@ -519,6 +538,8 @@ class PchipInterpolators(_Batch):
 
 class Akima1DInterpolators(_Batch):
     """Many `Akima1DInterpolator`s (one `method` for all) in one batch; see `_Batch`."""
+
+    _extrapolates = False
 
     def __init__(self, xs, ys, *, method: str = "akima", context: Context | None = None):
         if method not in ("akima", "makima"):

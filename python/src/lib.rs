@@ -807,6 +807,14 @@ fn fit<'py>(
     Ok(Splines { tables })
 }
 
+/// Every spline's pieces: coefficients (4, P, m), starts and ends (P,), offsets (S + 1,).
+type Pieces<'py> = (
+    Bound<'py, PyArray3<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<i64>>,
+);
+
 /// One table's parts for pickling: its dimension, knots, power coefficients (A, B, C, D per
 /// segment) and extent.
 type TableState<'py> = (
@@ -929,19 +937,40 @@ impl Splines {
             .ok_or_else(|| value_error(format!("spline {i} of {}", self.tables.len())))?;
         let (n, m) = (table.len(), table.dim());
         let mut c = vec![0.0; 4 * n * m];
-        for j in 0..n {
-            let segment = table.segment(j);
-            let dt = segment.dt();
-            // P(u) = A u³ + B u² + C u + D with u = (x − x_j)/Δ.
-            let [a, b, cc, d] = segment.power();
-            for k in 0..m {
-                c[j * m + k] = a[k] / (dt * dt * dt);
-                c[(n + j) * m + k] = b[k] / (dt * dt);
-                c[(2 * n + j) * m + k] = cc[k] / dt;
-                c[(3 * n + j) * m + k] = d[k];
-            }
-        }
+        scipy_coefficients(table, &mut c, n, 0);
         PyArray1::from_vec(py, c).reshape([4, n, m])
+    }
+
+    /// Every spline's pieces at once: (c (4, P, m) as `coefficients` gives them, piece after
+    /// piece of spline after spline; each piece's start and end x (P,); offsets (S + 1,):
+    /// spline s owns pieces offsets[s]..offsets[s + 1]).
+    fn pieces<'py>(&self, py: Python<'py>) -> PyResult<Pieces<'py>> {
+        let total: usize = self.tables.iter().map(|t| t.len()).sum();
+        let m = self.tables.first().map_or(1, |t| t.dim());
+        if let Some(s) = self.tables.iter().position(|t| t.dim() != m) {
+            return Err(value_error(format!(
+                "spline {s} has {} values per x where spline 0 has {m}",
+                self.tables[s].dim()
+            )));
+        }
+        let mut c = vec![0.0; 4 * total * m];
+        let (mut start, mut end) = (Vec::with_capacity(total), Vec::with_capacity(total));
+        let mut offsets = vec![0i64];
+        let mut at = 0;
+        for table in &self.tables {
+            scipy_coefficients(table, &mut c, total, at);
+            let knots = table.knots();
+            start.extend_from_slice(&knots[..knots.len() - 1]);
+            end.extend_from_slice(&knots[1..]);
+            at += table.len();
+            offsets.push(at as i64);
+        }
+        Ok((
+            PyArray1::from_vec(py, c).reshape([4, total, m])?,
+            PyArray1::from_vec(py, start),
+            PyArray1::from_vec(py, end),
+            PyArray1::from_vec(py, offsets),
+        ))
     }
 
     /// Spline 0 at `x` (a contiguous 1-D float64 array), derivative `nu` (0, 1 or 2) with
@@ -1041,6 +1070,25 @@ impl Splines {
                 }
                 (out, offsets).into_pyobject(py)
             }
+        }
+    }
+}
+
+/// `table`'s pieces in SciPy's PPoly form into `c` (4 rows of `pieces` pieces of `dim`
+/// values), from piece `first` on: c[k][j] multiplies (x − x_j)^(3−k). With
+/// P(u) = A u³ + B u² + C u + D and u = (x − x_j)/Δ, the rows are A/Δ³, B/Δ², C/Δ, D.
+fn scipy_coefficients(table: &SegmentTable, c: &mut [f64], pieces: usize, first: usize) {
+    let m = table.dim();
+    for j in 0..table.len() {
+        let segment = table.segment(j);
+        let dt = segment.dt();
+        let [a, b, cc, d] = segment.power();
+        let at = (first + j) * m;
+        for k in 0..m {
+            c[at + k] = a[k] / (dt * dt * dt);
+            c[pieces * m + at + k] = b[k] / (dt * dt);
+            c[2 * pieces * m + at + k] = cc[k] / dt;
+            c[3 * pieces * m + at + k] = d[k];
         }
     }
 }

@@ -126,3 +126,25 @@ def test_ppoly_refuses_what_it_cannot_hold():
         si.PPoly(np.ones((4, 1)) * 1j, [0.0, 1.0]).roots()
     with pytest.raises(ValueError, match="nu: must be an integer >= 0"):
         si.PPoly(np.ones((4, 1)), [0.0, 1.0])(0.5, nu=-1)
+
+
+def test_batched_roots_and_solve_equal_scipys_loop():
+    rng = np.random.default_rng(17)
+    xs = [np.cumsum(10 ** rng.uniform(-1, 1, n)) for n in rng.integers(2, 30, 40)]
+    ys = [rng.uniform(-1, 1, len(x)) for x in xs]
+    batches = [
+        (si.CubicSplines(xs, [y[:, None] for y in ys], bc_type="natural"),
+         lambda x, y: interpolate.CubicSpline(x, y, bc_type="natural")),
+        (si.PchipInterpolators(xs, [y[:, None] for y in ys]), interpolate.PchipInterpolator),
+        (si.Akima1DInterpolators(xs, [y[:, None] for y in ys], method="makima"),
+         lambda x, y: interpolate.Akima1DInterpolator(x, y, method="makima")),
+    ]
+    for batch, scipy_class in batches:
+        for y0, extrapolate in [(0.0, None), (0.25, True), (-0.5, False)]:
+            roots, offsets = batch.solve(y0, extrapolate=extrapolate)
+            for i, (x, y) in enumerate(zip(xs, ys)):
+                same_roots(roots[offsets[i]:offsets[i + 1]],
+                           scipy_class(x, y).solve(y0, extrapolate=extrapolate), x,
+                           f"{type(batch).__name__} spline {i}, y={y0}, {extrapolate}")
+    with pytest.raises(ValueError, match="solve: the splines have 2 values per x"):
+        si.CubicSplines(xs, [np.stack([y, y], axis=1) for y in ys]).roots()
