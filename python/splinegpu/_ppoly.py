@@ -270,12 +270,16 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
         elif n == 2:
             wr, wi = _quadratic(a)
         else:
-            companion = np.zeros((len(idx), n, n))
-            companion[:, np.arange(1, n), np.arange(n - 1)] = 1.0
-            companion[:, :, -1] = -a[:, :0:-1] / a[:, :1]
-            w = np.linalg.eigvals(companion)
-            w = np.take_along_axis(w, np.argsort(w.real, axis=1, kind="stable"), axis=1)
-            wr, wi = w.real, w.imag
+            wr, wi = np.empty((len(idx), n)), np.empty((len(idx), n))
+            closed = np.zeros(len(idx), bool)
+            if n == 3:
+                # In blocks whose temporaries stay in cache (fresh pages of whole-array
+                # temporaries cost more than the arithmetic).
+                for b in range(0, len(idx), _BLOCK):
+                    part = slice(b, b + _BLOCK)
+                    wr[part], wi[part], closed[part] = _cubic(a[part])
+            rest = ~closed
+            wr[rest], wi[rest] = _eigenvalues(a[rest])
         pieces.append(np.repeat(idx, n))
         real.append(wr.ravel())
         imag.append(wi.ravel())
@@ -284,6 +288,59 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
     pieces, real, imag = np.concatenate(pieces), np.concatenate(real), np.concatenate(imag)
     order_of = np.argsort(pieces, kind="stable")
     return pieces[order_of], real[order_of], imag[order_of], everywhere
+
+
+# Pieces whose cubic roots are formed together.
+_BLOCK = 4096
+
+
+def _eigenvalues(a: np.ndarray):
+    """The roots of the polynomials in the rows of `a` (highest power first, degree >= 3) as
+    the eigenvalues of their companion matrices (last column -a_j / a_lead), each row's
+    sorted by real part: as SciPy finds them."""
+    rows, n = a.shape[0], a.shape[1] - 1
+    companion = np.zeros((rows, n, n))
+    companion[:, np.arange(1, n), np.arange(n - 1)] = 1.0
+    companion[:, :, -1] = -a[:, :0:-1] / a[:, :1]
+    w = np.linalg.eigvals(companion) if rows else np.zeros((0, n), complex)
+    w = np.take_along_axis(w, np.argsort(w.real, axis=1, kind="stable"), axis=1)
+    return w.real, w.imag
+
+
+def _cubic(a: np.ndarray):
+    """The roots of cubics (rows of `a`, highest power first) in closed form where that
+    decides as the companion matrix does: (real parts, imaginary parts, which rows), each
+    row's sorted by real part. With u = t - B/3 the cubic is t^3 + p t + q; three real roots
+    by the trigonometric form when 4p^3 + 27q^2 < 0, one (Cardano's, without cancellation)
+    and a complex pair when > 0. Rows whose discriminant is within 1e-6 of its terms (roots
+    nearly double, which rounding may make real or complex) or whose constant term is zero
+    (a root at the piece's start) are left to the eigenvalues."""
+    b, c, d = (a[:, 1] / a[:, 0]), (a[:, 2] / a[:, 0]), (a[:, 3] / a[:, 0])
+    shift = b / 3
+    p = c - b * shift
+    q = d - shift * (c - 2 * shift * shift)
+    disc = 4 * p**3 + 27 * q**2
+    closed = (np.abs(disc) > 1e-6 * (4 * np.abs(p) ** 3 + 27 * q**2)) & (a[:, 3] != 0) \
+        & np.isfinite(disc)
+    wr, wi = np.zeros((len(a), 3)), np.zeros((len(a), 3))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        three = closed & (disc < 0)
+        r = 2 * np.sqrt(-p / 3)
+        angle = np.arccos(np.clip(3 * q / (p * r), -1.0, 1.0)) / 3
+        for j in range(3):
+            wr[:, j] = np.where(three, r * np.cos(angle - 2 * np.pi * j / 3) - shift, wr[:, j])
+        one = closed & (disc > 0)
+        root = np.sqrt(q * q / 4 + p**3 / 27)
+        big = -np.sign(q) * np.cbrt(np.abs(q) / 2 + root)
+        big = np.where(big == 0, np.cbrt(-q), big)
+        small = np.where(big != 0, -p / (3 * big), 0.0)
+        real = big + small - shift
+        pair = -(big + small) / 2 - shift
+        spread = np.sqrt(3) / 2 * np.abs(big - small)
+    wr = np.where(one[:, None], np.stack([real, pair, pair], axis=1), wr)
+    wi = np.where(one[:, None], np.stack([np.zeros_like(pair), -spread, spread], axis=1), wi)
+    order = np.argsort(wr, axis=1, kind="stable")
+    return np.take_along_axis(wr, order, axis=1), np.take_along_axis(wi, order, axis=1), closed
 
 
 def _quadratic(a: np.ndarray):
