@@ -260,7 +260,7 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
     constant = c[-1] - y
     flat = (order < 0) | (order == 0)
     everywhere = np.flatnonzero(flat & np.where(order < 0, y == 0, constant == 0))
-    pieces, real, imag = [], [], []
+    groups: list = []
     for n in np.unique(order[order >= 1]):
         idx = np.flatnonzero(order == n)
         a = c[k - 1 - n:, idx].T.copy()  # (pieces, n + 1), highest power first
@@ -280,12 +280,10 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
                     wr[part], wi[part], closed[part] = _cubic(a[part])
             rest = ~closed
             wr[rest], wi[rest] = _eigenvalues(a[rest])
-        pieces.append(np.repeat(idx, n))
-        real.append(wr.ravel())
-        imag.append(wi.ravel())
-    if not pieces:
+        groups.append((np.repeat(idx, n), wr.ravel(), wi.ravel()))
+    if not groups:
         return np.array([], int), np.array([]), np.array([]), everywhere
-    pieces, real, imag = np.concatenate(pieces), np.concatenate(real), np.concatenate(imag)
+    pieces, real, imag = (np.concatenate(parts) for parts in zip(*groups))
     order_of = np.argsort(pieces, kind="stable")
     return pieces[order_of], real[order_of], imag[order_of], everywhere
 
