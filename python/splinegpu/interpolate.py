@@ -20,7 +20,7 @@ import numpy as np
 from . import _native
 from ._arrays import _aligned, _flat, _float64, _order, _stacked
 from ._context import Context, _default_context, _shared_context
-from ._ppoly import PPoly, _roots
+from ._ppoly import PPoly, _extrapolate, _roots
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "CubicHermiteSpline",
            "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
@@ -76,17 +76,6 @@ def _bc(bc_type, trailing: tuple, complex_y: bool = False):
     if start[0] == end_[0] == "first" and start[1] is not None and end_[1] is not None:
         return "clamped", start, end_
     return "each", start, end_
-
-
-def _extrapolate(value):
-    """SciPy's `extrapolate`: True, False or "periodic" (None: the spline's own)."""
-    if value is None or isinstance(value, bool):
-        return value
-    if isinstance(value, str):
-        if value != "periodic":
-            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
-        return value
-    return bool(value)
 
 
 def _restore(cls, attributes: dict, state):
@@ -289,41 +278,10 @@ class _Piecewise:
 
     def integrate(self, a, b, extrapolate=None) -> np.ndarray:
         """The integral from a to b (b < a: its negative), shape y's other axes, in float64
-        from `c`, as SciPy's: `extrapolate` None (the spline's), True (the end pieces past the
-        knots), False (NaN when a or b lies outside them) or "periodic" (whole periods and the
-        rest, wrapped)."""
-        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
-        a, b = float(a), float(b)
-        sign = 1.0
-        if b < a:
-            a, b, sign = b, a, -1.0
-        lo, hi = self.x[0], self.x[-1]
-        if mode == "periodic":
-            period = hi - lo
-            periods, left = divmod(b - a, period)
-            total = periods * (self._primitive(hi) - self._primitive(lo))
-            a = lo + (a - lo) % period
-            if a + left <= hi:
-                total = total + self._primitive(a + left) - self._primitive(a)
-            else:
-                total = total + (self._primitive(hi) - self._primitive(a)
-                                 + self._primitive(lo + left + a - hi) - self._primitive(lo))
-        elif mode is False and not (lo <= a and b <= hi):
-            total = np.full(self._coefficients().shape[2], np.nan)
-        else:
-            total = self._primitive(b) - self._primitive(a)
-        return self._joined(sign * total).reshape(self._trailing)
-
-    def _primitive(self, x: float) -> np.ndarray:
-        """G(x), the integral from x[0] to x (the end pieces continued past the knots), per
-        fitted column: the whole pieces before x's piece, summed, and its own part."""
-        c = self._coefficients()
-        i = int(np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, c.shape[1] - 1))
-        h = np.diff(self.x[:i + 1])[:, None]
-        whole = (((c[0, :i] / 4 * h + c[1, :i] / 3) * h + c[2, :i] / 2) * h + c[3, :i]) * h
-        dx = x - self.x[i]
-        own = (((c[0, i] / 4 * dx + c[1, i] / 3) * dx + c[2, i] / 2) * dx + c[3, i]) * dx
-        return whole.sum(axis=0) + own
+        from `c`, as SciPy's (see `PPoly.integrate`): `extrapolate` None (the spline's), True
+        (the end pieces past the knots), False (NaN when a or b lies outside them) or
+        "periodic" (whole periods and the rest, wrapped)."""
+        return self.ppoly().integrate(a, b, extrapolate)
 
 
 class CubicSpline(_Piecewise):

@@ -71,16 +71,20 @@ enum Stack1<'py> {
 impl Stack1<'_> {
     fn items(&self) -> PyResult<Vec<&[f64]>> {
         match self {
-            Stack1::Dense(a) => {
-                let k = a.shape()[1];
-                Ok(a.as_slice()?
-                    .chunks_exact(k.max(1))
-                    .take(a.shape()[0])
-                    .collect())
-            }
+            Stack1::Dense(a) => rows(a),
             Stack1::Ragged(list) => list.iter().map(|a| Ok(a.as_slice()?)).collect(),
         }
     }
+}
+
+/// The rows of a C-contiguous (C, k) array (k may be 0).
+fn rows<'a>(a: &'a PyReadonlyArray2<'_, f64>) -> PyResult<Vec<&'a [f64]>> {
+    let k = a.shape()[1];
+    Ok(a.as_slice()?
+        .chunks_exact(k.max(1))
+        .take(a.shape()[0])
+        .map(|row| &row[..k])
+        .collect())
 }
 
 /// A per-curve kind field: one C-contiguous (C, k) array, a row per curve (one borrow: the
@@ -95,14 +99,7 @@ enum PerCurve<'py> {
 impl PerCurve<'_> {
     fn items(&self) -> PyResult<Vec<Option<&[f64]>>> {
         match self {
-            PerCurve::Dense(a) => {
-                let k = a.shape()[1];
-                Ok(a.as_slice()?
-                    .chunks_exact(k.max(1))
-                    .take(a.shape()[0])
-                    .map(|row| Some(&row[..k]))
-                    .collect())
-            }
+            PerCurve::Dense(a) => Ok(rows(a)?.into_iter().map(Some).collect()),
             PerCurve::Ragged(list) => list
                 .iter()
                 .map(|a| a.as_ref().map(|a| a.as_slice()).transpose())
