@@ -33,6 +33,14 @@ def _order(name: str, value, most: int) -> int:
     return int(value)
 
 
+def _natural(name: str, value) -> int:
+    """An integer argument `name` >= 0 (a degree, a derivative order without a bound), refused
+    by name otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ValueError(f"{name}: must be an integer >= 0, got {value!r}")
+    return int(value)
+
+
 def _count(name: str, value) -> int:
     """A sample count `name` (per_segment, arc_length): an integer (0 goes on to the crate,
     whose message names the curve)."""

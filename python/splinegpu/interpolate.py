@@ -17,14 +17,14 @@ from typing import Any
 
 import numpy as np
 
-from . import _native
-from ._arrays import _aligned, _flat, _float64, _order, _stacked
+from . import _bspline, _native
+from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._context import Context, _default_context, _shared_context
 from ._ppoly import PPoly, _extrapolate, _roots
 
-__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "CubicHermiteSpline",
+__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "CubicHermiteSpline",
            "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
-           "PchipInterpolators", "pchip_interpolate"]
+           "PchipInterpolators", "make_interp_spline", "pchip_interpolate"]
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
@@ -136,6 +136,35 @@ class _Piecewise:
         self._pieces = None
         self._c = None
         return x, y2
+
+    @classmethod
+    def _of_pieces(cls, x: np.ndarray, c: np.ndarray, extent: float, extrapolate, axis: int,
+                   context: Context | None) -> _Piecewise:
+        """The piecewise polynomial of degree <= 3 with breakpoints x and coefficients c
+        (k + 1, P, ...) in SciPy's power form (real or complex), its tables made from them
+        (no fit); `extent` is the spread of the points it was made from, which scales the
+        GPU's accuracy promise."""
+        spline = cls.__new__(cls)
+        spline._complex = np.iscomplexobj(c)
+        spline._trailing = c.shape[2:]
+        spline.x = np.array(x, dtype=np.float64)
+        spline.x.flags.writeable = False
+        spline.axis, spline.extrapolate, spline.context = axis, extrapolate, context
+        spline._pieces = spline._c = None
+        columns = c.reshape(c.shape[0], c.shape[1], -1)
+        if spline._complex:
+            columns = np.concatenate([columns.real, columns.imag], axis=2)
+        if columns.shape[2] > _MAX_COLUMNS:
+            raise ValueError(f"c: at most {_MAX_COLUMNS} values per coefficient are evaluated "
+                             f"together, got {columns.shape[2]}")
+        cubic = np.zeros((4, *columns.shape[1:]))
+        cubic[4 - columns.shape[0]:] = columns
+        # The tables' power form per piece: A u^3 + B u^2 + C u + D with u = (x - x_j) / h.
+        h = np.diff(spline.x)[:, None]
+        power = np.stack([cubic[0] * h**3, cubic[1] * h**2, cubic[2] * h, cubic[3]], axis=1)
+        spline._native = _native.Splines.from_state(
+            [(columns.shape[2], spline.x, power.ravel(), float(extent))])
+        return spline
 
     def _as_columns(self, y, axis: int, name: str) -> np.ndarray:
         """An array of y's shape (`name`: y, or dydx) as the fitted columns."""
@@ -371,6 +400,209 @@ def pchip_interpolate(xi, yi, x, der=0, axis: int = 0):
     if isinstance(der, (list, tuple, np.ndarray)):
         return [spline(x, int(nu)) for nu in der]
     return spline(x, der)
+
+
+class BSpline:
+    """`scipy.interpolate.BSpline(t, c, k, extrapolate=True, axis=0)`: sum_i c_i B_{i,k}(x)
+    on knots t, any degree k >= 0; c real or complex, of shape (>= n, ...) along `axis`
+    (n = len(t) - k - 1; rows past n are kept and ignored, as SciPy's). Calls (any nu, and
+    `extrapolate` True, False or "periodic" over the base interval [t[k], t[n]]),
+    `derivative`, `antiderivative` (their t, c, k laid out as SciPy's), `integrate` (False:
+    zero outside the base interval), `tck`.
+
+    Evaluated as its polynomial pieces (made once, in float64): of degree 3 and below through
+    `context` as `CubicSpline`'s (the same promise on the GPU), above it (an antiderivative of
+    a cubic) in NumPy on the CPU. Differences from SciPy: `t` and `c` are read-only copies;
+    `basis_element`, `design_matrix`, `from_power_basis` and `insert_knot` are absent.
+    """
+
+    t: np.ndarray
+    c: np.ndarray
+    k: int
+    axis: int
+    extrapolate: bool | str
+    context: Context | None
+    # The polynomial pieces, made at the first call (or handed over by make_interp_spline).
+    _pp: Any
+
+    def __init__(self, t, c, k: int = 3, extrapolate=True, axis: int = 0,
+                 context: Context | None = None):
+        k = _natural("k", k)
+        t = np.array(_float64(t, "t"), order="C")
+        c = np.asarray(c)
+        if c.dtype.kind not in "biufc":
+            raise TypeError(f"c: must be numbers, got an array of {c.dtype}")
+        if c.ndim == 0:
+            raise ValueError("c: must be at least 1-D, got a 0-d array")
+        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
+                -c.ndim <= axis < c.ndim):
+            raise ValueError(f"axis: must be an integer from {-c.ndim} to {c.ndim - 1} for a "
+                             f"{c.ndim}-D c, got {axis!r}")
+        axis = int(axis) % c.ndim
+        c = np.array(np.moveaxis(c, axis, 0),
+                     dtype=np.complex128 if c.dtype.kind == "c" else np.float64, order="C")
+        _bspline.check(t, c.shape[0], k)
+        extrapolate = _extrapolate(extrapolate)
+        self._set(t, c, k, True if extrapolate is None else extrapolate, axis, context)
+
+    def _set(self, t, c, k, extrapolate, axis, context) -> None:
+        t.flags.writeable = False
+        c.flags.writeable = False
+        self.t, self.c, self.k = t, c, k
+        self.extrapolate, self.axis, self.context = extrapolate, axis, context
+        self._pp = None
+
+    @classmethod
+    def construct_fast(cls, t, c, k: int, extrapolate=True, axis: int = 0,
+                       context: Context | None = None) -> BSpline:
+        """A BSpline of float64 (or complex128) t and c (axis first) taken as they are, as
+        SciPy's (no checks; the arrays are made read-only)."""
+        spline = cls.__new__(cls)
+        spline._set(t, c, k, extrapolate, axis, context)
+        return spline
+
+    @property
+    def tck(self) -> tuple:
+        """(t, c, k)."""
+        return self.t, self.c, self.k
+
+    def _pieces(self):
+        """The spline's polynomial pieces on its base interval, made once."""
+        if self._pp is None:
+            n = len(self.t) - self.k - 1
+            c = self.c[:n].reshape(n, -1)
+            breaks, coeff = _bspline.pieces(self.t, c, self.k)
+            coeff = coeff.reshape(coeff.shape[:2] + self.c.shape[1:])
+            if self.k <= 3:
+                extent = float(np.max(np.ptp(np.concatenate([c.real, c.imag], axis=1), axis=0)))
+                self._pp = _Piecewise._of_pieces(breaks, coeff, extent, self.extrapolate,
+                                                 self.axis, self.context)
+            else:
+                self._pp = PPoly._made(coeff, breaks, self.extrapolate, self.axis)
+        return self._pp
+
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        """Derivative nu (>= 0) at x, shape x.shape + c.shape[1:] (x's axes at `axis`);
+        `extrapolate` None (the spline's), True (the end pieces continue), False (NaN outside
+        [t[k], t[n]]) or "periodic" (x wrapped into it)."""
+        nu = _natural("nu", nu)
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        pp = self._pieces()
+        if isinstance(pp, _Piecewise) and nu <= 3:
+            return pp(x, nu, mode)
+        if isinstance(pp, _Piecewise):
+            pp = pp.ppoly()
+        return pp(x, nu, mode)
+
+    def derivative(self, nu: int = 1) -> BSpline:
+        """The nu-th derivative as a BSpline of degree k - nu (SciPy's t and c)."""
+        t, c, k = _bspline.derivative(self.t, self.c, self.k, _natural("nu", nu))
+        return self.construct_fast(t, c, k, self.extrapolate, self.axis, self.context)
+
+    def antiderivative(self, nu: int = 1) -> BSpline:
+        """The nu-th antiderivative, zero at t[0], as a BSpline of degree k + nu (SciPy's t and
+        c); a periodic extrapolation becomes False, as SciPy's."""
+        t, c, k = _bspline.antiderivative(self.t, self.c, self.k, _natural("nu", nu))
+        extrapolate = False if self.extrapolate == "periodic" else self.extrapolate
+        return self.construct_fast(t, c, k, extrapolate, self.axis, self.context)
+
+    def integrate(self, a, b, extrapolate=None) -> np.ndarray:
+        """The integral from a to b (b < a: its negative), shape c.shape[1:], in float64 from
+        the pieces: `extrapolate` None (the spline's), True (the end pieces past the base
+        interval), False (the spline taken as zero outside [t[k], t[n]]) or "periodic"."""
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        pp = self._pieces()
+        if mode is False:
+            lo, hi = pp.x[0], pp.x[-1]
+            a, b = min(max(float(a), lo), hi), min(max(float(b), lo), hi)
+            mode = True
+        return pp.integrate(a, b, mode)
+
+    def __reduce__(self):
+        return (_restore_bspline, (self.__dict__,))
+
+
+def _restore_bspline(attributes: dict) -> BSpline:
+    """A BSpline `__reduce__` saved, its pieces included (as `make_interp_spline` fitted them),
+    its t and c read-only again."""
+    spline = BSpline.__new__(BSpline)
+    spline.__dict__.update(attributes)
+    spline.t.flags.writeable = spline.c.flags.writeable = False
+    return spline
+
+
+def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
+                       check_finite: bool = True, context: Context | None = None) -> BSpline:
+    """`scipy.interpolate.make_interp_spline(x, y, k=3, t=None, bc_type=None, axis=0)`, the
+    cubic case: the interpolating cubic B-spline with SciPy's knots and coefficients. bc_type
+    None or "not-a-knot" (x_1 and x_{n-2} are not knots; at least 4 points), "natural",
+    "clamped", "periodic", or a pair (left, right), each "natural", "clamped" or a list of one
+    (order, value) with order 1 or 2.
+
+    Fitted as `CubicSpline` (O(n), float64), whose pieces the result evaluates; the B-spline
+    coefficients are read off them by blossoming. Differences from SciPy: only k = 3 and knots
+    of its choosing (`t` None); two conditions at one end and none at the other, or orders 0
+    and 3, are refused; `check_finite` is always on (NaN and infinity are refused)."""
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k != 3:
+        raise ValueError(f"k: only the cubic case (k=3) is built, got {k!r}")
+    if t is not None:
+        raise ValueError("t: only the knots make_interp_spline chooses itself are built (pass "
+                         "t=None)")
+    bc = _interp_bc(bc_type)
+    fitted = CubicSpline(x, y, axis=axis, bc_type=bc, context=context)
+    xs = fitted.x
+    if bc == "not-a-knot" and len(xs) < 4:
+        raise ValueError(f"x: not-a-knot needs at least 4 points for k=3, got {len(xs)}")
+    period = None
+    if bc == "periodic":
+        knots, period = _bspline.periodic_knots(xs), xs[-1] - xs[0]
+    elif bc == "not-a-knot":
+        knots = _bspline.not_a_knot_knots(xs)
+    else:
+        knots = _bspline.end_knots(xs)
+    pieces = fitted.c.reshape(4, len(xs) - 1, -1)
+    c = _bspline.cubic_coefficients(knots, xs, pieces, period)
+    c = c.reshape((len(c), *fitted.c.shape[2:]))
+    knots.flags.writeable = False
+    spline = BSpline.construct_fast(knots, c, 3, "periodic" if period is not None else True,
+                                    fitted.axis, context)
+    fitted.extrapolate = spline.extrapolate
+    spline._pp = fitted
+    return spline
+
+
+def _interp_bc(bc_type):
+    """make_interp_spline's bc_type as CubicSpline's."""
+    if bc_type is None:
+        return "not-a-knot"
+    if isinstance(bc_type, str):
+        if bc_type not in ("not-a-knot", "natural", "clamped", "periodic"):
+            raise ValueError(f"bc_type: unknown boundary condition {bc_type!r}")
+        return bc_type
+    try:
+        left, right = bc_type
+    except (TypeError, ValueError):
+        raise ValueError(f"bc_type: must be None, a name, or a pair (left, right), got "
+                         f"{bc_type!r}") from None
+    if left is None and right is None:
+        return "not-a-knot"
+
+    def end(spec, where: str):
+        if isinstance(spec, str):
+            if spec not in ("natural", "clamped"):
+                raise ValueError(f"bc_type: unknown boundary condition {spec!r} at the {where}")
+            return spec
+        try:
+            (order, value), = spec
+        except (TypeError, ValueError):
+            raise ValueError(f"bc_type: the {where} end must be \"natural\", \"clamped\" or a "
+                             f"list of one (order, value) for k=3, got {spec!r}") from None
+        if isinstance(order, bool) or order not in (1, 2):
+            raise ValueError(f"bc_type: the derivative order at the {where} end must be 1 or 2 "
+                             f"here, got {order!r}")
+        return (int(order), value)
+
+    return (end(left, "left"), end(right, "right"))
 
 
 class _Derivative:

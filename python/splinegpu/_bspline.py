@@ -1,0 +1,178 @@
+"""B-spline arithmetic for `splinegpu.interpolate.BSpline` and `make_interp_spline`, in NumPy
+float64 (or complex128): the pieces of a B-spline in SciPy's power form, the coefficients of
+its derivatives and antiderivatives as SciPy's `splder`/`splantider` lay them out, the knot
+vectors of `make_interp_spline`, and B-spline coefficients read off a fitted cubic's pieces.
+
+Notation: knots t_0 <= ... <= t_{n+k}, coefficients c_0 .. c_{n-1}, degree k; B_{i,k} is
+supported on [t_i, t_{i+k+1}], and the base interval is [t_k, t_n].
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def check(t: np.ndarray, c_length: int, k: int) -> None:
+    """SciPy's rules for (t, c, k), each a ValueError naming what is wrong."""
+    if k < 0:
+        raise ValueError(f"k: the degree must be >= 0, got {k}")
+    if t.ndim != 1:
+        raise ValueError(f"t: the knots must be 1-D, got shape {t.shape}")
+    n = t.shape[0] - k - 1
+    if n < k + 1:
+        raise ValueError(f"t: need at least {2 * k + 2} knots for degree {k}, got {t.shape[0]}")
+    if not np.all(np.isfinite(t)):
+        raise ValueError("t: the knots must be finite")
+    if np.any(np.diff(t) < 0):
+        raise ValueError("t: the knots must be in non-decreasing order")
+    if not t[k] < t[n]:
+        raise ValueError(f"t: the base interval [t[{k}], t[{n}]] is empty (need at least two "
+                         f"distinct knots there)")
+    if c_length < n:
+        raise ValueError(f"c: {c_length} coefficients for {t.shape[0]} knots of degree {k} "
+                         f"(wants at least {n})")
+
+
+def pieces(t: np.ndarray, c: np.ndarray, k: int):
+    """The B-spline sum_i c_i B_{i,k} (c of shape (>= n, m)) as polynomial pieces: breakpoints
+    (the distinct knots of the base interval) and coefficients (k + 1, P, m), piece j being
+    sum_d coeff[k - d, j] (x - x_j)^d as SciPy's PPoly holds it.
+
+    coeff[k - d, j] = f^(d)(x_j+) / d!: the d-th derivative is the spline of degree k - d with
+    coefficients c^(d)_i = (k - d + 1) (c^(d-1)_i - c^(d-1)_{i-1}) / (t_{i+k-d+1} - t_i) on
+    the same knots (a zero width: a zero term, whose basis function vanishes), evaluated at
+    the interval's left end by de Boor's algorithm."""
+    n = t.shape[0] - k - 1
+    j = np.arange(k, n)
+    j = j[t[j] < t[j + 1]]
+    breaks = np.append(t[j], t[n])
+    x = t[j]
+    coeff = np.empty((k + 1, len(j), c.shape[1]), dtype=c.dtype)
+    cd = c[:n].copy()
+    factorial = 1.0
+    for d in range(k + 1):
+        if d > 0:
+            p = k - d + 1
+            i = np.arange(d, n)
+            width = t[i + p] - t[i]
+            step = np.zeros_like(cd)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step[d:] = np.where((width > 0)[:, None],
+                                    p * (cd[d:] - cd[d - 1:-1]) / width[:, None], 0.0)
+            cd = step
+            factorial *= d
+        coeff[k - d] = _de_boor(t, cd, k - d, j, x) / factorial
+    return breaks, coeff
+
+
+def _de_boor(t: np.ndarray, a: np.ndarray, q: int, j: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """sum_i a_i B_{i,q}(x) for each x in [t_j, t_{j+1}) (t_j < t_{j+1}), all at once: the
+    coefficients a_{j-q} .. a_j blended q times, a_i <- (1 - w) a_{i-1} + w a_i with
+    w = (x - t_i) / (t_{i+q+1-r} - t_i) at round r (never a zero width: t_{i+q+1-r} >= t_{j+1}
+    > t_j >= t_i)."""
+    d = [a[j - q + s] for s in range(q + 1)]
+    for r in range(1, q + 1):
+        for s in range(q, r - 1, -1):
+            i = j - q + s
+            w = ((x - t[i]) / (t[i + q + 1 - r] - t[i]))[:, None]
+            d[s] = (1 - w) * d[s - 1] + w * d[s]
+    return d[q]
+
+
+def padded(t: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """c with zero rows up to len(t), as SciPy pads it before differentiating (FITPACK's
+    layout: as many coefficients as knots)."""
+    extra = t.shape[0] - c.shape[0]
+    if extra <= 0:
+        return c
+    return np.concatenate([c, np.zeros((extra, *c.shape[1:]), dtype=c.dtype)])
+
+
+def derivative(t: np.ndarray, c: np.ndarray, k: int, nu: int):
+    """The nu-th derivative as (t, c, k) laid out as SciPy's `splder`: per order the
+    coefficients p (c_i - c_{i-1}) / (t_{i+p} - t_i) (p the degree before it), the outer knot
+    of each end dropped, the coefficients padded with zeros to the knots' length. A zero
+    width (a knot repeated more than k times inside) is a ValueError, as SciPy's."""
+    if nu > k:
+        raise ValueError(f"nu: a spline of degree {k} has derivatives up to order {k}, got "
+                         f"{nu}")
+    c = padded(t, c)
+    for _ in range(nu):
+        width = t[k + 1:-1] - t[1:-k - 1]
+        if np.any(width == 0):
+            raise ValueError(f"The spline has internal repeated knots and is not "
+                             f"differentiable {nu} times")
+        shape = (-1,) + (1,) * (c.ndim - 1)
+        step = (c[1:-1 - k] - c[:-2 - k]) * k / width.reshape(shape)
+        c = np.concatenate([step, np.zeros((k, *c.shape[1:]), dtype=c.dtype)])
+        t = t[1:-1]
+        k -= 1
+    return t, c, k
+
+
+def antiderivative(t: np.ndarray, c: np.ndarray, k: int, nu: int):
+    """The nu-th antiderivative (zero at t_0) as (t, c, k) laid out as SciPy's `splantider`:
+    per order the knots t_0 and t_last repeated once more, the coefficients
+    0, then d_i = sum_{l <= i} c_l (t_{l+k+1} - t_l) / (k + 1), then the last d_i k + 2 more
+    times (to the knots' length)."""
+    c = padded(t, c)
+    for _ in range(nu):
+        width = t[k + 1:] - t[:-k - 1]
+        shape = (-1,) + (1,) * (c.ndim - 1)
+        d = np.cumsum(c[:-k - 1] * width.reshape(shape), axis=0) / (k + 1)
+        c = np.concatenate([np.zeros((1, *c.shape[1:]), dtype=c.dtype), d,
+                            np.repeat(d[-1:], k + 2, axis=0)])
+        t = np.concatenate([t[:1], t, t[-1:]])
+        k += 1
+    return t, c, k
+
+
+def not_a_knot_knots(x: np.ndarray) -> np.ndarray:
+    """The cubic not-a-knot knot vector: x_0 and x_last four times each, x_2 .. x_{n-3}
+    between (x_1 and x_{n-2} are not knots)."""
+    return np.concatenate([np.repeat(x[:1], 4), x[2:-2], np.repeat(x[-1:], 4)])
+
+
+def end_knots(x: np.ndarray) -> np.ndarray:
+    """The cubic knot vector for a derivative condition at each end: every x, the ends three
+    times more."""
+    return np.concatenate([np.repeat(x[:1], 3), x, np.repeat(x[-1:], 3)])
+
+
+def periodic_knots(x: np.ndarray) -> np.ndarray:
+    """The cubic periodic knot vector: x, and three knots past each end that repeat the
+    spacing of the other end (the widths x_{n-1} - x_{n-2}, ... before x_0; x_1 - x_0, ...
+    after x_{n-1}, cycling when there are fewer than three)."""
+    widths = np.diff(x)
+    n = len(x)
+    # Knot by knot outward from each end (each from its neighbour, as SciPy rounds them).
+    before, after = [x[0]], [x[-1]]
+    for i in range(3):
+        before.append(before[-1] - widths[-(i % (n - 1)) - 1])
+        after.append(after[-1] + widths[i % (n - 1)])
+    return np.concatenate([before[:0:-1], x, after[1:]])
+
+
+def cubic_coefficients(t: np.ndarray, breaks: np.ndarray, coeff: np.ndarray,
+                       period: float | None = None) -> np.ndarray:
+    """The coefficients c_i (len(t) - 4, m) of the cubic B-spline on knots t equal to the
+    piecewise cubic (breaks, coeff (4, P, m) in SciPy's power form), read off by blossoming:
+    c_i is the polar form of the polynomial on B_i's support at (t_{i+1}, t_{i+2}, t_{i+3}),
+    for a + b v + c v^2 + d v^3 (v local to its piece)
+        a + b (v1 + v2 + v3) / 3 + c (v1 v2 + v1 v3 + v2 v3) / 3 + d v1 v2 v3.
+    The piece is the one at the middle of the wider of [t_{i+1}, t_{i+2}] and
+    [t_{i+2}, t_{i+3}] (inside the support, and the arguments no farther from it than needed);
+    with a `period`, a middle outside [breaks_0, breaks_last] is wrapped into it."""
+    i = np.arange(len(t) - 4)
+    u1, u2, u3 = t[i + 1], t[i + 2], t[i + 3]
+    middle = np.where(u3 - u2 >= u2 - u1, (u2 + u3) / 2, (u1 + u2) / 2)
+    shift = np.zeros_like(middle)
+    if period is not None:
+        shift = breaks[0] + np.mod(middle - breaks[0], period) - middle
+    p = np.clip(np.searchsorted(breaks, middle + shift, side="right") - 1, 0,
+                coeff.shape[1] - 1)
+    origin = breaks[p] - shift
+    v1, v2, v3 = ((u - origin)[:, None] for u in (u1, u2, u3))
+    cubic, square, linear, constant = coeff[0, p], coeff[1, p], coeff[2, p], coeff[3, p]
+    return (constant + linear * (v1 + v2 + v3) / 3 + square * (v1 * v2 + v1 * v3 + v2 * v3) / 3
+            + cubic * (v1 * v2 * v3))
