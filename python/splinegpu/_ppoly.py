@@ -134,33 +134,15 @@ class PPoly:
         return self._made(c, self.x, extrapolate, self.axis)
 
     def integrate(self, a, b, extrapolate=None) -> np.ndarray:
-        """The integral from a to b, shape c.shape[2:], as SciPy's (see
-        `splinegpu.interpolate.CubicSpline.integrate`)."""
+        """The integral from a to b (b < a: its negative), shape c.shape[2:], as SciPy's:
+        `extrapolate` None (the polynomial's), True (the end pieces past the breakpoints),
+        False (NaN when a or b lies outside them) or "periodic" (whole periods and the rest,
+        wrapped); see `_integrals`."""
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
-        a, b = float(a), float(b)
-        sign = 1.0
-        if b < a:
-            a, b, sign = b, a, -1.0
-        lo, hi = self.x[0], self.x[-1]
-        primitive = self.antiderivative()
-
-        def g(t: float) -> np.ndarray:
-            return primitive(t, extrapolate=True)
-
-        if mode == "periodic":
-            period = hi - lo
-            periods, left = divmod(b - a, period)
-            total = periods * (g(hi) - g(lo))
-            a = lo + (a - lo) % period
-            if a + left <= hi:
-                total = total + g(a + left) - g(a)
-            else:
-                total = total + (g(hi) - g(a) + g(lo + left + a - hi) - g(lo))
-        elif mode is False and not (lo <= a and b <= hi):
-            total = np.full(self.c.shape[2:], np.nan)
-        else:
-            total = g(b) - g(a)
-        return sign * np.asarray(total)
+        m = self.c.shape[1]
+        total = _integrals(self._columns(), self.x[:-1], self.x[1:], np.array([0, m]),
+                           np.array([float(a)]), np.array([float(b)]), mode)
+        return total[0].reshape(self.c.shape[2:])
 
     def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
         """The x where the polynomial equals y, as SciPy finds them: per piece the real roots
@@ -436,3 +418,62 @@ def _roots(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarra
     value, owner = value[new], owner[new]
     counts = np.bincount(owner, minlength=len(pieces_of))
     return value, np.concatenate([[0], np.cumsum(counts)])
+
+
+def _located(start: np.ndarray, offsets: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """For each spline s and its x[s], the last of its pieces offsets[s]:offsets[s+1] that
+    starts at or below x[s] (its first piece below it, and at NaN): a binary search of all
+    splines at once."""
+    lo, hi = offsets[:-1].copy(), offsets[1:] - 1
+    while np.any(lo < hi):
+        middle = (lo + hi + 1) // 2
+        below = start[np.minimum(middle, hi)] <= x
+        lo, hi = np.where(below & (lo < hi), middle, lo), np.where(below | (lo >= hi), hi,
+                                                                   middle - 1)
+    return lo
+
+
+def _integrals(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray,
+               a: np.ndarray, b: np.ndarray, mode) -> np.ndarray:
+    """The integral of each spline from a[s] to b[s] (S,), all splines at once: spline s's
+    pieces are columns offsets[s]:offsets[s+1] of c (k, P, m), piece p spanning
+    [start[p], end[p]]; returns (S, m).
+
+    With P_p(v) = sum_m c[m, p] v^(k-m) / (k - m) the integral of piece p from its start to
+    v, the integral from a to b (a <= b, in pieces pa <= pb) is
+        P_pb(b - start_pb) - P_pa(a - start_pa) + sum_{pa <= p < pb} P_p(end_p - start_p),
+    the end pieces continuing past the knots. b < a gives the negative; `mode` False: NaN
+    where a or b lies outside the knots; "periodic": b - a as whole periods of the spline's
+    integral and a rest from a wrapped into the knots, itself wrapped at the end."""
+    k = c.shape[0]
+    exponent = np.arange(k, 0, -1)[:, None, None]
+
+    def partial(p, v):
+        return np.sum(c[:, p] * v[None, :, None] ** exponent / exponent, axis=0)
+
+    full = partial(np.arange(c.shape[1]), end - start)
+
+    def within(a, b):
+        pa, pb = _located(start, offsets, a), _located(start, offsets, b)
+        # Whole pieces pa..pb-1 of each spline (reduceat's pairs; an empty range gives 0).
+        pairs = np.clip(np.stack([pa, pb], axis=1).ravel(), 0, max(c.shape[1] - 1, 0))
+        whole = np.add.reduceat(full, pairs, axis=0)[0::2] if c.shape[1] else full[:0]
+        whole[pa >= pb] = 0
+        return partial(pb, b - start[pb]) - partial(pa, a - start[pa]) + whole
+
+    sign = np.where(b < a, -1.0, 1.0)[:, None]
+    a, b = np.minimum(a, b), np.maximum(a, b)
+    lo, hi = start[offsets[:-1]], end[offsets[1:] - 1]
+    if mode == "periodic":
+        period = hi - lo
+        periods, rest = np.divmod(b - a, period)
+        a = lo + np.mod(a - lo, period)
+        wraps = a + rest > hi
+        total = periods[:, None] * within(lo, hi)
+        total += np.where(wraps[:, None], within(a, hi) + within(lo, lo + rest + a - hi),
+                          within(a, np.minimum(a + rest, hi)))
+    else:
+        total = within(a, b)
+        if mode is False:
+            total[(a < lo) | (b > hi)] = np.nan
+    return sign * total

@@ -20,7 +20,7 @@ import numpy as np
 from . import _bspline, _native
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._context import Context, _default_context, _shared_context
-from ._ppoly import PPoly, _extrapolate, _roots
+from ._ppoly import PPoly, _extrapolate, _integrals, _roots
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "CubicHermiteSpline",
            "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
@@ -661,13 +661,14 @@ class _Batch:
 
     def __reduce__(self):
         # As a single spline's: the fitted tables bit for bit, the context as its backend.
-        return (_restore, (type(self), {"context": self.context}, self._native.state()))
+        attributes = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        return (_restore, (type(self), attributes, self._native.state()))
 
     def __len__(self) -> int:
         return len(self._native)
 
-    # The single class's `extrapolate` default, which `solve` and `roots` take.
-    _extrapolates = True
+    # The single class's `extrapolate` default, which `solve`, `roots` and `integrate` take.
+    _extrapolates: bool | str = True
 
     def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
         """Every spline's x where it equals y, as the single class's `solve` finds them, all
@@ -684,6 +685,23 @@ class _Batch:
     def roots(self, discontinuity: bool = True, extrapolate=None):
         """`solve(0, ...)`."""
         return self.solve(0.0, discontinuity, extrapolate)
+
+    def integrate(self, a, b, extrapolate=None) -> np.ndarray:
+        """Every spline's integral from a to b (each a number for all splines, or one per
+        spline), as the single class's `integrate` answers, all splines' pieces at once:
+        shape (S, m). `extrapolate` None (the single class's default), True, False (NaN where
+        a or b lies outside the spline's knots) or "periodic"."""
+        c, start, end, offsets = self._native.pieces()
+        splines = len(offsets) - 1
+        limits = []
+        for name, value in (("a", a), ("b", b)):
+            value = _float64(value, name)
+            if value.ndim > 1 or value.size not in (1, splines):
+                raise ValueError(f"{name}: must be a number or one per spline ({splines}), got "
+                                 f"shape {value.shape}")
+            limits.append(np.broadcast_to(value.reshape(-1), (splines,)))
+        mode = self._extrapolates if extrapolate is None else _extrapolate(extrapolate)
+        return _integrals(c, start, end, offsets, limits[0], limits[1], mode)
 
     def __call__(self, xs: Sequence[Any], nu: int = 0):
         """Spline i at xs[i] (a list of arrays, or a (S, k) array), derivative nu (0 to 2)
@@ -705,6 +723,8 @@ class CubicSplines(_Batch):
         name, start, end = _bc(bc_type, trailing)
         self._native = _native.fit(xs, ys2, name, start, end)
         self.context = context
+        if name == "periodic":
+            self._extrapolates = "periodic"
 
 
 class CubicHermiteSplines(_Batch):

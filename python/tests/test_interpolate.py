@@ -194,3 +194,36 @@ def test_integrals_are_scipys_in_every_extrapolate_mode(shape):
                                            equal_nan=True,
                                            err_msg=f"{type(ours).__name__} {extrapolate} "
                                                    f"[{a}, {b}]")
+
+
+def test_batch_integrals_are_their_single_splines(cpu):
+    rng = np.random.default_rng(23)
+    xs = [np.cumsum(10 ** rng.uniform(-2, 2, n)) for n in rng.integers(2, 40, 25)]
+    ys = [rng.uniform(-1, 1, (len(x), 2)) for x in xs]
+    for y in ys:
+        y[-1] = y[0]  # periodic splines too
+    a = np.array([x[0] + rng.uniform(-0.5, 1.2) * (x[-1] - x[0]) for x in xs])
+    b = np.array([x[0] + rng.uniform(-2.0, 3.0) * (x[-1] - x[0]) for x in xs])
+    batches = [
+        (si.PchipInterpolators(xs, ys), lambda x, y: si.PchipInterpolator(x, y)),
+        (si.Akima1DInterpolators(xs, ys), lambda x, y: si.Akima1DInterpolator(x, y)),
+        (si.CubicSplines(xs, ys, bc_type="periodic", context=cpu),
+         lambda x, y: si.CubicSpline(x, y, bc_type="periodic")),
+    ]
+    for batch, single in batches:
+        for extrapolate in (None, True, False, "periodic"):
+            for lo, hi in ((a, b), (2.5, b), (a, -1.0)):
+                got = batch.integrate(lo, hi, extrapolate=extrapolate)
+                assert got.shape == (len(xs), 2)
+                for i, (x, y) in enumerate(zip(xs, ys)):
+                    want = single(x, y).integrate(np.broadcast_to(lo, a.shape)[i],
+                                            np.broadcast_to(hi, b.shape)[i],
+                                            extrapolate=extrapolate)
+                    np.testing.assert_allclose(got[i], want, rtol=1e-12,
+                                               atol=1e-12 * np.abs(want).max(initial=1.0),
+                                               equal_nan=True,
+                                               err_msg=f"{extrapolate}, spline {i}")
+        again = pickle.loads(pickle.dumps(batch))
+        np.testing.assert_array_equal(again.integrate(a, b), batch.integrate(a, b))
+    with pytest.raises(ValueError, match=r"a: must be a number or one per spline \(25\)"):
+        batches[0][0].integrate(np.zeros(3), 1.0)
