@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _native
+
 
 def _extrapolate(value):
     """SciPy's `extrapolate`: True, False or "periodic" (None: the object's own)."""
@@ -232,7 +234,8 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
     spline's coefficients carry the fit's rounding where SciPy's are exact zeros: a line's
     cubic term of 1e-20 would put a root at 1e8). From degree 3 the roots are the eigenvalues
     of the companion matrix (last column -a_j / a_lead), below it the closed forms, the
-    quadratic's without cancellation."""
+    quadratic's without cancellation (the closed forms of cubics are the native finder's, which
+    takes every polynomial of degree 3 and below)."""
     k = c.shape[0]
     powers = np.arange(k - 1, -1, -1)[:, None]
     size = np.abs(c) * np.abs(widths)[None, :] ** powers
@@ -252,26 +255,13 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
         elif n == 2:
             wr, wi = _quadratic(a)
         else:
-            wr, wi = np.empty((len(idx), n)), np.empty((len(idx), n))
-            closed = np.zeros(len(idx), bool)
-            if n == 3:
-                # In blocks whose temporaries stay in cache (fresh pages of whole-array
-                # temporaries cost more than the arithmetic).
-                for b in range(0, len(idx), _BLOCK):
-                    part = slice(b, b + _BLOCK)
-                    wr[part], wi[part], closed[part] = _cubic(a[part])
-            rest = ~closed
-            wr[rest], wi[rest] = _eigenvalues(a[rest])
+            wr, wi = _eigenvalues(a)
         groups.append((np.repeat(idx, n), wr.ravel(), wi.ravel()))
     if not groups:
         return np.array([], int), np.array([]), np.array([]), everywhere
     pieces, real, imag = (np.concatenate(parts) for parts in zip(*groups))
     order_of = np.argsort(pieces, kind="stable")
     return pieces[order_of], real[order_of], imag[order_of], everywhere
-
-
-# Pieces whose cubic roots are formed together.
-_BLOCK = 4096
 
 
 def _eigenvalues(a: np.ndarray):
@@ -285,42 +275,6 @@ def _eigenvalues(a: np.ndarray):
     w = np.linalg.eigvals(companion) if rows else np.zeros((0, n), complex)
     w = np.take_along_axis(w, np.argsort(w.real, axis=1, kind="stable"), axis=1)
     return w.real, w.imag
-
-
-def _cubic(a: np.ndarray):
-    """The roots of cubics (rows of `a`, highest power first) in closed form where that
-    decides as the companion matrix does: (real parts, imaginary parts, which rows), each
-    row's sorted by real part. With u = t - B/3 the cubic is t^3 + p t + q; three real roots
-    by the trigonometric form when 4p^3 + 27q^2 < 0, one (Cardano's, without cancellation)
-    and a complex pair when > 0. Rows whose discriminant is within 1e-6 of its terms (roots
-    nearly double, which rounding may make real or complex) or whose constant term is zero
-    (a root at the piece's start) are left to the eigenvalues."""
-    b, c, d = (a[:, 1] / a[:, 0]), (a[:, 2] / a[:, 0]), (a[:, 3] / a[:, 0])
-    shift = b / 3
-    p = c - b * shift
-    q = d - shift * (c - 2 * shift * shift)
-    disc = 4 * p**3 + 27 * q**2
-    closed = (np.abs(disc) > 1e-6 * (4 * np.abs(p) ** 3 + 27 * q**2)) & (a[:, 3] != 0) \
-        & np.isfinite(disc)
-    wr, wi = np.zeros((len(a), 3)), np.zeros((len(a), 3))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        three = closed & (disc < 0)
-        r = 2 * np.sqrt(-p / 3)
-        angle = np.arccos(np.clip(3 * q / (p * r), -1.0, 1.0)) / 3
-        for j in range(3):
-            wr[:, j] = np.where(three, r * np.cos(angle - 2 * np.pi * j / 3) - shift, wr[:, j])
-        one = closed & (disc > 0)
-        root = np.sqrt(q * q / 4 + p**3 / 27)
-        big = -np.sign(q) * np.cbrt(np.abs(q) / 2 + root)
-        big = np.where(big == 0, np.cbrt(-q), big)
-        small = np.where(big != 0, -p / (3 * big), 0.0)
-        real = big + small - shift
-        pair = -(big + small) / 2 - shift
-        spread = np.sqrt(3) / 2 * np.abs(big - small)
-    wr = np.where(one[:, None], np.stack([real, pair, pair], axis=1), wr)
-    wi = np.where(one[:, None], np.stack([np.zeros_like(pair), -spread, spread], axis=1), wi)
-    order = np.argsort(wr, axis=1, kind="stable")
-    return np.take_along_axis(wr, order, axis=1), np.take_along_axis(wi, order, axis=1), closed
 
 
 def _quadratic(a: np.ndarray):
@@ -363,11 +317,39 @@ def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
 def _roots(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray, y: float,
            discontinuity: bool, extrapolate: bool):
     """The roots minus y of many splines at once: spline s's pieces are columns
-    offsets[s]:offsets[s+1] of c (k, P), piece p spanning [start[p], end[p]]. Every piece's
-    candidates are found together, then put in SciPy's order (per spline and piece: a
-    breakpoint where the value jumps across y, then the piece's roots by real part), a value
-    dropped where it equals the one before it, and a piece equal to y everywhere gives its
-    start and NaN. Returns (roots, offsets of each spline's roots)."""
+    offsets[s]:offsets[s+1] of c (k, P), piece p spanning [start[p], end[p]]; returns (roots,
+    offsets of each spline's roots), as SciPy finds them (see `PPoly.solve`). Cubics and below
+    go to the native finder (python/src/roots.rs), which leaves the pieces whose closed form
+    may decide real against complex otherwise than the companion matrix (a nearly double root)
+    to NumPy's eigenvalues here; higher degrees to `_roots_numpy`."""
+    k = c.shape[0]
+    if k > 4:
+        return _roots_numpy(c, start, end, offsets, y, discontinuity, extrapolate)
+    cubic = np.zeros((4, c.shape[1]))
+    cubic[4 - k:] = c
+    return _solved(_native.solve_pieces(cubic, np.ascontiguousarray(start, np.float64),
+                                        np.ascontiguousarray(end, np.float64),
+                                        np.asarray(offsets, np.int64), y, discontinuity,
+                                        extrapolate), y)
+
+
+def _solved(pending, y: float):
+    """A native solve's second step: the real eigenvalues of the pieces it left undecided
+    (their companion matrices minus y, each piece's ascending), handed back to `finish` ->
+    (roots, offsets)."""
+    which, a = pending.undecided()
+    a[:, -1] -= y
+    wr, wi = _eigenvalues(a)
+    real = wi == 0
+    return pending.finish(np.repeat(which, 3)[real.ravel()], wr[real])
+
+
+def _roots_numpy(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray,
+                 y: float, discontinuity: bool, extrapolate: bool):
+    """`_roots` in NumPy, for any degree: every piece's candidates are found together, then
+    put in SciPy's order (per spline and piece: a breakpoint where the value jumps across y,
+    then the piece's roots by real part), a value dropped where it equals the one before it,
+    and a piece equal to y everywhere gives its start and NaN."""
     pieces_of = np.diff(offsets)
     spline = np.repeat(np.arange(len(pieces_of)), pieces_of)
     first = np.zeros(c.shape[1], bool)

@@ -20,7 +20,7 @@ import numpy as np
 from . import _bspline, _native
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._context import Context, _default_context, _shared_context
-from ._ppoly import PPoly, _extrapolate, _integrals, _roots
+from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "CubicHermiteSpline",
            "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
@@ -675,12 +675,9 @@ class _Batch:
         splines' pieces at once: (roots (R,), offsets (S + 1,)), spline i's roots in
         roots[offsets[i]:offsets[i+1]] (NaN after the start of a piece equal to y
         everywhere). For splines of one value per x."""
-        c, start, end, offsets = self._native.pieces()
-        if c.shape[2] != 1:
-            raise ValueError(f"solve: the splines have {c.shape[2]} values per x; roots are "
-                             f"found for splines of one")
-        mode = self._extrapolates if extrapolate is None else _extrapolate(extrapolate)
-        return _roots(c[:, :, 0], start, end, offsets, float(y), bool(discontinuity), bool(mode))
+        mode = bool(self._extrapolates if extrapolate is None else _extrapolate(extrapolate))
+        y, discontinuity = float(y), bool(discontinuity)
+        return _solved(self._native.solve(y, discontinuity, mode), y)
 
     def roots(self, discontinuity: bool = True, extrapolate=None):
         """`solve(0, ...)`."""

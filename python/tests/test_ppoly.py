@@ -146,5 +146,5 @@ def test_batched_roots_and_solve_equal_scipys_loop():
                 same_roots(roots[offsets[i]:offsets[i + 1]],
                            scipy_class(x, y).solve(y0, extrapolate=extrapolate), x,
                            f"{type(batch).__name__} spline {i}, y={y0}, {extrapolate}")
-    with pytest.raises(ValueError, match="solve: the splines have 2 values per x"):
+    with pytest.raises(ValueError, match="solve: spline 0 has 2 values per x"):
         si.CubicSplines(xs, [np.stack([y, y], axis=1) for y in ys]).roots()
