@@ -14,55 +14,89 @@ import numpy as np
 
 def check(t: np.ndarray, c_length: int, k: int) -> None:
     """SciPy's rules for (t, c, k), each a ValueError naming what is wrong."""
-    if k < 0:
-        raise ValueError(f"k: the degree must be >= 0, got {k}")
     if t.ndim != 1:
         raise ValueError(f"t: the knots must be 1-D, got shape {t.shape}")
-    n = t.shape[0] - k - 1
-    if n < k + 1:
-        raise ValueError(f"t: need at least {2 * k + 2} knots for degree {k}, got {t.shape[0]}")
-    if not np.all(np.isfinite(t)):
-        raise ValueError("t: the knots must be finite")
-    if np.any(np.diff(t) < 0):
-        raise ValueError("t: the knots must be in non-decreasing order")
-    if not t[k] < t[n]:
-        raise ValueError(f"t: the base interval [t[{k}], t[{n}]] is empty (need at least two "
-                         f"distinct knots there)")
-    if c_length < n:
-        raise ValueError(f"c: {c_length} coefficients for {t.shape[0]} knots of degree {k} "
-                         f"(wants at least {n})")
+    check_many([t], [c_length], k, lambda s, what: what)
+
+
+def check_many(ts: list, c_lengths: list, k: int, named) -> None:
+    """SciPy's rules for every spline (ts[s] 1-D, c_lengths[s] coefficients, degree k), all
+    splines at once; the first spline that breaks one raises a ValueError naming it:
+    named(s, "t") or named(s, "c") is the name of its knots or coefficients."""
+    if k < 0:
+        raise ValueError(f"k: the degree must be >= 0, got {k}")
+    lengths = np.array([len(t) for t in ts], dtype=np.int64)
+    n = lengths - k - 1
+    for s in np.flatnonzero(n < k + 1)[:1]:
+        raise ValueError(f"{named(s, 't')}: need at least {2 * k + 2} knots for degree {k}, "
+                         f"got {lengths[s]}")
+    t = np.concatenate(ts)
+    first = np.concatenate([[0], np.cumsum(lengths)])
+    owner = np.repeat(np.arange(len(ts)), lengths)
+    for s in owner[~np.isfinite(t)][:1]:
+        raise ValueError(f"{named(s, 't')}: the knots must be finite")
+    falls = np.flatnonzero(np.diff(t) < 0)
+    for s in owner[falls[np.isin(falls + 1, first, invert=True)]][:1]:
+        raise ValueError(f"{named(s, 't')}: the knots must be in non-decreasing order")
+    for s in np.flatnonzero(~(t[first[:-1] + k] < t[first[:-1] + n]))[:1]:
+        raise ValueError(f"{named(s, 't')}: the base interval [t[{k}], t[{n[s]}]] is empty "
+                         f"(need at least two distinct knots there)")
+    for s in np.flatnonzero(np.asarray(c_lengths) < n)[:1]:
+        raise ValueError(f"{named(s, 'c')}: {c_lengths[s]} coefficients for {lengths[s]} knots "
+                         f"of degree {k} (wants at least {n[s]})")
 
 
 def pieces(t: np.ndarray, c: np.ndarray, k: int):
     """The B-spline sum_i c_i B_{i,k} (c of shape (>= n, m)) as polynomial pieces: breakpoints
-    (the distinct knots of the base interval) and coefficients (k + 1, P, m), piece j being
-    sum_d coeff[k - d, j] (x - x_j)^d as SciPy's PPoly holds it.
+    (the distinct knots of the base interval) and coefficients (k + 1, P, m) in SciPy's power
+    form; `many_pieces` of one spline."""
+    return many_pieces([t], [c], k)[0]
+
+
+def many_pieces(ts: list, cs: list, k: int) -> list:
+    """Many B-splines (knots ts[s], coefficients cs[s] of shape (>= n_s, m)) as polynomial
+    pieces, all splines' intervals at once: per spline (breakpoints, coefficients
+    (k + 1, P_s, m)), piece j being sum_d coeff[k - d, j] (x - x_j)^d as SciPy's PPoly holds
+    it.
 
     coeff[k - d, j] = f^(d)(x_j+) / d!: the d-th derivative is the spline of degree k - d with
     coefficients c^(d)_i = (k - d + 1) (c^(d-1)_i - c^(d-1)_{i-1}) / (t_{i+k-d+1} - t_i) on
     the same knots (a zero width: a zero term, whose basis function vanishes), evaluated at
-    the interval's left end by de Boor's algorithm."""
-    n = t.shape[0] - k - 1
-    j = np.arange(k, n)
+    the interval's left end by de Boor's algorithm. The splines' knots are laid end to end
+    with each one's coefficients beside its knots (padded to their count, as FITPACK lays
+    them out), so that every index i, i - 1, i + p stays within its own spline."""
+    lengths = np.array([len(t) for t in ts])
+    first = np.concatenate([[0], np.cumsum(lengths)])
+    t = np.concatenate(ts) if ts else np.zeros(0)
+    m = cs[0].shape[1] if cs else 1
+    c = np.zeros((len(t), m), dtype=np.result_type(*cs) if cs else np.float64)
+    n = lengths - k - 1
+    for s, cc in enumerate(cs):
+        c[first[s]:first[s] + n[s]] = cc[:n[s]]
+    owner = np.repeat(np.arange(len(ts)), lengths)
+    local = np.arange(len(t)) - first[owner]
+    j = np.flatnonzero((local >= k) & (local < n[owner]))
     j = j[t[j] < t[j + 1]]
-    breaks = np.append(t[j], t[n])
     x = t[j]
-    coeff = np.empty((k + 1, len(j), c.shape[1]), dtype=c.dtype)
-    cd = c[:n].copy()
+    coeff = np.empty((k + 1, len(j), m), dtype=c.dtype)
+    cd = c
     factorial = 1.0
     for d in range(k + 1):
         if d > 0:
             p = k - d + 1
-            i = np.arange(d, n)
+            i = np.flatnonzero((local >= d) & (local < n[owner]))
             width = t[i + p] - t[i]
             step = np.zeros_like(cd)
             with np.errstate(divide="ignore", invalid="ignore"):
-                step[d:] = np.where((width > 0)[:, None],
-                                    p * (cd[d:] - cd[d - 1:-1]) / width[:, None], 0.0)
+                step[i] = np.where((width > 0)[:, None],
+                                   p * (cd[i] - cd[i - 1]) / width[:, None], 0.0)
             cd = step
             factorial *= d
         coeff[k - d] = _de_boor(t, cd, k - d, j, x) / factorial
-    return breaks, coeff
+    # Each spline's pieces, and its last breakpoint t_n.
+    split = np.searchsorted(owner[j], np.arange(len(ts) + 1))
+    return [(np.append(x[split[s]:split[s + 1]], t[first[s] + n[s]]),
+             coeff[:, split[s]:split[s + 1]]) for s in range(len(ts))]
 
 
 def _de_boor(t: np.ndarray, a: np.ndarray, q: int, j: np.ndarray, x: np.ndarray) -> np.ndarray:

@@ -22,9 +22,10 @@ from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._context import Context, _default_context, _shared_context
 from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 
-__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "CubicHermiteSpline",
-           "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly", "PchipInterpolator",
-           "PchipInterpolators", "make_interp_spline", "pchip_interpolate"]
+__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
+           "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly",
+           "PchipInterpolator", "PchipInterpolators", "make_interp_spline", "make_interp_splines",
+           "pchip_interpolate"]
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
@@ -84,6 +85,28 @@ def _restore(cls, attributes: dict, state):
     spline.__dict__.update(attributes)
     spline._native = _native.Splines.from_state(state)
     return spline
+
+
+def _tables(pieces: list, extents: Sequence[float], name: str) -> Any:
+    """The extension's tables of piecewise polynomials of degree <= 3 given in SciPy's power
+    form: per spline (breakpoints x, real coefficients (k + 1, P, m)), all made in one call;
+    extents[s] is the spread of the points spline s was made from, which scales the GPU's
+    accuracy promise. Each piece is held as A u^3 + B u^2 + C u + D with u = (x - x_j) / h."""
+    m = pieces[0][1].shape[2] if pieces else 1
+    if m > _MAX_COLUMNS:
+        raise ValueError(f"{name}: at most {_MAX_COLUMNS} values per coefficient are evaluated "
+                         f"together, got {m}")
+    knots = np.concatenate([x for x, _ in pieces]) if pieces else np.zeros(0)
+    offsets = np.concatenate([[0], np.cumsum([len(x) for x, _ in pieces])]).astype(np.int64)
+    c = np.concatenate([cc for _, cc in pieces], axis=1) if pieces else np.zeros((4, 0, m))
+    cubic = np.zeros((4, *c.shape[1:]))
+    cubic[4 - c.shape[0]:] = c
+    # Each piece's width: the knots' steps but those from one spline's last knot to the next's
+    # first.
+    h = np.delete(np.diff(knots), offsets[1:-1] - 1)[:, None] if pieces else np.zeros((0, 1))
+    power = np.stack([cubic[0] * h**3, cubic[1] * h**2, cubic[2] * h, cubic[3]], axis=1)
+    return _native.Splines.from_pieces(m, knots, offsets, power.ravel(),
+                                       np.asarray(extents, dtype=np.float64))
 
 
 class _Piecewise:
@@ -154,16 +177,7 @@ class _Piecewise:
         columns = c.reshape(c.shape[0], c.shape[1], -1)
         if spline._complex:
             columns = np.concatenate([columns.real, columns.imag], axis=2)
-        if columns.shape[2] > _MAX_COLUMNS:
-            raise ValueError(f"c: at most {_MAX_COLUMNS} values per coefficient are evaluated "
-                             f"together, got {columns.shape[2]}")
-        cubic = np.zeros((4, *columns.shape[1:]))
-        cubic[4 - columns.shape[0]:] = columns
-        # The tables' power form per piece: A u^3 + B u^2 + C u + D with u = (x - x_j) / h.
-        h = np.diff(spline.x)[:, None]
-        power = np.stack([cubic[0] * h**3, cubic[1] * h**2, cubic[2] * h, cubic[3]], axis=1)
-        spline._native = _native.Splines.from_state(
-            [(columns.shape[2], spline.x, power.ravel(), float(extent))])
+        spline._native = _tables([(spline.x, columns)], [extent], "c")
         return spline
 
     def _as_columns(self, y, axis: int, name: str) -> np.ndarray:
@@ -550,25 +564,28 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
                          "t=None)")
     bc = _interp_bc(bc_type)
     fitted = CubicSpline(x, y, axis=axis, bc_type=bc, context=context)
-    xs = fitted.x
-    if bc == "not-a-knot" and len(xs) < 4:
-        raise ValueError(f"x: not-a-knot needs at least 4 points for k=3, got {len(xs)}")
-    period = None
-    if bc == "periodic":
-        knots, period = _bspline.periodic_knots(xs), xs[-1] - xs[0]
-    elif bc == "not-a-knot":
-        knots = _bspline.not_a_knot_knots(xs)
-    else:
-        knots = _bspline.end_knots(xs)
-    pieces = fitted.c.reshape(4, len(xs) - 1, -1)
-    c = _bspline.cubic_coefficients(knots, xs, pieces, period)
+    if bc == "not-a-knot" and len(fitted.x) < 4:
+        raise ValueError(f"x: not-a-knot needs at least 4 points for k=3, got {len(fitted.x)}")
+    knots, c = _interp_coefficients(fitted.x, fitted.c.reshape(4, len(fitted.x) - 1, -1), bc)
     c = c.reshape((len(c), *fitted.c.shape[2:]))
-    knots.flags.writeable = False
-    spline = BSpline.construct_fast(knots, c, 3, "periodic" if period is not None else True,
+    spline = BSpline.construct_fast(knots, c, 3, "periodic" if bc == "periodic" else True,
                                     fitted.axis, context)
     fitted.extrapolate = spline.extrapolate
     spline._pp = fitted
     return spline
+
+
+def _interp_coefficients(x: np.ndarray, pieces: np.ndarray, bc):
+    """make_interp_spline's knots for x and bc (CubicSpline's form), and the coefficients
+    (n, m) of the cubic (pieces (4, len(x) - 1, m) in SciPy's power form) on them."""
+    period = None
+    if bc == "periodic":
+        knots, period = _bspline.periodic_knots(x), x[-1] - x[0]
+    elif bc == "not-a-knot":
+        knots = _bspline.not_a_knot_knots(x)
+    else:
+        knots = _bspline.end_knots(x)
+    return knots, _bspline.cubic_coefficients(knots, x, pieces, period)
 
 
 def _interp_bc(bc_type):
@@ -637,13 +654,13 @@ class _Batch:
     _native: Any
 
     @staticmethod
-    def _arrays(xs, ys, name: str = "ys"):
+    def _arrays(xs, ys, name: str = "ys", xname: str = "xs"):
         """xs and ys as the extension takes them, and ys' trailing shape (its values per x)."""
         xs, ys = _stacked(xs, xs), _stacked(ys, ys)
         if isinstance(xs, np.ndarray) and xs.ndim == 2:
-            xs = _aligned(xs, "xs")
+            xs = _aligned(xs, xname)
         else:
-            xs = [_flat(x, "xs") for x in xs]
+            xs = [_flat(x, xname) for x in xs]
         # One (S, n, m) array, or a list of (n_i, m) arrays.
         ys2: Any
         if isinstance(ys, np.ndarray) and ys.ndim >= 2:
@@ -669,6 +686,9 @@ class _Batch:
 
     # The single class's `extrapolate` default, which `solve`, `roots` and `integrate` take.
     _extrapolates: bool | str = True
+    # Whether `integrate` with extrapolate False takes the splines as zero outside their knots
+    # (BSpline's rule) rather than giving NaN (PPoly's).
+    _zero_outside = False
 
     def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
         """Every spline's x where it equals y, as the single class's `solve` finds them, all
@@ -698,6 +718,10 @@ class _Batch:
                                  f"shape {value.shape}")
             limits.append(np.broadcast_to(value.reshape(-1), (splines,)))
         mode = self._extrapolates if extrapolate is None else _extrapolate(extrapolate)
+        if mode is False and self._zero_outside:
+            lo, hi = start[offsets[:-1]], end[offsets[1:] - 1]
+            limits = [np.clip(limit, lo, hi) for limit in limits]
+            mode = True
         return _integrals(c, start, end, offsets, limits[0], limits[1], mode)
 
     def __call__(self, xs: Sequence[Any], nu: int = 0):
@@ -754,3 +778,78 @@ class Akima1DInterpolators(_Batch):
         xs, ys2, _ = self._arrays(xs, ys)
         self._native = _native.fit_hermite(xs, ys2, method, None)
         self.context = context
+
+
+class BSplines(_Batch):
+    """Many `BSpline`s of one degree k <= 3 in one batch: `ts` a list of knot arrays (or a 2-D
+    array, one row per spline), `cs` matching (n_i, m) arrays of real coefficients (or an
+    (S, n, m) array; rows past n_i are ignored, as BSpline's); each spline's pieces are made
+    once, all splines' together. `extrapolate` (True, False or "periodic") is the default of
+    `integrate` (False: zero outside each base interval, as BSpline's), `roots` and `solve`;
+    calls take x within each spline's base interval (see `_Batch`). `batch[i]` is spline i as
+    a `BSpline`."""
+
+    k: int
+    # Where the splines' t and c come from: ("given", ts, cs, trailing shape), or ("fitted",
+    # the knots, bc_type, trailing shape) for make_interp_splines.
+    _source: tuple
+    _zero_outside = True
+
+    def __init__(self, ts, cs, k: int = 3, extrapolate=True, context: Context | None = None):
+        k = _natural("k", k)
+        if k > 3:
+            raise ValueError(f"k: a batch evaluates degrees up to 3, got {k} (BSpline takes "
+                             f"any)")
+        ts, cs2, trailing = self._arrays(ts, cs, "cs", "ts")
+        ts, cs2 = list(ts), list(cs2)
+        if len(ts) != len(cs2):
+            raise ValueError(f"cs: {len(cs2)} splines' coefficients for {len(ts)} knot arrays")
+
+        def named(s, what):
+            return f"{what}s[{s}]"
+
+        _bspline.check_many(ts, [len(c) for c in cs2], k, named)
+        made = _bspline.many_pieces(ts, cs2, k)
+        # Each spline's extent: the largest per-column spread of its coefficients.
+        n = [len(t) - k - 1 for t in ts]
+        used = np.concatenate([c[:count] for c, count in zip(cs2, n)])
+        starts = np.concatenate([[0], np.cumsum(n)[:-1]])
+        spread = np.maximum.reduceat(used, starts, axis=0) - np.minimum.reduceat(used, starts,
+                                                                                 axis=0)
+        self._native = _tables(made, spread.max(axis=1), "cs")
+        self.k, self.context = k, context
+        extrapolate = _extrapolate(extrapolate)
+        self._extrapolates = True if extrapolate is None else extrapolate
+        self._source = ("given", ts, cs2, trailing)
+
+    def __getitem__(self, i: int) -> BSpline:
+        i = range(len(self))[i]
+        how, first, second, trailing = self._source
+        if how == "given":
+            t, c = np.array(first[i]), second[i]
+        else:
+            t, c = _interp_coefficients(first[i], self._native.coefficients(i), second)
+        c = c.reshape((len(c), *trailing))
+        return BSpline.construct_fast(t, np.array(c), self.k, self._extrapolates, 0,
+                                      self.context)
+
+
+def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) -> BSplines:
+    """Many `make_interp_spline(x, y, k=3, bc_type=bc_type)`s in one batch: `xs` and `ys` as
+    `CubicSplines` takes them, fitted together; evaluated as their fitted pieces, `batch[i]`
+    is spline i with SciPy's knots and coefficients."""
+    bc = _interp_bc(bc_type)
+    batch = BSplines.__new__(BSplines)
+    xs, ys2, trailing = batch._arrays(xs, ys)
+    xs = list(xs)
+    if bc == "not-a-knot":
+        for i, x in enumerate(xs):
+            if len(x) < 4:
+                raise ValueError(f"xs[{i}]: not-a-knot needs at least 4 points for k=3, got "
+                                 f"{len(x)}")
+    name, start, end = _bc(bc, trailing)
+    batch._native = _native.fit(xs, ys2, name, start, end)
+    batch.k, batch.context = 3, context
+    batch._extrapolates = "periodic" if bc == "periodic" else True
+    batch._source = ("fitted", [np.array(x) for x in xs], bc, trailing)
+    return batch

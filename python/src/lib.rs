@@ -927,6 +927,66 @@ impl Splines {
         Ok(Self { tables })
     }
 
+    /// Splines from their pieces laid end to end: spline s's knots are
+    /// `knots[knot_offsets[s]..knot_offsets[s + 1]]`, its pieces' power coefficients (A, B, C,
+    /// D per piece, `dim` values each, u = (x - x_j) / h) follow the previous splines' in
+    /// `coeffs`, and `extents[s]` is its extent; a part that breaks a rule is a ValueError
+    /// naming the spline.
+    #[staticmethod]
+    fn from_pieces(
+        py: Python<'_>,
+        dim: usize,
+        knots: PyReadonlyArray1<'_, f64>,
+        knot_offsets: PyReadonlyArray1<'_, i64>,
+        coeffs: PyReadonlyArray1<'_, f64>,
+        extents: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let (knots, offsets) = (knots.as_slice()?, knot_offsets.as_slice()?);
+        let (coeffs, extents) = (coeffs.as_slice()?, extents.as_slice()?);
+        if offsets.len() != extents.len() + 1 {
+            return Err(value_error(format!(
+                "knot_offsets: {} for {} extents (wants one more)",
+                offsets.len(),
+                extents.len()
+            )));
+        }
+        let mut parts = Vec::with_capacity(extents.len());
+        let mut at = 0;
+        for (s, pair) in offsets.windows(2).enumerate() {
+            let (lo, hi) = (pair[0] as usize, pair[1] as usize);
+            if pair[0] < 0 || lo > hi || hi > knots.len() || hi - lo < 2 {
+                return Err(value_error(format!(
+                    "knot_offsets[{s}..{}]: must span at least 2 of the {} knots, got {}..{}",
+                    s + 1,
+                    knots.len(),
+                    pair[0],
+                    pair[1]
+                )));
+            }
+            let length = 4 * dim * (hi - lo - 1);
+            let end = at + length;
+            if end > coeffs.len() {
+                return Err(value_error(format!(
+                    "coeffs: {} values, spline {s} needs them to {end}",
+                    coeffs.len()
+                )));
+            }
+            parts.push((lo..hi, at..end, extents[s]));
+            at = end;
+        }
+        let tables = py
+            .detach(|| {
+                on_threads(parts.len(), |s| {
+                    let (k, c, extent) = parts[s].clone();
+                    SegmentTable::from_power(dim, knots[k].to_vec(), coeffs[c].to_vec(), extent)
+                        .map(Arc::new)
+                        .map_err(|e| e.in_curve(s))
+                })
+            })
+            .map_err(value_error)?;
+        Ok(Self { tables })
+    }
+
     /// Spline `i`'s coefficients as SciPy's PPoly holds them: c[k, j, :] multiplies
     /// (x − x_j)^(3−k) on interval j, shape (4, n − 1, m).
     fn coefficients<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray3<f64>>> {

@@ -245,3 +245,74 @@ def test_random_bsplines_are_scipys(seed, k, extrapolate):
     q = queries(t[k], t[len(t) - k - 1], rng)
     nu = int(rng.integers(0, k + 1))
     assert_close(ours(q, nu), theirs(q, nu), f"nu={nu}", tolerance=1e-11)
+
+
+@pytest.mark.parametrize("bc_type", [None, "natural", "periodic", ([(1, 0.5)], [(2, -1.0)])])
+def test_make_interp_splines_are_scipys_one_by_one(bc_type):
+    rng = np.random.default_rng(8)
+    xs = [uneven(int(n), 1e3, rng) for n in rng.integers(4, 30, 40)]
+    ys = [rng.uniform(-1, 1, len(x)) for x in xs]
+    if bc_type == "periodic":
+        for y in ys:
+            y[-1] = y[0]
+    batch = si.make_interp_splines(xs, ys, bc_type=bc_type)
+    singles = [interpolate.make_interp_spline(x, y, bc_type=bc_type) for x, y in zip(xs, ys)]
+    qs = [rng.uniform(x[0], x[-1], 25) for x in xs]
+    for nu in range(3):
+        values, offsets = batch(qs, nu)
+        for i, (q, theirs) in enumerate(zip(qs, singles)):
+            assert_close(values[offsets[i]:offsets[i + 1], 0], theirs(q, nu), f"{i}, nu={nu}",
+                         tolerance=1e-10)
+    for i in (0, 17, 39):
+        np.testing.assert_array_equal(batch[i].t, singles[i].t)
+        assert_close(batch[i].c, singles[i].c, f"c of spline {i}")
+        assert batch[i].extrapolate == singles[i].extrapolate
+    roots, offsets = batch.roots()
+    for i in range(len(xs)):
+        # SciPy's BSpline has no roots: its PPoly's (the same pieces on every x).
+        want = interpolate.PPoly.from_spline(singles[i]).roots()
+        want = want[(want >= xs[i][0]) & (want <= xs[i][-1])]
+        got = roots[offsets[i]:offsets[i + 1]]
+        got = got[(got >= xs[i][0]) & (got <= xs[i][-1])]
+        assert_close(got, want, f"roots of spline {i}", tolerance=1e-10)
+    lo = np.array([x[0] - 1 for x in xs])
+    hi = np.array([x[-1] * 0.7 for x in xs])
+    got = batch.integrate(lo, hi)
+    for i, theirs in enumerate(singles):
+        assert_close(got[i, 0], theirs.integrate(lo[i], hi[i]), f"integral {i}")
+
+
+def test_bsplines_are_scipys_one_by_one_and_travel():
+    rng = np.random.default_rng(9)
+    made = [random_bspline(3, rng, repeat=bool(i % 2), clamped=bool(i % 3)) for i in range(30)]
+    ts = [t for t, _ in made]
+    cs = [c for _, c in made]
+    batch = si.BSplines(ts, cs, extrapolate=False)
+    singles = [interpolate.BSpline(t, c, 3, extrapolate=False) for t, c in made]
+    qs = [rng.uniform(t[3], t[len(t) - 4], 20) for t in ts]
+    for nu in range(3):
+        values, offsets = batch(qs, nu)
+        for i, (q, theirs) in enumerate(zip(qs, singles)):
+            assert_close(values[offsets[i]:offsets[i + 1]], theirs(q, nu), f"{i}, nu={nu}",
+                         tolerance=1e-11)
+    # extrapolate=False: zero outside the base interval, as BSpline's (SciPy's 1-D path).
+    got = batch.integrate(-5.0, 20.0)
+    for i, (t, c) in enumerate(made):
+        n = len(t) - 4
+        want = [interpolate.BSpline(t, c[:n, j], 3, extrapolate=False).integrate(-5.0, 20.0)
+                for j in (0, 1)]
+        assert_close(got[i], want, f"integral {i}")
+    again = pickle.loads(pickle.dumps(batch))
+    np.testing.assert_array_equal(again(qs)[0], batch(qs)[0])
+    np.testing.assert_array_equal(again.integrate(-5.0, 20.0), got)
+    np.testing.assert_array_equal(batch[7].t, ts[7])
+    assert_close(batch[7](qs[7]), singles[7](qs[7]), "batch[7]")
+    bad = [*ts[:4], ts[4][::-1]]
+    with pytest.raises(ValueError, match=r"ts\[4\]: the knots must be in non-decreasing"):
+        si.BSplines(bad, cs[:5])
+    with pytest.raises(ValueError, match=r"cs\[2\]: 3 coefficients"):
+        si.BSplines(ts[:3], [*cs[:2], cs[2][:3]])
+    with pytest.raises(ValueError, match="k: a batch evaluates degrees up to 3"):
+        si.BSplines(ts, cs, k=4)
+    with pytest.raises(ValueError, match=r"xs\[1\]: not-a-knot needs at least 4 points"):
+        si.make_interp_splines([np.arange(5.0), np.arange(3.0)], [np.ones(5), np.ones(3)])
