@@ -428,12 +428,16 @@ def _integrals(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.nd
     where a or b lies outside the knots; "periodic": b - a as whole periods of the spline's
     integral and a rest from a wrapped into the knots, itself wrapped at the end."""
     k = c.shape[0]
-    exponent = np.arange(k, 0, -1)[:, None, None]
 
     def partial(p, v):
-        return np.sum(c[:, p] * v[None, :, None] ** exponent / exponent, axis=0)
+        # Horner: ((c_0 / k) v + c_1 / (k - 1)) v + ... + c_{k-1}, times v.
+        v = v[:, None]
+        total = c[0, p] / k
+        for m in range(1, k):
+            total = total * v + c[m, p] / (k - m)
+        return total * v
 
-    full = partial(np.arange(c.shape[1]), end - start)
+    full = partial(slice(None), end - start)
 
     def within(a, b):
         pa, pb = _located(start, offsets, a), _located(start, offsets, b)

@@ -12,9 +12,10 @@ results allocated.
   calls on splines already made).
 - fit-1m: `CubicSpline(x, y, bc_type="natural")` on 1,000,000 uneven knots in 3-D.
 - splinegpu.interpolate's batches (CubicSplines, CubicHermiteSplines, PchipInterpolators,
-  Akima1DInterpolators): the same 10,000 splines made and called at their 1,000 x, against
-  SciPy's loop of the single classes; and the roots of 10,000 1-D splines, one batch against
-  SciPy's loop.
+  Akima1DInterpolators, make_interp_splines, BSplines from knots and coefficients): the same
+  10,000 splines made and called at their 1,000 x, against SciPy's loop of the single
+  classes; and the roots and the integrals of 10,000 1-D splines, one batch against SciPy's
+  loop.
 - tessellate: one curve of 16 points (32 samples per segment), and w1 (10,000 Catmull-Rom
   curves of 34 points in 3-D, 9.93 M samples) with a fresh result and with `out=`, against
   SciPy's CubicHermiteSpline with Catmull-Rom tangents on the same curves, and against the
@@ -163,29 +164,53 @@ def batches(xs, ys, qs):
     import splinegpu.interpolate as si
 
     dydxs = np.random.default_rng(6).uniform(-1, 1, ys.shape)
+    # B-splines given by their knots and coefficients (SciPy's own interpolants').
+    tcks = [(s.t, s.c) for s in (scipy.make_interp_spline(k, v) for k, v in zip(xs, ys))]
+    ts, cs = [t for t, _ in tcks], [c for _, c in tcks]
     cases = [
-        ("CubicSplines (not-a-knot)", lambda: si.CubicSplines(xs, ys),
-         lambda k, v, d: scipy.CubicSpline(k, v)),
-        ("CubicHermiteSplines", lambda: si.CubicHermiteSplines(xs, ys, dydxs),
-         lambda k, v, d: scipy.CubicHermiteSpline(k, v, d)),
-        ("PchipInterpolators", lambda: si.PchipInterpolators(xs, ys),
-         lambda k, v, d: scipy.PchipInterpolator(k, v)),
-        ("Akima1DInterpolators (makima)", lambda: si.Akima1DInterpolators(xs, ys, method="makima"),
-         lambda k, v, d: scipy.Akima1DInterpolator(k, v, method="makima")),
+        ("CubicSplines (not-a-knot)", lambda ctx: si.CubicSplines(xs, ys, context=ctx),
+         lambda k, v, d, tck: scipy.CubicSpline(k, v)),
+        ("CubicHermiteSplines", lambda ctx: si.CubicHermiteSplines(xs, ys, dydxs, context=ctx),
+         lambda k, v, d, tck: scipy.CubicHermiteSpline(k, v, d)),
+        ("PchipInterpolators", lambda ctx: si.PchipInterpolators(xs, ys, context=ctx),
+         lambda k, v, d, tck: scipy.PchipInterpolator(k, v)),
+        ("Akima1DInterpolators (makima)",
+         lambda ctx: si.Akima1DInterpolators(xs, ys, method="makima", context=ctx),
+         lambda k, v, d, tck: scipy.Akima1DInterpolator(k, v, method="makima")),
+        ("make_interp_splines (not-a-knot)",
+         lambda ctx: si.make_interp_splines(xs, ys, context=ctx),
+         lambda k, v, d, tck: scipy.make_interp_spline(k, v)),
+        ("BSplines(t, c)", lambda ctx: si.BSplines(ts, cs, context=ctx),
+         lambda k, v, d, tck: scipy.BSpline(*tck, 3)),
     ]
+    try:
+        gpu = splinegpu.Context("gpu")
+    except RuntimeError:
+        gpu = None
     rows = []
     for name, ours, theirs in cases:
-        a = best(lambda ours=ours: ours()(qs))
-        b = best(lambda theirs=theirs: [theirs(k, v, d)(q)
-                                        for k, v, d, q in zip(xs, ys, dydxs, qs)], repeats=1)
+        a = best(lambda ours=ours: ours(None)(qs))
+        b = best(lambda theirs=theirs: [theirs(k, v, d, tck)(q) for k, v, d, tck, q
+                                        in zip(xs, ys, dydxs, tcks, qs)], repeats=1)
         rows.append((f"{name} make + call", a, "SciPy loop (1 run)", b, faster(a, b, ">= 10x")))
-    # Roots of 10,000 1-D splines already made: ours in one batch, SciPy's one by one.
+        if gpu is not None:
+            g = best(lambda ours=ours: ours(gpu)(qs), repeats=2)
+            adapter = gpu.info.removeprefix("gpu: ").split(" (")[0]
+            rows.append((f"  the same on the GPU backend ({adapter})", g,
+                         "CPU backend", a, faster(g, a)))
+    # Roots and integrals of 10,000 1-D splines already made: ours in one batch, SciPy's one
+    # by one.
     ours = si.CubicSplines(xs, ys[:, :, :1])
     theirs = [scipy.CubicSpline(k, v[:, 0]) for k, v in zip(xs, ys)]
     a = best(ours.roots)
     b = best(lambda: [s.roots() for s in theirs], repeats=1)
     rows.append(("CubicSplines.roots, 10,000 1-D", a, "SciPy loop (1 run)", b,
                  faster(a, b, ">= 10x")))
+    lo, hi = xs[:, 5] + 0.5, xs[:, -3] - 0.5
+    a = best(lambda: ours.integrate(lo, hi))
+    b = best(lambda: [s.integrate(p, q) for s, p, q in zip(theirs, lo, hi)], repeats=1)
+    rows.append(("CubicSplines.integrate, 10,000 1-D", a, "SciPy loop (1 run)", b,
+                 faster(a, b)))
     return rows
 
 

@@ -800,8 +800,10 @@ class BSplines(_Batch):
         if k > 3:
             raise ValueError(f"k: a batch evaluates degrees up to 3, got {k} (BSpline takes "
                              f"any)")
-        ts, cs2, trailing = self._arrays(ts, cs, "cs", "ts")
-        ts, cs2 = list(ts), list(cs2)
+        # As the extension takes them (a 2-D ts or 3-D cs stays one array, borrowed once), and
+        # as lists of the splines' arrays.
+        ts_given, cs_given, trailing = self._arrays(ts, cs, "cs", "ts")
+        ts, cs2 = list(ts_given), list(cs_given)
         if len(ts) != len(cs2):
             raise ValueError(f"cs: {len(cs2)} splines' coefficients for {len(ts)} knot arrays")
 
@@ -809,14 +811,24 @@ class BSplines(_Batch):
             return f"{what}s[{s}]"
 
         _bspline.check_many(ts, [len(c) for c in cs2], k, named)
-        made = _bspline.many_pieces(ts, cs2, k)
-        # Each spline's extent: the largest per-column spread of its coefficients.
-        n = [len(t) - k - 1 for t in ts]
-        used = np.concatenate([c[:count] for c, count in zip(cs2, n)])
-        starts = np.concatenate([[0], np.cumsum(n)[:-1]])
-        spread = np.maximum.reduceat(used, starts, axis=0) - np.minimum.reduceat(used, starts,
-                                                                                 axis=0)
-        self._native = _tables(made, spread.max(axis=1), "cs")
+        self._native = None
+        if k == 3:
+            try:
+                # The crate's cubic B-splines (kind "nurbs"), made on every thread.
+                self._native = _native.fit_bspline(ts_given, cs_given)
+            except ValueError:
+                # What the crate refuses but SciPy takes (a knot inside the base interval 4
+                # times, where the spline breaks): the pieces from NumPy.
+                pass
+        if self._native is None:
+            made = _bspline.many_pieces(ts, cs2, k)
+            # Each spline's extent: the largest per-column spread of its coefficients.
+            n = [len(t) - k - 1 for t in ts]
+            used = np.concatenate([c[:count] for c, count in zip(cs2, n)])
+            starts = np.concatenate([[0], np.cumsum(n)[:-1]])
+            spread = np.maximum.reduceat(used, starts, axis=0) - np.minimum.reduceat(
+                used, starts, axis=0)
+            self._native = _tables(made, spread.max(axis=1), "cs")
         self.k, self.context = k, context
         extrapolate = _extrapolate(extrapolate)
         self._extrapolates = True if extrapolate is None else extrapolate
@@ -840,8 +852,8 @@ def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) ->
     is spline i with SciPy's knots and coefficients."""
     bc = _interp_bc(bc_type)
     batch = BSplines.__new__(BSplines)
+    # A 2-D xs stays one array: the extension borrows it once (not once per row).
     xs, ys2, trailing = batch._arrays(xs, ys)
-    xs = list(xs)
     if bc == "not-a-knot":
         for i, x in enumerate(xs):
             if len(x) < 4:

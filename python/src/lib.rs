@@ -823,6 +823,38 @@ type TableState<'py> = (
     f64,
 );
 
+/// Makes one cubic B-spline per (t, c) pair (the crate's kind "nurbs" without weights, which
+/// is SciPy's `BSpline(t, c, 3)` on [t[3], t[n]]): c an (n', m) array whose first
+/// n = len(t) − 4 rows are the coefficients (rows past them are ignored, as SciPy's).
+#[pyfunction]
+fn fit_bspline<'py>(py: Python<'py>, ts: Stack1<'py>, cs: Stack2<'py>) -> PyResult<Splines> {
+    let (ts, cs) = (ts.items()?, cs.items()?);
+    if ts.len() != cs.len() {
+        return Err(value_error(format!(
+            "{} knot arrays for {} coefficient arrays",
+            ts.len(),
+            cs.len()
+        )));
+    }
+    let tables = py
+        .detach(|| {
+            on_threads(ts.len(), |s| {
+                let (dim, c) = cs[s];
+                let used = (ts[s].len().saturating_sub(4) * dim).min(c.len());
+                let kind = CurveKind::Nurbs {
+                    knots: ts[s].to_vec(),
+                    weights: None,
+                };
+                let points = Points::new(dim, c[..used].to_vec()).map_err(|e| e.in_curve(s))?;
+                Ok(Arc::new(
+                    Curve::new(kind, points).map_err(|e| e.in_curve(s))?.fit(),
+                ))
+            })
+        })
+        .map_err(value_error)?;
+    Ok(Splines { tables })
+}
+
 /// Fits one cubic Hermite spline per (x, y) pair: y an (n, m) array at the n strictly
 /// increasing x, its derivatives at the points given (`method` "given", `dydx` arrays like
 /// the ys) or by SciPy's rules for each column ("pchip", "akima", "makima").
@@ -1461,6 +1493,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PendingRoots>()?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(fit_hermite, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(solve_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;

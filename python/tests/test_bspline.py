@@ -316,3 +316,17 @@ def test_bsplines_are_scipys_one_by_one_and_travel():
         si.BSplines(ts, cs, k=4)
     with pytest.raises(ValueError, match=r"xs\[1\]: not-a-knot needs at least 4 points"):
         si.make_interp_splines([np.arange(5.0), np.arange(3.0)], [np.ones(5), np.ones(3)])
+
+
+def test_a_batch_with_a_broken_spline_takes_the_numpy_pieces():
+    # A knot 4 times inside the base interval breaks the spline there: the crate's cubic
+    # B-splines refuse it, SciPy takes it, and so does the batch (its pieces from NumPy).
+    rng = np.random.default_rng(12)
+    t = np.r_[0, 0, 0, 0, 1, 2, 2, 2, 2, 3, 4, 4, 4, 4.0]
+    c = rng.uniform(-1, 1, (len(t) - 4, 2))
+    batch = si.BSplines([t, t], [c, 2 * c])
+    q = np.linspace(0, 4, 41)
+    values, offsets = batch([q, q])
+    theirs = interpolate.BSpline(t, c, 3)
+    assert_close(values[offsets[0]:offsets[1]], theirs(q), "spline 0")
+    assert_close(values[offsets[1]:offsets[2]], 2 * theirs(q), "spline 1")
