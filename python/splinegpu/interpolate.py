@@ -24,8 +24,8 @@ from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly",
-           "PchipInterpolator", "PchipInterpolators", "make_interp_spline", "make_interp_splines",
-           "pchip_interpolate"]
+           "PPolys", "PchipInterpolator", "PchipInterpolators", "make_interp_spline",
+           "make_interp_splines", "pchip_interpolate"]
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
@@ -865,3 +865,33 @@ def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) ->
     batch._extrapolates = "periodic" if bc == "periodic" else True
     batch._source = ("fitted", [np.array(x) for x in xs], bc, trailing)
     return batch
+
+
+class PPolys(_Batch):
+    """Many `PPoly`s of degree <= 3 in one batch: `cs` a list of (k, P_i) or (k, P_i, m)
+    coefficient arrays in SciPy's layout (k <= 4, one k and m for all), `xs` their P_i + 1
+    increasing breakpoints each. `extrapolate` (True, False or "periodic") is the default of
+    `integrate`, `roots` and `solve`; calls take x within each spline's breakpoints (see
+    `_Batch`)."""
+
+    def __init__(self, cs, xs, extrapolate=None, context: Context | None = None):
+        cs = [np.asarray(_float64(c, f"cs[{i}]")) for i, c in enumerate(cs)]
+        xs = [_flat(x, f"xs[{i}]") for i, x in enumerate(xs)]
+        if len(cs) != len(xs):
+            raise ValueError(f"cs: {len(cs)} coefficient arrays for {len(xs)} breakpoint arrays")
+        shape = cs[0].shape[:1] + cs[0].shape[2:] if cs else (4,)
+        pieces = []
+        for i, (c, x) in enumerate(zip(cs, xs)):
+            if c.ndim not in (2, 3) or c.shape[:1] + c.shape[2:] != shape or shape[0] > 4:
+                raise ValueError(f"cs[{i}]: must have the shape (k, P, ...) of cs[0], {shape} "
+                                 f"with k <= 4 (degree 3 at most), got {c.shape}")
+            if len(x) != c.shape[1] + 1 or not np.all(np.diff(x) > 0):
+                raise ValueError(f"xs[{i}]: must be {c.shape[1] + 1} increasing breakpoints "
+                                 f"for {c.shape[1]} pieces, got {len(x)}")
+            pieces.append((x, c.reshape(c.shape[0], c.shape[1], -1)))
+        # Each spline's extent: the spread of its values at the pieces' starts.
+        extents = [float(np.max(np.ptp(c[-1], axis=0))) for _, c in pieces]
+        self._native = _tables(pieces, extents, "cs")
+        self.context = context
+        extrapolate = _extrapolate(extrapolate)
+        self._extrapolates = True if extrapolate is None else extrapolate

@@ -148,3 +148,29 @@ def test_batched_roots_and_solve_equal_scipys_loop():
                            f"{type(batch).__name__} spline {i}, y={y0}, {extrapolate}")
     with pytest.raises(ValueError, match="solve: spline 0 has 2 values per x"):
         si.CubicSplines(xs, [np.stack([y, y], axis=1) for y in ys]).roots()
+
+
+def test_a_batch_of_ppolys_is_scipys_one_by_one():
+    rng = np.random.default_rng(31)
+    xs = [np.cumsum(10 ** rng.uniform(-1, 1, n)) for n in rng.integers(2, 20, 30)]
+    cs = [rng.uniform(-1, 1, (4, len(x) - 1, 2)) for x in xs]
+    batch = si.PPolys(cs, xs)
+    theirs = [interpolate.PPoly(c, x) for c, x in zip(cs, xs)]
+    qs = [rng.uniform(x[0], x[-1], 15) for x in xs]
+    for nu in range(3):
+        values, offsets = batch(qs, nu)
+        for i, (q, single) in enumerate(zip(qs, theirs)):
+            np.testing.assert_allclose(values[offsets[i]:offsets[i + 1]], single(q, nu),
+                                       rtol=1e-12, atol=1e-12)
+    got = batch.integrate(-1.0, 50.0)
+    for i, single in enumerate(theirs):
+        np.testing.assert_allclose(got[i], single.integrate(-1.0, 50.0), rtol=1e-11)
+    roots, offsets = si.PPolys([c[..., 0] for c in cs], xs).roots()
+    for i, (c, x) in enumerate(zip(cs, xs)):
+        want = interpolate.PPoly(c[..., 0], x).roots()
+        np.testing.assert_allclose(roots[offsets[i]:offsets[i + 1]], want,
+                                   atol=1e-10 * (x[-1] - x[0]))
+    with pytest.raises(ValueError, match=r"xs\[1\]: must be"):
+        si.PPolys(cs[:2], [xs[0], xs[1][::-1]])
+    with pytest.raises(ValueError, match=r"cs\[0\]: must have the shape"):
+        si.PPolys([np.ones((5, 3))], [np.arange(4.0)])
