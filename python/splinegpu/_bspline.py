@@ -25,6 +25,8 @@ def check_many(ts: list, c_lengths: list, k: int, named) -> None:
     named(s, "t") or named(s, "c") is the name of its knots or coefficients."""
     if k < 0:
         raise ValueError(f"k: the degree must be >= 0, got {k}")
+    if not ts:
+        return
     lengths = np.array([len(t) for t in ts], dtype=np.int64)
     n = lengths - k - 1
     for s in np.flatnonzero(n < k + 1)[:1]:

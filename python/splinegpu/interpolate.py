@@ -456,6 +456,8 @@ class BSpline:
         c = np.array(np.moveaxis(c, axis, 0),
                      dtype=np.complex128 if c.dtype.kind == "c" else np.float64, order="C")
         _bspline.check(t, c.shape[0], k)
+        if not np.all(np.isfinite(c)):
+            raise ValueError("c: the coefficients must be finite")
         extrapolate = _extrapolate(extrapolate)
         self._set(t, c, k, True if extrapolate is None else extrapolate, axis, context)
 
@@ -811,8 +813,11 @@ class BSplines(_Batch):
             return f"{what}s[{s}]"
 
         _bspline.check_many(ts, [len(c) for c in cs2], k, named)
-        self._native = None
-        if k == 3:
+        for i, c in enumerate(cs2):
+            if not np.all(np.isfinite(c)):
+                raise ValueError(f"cs[{i}]: the coefficients must be finite")
+        self._native = _tables([], [], "cs") if not ts else None
+        if k == 3 and ts:
             try:
                 # The crate's cubic B-splines (kind "nurbs"), made on every thread.
                 self._native = _native.fit_bspline(ts_given, cs_given)

@@ -214,6 +214,7 @@ def test_bad_input_is_named():
         (lambda: si.BSpline(np.where(t > 5, np.nan, t), c, 3), "t: the knots must be finite"),
         (lambda: si.BSpline(t, c[:5], 3), "c: 5 coefficients for 18 knots"),
         (lambda: si.BSpline(t, c, -1), "k: must be an integer >= 0"),
+        (lambda: si.BSpline(t, np.where(c > 0, np.nan, c), 3), "c: the coefficients must be"),
         (lambda: si.BSpline(t, c, 3, axis=2), "axis: must be an integer from -2 to 1"),
         (lambda: si.BSpline(np.zeros(8), c, 3), r"t: the base interval \[t\[3\], t\[4\]\]"),
         (lambda: si.BSpline(t, c, 3)(0.0, nu=-1), "nu: must be an integer >= 0"),
@@ -312,6 +313,10 @@ def test_bsplines_are_scipys_one_by_one_and_travel():
         si.BSplines(bad, cs[:5])
     with pytest.raises(ValueError, match=r"cs\[2\]: 3 coefficients"):
         si.BSplines(ts[:3], [*cs[:2], cs[2][:3]])
+    with pytest.raises(ValueError, match=r"cs\[1\]: the coefficients must be finite"):
+        si.BSplines(ts[:2], [cs[0], cs[1] * np.nan])
+    empty = si.BSplines([], [])
+    assert len(empty) == 0 and len(empty.roots()[0]) == 0
     with pytest.raises(ValueError, match="k: a batch evaluates degrees up to 3"):
         si.BSplines(ts, cs, k=4)
     with pytest.raises(ValueError, match=r"xs\[1\]: not-a-knot needs at least 4 points"):
