@@ -427,7 +427,10 @@ class BSpline:
     Evaluated as its polynomial pieces (made once, in float64): of degree 3 and below through
     `context` as `CubicSpline`'s (the same promise on the GPU), above it (an antiderivative of
     a cubic) in NumPy on the CPU. Differences from SciPy: `t` and `c` are read-only copies;
-    `basis_element`, `design_matrix`, `from_power_basis` and `insert_knot` are absent.
+    non-finite coefficients are refused (SciPy's evaluate to NaN); `integrate` with
+    extrapolate False gives 0 past the base interval for an N-D c too (SciPy's N-D path gives
+    NaN there, its 1-D path 0); `basis_element`, `design_matrix`, `from_power_basis` and
+    `insert_knot` are absent.
     """
 
     t: np.ndarray
