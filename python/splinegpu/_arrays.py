@@ -33,6 +33,17 @@ def _order(name: str, value, most: int) -> int:
     return int(value)
 
 
+def _axis(value, ndim: int, of: str) -> int:
+    """SciPy's `axis` of an ndim-D array (`of` names it: "y", "c"): an integer from -ndim to
+    ndim - 1, refused by name otherwise; a negative axis counts from the end, and is returned
+    normalised."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (
+            -ndim <= value < ndim):
+        raise ValueError(f"axis: must be an integer from {-ndim} to {ndim - 1} for a "
+                         f"{ndim}-D {of}, got {value!r}")
+    return int(value) % ndim
+
+
 def _natural(name: str, value) -> int:
     """An integer argument `name` >= 0 (a degree, a derivative order without a bound), refused
     by name otherwise."""

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from . import _bspline, _native
-from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
+from ._arrays import _aligned, _axis, _flat, _float64, _natural, _order, _stacked
 from ._context import Context, _default_context, _shared_context
 from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 
@@ -141,12 +141,7 @@ class _Piecewise:
             raise ValueError(f"x: must contain at least 2 elements, got {x.shape[0]}")
         if y.ndim == 0:
             raise ValueError("y: must be at least 1-D, got a 0-d array")
-        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
-                -y.ndim <= axis < y.ndim):
-            raise ValueError(f"axis: must be an integer from {-y.ndim} to {y.ndim - 1} for a "
-                             f"{y.ndim}-D y, got {axis!r}")
-        # As SciPy does: a negative axis counts from the end, and is kept normalised.
-        axis = int(axis) % y.ndim
+        axis = _axis(axis, y.ndim, "y")
         self._trailing = np.moveaxis(y, axis, 0).shape[1:]
         y2 = self._as_columns(y, axis, "y")
         if y2.shape[0] != x.shape[0]:
@@ -451,11 +446,7 @@ class BSpline:
             raise TypeError(f"c: must be numbers, got an array of {c.dtype}")
         if c.ndim == 0:
             raise ValueError("c: must be at least 1-D, got a 0-d array")
-        if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or not (
-                -c.ndim <= axis < c.ndim):
-            raise ValueError(f"axis: must be an integer from {-c.ndim} to {c.ndim - 1} for a "
-                             f"{c.ndim}-D c, got {axis!r}")
-        axis = int(axis) % c.ndim
+        axis = _axis(axis, c.ndim, "c")
         c = np.array(np.moveaxis(c, axis, 0),
                      dtype=np.complex128 if c.dtype.kind == "c" else np.float64, order="C")
         _bspline.check(t, c.shape[0], k)

@@ -836,18 +836,32 @@ fn fit_bspline<'py>(py: Python<'py>, ts: Stack1<'py>, cs: Stack2<'py>) -> PyResu
             cs.len()
         )));
     }
+    fit_curves(py, ts.len(), |s| {
+        let (dim, c) = cs[s];
+        let used = (ts[s].len().saturating_sub(4) * dim).min(c.len());
+        let kind = CurveKind::Nurbs {
+            knots: ts[s].to_vec(),
+            weights: None,
+        };
+        Ok((kind, dim, c[..used].to_vec()))
+    })
+}
+
+/// Curve c's kind and points (`make(c)`: the kind, values per point, coordinates) for every
+/// c < n, each made into a curve and fitted on the library's threads; a curve's error names
+/// it.
+fn fit_curves(
+    py: Python<'_>,
+    n: usize,
+    make: impl Fn(usize) -> Result<(CurveKind, usize, Vec<f64>), InputError> + Sync,
+) -> PyResult<Splines> {
     let tables = py
         .detach(|| {
-            on_threads(ts.len(), |s| {
-                let (dim, c) = cs[s];
-                let used = (ts[s].len().saturating_sub(4) * dim).min(c.len());
-                let kind = CurveKind::Nurbs {
-                    knots: ts[s].to_vec(),
-                    weights: None,
-                };
-                let points = Points::new(dim, c[..used].to_vec()).map_err(|e| e.in_curve(s))?;
+            on_threads(n, |c| {
+                let (kind, dim, coords) = make(c)?;
+                let points = Points::new(dim, coords).map_err(|e| e.in_curve(c))?;
                 Ok(Arc::new(
-                    Curve::new(kind, points).map_err(|e| e.in_curve(s))?.fit(),
+                    Curve::new(kind, points).map_err(|e| e.in_curve(c))?.fit(),
                 ))
             })
         })
@@ -876,34 +890,26 @@ fn fit_hermite<'py>(
             ys.len()
         )));
     }
-    let tables = py
-        .detach(|| {
-            on_threads(xs.len(), |c| {
-                let (dim, y) = ys[c];
-                let slopes = match (method, &dydx) {
-                    ("given", Some(dydx)) => HermiteSlopes::Given(dydx[c].1.to_vec()),
-                    ("pchip", None) => HermiteSlopes::Pchip,
-                    ("akima", None) => HermiteSlopes::Akima,
-                    ("makima", None) => HermiteSlopes::Makima,
-                    _ => {
-                        return Err(InputError::field(
-                            "method",
-                            format!("\"{method}\" is not a way to form the derivatives"),
-                        ));
-                    }
-                };
-                let kind = CurveKind::Hermite {
-                    slopes,
-                    t: Some(xs[c].to_vec()),
-                };
-                let points = Points::new(dim, y.to_vec()).map_err(|e| e.in_curve(c))?;
-                Ok(Arc::new(
-                    Curve::new(kind, points).map_err(|e| e.in_curve(c))?.fit(),
-                ))
-            })
-        })
-        .map_err(value_error)?;
-    Ok(Splines { tables })
+    fit_curves(py, xs.len(), |c| {
+        let (dim, y) = ys[c];
+        let slopes = match (method, &dydx) {
+            ("given", Some(dydx)) => HermiteSlopes::Given(dydx[c].1.to_vec()),
+            ("pchip", None) => HermiteSlopes::Pchip,
+            ("akima", None) => HermiteSlopes::Akima,
+            ("makima", None) => HermiteSlopes::Makima,
+            _ => {
+                return Err(InputError::field(
+                    "method",
+                    format!("\"{method}\" is not a way to form the derivatives"),
+                ));
+            }
+        };
+        let kind = CurveKind::Hermite {
+            slopes,
+            t: Some(xs[c].to_vec()),
+        };
+        Ok((kind, dim, y.to_vec()))
+    })
 }
 
 #[pymethods]
