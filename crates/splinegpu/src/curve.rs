@@ -4,8 +4,9 @@ use crate::basis::{Basis, Rows, bezier_rows};
 use crate::error::InputError;
 use crate::fit::hermite::{self, HermiteSlopes};
 use crate::fit::interp::{self, EndCondition, Fitter};
+use crate::fit::local_beta;
 use crate::fit::nurbs;
-use crate::fit::tcb::{self, Tcb};
+use crate::fit::tcb::{self, PerPoint, Tcb};
 use crate::fit::uniform;
 use crate::points::Points;
 use crate::segment::SegmentTable;
@@ -122,6 +123,21 @@ pub enum CurveKind {
         /// The end convention.
         ends: Ends,
     },
+    /// Barsky and Beatty's Beta-spline with local bias and tension (the discretely shaped
+    /// Beta-spline, the memo's "Future"): joint j (the start of segment j; an open curve's last
+    /// joint is its end) carries its own bias b1_j > 0 and tension b2_j >= 0, and the curve is
+    /// G2 there in the Beta-spline sense, R'(0) = b1_j L'(1), R''(0) = b1_j² L''(1) + b2_j L'(1).
+    /// Each segment is a cubic of its window of four points, as for
+    /// [`CurveKind::Uniform`]; with every joint's values equal it is the memo's B_{b1,b2}.
+    /// Segment i spans t in [i, i + 1].
+    LocalBeta {
+        /// The end convention (the joints: n − 2 for control ends, n for repeat and closed).
+        ends: Ends,
+        /// Bias b1 (> 0): one value for every joint, or one per joint.
+        bias: PerPoint,
+        /// Tension b2 (>= 0): one value for every joint, or one per joint.
+        tension: PerPoint,
+    },
     /// Cubic Bezier segments sharing end points: 3k + 1 points make k segments, segment i
     /// from points 3i..3i+3 over t in [i, i + 1].
     Bezier,
@@ -181,6 +197,9 @@ enum FitMethod {
     /// A 4x4 basis matrix on sliding windows of four points (`ends`), or, with `ends` None,
     /// on Bezier windows that step by three points.
     Windows { rows: Rows, ends: Option<Ends> },
+    /// One basis matrix per segment (a Beta-spline with local bias and tension) on the sliding
+    /// windows of `ends`.
+    LocalWindows { rows: Vec<Rows>, ends: Ends },
     /// An interpolation solve at knots `t`.
     Solve {
         condition: EndCondition,
@@ -220,6 +239,17 @@ impl Curve {
                 FitMethod::Windows {
                     rows,
                     ends: Some(*ends),
+                }
+            }
+            CurveKind::LocalBeta {
+                ends,
+                bias,
+                tension,
+            } => {
+                local_beta::check(*ends, bias, tension, n)?;
+                FitMethod::LocalWindows {
+                    rows: local_beta::segment_rows(*ends, bias, tension, n),
+                    ends: *ends,
                 }
             }
             CurveKind::Bezier => {
@@ -291,9 +321,9 @@ impl Curve {
     pub fn segment_count(&self) -> usize {
         let n = self.points.len();
         match &self.kind {
-            CurveKind::Uniform { ends, .. } | CurveKind::KochanekBartels { ends, .. } => {
-                ends.segments(n)
-            }
+            CurveKind::Uniform { ends, .. }
+            | CurveKind::LocalBeta { ends, .. }
+            | CurveKind::KochanekBartels { ends, .. } => ends.segments(n),
             CurveKind::Bezier => (n - 1) / 3,
             CurveKind::Interpolating { .. } | CurveKind::Hermite { .. } => n - 1,
             CurveKind::Nurbs { knots, .. } => nurbs::spans(knots, n).count(),
@@ -312,9 +342,9 @@ impl Curve {
                 (t[first], t[first + self.segment_count()])
             }
             FitMethod::Knots { knots, .. } => (knots[3], knots[self.points.len()]),
-            FitMethod::Windows { .. } | FitMethod::Tcb { t: None, .. } => {
-                (0.0, self.segment_count() as f64)
-            }
+            FitMethod::Windows { .. }
+            | FitMethod::LocalWindows { .. }
+            | FitMethod::Tcb { t: None, .. } => (0.0, self.segment_count() as f64),
         }
     }
 
@@ -363,7 +393,16 @@ impl Curve {
             } => uniform::from_windows(
                 dim,
                 coords,
-                rows,
+                |_| rows,
+                segments,
+                extent,
+                |i| ends.window(n, i),
+                out,
+            ),
+            FitMethod::LocalWindows { rows, ends } => uniform::from_windows(
+                dim,
+                coords,
+                |i| &rows[i],
                 segments,
                 extent,
                 |i| ends.window(n, i),
@@ -372,7 +411,7 @@ impl Curve {
             FitMethod::Windows { rows, ends: None } => uniform::from_windows(
                 dim,
                 coords,
-                rows,
+                |_| rows,
                 segments,
                 extent,
                 |i| [3 * i, 3 * i + 1, 3 * i + 2, 3 * i + 3],

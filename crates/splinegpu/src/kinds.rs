@@ -35,11 +35,12 @@ pub const KIND_NAMES: [&str; 16] = [
 pub struct KindFields {
     /// "ends" of the uniform families (default "control").
     pub ends: Option<Ends>,
-    /// "tension": cardinal (default 0.5), tensioned-bspline (default 1), beta (default 0), a
-    /// number; kochanek-bartels (default 0), a number or one per point.
+    /// "tension": cardinal (default 0.5), tensioned-bspline (default 1), a number; beta
+    /// (default 0), a number or one per joint; kochanek-bartels (default 0), a number or one
+    /// per point.
     pub tension: Option<PerPoint>,
-    /// "bias": beta (default 1), a number; kochanek-bartels (default 0), a number or one per
-    /// point.
+    /// "bias": beta (default 1), a number or one per joint; kochanek-bartels (default 0), a
+    /// number or one per point.
     pub bias: Option<PerPoint>,
     /// "continuity" of kochanek-bartels (default 0): a number or one per point.
     pub continuity: Option<PerPoint>,
@@ -215,6 +216,18 @@ impl CurveKind {
             "tensioned-bspline" => uniform(Basis::TensionedBSpline {
                 tension: tension?.unwrap_or(1.0),
             }),
+            // Either field given per joint: Barsky and Beatty's local bias and tension.
+            "beta"
+                if [&fields.bias, &fields.tension]
+                    .iter()
+                    .any(|v| matches!(v, Some(PerPoint::Each(_)))) =>
+            {
+                CurveKind::LocalBeta {
+                    ends,
+                    bias: fields.bias.clone().unwrap_or(PerPoint::All(1.0)),
+                    tension: fields.tension.clone().unwrap_or(PerPoint::All(0.0)),
+                }
+            }
             "beta" => uniform(Basis::Beta {
                 bias: bias?.unwrap_or(1.0),
                 tension: tension?.unwrap_or(0.0),

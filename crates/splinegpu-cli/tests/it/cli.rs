@@ -52,6 +52,8 @@ const MIXED: &str = r#"{
     {"kind": "catmull-rom", "points": [[0.1, 0.2], [1.3, 1.7], [2.9, -0.4], [3.3, 1.1], [4.0, 0.0]]},
     {"kind": "bspline", "ends": "closed", "points": [[0.123456789, 1, 2], [3, 4.5, 6], [7, -8, 9.25]]},
     {"kind": "beta", "bias": 1.3, "tension": 2.5, "ends": "repeat", "points": [[1e6, 2e6, 3e6], [1000000.5, 2000000.25, 3000001], [1000001.5, 1999999.75, 3000000.5]]},
+    {"kind": "beta", "bias": [1, 2.5, 0.4, 1.2, 3], "tension": [0, 4, 1, 0, 10], "ends": "closed", "points": [[0, 0], [2, 1], [3, 3], [1, 4], [-1, 2]]},
+    {"kind": "beta", "bias": [0.5, 1, 2], "tension": 1.5, "points": [[1e6, 0], [1000001, 2], [1000003, 1], [1000004, 3], [1000005, 0]], "sampling": {"tolerance": 0.01}},
     {"kind": "bezier", "points": [[0], [1], [3], [2]], "sampling": {"at": [0, 0.5, 0.25, 1, 0.5]}},
     {"kind": "matrix", "matrix": [[-1, 3, -3, 1], [3, -6, 3, 0], [-3, 0, 3, 0], [1, 4, 1, 0]], "points": [[1, 1, 1, 1], [2, 0, 1, 3], [0, 5, 1, 2], [3, 3, 3, 3]]},
     {"kind": "natural", "t": [10000, 10000.001, 10002, 10002.5], "points": [[0, 1], [0.002, 1.001], [3, -2], [4, 4]]},
@@ -310,6 +312,18 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
             "curve 0",
             "\"bias\" must have one value per point (4), got 2",
         ],
+    ),
+    (
+        r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "beta", "bias": [1, -2, 1], "points": [[0], [1], [2], [3], [4]]}]}"#,
+        &["curve 1", "\"bias\" must be > 0 at every joint: bias[1] = -2"],
+    ),
+    (
+        r#"{"curves": [{"kind": "beta", "ends": "repeat", "tension": [1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"tension\" must have one value per joint (4), got 3"],
+    ),
+    (
+        r#"{"curves": [{"kind": "beta", "bias": 0, "tension": [1, 1], "points": [[0], [1], [2], [3]]}]}"#,
+        &["curve 0", "\"bias\" must be > 0 when bias or tension is given per joint, got 0"],
     ),
     (
         r#"{"curves": [{"kind": "cardinal", "tension": [0.5, 0.5, 0.5, 0.5], "points": [[0], [1], [2], [3]]}]}"#,

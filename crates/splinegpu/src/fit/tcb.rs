@@ -22,33 +22,34 @@ use crate::curve::Ends;
 use crate::error::{InputError, Shown};
 use crate::segment::SegmentTable;
 
-/// A parameter given once for every point, or once per point.
+/// A parameter given once for the whole curve, or one value per point (Kochanek–Bartels) or per
+/// joint (a Beta-spline with local bias and tension).
 #[derive(Clone, Debug, PartialEq)]
 pub enum PerPoint {
     /// The same value at every point.
     All(f64),
-    /// One value per point.
+    /// One value per point (or per joint).
     Each(Vec<f64>),
 }
 
 impl PerPoint {
-    /// The value at point `i`.
-    fn at(&self, i: usize) -> f64 {
+    /// The value at point (or joint) `i`.
+    pub(crate) fn at(&self, i: usize) -> f64 {
         match self {
             PerPoint::All(v) => *v,
             PerPoint::Each(values) => values[i],
         }
     }
 
-    /// Checks the values: finite, and one per point of `n` when given per point.
-    fn check(&self, field: &str, n: usize) -> Result<(), InputError> {
+    /// Checks the values: finite, and one per `per` ("point", "joint") of `n` when given so.
+    pub(crate) fn check(&self, field: &str, n: usize, per: &str) -> Result<(), InputError> {
         let values = match self {
             PerPoint::All(v) => std::slice::from_ref(v),
             PerPoint::Each(values) => {
                 if values.len() != n {
                     return Err(InputError::field(
                         field,
-                        format!("must have one value per point ({n}), got {}", values.len()),
+                        format!("must have one value per {per} ({n}), got {}", values.len()),
                     ));
                 }
                 values
@@ -97,9 +98,9 @@ impl Default for Tcb {
 /// The first rule broken, naming its field.
 pub(crate) fn check(ends: Ends, tcb: &Tcb, t: Option<&[f64]>, n: usize) -> Result<(), InputError> {
     ends.check_points(n)?;
-    tcb.tension.check("tension", n)?;
-    tcb.continuity.check("continuity", n)?;
-    tcb.bias.check("bias", n)?;
+    tcb.tension.check("tension", n, "point")?;
+    tcb.continuity.check("continuity", n, "point")?;
+    tcb.bias.check("bias", n, "point")?;
     let Some(t) = t else { return Ok(()) };
     let wanted = if ends == Ends::Closed { n + 1 } else { n };
     if t.len() != wanted {

@@ -5,17 +5,18 @@
 use crate::basis::Rows;
 use crate::segment::SegmentTable;
 
-/// Segments of a uniform 4x4-matrix spline: segment i is `U · M · X_i`, its knots i and i+1.
+/// Segments of a uniform 4x4-matrix spline: segment i is `U · M_i · X_i`, its knots i and i+1.
 ///
-/// `window(i)` gives the indices (into `points`, `dim` values each) of segment i's four
+/// `rows(i)` gives segment i's basis matrix M_i (the same for every segment of a uniform
+/// family, one per segment for local bias and tension); `window(i)` gives the indices (into `points`, `dim` values each) of segment i's four
 /// control points. The power coefficients are M·X in f64: row r of M times the window gives
 /// the coefficient of u^(3−r).
 /// The table is written into `out`, whose buffers are reused (a curve refitted every frame
 /// allocates nothing).
-pub(crate) fn from_windows(
+pub(crate) fn from_windows<'a>(
     dim: usize,
     points: &[f64],
-    rows: &Rows,
+    rows: impl Fn(usize) -> &'a Rows,
     segments: usize,
     extent: f64,
     window: impl Fn(usize) -> [usize; 4],
@@ -26,14 +27,14 @@ pub(crate) fn from_windows(
     knots.extend((0..=segments).map(|i| i as f64));
     coeffs.resize(segments * 4 * dim, 0.0);
     match dim {
-        1 => fill::<1>(points, rows, &window, coeffs),
-        2 => fill::<2>(points, rows, &window, coeffs),
-        3 => fill::<3>(points, rows, &window, coeffs),
-        4 => fill::<4>(points, rows, &window, coeffs),
+        1 => fill::<1>(points, &rows, &window, coeffs),
+        2 => fill::<2>(points, &rows, &window, coeffs),
+        3 => fill::<3>(points, &rows, &window, coeffs),
+        4 => fill::<4>(points, &rows, &window, coeffs),
         _ => {
             for (i, segment) in coeffs.chunks_exact_mut(4 * dim).enumerate() {
                 let w = window(i);
-                for (row, out) in rows.iter().zip(segment.chunks_exact_mut(dim)) {
+                for (row, out) in rows(i).iter().zip(segment.chunks_exact_mut(dim)) {
                     for (k, out) in out.iter_mut().enumerate() {
                         *out = row_times_window(row, |j| points[w[j] * dim + k]);
                     }
@@ -47,9 +48,9 @@ pub(crate) fn from_windows(
 /// segments is dominated by its loop overhead otherwise: 1,000 closed curves of 9 points took
 /// 0.74 ms).
 #[inline(always)]
-fn fill<const D: usize>(
+fn fill<'a, const D: usize>(
     points: &[f64],
-    rows: &Rows,
+    rows: &impl Fn(usize) -> &'a Rows,
     window: &impl Fn(usize) -> [usize; 4],
     coeffs: &mut [f64],
 ) {
@@ -59,7 +60,7 @@ fn fill<const D: usize>(
                 .try_into()
                 .expect("D coordinates")
         });
-        for (row, out) in rows.iter().zip(segment.chunks_exact_mut(D)) {
+        for (row, out) in rows(i).iter().zip(segment.chunks_exact_mut(D)) {
             for (k, out) in out.iter_mut().enumerate() {
                 *out = row_times_window(row, |j| x[j][k]);
             }

@@ -3,14 +3,14 @@
 
 #[cfg(feature = "profiling")]
 use crate::support::compare;
-use crate::support::{Rng, assert_gpu_matches_cpu, bases, gpu};
+use crate::support::{Rng, assert_gpu_matches_cpu, bases, gpu, local_beta};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, Ends, EvalJob, GpuContext, Points, Samples, Sampling,
 };
 
 const DIMS: [usize; 6] = [1, 2, 3, 4, 6, 30];
 
-/// Every family with every end convention, and Bezier, in every dimension of `DIMS`, with
+/// Every family with every end convention (local bias and tension too), and Bezier, in every dimension of `DIMS`, with
 /// points at `center` ± `span`.
 fn every_curve(rng: &mut Rng, center: f64, span: f64) -> Vec<Curve> {
     let mut curves = Vec::new();
@@ -29,6 +29,11 @@ fn every_curve(rng: &mut Rng, center: f64, span: f64) -> Vec<Curve> {
                     .unwrap(),
                 );
             }
+        }
+        for ends in [Ends::Control, Ends::Repeat, Ends::Closed] {
+            let kind = local_beta(rng, ends, 7);
+            let points = rng.points(7, dim, center - span, center + span);
+            curves.push(Curve::new(kind, points).unwrap());
         }
         curves.push(
             Curve::new(

@@ -5,7 +5,7 @@
 
 use crate::support::{Rng, assert_gpu_matches_cpu};
 use splinegpu::{
-    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Sampling,
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, PerPoint, Points, Sampling,
     SegmentTable, wang_count,
 };
 
@@ -133,7 +133,7 @@ fn uniform_kinds() -> Vec<CurveKind> {
     kinds
 }
 
-/// Curves of every family in `dim` dimensions, with the awkward ones: interpolating knots
+/// Curves of every family in `dim` dimensions (local bias and tension too), with the awkward ones: interpolating knots
 /// spaced up to 1e6 apart, a curve near 1e6, a cusp, and coincident control points.
 fn curves(dim: usize) -> Vec<Curve> {
     let mut rng = Rng(dim as u64 * 31 + 7);
@@ -141,6 +141,10 @@ fn curves(dim: usize) -> Vec<Curve> {
         .into_iter()
         .map(|kind| Curve::new(kind, rng.points(7, dim, -3.0, 3.0)).unwrap())
         .collect();
+    for ends in [Ends::Control, Ends::Repeat, Ends::Closed] {
+        let kind = crate::support::local_beta(&mut rng, ends, 7);
+        out.push(Curve::new(kind, rng.points(7, dim, -3.0, 3.0)).unwrap());
+    }
     let t = vec![0.0, 1e-6, 1.0, 1.0 + 1e-6, 1e3];
     for condition in [
         EndCondition::Natural,
@@ -497,11 +501,12 @@ mod random_curves {
         }
     }
 
-    /// A random curve: a family (every uniform kind, Bezier, and the interpolating ends),
+    /// A random curve: a family (every uniform kind, local bias and tension, Bezier, and the
+    /// interpolating ends),
     /// D in {1, 2, 3, 5}, 4 to 9 points in ±10 (shifted to near 1e5 one time in four).
     fn curve() -> impl Strategy<Value = Curve> {
         (
-            0usize..24,
+            0usize..27,
             0usize..4,
             4usize..10,
             any::<bool>(),
@@ -514,6 +519,19 @@ mod random_curves {
                     (0..n * dim).map(|i| pool[i % pool.len()] + shift).collect()
                 };
                 let kinds = uniform_kinds();
+                if let Some(e) = family.checked_sub(kinds.len()).filter(|&e| e < 3) {
+                    // Local bias and tension: b1 in [0.1, 10], b2 in [0, 10] at each joint.
+                    let ends = [Ends::Control, Ends::Repeat, Ends::Closed][e];
+                    let joints = if ends == Ends::Control { n - 2 } else { n };
+                    let kind = CurveKind::LocalBeta {
+                        ends,
+                        bias: PerPoint::Each(
+                            (0..joints).map(|j| 10f64.powf(pool[j] / 10.0)).collect(),
+                        ),
+                        tension: PerPoint::Each((0..joints).map(|j| pool[n + j].abs()).collect()),
+                    };
+                    return Curve::new(kind, Points::new(dim, coords(n)).unwrap()).unwrap();
+                }
                 if family < kinds.len() {
                     let kind = kinds[family].clone();
                     let n = if kind == CurveKind::Bezier {

@@ -11,6 +11,7 @@ mod geometric_sampling;
 mod hermite;
 mod interpolation;
 mod kochanek_bartels;
+mod local_beta;
 mod nurbs;
 mod properties;
 mod scipy_fixture;

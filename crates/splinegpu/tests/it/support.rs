@@ -206,3 +206,22 @@ pub(crate) fn bases() -> Vec<splinegpu::Basis> {
         ]),
     ]
 }
+
+/// A Beta-spline with local bias and tension for `n` points with `ends`: a random b1 in
+/// [0.2, 5] (log-uniform) and b2 in [0, 6] at every joint.
+pub(crate) fn local_beta(rng: &mut Rng, ends: splinegpu::Ends, n: usize) -> splinegpu::CurveKind {
+    use splinegpu::{CurveKind, Ends, PerPoint};
+    let joints = match ends {
+        Ends::Control => n - 2,
+        Ends::Repeat | Ends::Closed => n,
+    };
+    CurveKind::LocalBeta {
+        ends,
+        bias: PerPoint::Each(
+            (0..joints)
+                .map(|_| 5f64.powf(rng.range(-1.0, 1.0)))
+                .collect(),
+        ),
+        tension: PerPoint::Each((0..joints).map(|_| rng.range(0.0, 6.0)).collect()),
+    }
+}
