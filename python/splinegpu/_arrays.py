@@ -140,11 +140,12 @@ def _per_curve(name: str, value, curves: int, ndim: int):
 
 
 def _per_point(name: str, value, curves: int) -> dict:
-    """A number for every curve (`name`), or per point (`name + "_each"`: an array per curve)."""
+    """A number for every curve (`name`), or per point or joint (`name + "_each"`: an array per
+    curve)."""
     if value is None:
         return {name: None, f"{name}_each": None}
     if isinstance(value, (bool, np.bool_, str)):
-        raise TypeError(f"{name}: must be a number or one number per point, got {value!r}")
+        raise TypeError(f"{name}: must be a number or an array of numbers, got {value!r}")
     if isinstance(value, (int, float, np.integer, np.floating)):
         return {name: float(value), f"{name}_each": None}
     return {name: None, f"{name}_each": _per_curve(name, value, curves, 1)}

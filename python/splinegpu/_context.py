@@ -88,7 +88,9 @@ class Context:
         `tangents` are an (n, D) array for every curve, a (C, n, D) array or a list of (n_i, D)
         arrays; akima's `method` is "akima" or "makima"; kochanek-bartels' `tension`,
         `continuity` and `bias` are numbers, or per point: an (n,) array for every curve, a
-        (C, n) array or a list of arrays; nurbs' `knots` (n + 4 per curve) likewise. One sampling:
+        (C, n) array or a list of arrays; beta's `bias` and `tension` likewise, numbers or one
+        value per joint (n - 2 with "control" ends, n with "repeat" and "closed": Barsky and
+        Beatty's local bias and tension); nurbs' `knots` (n + 4 per curve) likewise. One sampling:
         `per_segment=k` (the default, 16), `at=t values`, `arc_length=m` or `tolerance=tol`
         (arc-length samples within 1e-10 of the length on the CPU; the GPU places them itself,
         within 1e-5, so their t differ between backends in the low bits; tolerance t are the

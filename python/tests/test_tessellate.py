@@ -43,6 +43,8 @@ CASES = [
     ("cardinal", {"tension": 0.3, "ends": "closed"}, ("arc_length", 50)),
     ("bspline", {"ends": "repeat"}, ("tolerance", 0.01)),
     ("beta", {"bias": 1.5, "tension": 2.0}, ("per_segment", 3)),
+    ("beta", {"bias": [1, 2, 0.5, 1, 3, 0.8, 1, 1.5, 0.3, 2], "tension": [0, 1, 4, 0, 2, 0, 8, 1, 0, 3],
+              "ends": "repeat"}, ("tolerance", 0.01)),
     ("tensioned-bspline", {"tension": 4.0}, ("per_segment", 5)),
     ("bezier", {}, ("arc_length", 9)),
     ("natural", {}, ("per_segment", 4)),
@@ -52,7 +54,8 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("kind,fields,sampling", CASES, ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("kind,fields,sampling", CASES,
+                         ids=[f"{c[0]}-{i}" for i, c in enumerate(CASES)])
 def test_equal_to_the_cli_npz(cpu, kind, fields, sampling):
     rng = np.random.default_rng(1)
     n = 10
@@ -354,6 +357,34 @@ def test_a_list_of_views_of_one_array_is_the_array(cpu):
     apart = splinegpu.CubicSplines(list(xs), list(ys))(list(xq))
     np.testing.assert_array_equal(together[0], apart[0])
     np.testing.assert_array_equal(together[1], apart[1])
+
+
+def test_beta_bias_and_tension_per_joint(cpu):
+    rng = np.random.default_rng(10)
+    curves = rng.uniform(-1, 1, (4, 7, 3))
+    for ends, joints in (("control", 5), ("repeat", 7), ("closed", 7)):
+        # Equal values at every joint are the memo's Beta-spline, in every array form.
+        memo = cpu.tessellate(curves, "beta", ends=ends, bias=1.4, tension=2.0, per_segment=5)
+        for bias in (np.full(joints, 1.4), np.full((4, joints), 1.4), [np.full(joints, 1.4)] * 4):
+            r = cpu.tessellate(curves, "beta", ends=ends, bias=bias, tension=2.0, per_segment=5)
+            np.testing.assert_allclose(r.points, memo.points, rtol=0, atol=1e-12)
+        # Each curve its own joints: curve i equals itself tessellated alone.
+        bias = rng.uniform(0.2, 4, (4, joints))
+        tension = rng.uniform(0, 5, (4, joints))
+        together = cpu.tessellate(curves, "beta", ends=ends, bias=bias, tension=tension,
+                                  derivatives=2, tolerance=1e-3)
+        for i in range(4):
+            alone = cpu.tessellate(curves[i:i + 1], "beta", ends=ends, bias=bias[i],
+                                   tension=tension[i], derivatives=2, tolerance=1e-3)
+            rows = slice(together.curve_offsets[i], together.curve_offsets[i + 1])
+            np.testing.assert_array_equal(together.points[rows], alone.points)
+            np.testing.assert_array_equal(together.d2[rows], alone.d2)
+    with pytest.raises(ValueError, match=r'curve 2: "bias" must be > 0 at every joint: bias\[3\]'):
+        bad = np.ones((4, 5))
+        bad[2, 3] = -1.0
+        cpu.tessellate(curves, "beta", bias=bad)
+    with pytest.raises(ValueError, match=r'"tension" must have one value per joint \(7\), got 5'):
+        cpu.tessellate(curves, "beta", ends="closed", tension=np.zeros(5))
 
 
 def test_kochanek_bartels_keywords(cpu):

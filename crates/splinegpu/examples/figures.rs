@@ -2,10 +2,11 @@
 //! polygon (as the memo draws them), one curve sampled per segment, by arc length and by
 //! tolerance, side by side, each polyline over the curve it stands for, and the kinds people
 //! bring (PCHIP and Akima against the natural spline on monotone data, Kochanek–Bartels over
-//! Catmull-Rom, knot-vector B-splines, Hermite).
+//! Catmull-Rom, knot-vector B-splines, Hermite), and Beta-splines whose bias and tension vary
+//! joint by joint over the curve of the same values everywhere.
 //!
 //! `cargo run -p splinegpu --example figures -- docs` (from the repository root) writes
-//! `docs/families.svg`, `docs/samplings.svg` and `docs/kinds.svg`; its test (`cargo test
+//! `docs/families.svg`, `docs/samplings.svg`, `docs/kinds.svg` and `docs/local-beta.svg`; its test (`cargo test
 //! --example figures`) fails when the committed pictures are not what the crate draws now.
 
 use std::error::Error;
@@ -47,12 +48,14 @@ fn main() -> Result<(), Box<dyn Error>> {
     for (name, svg) in figures()? {
         std::fs::write(format!("{dir}/{name}"), svg)?;
     }
-    println!("wrote {dir}/families.svg, {dir}/samplings.svg and {dir}/kinds.svg");
+    println!(
+        "wrote {dir}/families.svg, {dir}/samplings.svg, {dir}/kinds.svg and {dir}/local-beta.svg"
+    );
     Ok(())
 }
 
-/// The three pictures, by file name.
-fn figures() -> Result<[(&'static str, String); 3], Box<dyn Error>> {
+/// The four pictures, by file name.
+fn figures() -> Result<[(&'static str, String); 4], Box<dyn Error>> {
     // 1. Every family on the same polygon ("repeat" ends, so each starts and ends near it).
     let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
     let families: Vec<(&str, CurveKind)> = vec![
@@ -132,7 +135,71 @@ fn figures() -> Result<[(&'static str, String); 3], Box<dyn Error>> {
         ("families.svg", families),
         ("samplings.svg", svg(&panels, 3)),
         ("kinds.svg", kinds()?),
+        ("local-beta.svg", local_beta()?),
     ])
+}
+
+/// Beta-splines with local bias and tension (the memo's "Future"), in red, each over the
+/// Beta-spline of its first joint's values at every joint, in grey, on the same polygon
+/// ("repeat" ends: a joint at every point, joint j at point j).
+fn local_beta() -> Result<String, Box<dyn Error>> {
+    let coords: Vec<f64> = POLYGON.iter().flatten().copied().collect();
+    let cases: [(&str, [f64; 7], [f64; 7]); 6] = [
+        (
+            "tension 25 at joint 3, else 0",
+            [1.0; 7],
+            [0.0, 0.0, 0.0, 25.0, 0.0, 0.0, 0.0],
+        ),
+        (
+            "tension rising 0 .. 30, joint by joint",
+            [1.0; 7],
+            [0.0, 1.0, 3.0, 6.0, 12.0, 20.0, 30.0],
+        ),
+        (
+            "tension 40 at joints 1, 5, else 0",
+            [1.0; 7],
+            [0.0, 40.0, 0.0, 0.0, 0.0, 40.0, 0.0],
+        ),
+        (
+            "bias 4 at joint 2, else 1",
+            [1.0, 1.0, 4.0, 1.0, 1.0, 1.0, 1.0],
+            [0.0; 7],
+        ),
+        (
+            "bias 0.2 at joint 4, else 1",
+            [1.0, 1.0, 1.0, 1.0, 0.2, 1.0, 1.0],
+            [0.0; 7],
+        ),
+        (
+            "bias 3 at joint 2, tension 15 at 4",
+            [1.0, 1.0, 3.0, 1.0, 1.0, 1.0, 1.0],
+            [0.0, 0.0, 0.0, 0.0, 15.0, 0.0, 0.0],
+        ),
+    ];
+    let mut panels = Vec::new();
+    for (title, bias, tension) in cases {
+        let local = CurveKind::LocalBeta {
+            ends: Ends::Repeat,
+            bias: PerPoint::Each(bias.to_vec()),
+            tension: PerPoint::Each(tension.to_vec()),
+        };
+        let global = uniform(Basis::Beta {
+            bias: bias[0],
+            tension: tension[0],
+        });
+        let points = Points::new(2, coords.clone())?;
+        panels.push(Panel {
+            title: title.to_string(),
+            polygon: POLYGON.to_vec(),
+            curve: sample(
+                &Curve::new(global, points.clone())?,
+                &Sampling::PerSegment(32),
+            )?,
+            samples: sample(&Curve::new(local, points)?, &Sampling::PerSegment(32))?,
+            dots: false,
+        });
+    }
+    Ok(svg(&panels, 3))
 }
 
 /// Monotone data that a natural spline overshoots: a flat run, a step, a flat run.

@@ -245,13 +245,10 @@ impl Curve {
                 ends,
                 bias,
                 tension,
-            } => {
-                local_beta::check(*ends, bias, tension, n)?;
-                FitMethod::LocalWindows {
-                    rows: local_beta::segment_rows(*ends, bias, tension, n),
-                    ends: *ends,
-                }
-            }
+            } => FitMethod::LocalWindows {
+                rows: local_beta::checked_rows(*ends, bias, tension, n)?,
+                ends: *ends,
+            },
             CurveKind::Bezier => {
                 if n < 4 || !(n - 1).is_multiple_of(3) {
                     return Err(InputError::field(

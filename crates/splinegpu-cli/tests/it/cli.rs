@@ -315,15 +315,24 @@ const BAD_INPUTS: &[(&str, &[&str])] = &[
     ),
     (
         r#"{"curves": [{"kind": "bspline", "points": [[0], [1], [2], [3]]}, {"kind": "beta", "bias": [1, -2, 1], "points": [[0], [1], [2], [3], [4]]}]}"#,
-        &["curve 1", "\"bias\" must be > 0 at every joint: bias[1] = -2"],
+        &[
+            "curve 1",
+            "\"bias\" must be > 0 at every joint: bias[1] = -2",
+        ],
     ),
     (
         r#"{"curves": [{"kind": "beta", "ends": "repeat", "tension": [1, 1, 1], "points": [[0], [1], [2], [3]]}]}"#,
-        &["curve 0", "\"tension\" must have one value per joint (4), got 3"],
+        &[
+            "curve 0",
+            "\"tension\" must have one value per joint (4), got 3",
+        ],
     ),
     (
         r#"{"curves": [{"kind": "beta", "bias": 0, "tension": [1, 1], "points": [[0], [1], [2], [3]]}]}"#,
-        &["curve 0", "\"bias\" must be > 0 when bias or tension is given per joint, got 0"],
+        &[
+            "curve 0",
+            "\"bias\" must be > 0 when bias or tension is given per joint, got 0",
+        ],
     ),
     (
         r#"{"curves": [{"kind": "cardinal", "tension": [0.5, 0.5, 0.5, 0.5], "points": [[0], [1], [2], [3]]}]}"#,

@@ -75,18 +75,19 @@ pub(crate) fn joint_count(ends: Ends, n: usize) -> usize {
     }
 }
 
-/// Checks a local Beta-spline of `n` points: enough points for its ends, and bias and tension
-/// each a number or one value per joint, with every b1 > 0 and every b2 >= 0 (the basis then
-/// always exists).
+/// Every segment's basis matrix of a local Beta-spline of `n` points with `ends`, by rows as
+/// the memo writes them (row r of M times the window gives the coefficient of u^(3−r)), once
+/// the data are checked: enough points for the ends, bias and tension each a number or one
+/// value per joint, every b1 > 0 and every b2 >= 0 (the basis then always exists).
 ///
 /// # Errors
 /// The first rule broken, naming its field and, for an array, the index.
-pub(crate) fn check(
+pub(crate) fn checked_rows(
     ends: Ends,
     bias: &PerPoint,
     tension: &PerPoint,
     n: usize,
-) -> Result<(), InputError> {
+) -> Result<Vec<Rows>, InputError> {
     ends.check_points(n)?;
     let joints = joint_count(ends, n);
     bias.check("bias", joints, "joint")?;
@@ -128,15 +129,13 @@ pub(crate) fn check(
                 (i + 2).min(joints - 1)
             ),
         )),
-        None => Ok(()),
+        None => Ok(rows),
     }
 }
 
-/// Every segment's basis matrix, by rows as the memo writes them (row r of M times the window
-/// gives the coefficient of u^(3−r)), for a curve of `n` points with `ends` (data already
-/// [`check`]ed, but for the range test `check` makes of this).
-#[must_use]
-pub(crate) fn segment_rows(ends: Ends, bias: &PerPoint, tension: &PerPoint, n: usize) -> Vec<Rows> {
+/// Every segment's basis matrix (see [`checked_rows`]), of data whose counts and signs are
+/// checked.
+fn segment_rows(ends: Ends, bias: &PerPoint, tension: &PerPoint, n: usize) -> Vec<Rows> {
     let joints = joint_count(ends, n);
     // Joint j, with phantom joints past an open curve's ends and wrapping on a closed one.
     let joint = |j: isize| {
