@@ -87,7 +87,7 @@ impl Ends {
     }
 
     /// Indices into the n points of segment i's window of four.
-    fn window(self, n: usize, i: usize) -> [usize; 4] {
+    pub(crate) fn window(self, n: usize, i: usize) -> [usize; 4] {
         // Position j of the extended sequence, mapped back to a point index.
         let at = |j: usize| -> usize {
             match self {

@@ -119,6 +119,7 @@ mod points;
 mod rational;
 mod sampling;
 mod segment;
+pub mod surface;
 
 #[cfg(feature = "profiling")]
 pub mod profiling;

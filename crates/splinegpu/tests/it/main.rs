@@ -16,3 +16,4 @@ mod nurbs;
 mod properties;
 mod scipy_fixture;
 mod support;
+mod surface;

@@ -1,0 +1,341 @@
+//! Where a surface is sampled (contract: "Samplings of a surface"): a [`SurfaceSampling`]
+//! resolved against a [`PatchTable`] into a [`SurfacePlan`], the vertices (each a patch and its
+//! local u, v) and the triangles over them.
+//!
+//! - Per segment on a net: the grid of all patches together, each vertex once,
+//!   (segments_u k_u + 1) x (segments_v k_v + 1) row-major (u outer), a closed direction
+//!   without its last line (the cells wrap around). Cell (a, b) gives the triangles
+//!   (a, b), (a+1, b), (a+1, b+1) and (a, b), (a+1, b+1), (a, b+1): counter-clockwise in (u, v).
+//! - Per segment on a patch list: each patch a k x k grid, its vertices welded with other
+//!   patches' along shared edges (the same four control indices, either order) and at shared
+//!   corners (the same control index): a vertex is keyed by its corner's index, or by its edge's
+//!   indices read in the smaller of the two orders and its place along them, so both patches
+//!   find the same vertex (bit-identical by construction: it is evaluated once).
+//! - At: the given (u, v), located as curves locate t (an interior knot starts the next
+//!   segment; the range's end is the last segment at 1), or a patch list's (p, u, v).
+
+use std::collections::HashMap;
+
+use crate::error::{InputError, Shown};
+use crate::surface::patch::PatchTable;
+
+/// How a surface is sampled.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SurfaceSampling {
+    /// k_u x k_v cells per patch (a patch list: k x k, the same k both ways).
+    PerSegment([u32; 2]),
+    /// The given (u, v) of a net, in order; no triangles.
+    At(Vec<[f64; 2]>),
+    /// The given (patch, u, v) of a patch list, in order; no triangles.
+    AtPatches(Vec<(usize, [f64; 2])>),
+}
+
+/// One vertex: the patch it is evaluated on, its local (u, v) in [0, 1]², and its (u, v) in the
+/// surface's parameters (a patch list's: the local ones).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    /// The patch (a net's row-major, u outer; a patch list's index).
+    pub patch: u32,
+    /// Local (u, v) on the patch.
+    pub local: [f64; 2],
+    /// (u, v) in the surface's parameters.
+    pub uv: [f64; 2],
+}
+
+/// A surface's vertices and triangles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfacePlan {
+    /// The vertices, in the output's order.
+    pub vertices: Vec<Vertex>,
+    /// Three vertex indices per triangle, counter-clockwise in (u, v); `None` for explicit
+    /// (u, v).
+    pub triangles: Option<Vec<[u32; 3]>>,
+}
+
+/// The most vertices one surface may have: indices are u32 on every path.
+const MAX_VERTICES: u64 = u32::MAX as u64;
+
+impl SurfacePlan {
+    /// The plan of `sampling` on `table`.
+    ///
+    /// # Errors
+    /// A sampling that does not fit the surface (a pair of counts or explicit (u, v) on a patch
+    /// list, triples on a net), a count of 0, (u, v) outside the range or a patch out of the
+    /// list, or more vertices than u32 indices reach; each names "sampling" and the value.
+    pub fn new(table: &PatchTable, sampling: &SurfaceSampling) -> Result<Self, InputError> {
+        match (sampling, table.knots()) {
+            (SurfaceSampling::PerSegment(k), Some(knots)) => {
+                grid(knots, table.closed(), [k[0] as usize, k[1] as usize])
+            }
+            (SurfaceSampling::PerSegment([k, l]), None) => {
+                if k != l {
+                    return Err(InputError::field(
+                        "sampling",
+                        format!("per_segment of a patch list takes one k, got [{k}, {l}]"),
+                    ));
+                }
+                let patches = table.patch_indices().expect("a patch list");
+                welded(patches, *k as usize)
+            }
+            (SurfaceSampling::At(at), Some(knots)) => explicit(knots, at),
+            (SurfaceSampling::AtPatches(at), None) => on_patches(table.len(), at),
+            (SurfaceSampling::At(_), None) => Err(InputError::field(
+                "sampling",
+                "\"at\" on a patch list takes triples [p, u, v]",
+            )),
+            (SurfaceSampling::AtPatches(_), Some(_)) => Err(InputError::field(
+                "sampling",
+                "\"at\" on a net takes pairs [u, v]",
+            )),
+        }
+    }
+}
+
+/// One direction's lines of a per-segment grid: (segment, local, parameter) for each line.
+fn lines(knots: &[f64], closed: bool, k: usize) -> Vec<(usize, f64, f64)> {
+    let segments = knots.len() - 1;
+    let count = segments * k + usize::from(!closed);
+    (0..count)
+        .map(|a| {
+            let (segment, j) = ((a / k).min(segments - 1), a - (a / k).min(segments - 1) * k);
+            let local = j as f64 / k as f64;
+            let t = if a == segments * k {
+                knots[segments]
+            } else {
+                knots[segment] + local * (knots[segment + 1] - knots[segment])
+            };
+            (segment, local, t)
+        })
+        .collect()
+}
+
+/// Refuses a grid of more vertices (or triangle corners) than u32 indices reach.
+fn check_count(vertices: u64, triangles: u64) -> Result<(), InputError> {
+    if vertices > MAX_VERTICES || triangles.saturating_mul(3) > u64::MAX / 2 {
+        return Err(InputError::field(
+            "sampling",
+            format!("gives {vertices} vertices, more than the {MAX_VERTICES} one surface may have"),
+        ));
+    }
+    Ok(())
+}
+
+/// A net's per-segment grid.
+fn grid(knots: [&[f64]; 2], closed: [bool; 2], k: [usize; 2]) -> Result<SurfacePlan, InputError> {
+    if k.contains(&0) {
+        return Err(InputError::field(
+            "sampling",
+            format!("per_segment counts must be >= 1, got [{}, {}]", k[0], k[1]),
+        ));
+    }
+    let segments = [knots[0].len() - 1, knots[1].len() - 1];
+    let count = |d: usize| (segments[d] * k[d] + usize::from(!closed[d])) as u64;
+    let cells = (segments[0] * k[0]) as u64 * (segments[1] * k[1]) as u64;
+    check_count(count(0).saturating_mul(count(1)), cells.saturating_mul(2))?;
+    let along_u = lines(knots[0], closed[0], k[0]);
+    let along_v = lines(knots[1], closed[1], k[1]);
+    let mut vertices = Vec::with_capacity(along_u.len() * along_v.len());
+    for &(iu, lu, u) in &along_u {
+        for &(iv, lv, v) in &along_v {
+            vertices.push(Vertex {
+                patch: (iu * segments[1] + iv) as u32,
+                local: [lu, lv],
+                uv: [u, v],
+            });
+        }
+    }
+    let (rows, cols) = (along_u.len(), along_v.len());
+    let index = |a: usize, b: usize| ((a % rows) * cols + (b % cols)) as u32;
+    let mut triangles = Vec::with_capacity(2 * cells as usize);
+    for a in 0..segments[0] * k[0] {
+        for b in 0..segments[1] * k[1] {
+            let (p, q, r, s) = (
+                index(a, b),
+                index(a + 1, b),
+                index(a + 1, b + 1),
+                index(a, b + 1),
+            );
+            triangles.push([p, q, r]);
+            triangles.push([p, r, s]);
+        }
+    }
+    Ok(SurfacePlan {
+        vertices,
+        triangles: Some(triangles),
+    })
+}
+
+/// Where a patch-list vertex is shared: a corner's control index, or an edge's four indices
+/// (in the smaller order) and the place along them.
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+enum Weld {
+    Corner(usize),
+    Edge([usize; 4], usize),
+}
+
+/// The weld key of vertex (a, b) of a k x k patch with `controls`, if it lies on the boundary.
+fn weld_key(controls: &[usize; 16], k: usize, a: usize, b: usize) -> Option<Weld> {
+    let on_u = a == 0 || a == k;
+    let on_v = b == 0 || b == k;
+    let corner = |a: usize, b: usize| controls[4 * (3 * a / k) + 3 * b / k];
+    match (on_u, on_v) {
+        (true, true) => Some(Weld::Corner(corner(a, b))),
+        (true, false) => {
+            let i = 3 * a / k;
+            Some(edge([0, 1, 2, 3].map(|j| controls[4 * i + j]), b, k))
+        }
+        (false, true) => {
+            let j = 3 * b / k;
+            Some(edge([0, 1, 2, 3].map(|i| controls[4 * i + j]), a, k))
+        }
+        (false, false) => None,
+    }
+}
+
+/// An edge's key: its indices read in the smaller of the two orders, the place along them
+/// counted the same way.
+fn edge(indices: [usize; 4], place: usize, k: usize) -> Weld {
+    let mut reversed = indices;
+    reversed.reverse();
+    if reversed < indices {
+        Weld::Edge(reversed, k - place)
+    } else {
+        Weld::Edge(indices, place)
+    }
+}
+
+/// A patch list's per-segment mesh, welded.
+fn welded(patches: &[[usize; 16]], k: usize) -> Result<SurfacePlan, InputError> {
+    if k == 0 {
+        return Err(InputError::field(
+            "sampling",
+            "per_segment count must be >= 1, got 0",
+        ));
+    }
+    let per_patch = ((k + 1) * (k + 1)) as u64;
+    check_count(
+        per_patch.saturating_mul(patches.len() as u64),
+        (2 * k * k) as u64 * patches.len() as u64,
+    )?;
+    let mut vertices = Vec::new();
+    let mut shared: HashMap<Weld, u32> = HashMap::new();
+    let mut triangles = Vec::with_capacity(2 * k * k * patches.len());
+    let mut local = vec![0u32; (k + 1) * (k + 1)];
+    for (p, controls) in patches.iter().enumerate() {
+        for a in 0..=k {
+            for b in 0..=k {
+                let uv = [a as f64 / k as f64, b as f64 / k as f64];
+                let mut fresh = || {
+                    vertices.push(Vertex {
+                        patch: p as u32,
+                        local: uv,
+                        uv,
+                    });
+                    (vertices.len() - 1) as u32
+                };
+                local[a * (k + 1) + b] = match weld_key(controls, k, a, b) {
+                    Some(key) => *shared.entry(key).or_insert_with(fresh),
+                    None => fresh(),
+                };
+            }
+        }
+        let index = |a: usize, b: usize| local[a * (k + 1) + b];
+        for a in 0..k {
+            for b in 0..k {
+                let (p, q, r, s) = (
+                    index(a, b),
+                    index(a + 1, b),
+                    index(a + 1, b + 1),
+                    index(a, b + 1),
+                );
+                triangles.push([p, q, r]);
+                triangles.push([p, r, s]);
+            }
+        }
+    }
+    Ok(SurfacePlan {
+        vertices,
+        triangles: Some(triangles),
+    })
+}
+
+/// One direction's (segment, local) of parameter t: the segment that starts at an interior
+/// knot, the last segment at 1 at the range's end; `None` outside the range.
+fn locate(knots: &[f64], t: f64) -> Option<(usize, f64)> {
+    let segments = knots.len() - 1;
+    if !(knots[0] <= t && t <= knots[segments]) {
+        return None;
+    }
+    let i = knots
+        .partition_point(|&k| k <= t)
+        .saturating_sub(1)
+        .min(segments - 1);
+    let local = if t == knots[segments] {
+        1.0
+    } else {
+        (t - knots[i]) / (knots[i + 1] - knots[i])
+    };
+    Some((i, local))
+}
+
+/// Explicit (u, v) on a net.
+fn explicit(knots: [&[f64]; 2], at: &[[f64; 2]]) -> Result<SurfacePlan, InputError> {
+    let across = knots[1].len() - 1;
+    let mut vertices = Vec::with_capacity(at.len());
+    for (i, &[u, v]) in at.iter().enumerate() {
+        match (locate(knots[0], u), locate(knots[1], v)) {
+            (Some((iu, lu)), Some((iv, lv))) => vertices.push(Vertex {
+                patch: (iu * across + iv) as u32,
+                local: [lu, lv],
+                uv: [u, v],
+            }),
+            _ => {
+                return Err(InputError::field(
+                    "sampling",
+                    format!(
+                        "\"at\" values must lie in the surface's range [{}, {}] x [{}, {}]: \
+                         at[{i}] = [{}, {}]",
+                        Shown(knots[0][0]),
+                        Shown(knots[0][knots[0].len() - 1]),
+                        Shown(knots[1][0]),
+                        Shown(knots[1][across]),
+                        Shown(u),
+                        Shown(v)
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(SurfacePlan {
+        vertices,
+        triangles: None,
+    })
+}
+
+/// Explicit (p, u, v) on a patch list.
+fn on_patches(patches: usize, at: &[(usize, [f64; 2])]) -> Result<SurfacePlan, InputError> {
+    let mut vertices = Vec::with_capacity(at.len());
+    for (i, &(p, [u, v])) in at.iter().enumerate() {
+        let inside = |x: f64| (0.0..=1.0).contains(&x);
+        if p >= patches || !inside(u) || !inside(v) {
+            return Err(InputError::field(
+                "sampling",
+                format!(
+                    "\"at\" triples must name one of the {patches} patches and lie in [0, 1]^2: \
+                     at[{i}] = [{p}, {}, {}]",
+                    Shown(u),
+                    Shown(v)
+                ),
+            ));
+        }
+        vertices.push(Vertex {
+            patch: p as u32,
+            local: [u, v],
+            uv: [u, v],
+        });
+    }
+    Ok(SurfacePlan {
+        vertices,
+        triangles: None,
+    })
+}

@@ -1,0 +1,456 @@
+//! `PatchTable`: a fitted surface, every patch in power form, formed in f64.
+//!
+//! Patch p is S(u, v) = Σ_{a,b=0..3} A_ab u^a v^b in its local u, v in [0, 1]; A_ab is stored at
+//! `(4a + b) · dim` of the patch's `16 · dim` values (a the power of u). A_00 = S(0, 0) is the
+//! patch's origin and every other A_ab a difference of points, so nothing but A_00 grows with
+//! the distance from the origin (the GPU's f32 promise rests on it).
+//!
+//! A rational patch (a weighted nurbs surface) is S = O + Ñ/W: W = Σ ω_ij N_i(u) N_j(v) the
+//! denominator, its weights ω divided by the patch's smallest (so W >= 1 on the patch),
+//! O = S(0, 0) in the A_00 slot, and Ñ = N − O·W the numerator relative to O (its constant term
+//! zero), the same power layout.
+
+use crate::basis::bezier_rows;
+use crate::segment::SegmentTable;
+use crate::surface::Net;
+use crate::surface::direction::Direction;
+
+/// A fitted surface: its patches in power form.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchTable {
+    dim: usize,
+    extent: f64,
+    /// Per patch `16 · dim` values, A_ab at `(4a + b) · dim`.
+    coeffs: Vec<f64>,
+    /// Per patch of a rational surface: W's 16 power coefficients (b fastest) and ρ, the
+    /// largest over the smallest of its 16 weights; empty for a polynomial surface.
+    denominators: Vec<([f64; 16], f64)>,
+    layout: Layout,
+}
+
+/// How the patches lie in the parameters.
+#[derive(Clone, Debug, PartialEq)]
+enum Layout {
+    /// A net's patches, row-major (u outer): segment boundaries along u and v, and whether
+    /// each direction closes on itself.
+    Grid {
+        knots: [Vec<f64>; 2],
+        closed: [bool; 2],
+    },
+    /// A patch list: each patch on [0, 1]², its 16 control indices.
+    List { patches: Vec<[usize; 16]> },
+}
+
+/// One patch of a table.
+#[derive(Clone, Copy, Debug)]
+pub struct Patch<'a> {
+    coeffs: &'a [f64],
+    dim: usize,
+    /// Start and length of the patch's interval along u and along v.
+    start: [f64; 2],
+    length: [f64; 2],
+    denominator: Option<&'a [f64; 16]>,
+}
+
+/// A patch's value and derivatives at one local (u, v), each `dim` values: S, S_u, S_v, S_uu,
+/// S_uv, S_vv, in this order.
+pub type Derivs = [Vec<f64>; 6];
+
+impl PatchTable {
+    /// A net's patches from its two directions' rules; `weights` (one per point) makes them
+    /// rational.
+    pub(crate) fn from_directions(
+        net: &Net,
+        directions: &[Direction; 2],
+        weights: Option<&[f64]>,
+    ) -> Self {
+        let (rows, cols) = net.shape();
+        let dim = net.dim();
+        let extent = net.extent();
+        // Homogeneous points (w P, w) where weighted.
+        let width = dim + usize::from(weights.is_some());
+        let lines: Vec<f64> = match weights {
+            None => net.coords().to_vec(),
+            Some(w) => net
+                .coords()
+                .chunks_exact(dim)
+                .zip(w)
+                .flat_map(|(p, &w)| p.iter().map(move |x| w * x).chain([w]))
+                .collect(),
+        };
+        // Along u: the rows are the points of one curve of cols · width coordinates.
+        let mut along_u = SegmentTable::default();
+        directions[0].fit_lines(&lines, cols * width, extent, &mut along_u);
+        let segments_u = along_u.len();
+        // Along v: column j's point holds every u-segment's four coefficients.
+        let stride = segments_u * 4 * width;
+        let mut columns = vec![0.0; cols * stride];
+        for iu in 0..segments_u {
+            for (r, row) in along_u.segment(iu).power().iter().enumerate() {
+                for j in 0..cols {
+                    let to = j * stride + (iu * 4 + r) * width;
+                    columns[to..to + width].copy_from_slice(&row[j * width..(j + 1) * width]);
+                }
+            }
+        }
+        let mut along_v = SegmentTable::default();
+        directions[1].fit_lines(&columns, stride, extent, &mut along_v);
+        let segments_v = along_v.len();
+        // Patch (iu, iv): A_ab, a = 3 − r (u), b = 3 − s (v).
+        let mut coeffs = vec![0.0; segments_u * segments_v * 16 * dim];
+        let mut denominators = Vec::new();
+        let mut homogeneous = vec![0.0; 16 * width];
+        for iu in 0..segments_u {
+            for iv in 0..segments_v {
+                let segment = along_v.segment(iv);
+                let power = segment.power();
+                for (s, row) in power.iter().enumerate() {
+                    for r in 0..4 {
+                        let (a, b) = (3 - r, 3 - s);
+                        let from = (iu * 4 + r) * width;
+                        homogeneous[(4 * a + b) * width..][..width]
+                            .copy_from_slice(&row[from..from + width]);
+                    }
+                }
+                let out = &mut coeffs[(iu * segments_v + iv) * 16 * dim..][..16 * dim];
+                match weights {
+                    None => out.copy_from_slice(&homogeneous),
+                    Some(w) => {
+                        let window = |d: &Direction, i: usize, n: usize| match d {
+                            Direction::Knots { knots } => {
+                                let span = crate::fit::nurbs::spans(knots, n)
+                                    .nth(i)
+                                    .expect("a span per segment");
+                                span - 3..=span
+                            }
+                            _ => unreachable!("weights belong to nurbs surfaces"),
+                        };
+                        let (ru, rv) = (
+                            window(&directions[0], iu, rows),
+                            window(&directions[1], iv, cols),
+                        );
+                        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+                        for i in ru {
+                            for j in rv.clone() {
+                                least = least.min(w[i * cols + j]);
+                                most = most.max(w[i * cols + j]);
+                            }
+                        }
+                        denominators.push(rational_patch(&homogeneous, dim, least, most, out));
+                    }
+                }
+            }
+        }
+        Self {
+            dim,
+            extent,
+            coeffs,
+            denominators,
+            layout: Layout::Grid {
+                knots: [along_u.knots().to_vec(), along_v.knots().to_vec()],
+                closed: [directions[0].is_closed(), directions[1].is_closed()],
+            },
+        }
+    }
+
+    /// A patch list's patches: each the Bezier patch of its 16 control points,
+    /// A = M_B · B · M_Bᵀ with M_B the Bezier matrix.
+    pub(crate) fn from_patch_list(net: &Net, patches: &[[usize; 16]]) -> Self {
+        let dim = net.dim();
+        let m = bezier_rows();
+        let mut coeffs = vec![0.0; patches.len() * 16 * dim];
+        for (patch, out) in patches.iter().zip(coeffs.chunks_exact_mut(16 * dim)) {
+            for a in 0..4 {
+                for b in 0..4 {
+                    let to = &mut out[(4 * a + b) * dim..][..dim];
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            let weight = m[3 - a][i] * m[3 - b][j];
+                            if weight != 0.0 {
+                                let p = &net.coords()[patch[4 * i + j] * dim..][..dim];
+                                for (t, x) in to.iter_mut().zip(p) {
+                                    *t += weight * x;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Self {
+            dim,
+            extent: net.extent(),
+            coeffs,
+            denominators: Vec::new(),
+            layout: Layout::List {
+                patches: patches.to_vec(),
+            },
+        }
+    }
+
+    /// Coordinates per point.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Number of patches.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.coeffs.len() / (16 * self.dim)
+    }
+
+    /// True when the table holds no patch (never, for a fitted surface).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.coeffs.is_empty()
+    }
+
+    /// The extent E of the surface's points (the scale of the accuracy promise).
+    #[must_use]
+    pub fn extent(&self) -> f64 {
+        self.extent
+    }
+
+    /// True for a weighted (rational) surface.
+    #[must_use]
+    pub fn is_rational(&self) -> bool {
+        !self.denominators.is_empty()
+    }
+
+    /// A net's segment boundaries along u and along v (segments + 1 values each); `None` for a
+    /// patch list.
+    #[must_use]
+    pub fn knots(&self) -> Option<[&[f64]; 2]> {
+        match &self.layout {
+            Layout::Grid { knots, .. } => Some([&knots[0], &knots[1]]),
+            Layout::List { .. } => None,
+        }
+    }
+
+    /// Whether each direction of a net closes on itself (closed ends, periodic condition).
+    #[must_use]
+    pub fn closed(&self) -> [bool; 2] {
+        match &self.layout {
+            Layout::Grid { closed, .. } => *closed,
+            Layout::List { .. } => [false; 2],
+        }
+    }
+
+    /// A patch list's control indices per patch; `None` for a net.
+    #[must_use]
+    pub fn patch_indices(&self) -> Option<&[[usize; 16]]> {
+        match &self.layout {
+            Layout::Grid { .. } => None,
+            Layout::List { patches } => Some(patches),
+        }
+    }
+
+    /// ρ of patch p: the largest over the smallest of its 16 weights (1 without weights).
+    #[must_use]
+    pub fn rho(&self, p: usize) -> f64 {
+        self.denominators.get(p).map_or(1.0, |d| d.1)
+    }
+
+    /// Patch p (a net's patches row-major, u outer).
+    ///
+    /// # Panics
+    /// If p is not a patch of the table.
+    #[must_use]
+    pub fn patch(&self, p: usize) -> Patch<'_> {
+        let (start, length) = match &self.layout {
+            Layout::Grid { knots, .. } => {
+                let across = knots[1].len() - 1;
+                let (iu, iv) = (p / across, p % across);
+                (
+                    [knots[0][iu], knots[1][iv]],
+                    [
+                        knots[0][iu + 1] - knots[0][iu],
+                        knots[1][iv + 1] - knots[1][iv],
+                    ],
+                )
+            }
+            Layout::List { .. } => ([0.0; 2], [1.0; 2]),
+        };
+        Patch {
+            coeffs: &self.coeffs[p * 16 * self.dim..][..16 * self.dim],
+            dim: self.dim,
+            start,
+            length,
+            denominator: self.denominators.get(p).map(|d| &d.0),
+        }
+    }
+}
+
+/// Patch (A_ab of the homogeneous numerator and W, `dim + 1` values each) into its rational
+/// form in `out`, the weights scaled by 1 / `least`; returns W's coefficients and ρ.
+fn rational_patch(
+    homogeneous: &[f64],
+    dim: usize,
+    least: f64,
+    most: f64,
+    out: &mut [f64],
+) -> ([f64; 16], f64) {
+    let width = dim + 1;
+    let w: [f64; 16] = std::array::from_fn(|ab| homogeneous[ab * width + dim] / least);
+    // O = N(0, 0) / W(0, 0).
+    let origin: Vec<f64> = (0..dim).map(|k| homogeneous[k] / least / w[0]).collect();
+    for ab in 0..16 {
+        for k in 0..dim {
+            out[ab * dim + k] = if ab == 0 {
+                origin[k]
+            } else {
+                homogeneous[ab * width + k] / least - origin[k] * w[ab]
+            };
+        }
+    }
+    (w, most / least)
+}
+
+impl Patch<'_> {
+    /// Coordinates per point.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The power coefficient vector A_ab (`dim` values): of a rational patch, its relative
+    /// numerator's (A_00: its origin O).
+    #[must_use]
+    pub fn coefficient(&self, a: usize, b: usize) -> &[f64] {
+        &self.coeffs[(4 * a + b) * self.dim..][..self.dim]
+    }
+
+    /// The denominator's 16 power coefficients W_ab at 4a + b, for a rational patch.
+    #[must_use]
+    pub fn denominator(&self) -> Option<&[f64; 16]> {
+        self.denominator
+    }
+
+    /// The start of the patch's interval along u and along v (a patch list's: 0).
+    #[must_use]
+    pub fn start(&self) -> [f64; 2] {
+        self.start
+    }
+
+    /// The patch's lengths Δu, Δv in the surface's parameters (a patch list's: 1).
+    #[must_use]
+    pub fn length(&self) -> [f64; 2] {
+        self.length
+    }
+
+    /// S and its derivatives in the patch's local u, v (d/du on [0, 1], not the surface's
+    /// parameter) into `out` (`dim` values each).
+    #[expect(
+        clippy::needless_range_loop,
+        reason = "a, b and k index the power form and the monomials' weights in step"
+    )]
+    pub fn local_derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
+        let pu = [1.0, u, u * u, u * u * u];
+        let dpu = [0.0, 1.0, 2.0 * u, 3.0 * u * u];
+        let ddpu = [0.0, 0.0, 2.0, 6.0 * u];
+        let pv = [1.0, v, v * v, v * v * v];
+        let dpv = [0.0, 1.0, 2.0 * v, 3.0 * v * v];
+        let ddpv = [0.0, 0.0, 2.0, 6.0 * v];
+        let weights = [
+            (&pu, &pv),
+            (&dpu, &pv),
+            (&pu, &dpv),
+            (&ddpu, &pv),
+            (&dpu, &dpv),
+            (&pu, &ddpv),
+        ];
+        for (o, (wu, wv)) in out.iter_mut().zip(weights) {
+            o.resize(self.dim, 0.0);
+            for k in 0..self.dim {
+                // The origin's term last: the rest is small where the patch is far out.
+                let mut sum = 0.0;
+                for a in 0..4 {
+                    for b in 0..4 {
+                        if a + b > 0 {
+                            sum += wu[a] * wv[b] * self.coeffs[(4 * a + b) * self.dim + k];
+                        }
+                    }
+                }
+                o[k] = if self.denominator.is_some() {
+                    sum
+                } else {
+                    sum + wu[0] * wv[0] * self.coeffs[k]
+                };
+            }
+        }
+        if let Some(w) = self.denominator {
+            // S = O + R, R = Ñ / W: the quotient rule on each derivative.
+            let d: [f64; 6] = std::array::from_fn(|m| {
+                let (wu, wv) = weights[m];
+                let mut sum = 0.0;
+                for a in 0..4 {
+                    for b in 0..4 {
+                        sum += wu[a] * wv[b] * w[4 * a + b];
+                    }
+                }
+                sum
+            });
+            let [wz, wu_, wv_, wuu, wuv, wvv] = d;
+            for k in 0..self.dim {
+                let n = [
+                    out[0][k], out[1][k], out[2][k], out[3][k], out[4][k], out[5][k],
+                ];
+                let r = n[0] / wz;
+                let ru = (n[1] - r * wu_) / wz;
+                let rv = (n[2] - r * wv_) / wz;
+                let ruu = (n[3] - 2.0 * ru * wu_ - r * wuu) / wz;
+                let ruv = (n[4] - ru * wv_ - rv * wu_ - r * wuv) / wz;
+                let rvv = (n[5] - 2.0 * rv * wv_ - r * wvv) / wz;
+                out[0][k] = self.coeffs[k] + r;
+                out[1][k] = ru;
+                out[2][k] = rv;
+                out[3][k] = ruu;
+                out[4][k] = ruv;
+                out[5][k] = rvv;
+            }
+        }
+    }
+
+    /// S and its derivatives with respect to the surface's parameters (d/du = local d/du
+    /// divided by Δu) at local (u, v) into `out`.
+    pub fn derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
+        self.local_derivatives(u, v, out);
+        let [lu, lv] = self.length;
+        let scale = [
+            1.0,
+            1.0 / lu,
+            1.0 / lv,
+            1.0 / (lu * lu),
+            1.0 / (lu * lv),
+            1.0 / (lv * lv),
+        ];
+        for (o, s) in out.iter_mut().zip(scale).skip(1) {
+            for x in o.iter_mut() {
+                *x *= s;
+            }
+        }
+    }
+
+    /// The patch's derivative sizes s_u, s_v (contract, "Surfaces"): the Euclidean norms over
+    /// coordinates of Σ_ab a |A_ab| and of Σ_ab b |A_ab|, in local u, v.
+    #[must_use]
+    pub fn derivative_sizes(&self) -> [f64; 2] {
+        let mut sizes = [0.0; 2];
+        for k in 0..self.dim {
+            let (mut su, mut sv) = (0.0, 0.0);
+            for a in 0..4 {
+                for b in 0..4 {
+                    let x = self.coeffs[(4 * a + b) * self.dim + k].abs();
+                    if a + b > 0 {
+                        su += a as f64 * x;
+                        sv += b as f64 * x;
+                    }
+                }
+            }
+            sizes[0] += su * su;
+            sizes[1] += sv * sv;
+        }
+        sizes.map(f64::sqrt)
+    }
+}
