@@ -27,8 +27,19 @@ use splinegpu::{Derivatives, EvalJob};
 use splinegpu::{InputError, Location};
 use splinegpu::{SamplePlan, Sampling};
 
+use crate::surfaces::{ReadSurface, SurfaceJob, surface_job};
+
 /// The document's top-level keys.
-const DOCUMENT_KEYS: [&str; 3] = ["sampling", "derivatives", "curves"];
+const DOCUMENT_KEYS: [&str; 5] = ["sampling", "derivatives", "curves", "surfaces", "normals"];
+
+/// A parsed document: curves or surfaces (contract: a document holds one or the other).
+#[derive(Debug)]
+pub enum Document {
+    /// A curve document's job.
+    Curves(EvalJob),
+    /// A surface document's job.
+    Surfaces(SurfaceJob),
+}
 
 /// Parses and checks a document held in memory, fits its curves and resolves their sampling.
 ///
@@ -36,8 +47,28 @@ const DOCUMENT_KEYS: [&str; 3] = ["sampling", "derivatives", "curves"];
 /// The first rule broken, placed at the document (JSON syntax errors give line and column) or
 /// at a curve.
 pub fn parse_document(text: &str) -> Result<EvalJob, InputError> {
+    curves_only(parse_input(text)?)
+}
+
+/// [`parse_document`] for a document of curves or of surfaces.
+///
+/// # Errors
+/// As [`parse_document`], surfaces' errors placed at their surface.
+pub fn parse_input(text: &str) -> Result<Document, InputError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     parse(&mut serde_json::Deserializer::from_str(text))
+}
+
+/// A curve document's job; a surface document is refused, naming "surfaces".
+fn curves_only(document: Document) -> Result<EvalJob, InputError> {
+    match document {
+        Document::Curves(job) => Ok(job),
+        Document::Surfaces(_) => Err(InputError::field(
+            "surfaces",
+            "are not curves (read the document with parse_input)",
+        )
+        .in_document()),
+    }
 }
 
 /// [`parse_document`] reading from `reader` as it goes: the document's text is never held
@@ -46,7 +77,15 @@ pub fn parse_document(text: &str) -> Result<EvalJob, InputError> {
 ///
 /// # Errors
 /// As [`parse_document`]; a read error is reported as a document error.
-pub fn parse_document_from_reader(mut reader: impl io::Read) -> Result<EvalJob, InputError> {
+pub fn parse_document_from_reader(reader: impl io::Read) -> Result<EvalJob, InputError> {
+    curves_only(parse_input_from_reader(reader)?)
+}
+
+/// [`parse_document_from_reader`] for a document of curves or of surfaces.
+///
+/// # Errors
+/// As [`parse_input`]; a read error is reported as a document error.
+pub fn parse_input_from_reader(mut reader: impl io::Read) -> Result<Document, InputError> {
     let start = read_past_bom(&mut reader).map_err(|e| syntax(&serde_json::Error::io(e)))?;
     // serde_json takes a reader's bytes one at a time, which only a `BufReader` serves from
     // its buffer: through the bare chain w1's document parsed in 169-173 ms, not 95-99.
@@ -70,13 +109,13 @@ fn read_past_bom(reader: &mut impl io::Read) -> io::Result<io::Cursor<Vec<u8>>> 
 
 fn parse<'de, R: serde_json::de::Read<'de>>(
     de: &mut serde_json::Deserializer<R>,
-) -> Result<EvalJob, InputError> {
+) -> Result<Document, InputError> {
     let located = Located::default();
     let parsed = DocumentSeed(&located)
         .deserialize(&mut *de)
         .and_then(|doc| de.end().map(|()| doc));
     match parsed {
-        Ok(doc) => doc.into_job(),
+        Ok(doc) => doc.into_document(),
         Err(e) => Err(located.0.into_inner().unwrap_or_else(|| syntax(&e))),
     }
 }
@@ -107,6 +146,7 @@ impl Located {
     fn fail<T, E: de::Error>(&self, place: &Location, error: InputError) -> Result<T, E> {
         let error = match place {
             Location::Curve(i) => error.in_curve(*i),
+            Location::Surface(i) => error.in_surface(*i),
             _ => error.in_document(),
         };
         self.0.borrow_mut().get_or_insert(error);
@@ -122,9 +162,12 @@ impl Located {
 
 /// What the document's visitor gathers; curves are already fitted.
 struct ParsedDocument {
-    sampling: Option<Sampling>,
+    /// The document's "sampling" entries, read as curves or surfaces take them.
+    sampling: Option<Vec<(String, Value)>>,
     derivatives: Derivatives,
     curves: Option<Vec<ParsedCurve>>,
+    surfaces: Option<Vec<ReadSurface>>,
+    normals: Option<bool>,
 }
 
 /// One fitted curve, with its own sampling if it has one.
@@ -134,15 +177,52 @@ struct ParsedCurve {
 }
 
 impl ParsedDocument {
+    /// The document's job: its curves' or its surfaces'.
+    fn into_document(self) -> Result<Document, InputError> {
+        match (self.curves.is_some(), self.surfaces.is_some()) {
+            (true, true) => Err(InputError::field(
+                "surfaces",
+                "cannot stand beside \"curves\": a document holds curves or surfaces",
+            )
+            .in_document()),
+            (false, true) => {
+                let surfaces = self.surfaces.expect("surfaces");
+                surface_job(
+                    surfaces,
+                    self.sampling.as_deref(),
+                    self.derivatives,
+                    self.normals.unwrap_or(false),
+                )
+                .map(Document::Surfaces)
+            }
+            _ => {
+                if self.normals.is_some() {
+                    return Err(InputError::field(
+                        "normals",
+                        "is a field of surface documents (\"surfaces\"), not of curves",
+                    )
+                    .in_document());
+                }
+                self.into_job().map(Document::Curves)
+            }
+        }
+    }
+
     /// The job: each curve's plan from its sampling or the document's.
     fn into_job(self) -> Result<EvalJob, InputError> {
+        let sampling = self
+            .sampling
+            .as_deref()
+            .map(sampling_spec)
+            .transpose()
+            .map_err(InputError::in_document)?;
         let curves = self
             .curves
             .ok_or_else(|| InputError::field("curves", "is missing").in_document())?;
         if curves.is_empty() {
             return Err(InputError::field("curves", "must not be empty").in_document());
         }
-        let default = self.sampling.unwrap_or_default();
+        let default = sampling.unwrap_or_default();
         let derivatives = self.derivatives;
         // Plans on every thread (an arc-length or tolerance plan measures its curve: most of
         // the time of such documents), then pushed in order, the first error by curve index.
@@ -274,14 +354,14 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
             sampling: None,
             derivatives: Derivatives::None,
             curves: None,
+            surfaces: None,
+            normals: None,
         };
         let mut seen = Vec::new();
         while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
             match key.as_str() {
                 "sampling" => {
-                    let entries = map.next_value_seed(SamplingSeed(located, place.clone()))?;
-                    doc.sampling =
-                        Some(sampling_spec(&entries).or_else(|e| located.fail(&place, e))?);
+                    doc.sampling = Some(map.next_value_seed(SamplingSeed(located, place.clone()))?);
                 }
                 "derivatives" => {
                     let v: Value = map.next_value()?;
@@ -294,6 +374,17 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
                     };
                 }
                 "curves" => doc.curves = Some(map.next_value_seed(CurvesSeed(located))?),
+                "surfaces" => doc.surfaces = Some(map.next_value_seed(SurfacesSeed(located))?),
+                "normals" => {
+                    let v: Value = map.next_value()?;
+                    doc.normals = match v.as_bool() {
+                        Some(b) => Some(b),
+                        None => {
+                            let message = format!("must be true or false, got {}", describe(&v));
+                            return located.fail(&place, InputError::field("normals", message));
+                        }
+                    };
+                }
                 other => {
                     let message = format!(
                         "is not a field of the document (allowed: {})",
@@ -400,6 +491,91 @@ impl<'de> Visitor<'de> for CurvesSeed<'_> {
 /// more than the fitting it moved (10,000 Catmull-Rom curves: 129-130 to 137-141 ms), one per
 /// 64 curves saves it (116-120 ms).
 const FIT_BATCH: usize = 64;
+
+/// "surfaces": an array of surface objects, read whole (a surface's net is its size) and
+/// checked, fitted and planned once the document is read.
+struct SurfacesSeed<'a>(&'a Located);
+
+impl<'de> DeserializeSeed<'de> for SurfacesSeed<'_> {
+    type Value = Vec<ReadSurface>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Vec<ReadSurface>, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl SurfacesSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<Vec<ReadSurface>, E> {
+        let message = format!("must be an array of surfaces, got {}", describe(got));
+        self.0
+            .fail(&Location::Document, InputError::field("surfaces", message))
+    }
+}
+
+impl<'de> Visitor<'de> for SurfacesSeed<'_> {
+    type Value = Vec<ReadSurface>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of surfaces")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<ReadSurface>, A::Error> {
+        let mut surfaces = Vec::new();
+        while let Some(surface) = seq.next_element_seed(SurfaceSeed(self.0, surfaces.len()))? {
+            surfaces.push(surface);
+        }
+        Ok(surfaces)
+    }
+
+    reject_scalars!();
+    reject_map!();
+}
+
+/// One surface object: its keys checked for duplicates, its "sampling" read as entries.
+struct SurfaceSeed<'a>(&'a Located, usize);
+
+impl<'de> DeserializeSeed<'de> for SurfaceSeed<'_> {
+    type Value = ReadSurface;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<ReadSurface, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl SurfaceSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<ReadSurface, E> {
+        let error = InputError::document(format!("must be a JSON object, got {}", describe(got)));
+        self.0.fail(&Location::Surface(self.1), error)
+    }
+}
+
+impl<'de> Visitor<'de> for SurfaceSeed<'_> {
+    type Value = ReadSurface;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a surface object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<ReadSurface, A::Error> {
+        let (located, place) = (self.0, Location::Surface(self.1));
+        let mut fields = Map::new();
+        let mut sampling = None;
+        let mut seen = Vec::new();
+        while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
+            if key == "sampling" {
+                sampling = Some(map.next_value_seed(SamplingSeed(located, place.clone()))?);
+            } else {
+                fields.insert(key, map.next_value()?);
+            }
+        }
+        Ok(ReadSurface {
+            fields,
+            keys: seen,
+            sampling,
+        })
+    }
+
+    reject_scalars!();
+    reject_seq!();
+}
 
 /// A curve object as read: its fields (keys in order), its points and its sampling, checked
 /// and fitted by [`fit_curve`].
@@ -781,7 +957,7 @@ fn fit_curve(
     Ok(Curve::new(kind, points)?.fit())
 }
 
-fn parse_ends(v: &Value) -> Result<Ends, InputError> {
+pub(crate) fn parse_ends(v: &Value) -> Result<Ends, InputError> {
     match v.as_str().and_then(Ends::from_name) {
         Some(ends) => Ok(ends),
         None => Err(InputError::field(
@@ -844,7 +1020,7 @@ fn parse_method(value: &Value) -> Result<String, InputError> {
     })
 }
 
-fn parse_matrix(value: &Value) -> Result<[[f64; 4]; 4], InputError> {
+pub(crate) fn parse_matrix(value: &Value) -> Result<[[f64; 4]; 4], InputError> {
     let wrong = || {
         InputError::field(
             "matrix",
@@ -865,13 +1041,13 @@ fn parse_matrix(value: &Value) -> Result<[[f64; 4]; 4], InputError> {
     Ok(m)
 }
 
-fn number(value: &Value, field: &str) -> Result<f64, InputError> {
+pub(crate) fn number(value: &Value, field: &str) -> Result<f64, InputError> {
     value.as_f64().ok_or_else(|| {
         InputError::field(field, format!("must be a number, got {}", describe(value)))
     })
 }
 
-fn number_array(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
+pub(crate) fn number_array(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
     let items = value.as_array().ok_or_else(|| {
         InputError::field(
             field,
@@ -893,7 +1069,7 @@ fn number_array(value: &Value, field: &str) -> Result<Vec<f64>, InputError> {
 }
 
 /// A JSON value in a message: its text, shortened.
-fn describe(value: &Value) -> String {
+pub(crate) fn describe(value: &Value) -> String {
     let text = value.to_string();
     if text.chars().count() > 40 {
         format!("{}...", text.chars().take(37).collect::<String>())

@@ -6,9 +6,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use splinegpu::{EvalJob, GpuContext};
+use splinegpu::GpuContext;
 use splinegpu_cli::output::{self, OutputError};
-use splinegpu_cli::{bench, stream};
+use splinegpu_cli::surface_output::{self, SurfaceFormat};
+use splinegpu_cli::surfaces::SurfaceJob;
+use splinegpu_cli::{Document, bench, stream};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
 #[derive(Parser)]
@@ -20,14 +22,16 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Tessellate the curves of a JSON document into CSV, JSON or NPZ samples.
+    /// Tessellate the curves or surfaces of a JSON document into CSV, JSON or NPZ samples, or
+    /// surfaces into .glb or .obj meshes.
     Tessellate {
         /// The input document, or `-` for standard input.
         input: String,
         /// Where to write; standard output when absent.
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz), else csv.
+        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz, .glb, .obj),
+        /// else csv. glb and obj are meshes of a surface document.
         #[arg(long)]
         format: Option<Format>,
         /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
@@ -69,6 +73,8 @@ enum Format {
     Csv,
     Json,
     Npz,
+    Glb,
+    Obj,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -155,8 +161,17 @@ fn tessellate(
     format: Option<Format>,
     backend: Backend,
 ) -> Result<(), Failure> {
-    let job = read_document(input)?;
     let format = format.unwrap_or_else(|| format_of(output));
+    let job = match read_document(input)? {
+        Document::Curves(job) => job,
+        Document::Surfaces(job) => return tessellate_surfaces(&job, output, format, backend),
+    };
+    if matches!(format, Format::Glb | Format::Obj) {
+        return Err(Failure::input(
+            "document: \"curves\" make no mesh: .glb and .obj are written for \"surfaces\" \
+             (use csv, json or npz)",
+        ));
+    }
     if format == Format::Npz {
         let dim = job.table(0).dim();
         if let Some(c) = (0..job.len()).find(|&c| job.table(c).dim() != dim) {
@@ -190,6 +205,7 @@ fn tessellate(
         Format::Csv => stream::Format::Csv,
         Format::Json => stream::Format::Json,
         Format::Npz => stream::Format::Npz,
+        Format::Glb | Format::Obj => unreachable!("refused above"),
     };
     // Chunks bound the memory a job holds; SPLINEGPU_CHUNK_SAMPLES overrides their size.
     let chunk = std::env::var("SPLINEGPU_CHUNK_SAMPLES")
@@ -236,11 +252,64 @@ fn tessellate(
     }
 }
 
+/// A surface document: checked for the format, evaluated on the CPU (the GPU surface kernel is
+/// not built yet), written whole.
+fn tessellate_surfaces(
+    job: &SurfaceJob,
+    output: Option<&Path>,
+    format: Format,
+    backend: Backend,
+) -> Result<(), Failure> {
+    let format = match format {
+        Format::Csv => SurfaceFormat::Csv,
+        Format::Json => SurfaceFormat::Json,
+        Format::Npz => SurfaceFormat::Npz,
+        Format::Glb => SurfaceFormat::Glb,
+        Format::Obj => SurfaceFormat::Obj,
+    };
+    surface_output::check_format(job, format).map_err(Failure::input)?;
+    if let Some(feature) = &job.unsupported {
+        return Err(Failure::other(format!("not supported yet: {feature}")));
+    }
+    match backend {
+        Backend::Gpu => {
+            return Err(Failure::other(
+                "not supported yet: surfaces on the GPU backend (use --backend cpu)",
+            ));
+        }
+        Backend::Auto => {
+            eprintln!(
+                "splinegpu: backend auto: cpu (surfaces are evaluated on the CPU in this build)"
+            );
+        }
+        Backend::Cpu => {}
+    }
+    let samples = job.evaluate_cpu();
+    let emit = |out: &mut dyn Write| surface_output::write(job, &samples, format, out);
+    let result = match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_output(path, emit),
+    };
+    match (result, output) {
+        (Ok(()), _) => Ok(()),
+        (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        (Err(e @ OutputError::SurfaceNonFinite { .. }), _) => Err(Failure::input(e)),
+        (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
+            "cannot write output \"{}\": {e}",
+            path.display()
+        ))),
+        (Err(e), _) => Err(Failure::other(e)),
+    }
+}
+
 /// Reads and parses the input document: a file is parsed as it is read (64 KiB at a time), so
 /// its text is never held whole; standard input likewise.
-fn read_document(input: &str) -> Result<EvalJob, Failure> {
+fn read_document(input: &str) -> Result<Document, Failure> {
     let parsed = if input == "-" {
-        splinegpu_cli::parse_document_from_reader(io::stdin().lock())
+        splinegpu_cli::parse_input_from_reader(io::stdin().lock())
     } else {
         let cannot = |why: &dyn std::fmt::Display| {
             Failure::input(format!("document: cannot read input \"{input}\": {why}"))
@@ -249,7 +318,7 @@ fn read_document(input: &str) -> Result<EvalJob, Failure> {
         if file.metadata().is_ok_and(|m| m.is_dir()) {
             return Err(cannot(&"it is a directory"));
         }
-        splinegpu_cli::parse_document_from_reader(file)
+        splinegpu_cli::parse_input_from_reader(file)
     };
     parsed.map_err(Failure::input)
 }
@@ -258,6 +327,8 @@ fn format_of(output: Option<&Path>) -> Format {
     match output.and_then(Path::extension).and_then(|e| e.to_str()) {
         Some("json") => Format::Json,
         Some("npz") => Format::Npz,
+        Some("glb") => Format::Glb,
+        Some("obj") => Format::Obj,
         _ => Format::Csv,
     }
 }

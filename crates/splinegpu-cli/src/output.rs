@@ -27,6 +27,17 @@ pub enum OutputError {
         /// The sample within the curve.
         sample: usize,
     },
+    /// A surface's value overflowed its number type: the input's fault.
+    #[error(
+        "surface {surface}: vertex {vertex} is not finite (the surface overflows the output's \
+         number type)"
+    )]
+    SurfaceNonFinite {
+        /// The surface.
+        surface: usize,
+        /// The vertex within the surface.
+        vertex: usize,
+    },
     /// NPZ holds one array of points: every curve needs the first one's dimension.
     #[error(
         "curve {curve}: \"points\" have {dim} coordinates but curve 0's have {first}: npz output \

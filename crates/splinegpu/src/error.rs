@@ -13,6 +13,8 @@ pub enum Location {
     Document,
     /// The curve with this 0-based index (in a document's `"curves"`, or in a batch).
     Curve(usize),
+    /// The surface with this 0-based index (in a document's `"surfaces"`).
+    Surface(usize),
 }
 
 /// Bad input: names the place (document or curve index), the field and the offending value.
@@ -66,6 +68,13 @@ impl InputError {
         self.location = Location::Curve(index);
         self
     }
+
+    /// The same error, placed in the surface with index `index`.
+    #[must_use]
+    pub fn in_surface(mut self, index: usize) -> Self {
+        self.location = Location::Surface(index);
+        self
+    }
 }
 
 impl fmt::Display for InputError {
@@ -74,6 +83,7 @@ impl fmt::Display for InputError {
             Location::Argument => {}
             Location::Document => write!(f, "document: ")?,
             Location::Curve(i) => write!(f, "curve {i}: ")?,
+            Location::Surface(i) => write!(f, "surface {i}: ")?,
         }
         match &self.field {
             Some(field) => write!(f, "\"{field}\" {}", self.message),

@@ -7,6 +7,7 @@ mod document_properties;
 mod failure_modes;
 mod stream;
 mod support;
+mod surfaces;
 
 // The library's test helpers (the shared GPU context, the random source, the comparisons).
 #[path = "../../../splinegpu/tests/it/support.rs"]

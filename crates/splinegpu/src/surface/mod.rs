@@ -7,12 +7,12 @@
 //! u, v, and the triangles), which [`evaluate_surfaces`] evaluates in f64 with derivatives and
 //! unit normals.
 //!
-//! - [`direction`]: each direction's curve rule, and the fit of many net lines by it;
-//! - [`patch`]: the patch table and its evaluation;
-//! - [`normal`]: unit normals, with their limits at collapsed edges and poles;
-//! - [`mesh`]: per-segment grids with shared vertices, patch lists welded along their edges,
+//! - `direction`: each direction's curve rule, and the fit of many net lines by it;
+//! - `patch`: the patch table and its evaluation;
+//! - `normal`: unit normals, with their limits at collapsed edges and poles;
+//! - `mesh`: per-segment grids with shared vertices, patch lists welded along their edges,
 //!   explicit (u, v);
-//! - [`eval`]: a plan's vertices evaluated on the CPU.
+//! - `eval`: a plan's vertices evaluated on the CPU.
 
 pub(crate) mod direction;
 pub(crate) mod eval;

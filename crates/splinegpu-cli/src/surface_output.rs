@@ -1,0 +1,505 @@
+//! Writing a surface document's samples (contract: "Output of a surface document"): JSON, CSV
+//! (vertices), NPZ, and meshes a viewer opens as they are, Wavefront .obj and glTF 2.0 binary
+//! (.glb, through the gltf crate's schema types and container).
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::io::{self, Write};
+
+use gltf::json;
+use gltf::json::validation::{Checked::Valid, USize64};
+use splinegpu::InputError;
+use splinegpu::surface::SurfaceSamples;
+
+use crate::npz::{Dtype, NpzWriter};
+use crate::output::OutputError;
+use crate::surfaces::SurfaceJob;
+
+/// The formats a surface document is written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceFormat {
+    /// Vertices, one row each.
+    Csv,
+    /// Every array of every surface.
+    Json,
+    /// numpy.load's arrays, the whole document's vertices in one array.
+    Npz,
+    /// Wavefront OBJ: positions, normals when asked, triangles; an object per surface.
+    Obj,
+    /// glTF 2.0 binary: a mesh per surface, named `surface-<index>`.
+    Glb,
+}
+
+/// Checks that the job can be written as `format`: a mesh format needs 3-D points and a
+/// sampling that makes triangles; NPZ one dimension for every surface.
+///
+/// # Errors
+/// The first surface that cannot, naming its field.
+pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), InputError> {
+    let first = job.surfaces[0].0.dim();
+    for (i, (table, plan)) in job.surfaces.iter().enumerate() {
+        match format {
+            SurfaceFormat::Obj | SurfaceFormat::Glb => {
+                let name = if format == SurfaceFormat::Obj {
+                    "obj"
+                } else {
+                    "glb"
+                };
+                if table.dim() != 3 {
+                    return Err(InputError::field(
+                        "points",
+                        format!(
+                            "have {} coordinates per point: a .{name} mesh needs 3",
+                            table.dim()
+                        ),
+                    )
+                    .in_surface(i));
+                }
+                if plan.triangles.is_none() {
+                    return Err(InputError::field(
+                        "sampling",
+                        format!("\"at\" makes no triangles: a .{name} mesh needs per_segment or tolerance"),
+                    )
+                    .in_surface(i));
+                }
+            }
+            SurfaceFormat::Npz if table.dim() != first => {
+                return Err(InputError::field(
+                    "points",
+                    format!(
+                        "have {} coordinates per point but surface 0's have {first}: npz output \
+                         needs one dimension for all surfaces",
+                        table.dim()
+                    ),
+                )
+                .in_surface(i));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Every value is finite (JSON and CSV have no infinities), naming the first vertex that is not.
+///
+/// # Errors
+/// [`OutputError::SurfaceNonFinite`].
+pub fn check_finite(samples: &[SurfaceSamples]) -> Result<(), OutputError> {
+    for (surface, s) in samples.iter().enumerate() {
+        for (width, plane) in planes(s) {
+            if let Some(i) = plane.iter().position(|v| !v.is_finite()) {
+                return Err(OutputError::SurfaceNonFinite {
+                    surface,
+                    vertex: i / width,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A surface's planes that are present, each with its values per vertex: positions, du, dv,
+/// duu, duv, dvv, normals, with their contract names.
+fn named_planes(s: &SurfaceSamples) -> Vec<(&'static str, usize, &[f64])> {
+    let mut out = vec![("points", s.dim, s.points.as_slice())];
+    for (name, plane) in [
+        ("du", &s.du),
+        ("dv", &s.dv),
+        ("duu", &s.duu),
+        ("duv", &s.duv),
+        ("dvv", &s.dvv),
+    ] {
+        if let Some(p) = plane {
+            out.push((name, s.dim, p.as_slice()));
+        }
+    }
+    if let Some(n) = &s.normals {
+        out.push(("normals", 3, n.as_slice()));
+    }
+    out
+}
+
+/// [`named_planes`] as (width, values).
+fn planes(s: &SurfaceSamples) -> Vec<(usize, &[f64])> {
+    named_planes(s)
+        .into_iter()
+        .map(|(_, w, p)| (w, p))
+        .collect()
+}
+
+/// Writes every surface's samples as `format`.
+///
+/// # Errors
+/// An I/O error of `out`, or a value that is not finite (JSON, CSV).
+pub fn write(
+    job: &SurfaceJob,
+    samples: &[SurfaceSamples],
+    format: SurfaceFormat,
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
+    match format {
+        SurfaceFormat::Csv => {
+            check_finite(samples)?;
+            write_csv(samples, job.has_patch_lists(), out)?;
+        }
+        SurfaceFormat::Json => {
+            check_finite(samples)?;
+            write_json(samples, out)?;
+        }
+        SurfaceFormat::Npz => write_npz(samples, job.has_patch_lists(), out)?,
+        SurfaceFormat::Obj => write_obj(samples, out)?,
+        SurfaceFormat::Glb => write_glb(samples, out)?,
+    }
+    Ok(())
+}
+
+fn write_csv(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> io::Result<()> {
+    let dim = samples.iter().map(|s| s.dim).max().unwrap_or(1);
+    let first = &samples[0];
+    let mut header = String::from("surface,sample,u,v");
+    let mut columns = |prefix: &str| {
+        for k in 0..dim {
+            header.push_str(&format!(",{prefix}x{k}"));
+        }
+    };
+    columns("");
+    for (name, plane) in [
+        ("du", &first.du),
+        ("dv", &first.dv),
+        ("duu", &first.duu),
+        ("duv", &first.duv),
+        ("dvv", &first.dvv),
+    ] {
+        if plane.is_some() {
+            columns(name);
+        }
+    }
+    if first.normals.is_some() {
+        header.push_str(",nx,ny,nz");
+    }
+    if patches {
+        header.push_str(",patch");
+    }
+    writeln!(out, "{header}")?;
+    let mut number = zmij::Buffer::new();
+    let mut line = Vec::new();
+    for (i, s) in samples.iter().enumerate() {
+        let planes = named_planes(s);
+        for v in 0..s.len() {
+            line.clear();
+            write!(line, "{i},{v}")?;
+            for x in s.uv[v] {
+                line.push(b',');
+                line.extend_from_slice(number.format(x).as_bytes());
+            }
+            for (name, width, plane) in &planes {
+                for x in &plane[v * width..(v + 1) * width] {
+                    line.push(b',');
+                    line.extend_from_slice(number.format(*x).as_bytes());
+                }
+                if *name != "normals" {
+                    line.extend(std::iter::repeat_n(b',', dim - width));
+                }
+            }
+            if patches {
+                line.push(b',');
+                if let Some(p) = &s.patch {
+                    write!(line, "{}", p[v])?;
+                }
+            }
+            line.push(b'\n');
+            out.write_all(&line)?;
+        }
+    }
+    Ok(())
+}
+
+fn write_json(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
+    let mut number = zmij::Buffer::new();
+    let mut rows = |out: &mut dyn Write, values: &[f64], width: usize| -> io::Result<()> {
+        out.write_all(b"[")?;
+        for (i, row) in values.chunks_exact(width.max(1)).enumerate() {
+            out.write_all(if i > 0 { b", [" } else { b"[" })?;
+            for (k, x) in row.iter().enumerate() {
+                if k > 0 {
+                    out.write_all(b", ")?;
+                }
+                out.write_all(number.format(*x).as_bytes())?;
+            }
+            out.write_all(b"]")?;
+        }
+        out.write_all(b"]")
+    };
+    out.write_all(b"{\"surfaces\": [")?;
+    for (i, s) in samples.iter().enumerate() {
+        out.write_all(if i > 0 {
+            b",\n{\"uv\": "
+        } else {
+            b"\n{\"uv\": "
+        })?;
+        let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
+        rows(out, &uv, 2)?;
+        for (name, width, plane) in named_planes(s) {
+            write!(out, ", \"{name}\": ")?;
+            rows(out, plane, width)?;
+        }
+        if let Some(triangles) = &s.triangles {
+            out.write_all(b", \"triangles\": [")?;
+            for (t, [a, b, c]) in triangles.iter().enumerate() {
+                write!(out, "{}[{a}, {b}, {c}]", if t > 0 { ", " } else { "" })?;
+            }
+            out.write_all(b"]")?;
+        }
+        if let Some(patch) = &s.patch {
+            out.write_all(b", \"patch\": [")?;
+            for (t, p) in patch.iter().enumerate() {
+                write!(out, "{}{p}", if t > 0 { ", " } else { "" })?;
+            }
+            out.write_all(b"]")?;
+        }
+        out.write_all(b"}")?;
+    }
+    out.write_all(b"\n]}\n")
+}
+
+fn write_npz(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> io::Result<()> {
+    let mut npz = NpzWriter::new(out);
+    let vertices: u64 = samples.iter().map(|s| s.len() as u64).sum();
+    let f64_bytes =
+        |values: &[f64]| -> Vec<u8> { values.iter().flat_map(|v| v.to_le_bytes()).collect() };
+    npz.begin("uv", Dtype::F64, &[vertices, 2])?;
+    for s in samples {
+        let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
+        npz.write(&f64_bytes(&uv))?;
+    }
+    npz.end()?;
+    for (index, (name, width, _)) in named_planes(&samples[0]).into_iter().enumerate() {
+        npz.begin(name, Dtype::F64, &[vertices, width as u64])?;
+        for s in samples {
+            npz.write(&f64_bytes(named_planes(s)[index].2))?;
+        }
+        npz.end()?;
+    }
+    let triangles: u64 = samples
+        .iter()
+        .map(|s| s.triangles.as_ref().map_or(0, Vec::len) as u64)
+        .sum();
+    npz.begin("triangles", Dtype::I64, &[triangles, 3])?;
+    let mut offset = 0i64;
+    for s in samples {
+        if let Some(t) = &s.triangles {
+            let bytes: Vec<u8> = t
+                .iter()
+                .flatten()
+                .flat_map(|&i| (i64::from(i) + offset).to_le_bytes())
+                .collect();
+            npz.write(&bytes)?;
+        }
+        offset += s.len() as i64;
+    }
+    npz.end()?;
+    let offsets = |count: &dyn Fn(&SurfaceSamples) -> usize| -> Vec<u8> {
+        let mut at = 0i64;
+        std::iter::once(0i64)
+            .chain(samples.iter().map(|s| {
+                at += count(s) as i64;
+                at
+            }))
+            .flat_map(i64::to_le_bytes)
+            .collect()
+    };
+    let s = samples.len() as u64 + 1;
+    npz.begin("surface_offsets", Dtype::I64, &[s])?;
+    npz.write(&offsets(&|s| s.len()))?;
+    npz.end()?;
+    npz.begin("triangle_offsets", Dtype::I64, &[s])?;
+    npz.write(&offsets(&|s| s.triangles.as_ref().map_or(0, Vec::len)))?;
+    npz.end()?;
+    if patches {
+        npz.begin("patch", Dtype::I64, &[vertices])?;
+        for s in samples {
+            let bytes: Vec<u8> = match &s.patch {
+                Some(p) => p.iter().flat_map(|&p| i64::from(p).to_le_bytes()).collect(),
+                None => (0..s.len()).flat_map(|_| (-1i64).to_le_bytes()).collect(),
+            };
+            npz.write(&bytes)?;
+        }
+        npz.end()?;
+    }
+    npz.finish()?;
+    Ok(())
+}
+
+fn write_obj(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
+    writeln!(out, "# splinegpu surfaces: one object per surface")?;
+    let mut number = zmij::Buffer::new();
+    let mut first = 1u64;
+    for (i, s) in samples.iter().enumerate() {
+        writeln!(out, "o surface-{i}")?;
+        for p in s.points.chunks_exact(3) {
+            out.write_all(b"v")?;
+            for x in p {
+                out.write_all(b" ")?;
+                out.write_all(number.format(*x).as_bytes())?;
+            }
+            out.write_all(b"\n")?;
+        }
+        if let Some(normals) = &s.normals {
+            for n in normals.chunks_exact(3) {
+                out.write_all(b"vn")?;
+                for x in n {
+                    out.write_all(b" ")?;
+                    out.write_all(number.format(*x).as_bytes())?;
+                }
+                out.write_all(b"\n")?;
+            }
+        }
+        for t in s.triangles.as_deref().unwrap_or_default() {
+            let [a, b, c] = t.map(|i| first + u64::from(i));
+            if s.normals.is_some() {
+                writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}")?;
+            } else {
+                writeln!(out, "f {a} {b} {c}")?;
+            }
+        }
+        first += s.len() as u64;
+    }
+    Ok(())
+}
+
+/// glTF holds positions and normals as f32 and indices as u32: one buffer, a view per array,
+/// a mesh (one triangle primitive) and a node per surface, one scene.
+fn write_glb(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
+    let mut root = json::Root::default();
+    let mut bin: Vec<u8> = Vec::new();
+    let mut nodes = Vec::new();
+    let buffer = json::Index::<json::Buffer>::new(0);
+    let view = |root: &mut json::Root,
+                bin: &mut Vec<u8>,
+                bytes: &[u8],
+                target: json::buffer::Target,
+                stride: Option<usize>| {
+        let offset = bin.len();
+        bin.extend_from_slice(bytes);
+        bin.resize(bin.len().next_multiple_of(4), 0);
+        root.push(json::buffer::View {
+            buffer,
+            byte_length: USize64(bytes.len() as u64),
+            byte_offset: Some(USize64(offset as u64)),
+            byte_stride: stride.map(json::buffer::Stride),
+            name: None,
+            target: Some(Valid(target)),
+            extensions: None,
+            extras: Default::default(),
+        })
+    };
+    let accessor = |root: &mut json::Root,
+                    view: json::Index<json::buffer::View>,
+                    count: usize,
+                    component: json::accessor::ComponentType,
+                    type_: json::accessor::Type,
+                    bounds: Option<([f32; 3], [f32; 3])>| {
+        root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: Some(USize64(0)),
+            count: USize64(count as u64),
+            component_type: Valid(json::accessor::GenericComponentType(component)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Valid(type_),
+            min: bounds.map(|b| json::Value::from(b.0.to_vec())),
+            max: bounds.map(|b| json::Value::from(b.1.to_vec())),
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    };
+    for (i, s) in samples.iter().enumerate() {
+        let positions: Vec<f32> = s.points.iter().map(|&x| x as f32).collect();
+        let (mut low, mut high) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for p in positions.chunks_exact(3) {
+            for k in 0..3 {
+                low[k] = low[k].min(p[k]);
+                high[k] = high[k].max(p[k]);
+            }
+        }
+        let f32_bytes = |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
+        let array = json::buffer::Target::ArrayBuffer;
+        let v = view(&mut root, &mut bin, &f32_bytes(&positions), array, Some(12));
+        let mut attributes = BTreeMap::new();
+        let f32_type = json::accessor::ComponentType::F32;
+        let vec3 = json::accessor::Type::Vec3;
+        let a = accessor(&mut root, v, s.len(), f32_type, vec3, Some((low, high)));
+        attributes.insert(Valid(json::mesh::Semantic::Positions), a);
+        if let Some(normals) = &s.normals {
+            let n: Vec<f32> = normals.iter().map(|&x| x as f32).collect();
+            let v = view(&mut root, &mut bin, &f32_bytes(&n), array, Some(12));
+            let a = accessor(&mut root, v, s.len(), f32_type, vec3, None);
+            attributes.insert(Valid(json::mesh::Semantic::Normals), a);
+        }
+        let triangles = s.triangles.as_deref().unwrap_or_default();
+        let indices: Vec<u8> = triangles
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        let element = json::buffer::Target::ElementArrayBuffer;
+        let v = view(&mut root, &mut bin, &indices, element, None);
+        let u32_type = json::accessor::ComponentType::U32;
+        let indices = accessor(
+            &mut root,
+            v,
+            3 * triangles.len(),
+            u32_type,
+            json::accessor::Type::Scalar,
+            None,
+        );
+        let mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: Some(format!("surface-{i}")),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                extensions: None,
+                extras: Default::default(),
+                indices: Some(indices),
+                material: None,
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            }],
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(format!("surface-{i}")),
+            ..Default::default()
+        }));
+    }
+    root.push(json::Buffer {
+        byte_length: USize64(bin.len() as u64),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: Default::default(),
+    });
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: Default::default(),
+        name: None,
+        nodes,
+    });
+    root.scene = Some(scene);
+    let text = json::serialize::to_vec(&root).map_err(io::Error::other)?;
+    let length = 12 + 8 + text.len().next_multiple_of(4) + 8 + bin.len();
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            length: u32::try_from(length)
+                .map_err(|_| io::Error::other("a .glb file holds at most 4 GiB"))?,
+        },
+        json: Cow::Owned(text),
+        bin: Some(Cow::Owned(bin)),
+    };
+    glb.to_writer(out).map_err(io::Error::other)
+}

@@ -1,0 +1,251 @@
+//! Surface documents through the binary: JSON that parses back to the library's values, CSV's
+//! header and rows, meshes (.obj, .glb read back by the gltf crate), and every bad surface
+//! exiting 2 with one message naming the surface, the field and the value, writing nothing;
+//! what this build lacks exits 1 ("not supported yet").
+
+use std::path::Path;
+
+use serde_json::Value;
+use splinegpu::Derivatives;
+use splinegpu::surface::{
+    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSampling, evaluate_surfaces,
+};
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = crate::support::run_cli(args, &[], "");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+fn tessellate(dir: &Path, doc: &str, name: &str, backend: &str) -> (i32, String) {
+    let input = dir.join("surfaces.json");
+    std::fs::write(&input, doc).unwrap();
+    let out = dir.join(name);
+    run(&[
+        "tessellate",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--backend",
+        backend,
+    ])
+}
+
+/// A closed bspline torus-like net, 6 x 5.
+fn ring_net() -> Vec<Vec<[f64; 3]>> {
+    (0..6)
+        .map(|i| {
+            (0..5)
+                .map(|j| {
+                    let (a, b) = (f64::from(i) * 1.047, f64::from(j) * 1.2566);
+                    let r = 3.0 + b.cos();
+                    [r * a.cos(), r * a.sin(), b.sin()]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// One Bezier patch as a patch list, and its 16 points.
+const PATCH_POINTS: &str = "[[0,0,0],[1,0,0],[2,0,0],[3,0,1],[0,1,0],[1,1,1],[2,1,1],[3,1,0],\
+[0,2,0],[1,2,1],[2,2,1],[3,2,0],[0,3,1],[1,3,0],[2,3,0],[3,3,0]]";
+
+fn document() -> String {
+    let net = serde_json::to_string(&ring_net()).unwrap();
+    format!(
+        r#"{{"sampling": {{"per_segment": [3, 2]}}, "derivatives": 2, "normals": true,
+  "surfaces": [
+    {{"kind": "bspline", "ends": ["closed", "closed"], "points": {net}}},
+    {{"kind": "bezier", "points": {PATCH_POINTS}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]],
+      "sampling": {{"per_segment": 2}}}},
+    {{"kind": "nurbs", "knots_u": [0,0,0,0,1,1,1,1], "knots_v": [0,0,0,0,0.5,2,2,2,2],
+      "weights": [[1,2,1,1,1],[1,1,1,0.5,1],[1,1,1,1,1],[3,1,1,1,1]],
+      "points": [[[0,0,0],[0,1,0],[0,2,1],[0,3,0],[0,4,0]],[[1,0,1],[1,1,2],[1,2,0],[1,3,1],[1,4,0]],
+                 [[2,0,0],[2,1,1],[2,2,1],[2,3,2],[2,4,1]],[[3,0,0],[3,1,0],[3,2,1],[3,3,0],[3,4,1]]],
+      "sampling": {{"at": [[0, 0], [0.5, 1.25], [1, 2]]}}}}
+  ]}}"#
+    )
+}
+
+#[test]
+fn json_output_parses_back_to_the_library_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let (status, stderr) = tessellate(dir.path(), &document(), "out.json", "cpu");
+    assert_eq!(status, 0, "{stderr}");
+    let out: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out.json")).unwrap())
+            .unwrap();
+    let surfaces = out["surfaces"].as_array().unwrap();
+    assert_eq!(surfaces.len(), 3);
+    // The closed torus: 18 x 10 vertices, two triangles per cell, no "patch".
+    let net = ring_net();
+    let coords: Vec<f64> = net.iter().flatten().flatten().copied().collect();
+    let kind = SurfaceKind::Uniform {
+        basis: splinegpu::Basis::BSpline,
+        ends: [splinegpu::Ends::Closed; 2],
+    };
+    let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
+        .unwrap()
+        .fit();
+    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
+    let want = evaluate_surfaces(&table, &plan, Derivatives::Second, true);
+    let got = &surfaces[0];
+    let flat = |key: &str| -> Vec<f64> {
+        got[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+            .collect()
+    };
+    assert_eq!(flat("points"), want.points);
+    assert_eq!(flat("duv"), *want.duv.as_ref().unwrap());
+    assert_eq!(flat("normals"), *want.normals.as_ref().unwrap());
+    assert_eq!(got["triangles"].as_array().unwrap().len(), 2 * 18 * 10);
+    assert!(got.get("patch").is_none());
+    // The patch list carries "patch"; "at" makes no triangles.
+    assert_eq!(surfaces[1]["patch"].as_array().unwrap().len(), 9);
+    assert!(surfaces[2].get("triangles").is_none());
+    assert_eq!(surfaces[2]["uv"][1], serde_json::json!([0.5, 1.25]));
+}
+
+#[test]
+fn csv_has_the_contracts_header_and_one_row_per_vertex() {
+    let dir = tempfile::tempdir().unwrap();
+    let (status, stderr) = tessellate(dir.path(), &document(), "out.csv", "cpu");
+    assert_eq!(status, 0, "{stderr}");
+    let text = std::fs::read_to_string(dir.path().join("out.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "surface,sample,u,v,x0,x1,x2,dux0,dux1,dux2,dvx0,dvx1,dvx2,duux0,duux1,duux2,\
+         duvx0,duvx1,duvx2,dvvx0,dvvx1,dvvx2,nx,ny,nz,patch"
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 180 + 9 + 3);
+    assert!(rows[0].starts_with("0,0,0.0,0.0,") && rows[0].ends_with(','));
+    assert!(rows[180].starts_with("1,0,0.0,0.0,0.0,0.0,0.0,") && rows[180].ends_with(",0"));
+}
+
+#[test]
+fn meshes_open_as_they_are() {
+    let dir = tempfile::tempdir().unwrap();
+    // Meshes need triangles: the "at" surface is left out.
+    let doc = document();
+    let meshes = doc[..doc.find(",\n    {\"kind\": \"nurbs\"").unwrap()].to_string() + "\n  ]}";
+    let (status, stderr) = tessellate(dir.path(), &meshes, "out.glb", "cpu");
+    assert_eq!(status, 0, "{stderr}");
+    let bytes = std::fs::read(dir.path().join("out.glb")).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let names: Vec<_> = gltf
+        .meshes()
+        .map(|m| m.name().unwrap().to_string())
+        .collect();
+    assert_eq!(names, ["surface-0", "surface-1"]);
+    let primitive = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    assert_eq!(
+        primitive.get(&gltf::Semantic::Positions).unwrap().count(),
+        180
+    );
+    assert_eq!(
+        primitive.get(&gltf::Semantic::Normals).unwrap().count(),
+        180
+    );
+    assert_eq!(primitive.indices().unwrap().count(), 3 * 360);
+    let (status, stderr) = tessellate(dir.path(), &meshes, "out.obj", "cpu");
+    assert_eq!(status, 0, "{stderr}");
+    let obj = std::fs::read_to_string(dir.path().join("out.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 189);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("vn ")).count(), 189);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 360 + 8);
+    // Faces index the whole file's vertices from 1: the patch's start after the torus's 180.
+    assert!(obj.contains("o surface-1") && obj.contains("f 181//181 "));
+}
+
+#[test]
+fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
+    let cases: [(&str, &[&str]); 10] = [
+        (
+            r#"{"surfaces": [{"kind": "bspline", "points": [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,0],[2,1,0]]]}]}"#,
+            &["surface 0", "\"points\"", "points[1] has 3 points, points[0] has 4"],
+        ),
+        (
+            &r#"{"surfaces": [{"kind": "bspline", "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}, {"kind": "bezier", "points": PTS, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,16]]}]}"#
+                .replace("PTS", PATCH_POINTS),
+            &["surface 1", "\"patches\"", "patches[0][15] = 16"],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "nurbs", "knots_u": [0,0,0,0,1,1,1], "knots_v": [0,0,0,0,1,1,1,1], "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"knots_u\"", "got 7"],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "nurbs", "knots_u": [0,0,0,0,1,1,1,1], "knots_v": [0,0,0,0,1,1,1,1], "weights": [[1,1],[1,1],[1,1],[1,1],[1,1],[1,1],[1,1],[1,1]], "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"weights\"", "4 x 4, got 8 x 2"],
+        ),
+        (
+            r#"{"sampling": {"arc_length": 10}, "surfaces": [{"kind": "bspline", "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"sampling\"", "arc_length"],
+        ),
+        (
+            r#"{"normals": true, "surfaces": [{"kind": "bspline", "points": [[[0,0],[1,0],[2,0],[3,0]],[[0,1],[1,1],[2,1],[3,1]],[[0,2],[1,2],[2,2],[3,2]],[[0,3],[1,3],[2,3],[3,3]]]}]}"#,
+            &["surface 0", "\"normals\"", "got 2 coordinates"],
+        ),
+        (
+            r#"{"curves": [{"kind": "bspline", "points": [[0],[1],[2],[3]]}], "surfaces": [{"kind": "bspline", "points": [[[0]]]}]}"#,
+            &["document:", "\"surfaces\"", "\"curves\""],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "bspline", "ends": "closed", "points": [[[0],[1],[2]],[[0],[1],[2]],[[0],[1],[2]]], "sampling": {"at": [[0, 0], [3.5, 1]]}}]}"#,
+            &["surface 0", "\"sampling\"", "at[1] = [3.5, 1]"],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "interpolating", "conditions": ["natural", "periodic"], "points": [[[0],[1],[2]],[[0],[1],[2]]]}]}"#,
+            &["surface 0", "\"points\"", "must close up along v"],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "catmull-rom", "tension": 0.5, "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"tension\"", "is not a field of a \"catmull-rom\" surface"],
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (doc, names) in &cases {
+        for (name, backend) in [("out.csv", "cpu"), ("out.glb", "gpu"), ("out.npz", "auto")] {
+            let (status, stderr) = tessellate(dir.path(), doc, name, backend);
+            assert_eq!(status, 2, "{doc}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            for n in *names {
+                assert!(stderr.contains(n), "{doc}: {stderr} lacks {n}");
+            }
+            assert!(!dir.path().join(name).exists());
+        }
+    }
+    // Meshes need 3-D triangles: "at" makes none.
+    let at = r#"{"surfaces": [{"kind": "bspline", "points": [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,0],[2,1,0],[3,1,0]],[[0,2,0],[1,2,0],[2,2,0],[3,2,0]],[[0,3,0],[1,3,0],[2,3,0],[3,3,0]]], "sampling": {"at": [[0.5, 0.5]]}}]}"#;
+    let (status, stderr) = tessellate(dir.path(), at, "out.obj", "cpu");
+    assert_eq!(status, 2);
+    assert!(
+        stderr.contains("surface 0: \"sampling\"") && stderr.contains(".obj"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn what_this_build_lacks_exits_1_saying_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let tolerance = r#"{"sampling": {"tolerance": 0.01}, "surfaces": [{"kind": "bspline", "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#;
+    let (status, stderr) = tessellate(dir.path(), tolerance, "out.csv", "cpu");
+    assert_eq!(status, 1);
+    assert!(
+        stderr.contains("not supported yet: tolerance sampling of surfaces"),
+        "{stderr}"
+    );
+    let (status, stderr) = tessellate(dir.path(), &document(), "out.csv", "gpu");
+    assert_eq!(status, 1);
+    assert!(
+        stderr.contains("not supported yet: surfaces on the GPU backend"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out.csv").exists());
+}
