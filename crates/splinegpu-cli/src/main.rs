@@ -268,9 +268,6 @@ fn tessellate_surfaces(
         Format::Obj => SurfaceFormat::Obj,
     };
     surface_output::check_format(job, format).map_err(Failure::input)?;
-    if let Some(feature) = &job.unsupported {
-        return Err(Failure::other(format!("not supported yet: {feature}")));
-    }
     match backend {
         Backend::Gpu => {
             return Err(Failure::other(

@@ -50,9 +50,6 @@ pub struct SurfaceJob {
     pub derivatives: Derivatives,
     /// Whether unit normals are asked for (every surface is then 3-D).
     pub normals: bool,
-    /// A feature of the contract this build does not have yet, if the document asks for one
-    /// (the command line then exits 1, "not supported yet").
-    pub unsupported: Option<String>,
 }
 
 impl SurfaceJob {
@@ -82,12 +79,6 @@ pub(crate) struct ReadSurface {
     pub(crate) sampling: Option<Vec<(String, Value)>>,
 }
 
-/// What a surface's sampling asks for: a plan the library makes, or tolerance (not built yet).
-enum Asked {
-    Plan(SurfaceSampling),
-    Tolerance,
-}
-
 /// The job of a surface document: each surface checked, fitted and planned, the first error
 /// placed at its surface.
 ///
@@ -106,7 +97,6 @@ pub(crate) fn surface_job(
         surfaces: Vec::with_capacity(surfaces.len()),
         derivatives,
         normals,
-        unsupported: None,
     };
     for (i, read) in surfaces.into_iter().enumerate() {
         let place = |e: InputError| e.in_surface(i);
@@ -120,23 +110,13 @@ pub(crate) fn surface_job(
         }
         let table = surface.fit();
         let entries = read.sampling.as_deref().or(default);
-        let asked = match entries {
-            None => Asked::Plan(SurfaceSampling::PerSegment([16, 16])),
+        let sampling = match entries {
+            None => SurfaceSampling::PerSegment([16, 16]),
             Some(entries) => {
                 surface_sampling(entries, table.patch_indices().is_some()).map_err(place)?
             }
         };
-        let plan = match asked {
-            Asked::Plan(sampling) => SurfacePlan::new(&table, &sampling).map_err(place)?,
-            Asked::Tolerance => {
-                job.unsupported
-                    .get_or_insert_with(|| "tolerance sampling of surfaces".to_string());
-                SurfacePlan {
-                    vertices: Vec::new(),
-                    triangles: Some(Vec::new()),
-                }
-            }
-        };
+        let plan = SurfacePlan::new(&table, &sampling).map_err(place)?;
         job.surfaces.push((table, plan));
     }
     Ok(job)
@@ -144,7 +124,10 @@ pub(crate) fn surface_job(
 
 /// A surface's "sampling" entries: per_segment k or [k_u, k_v]; at pairs (triples on a patch
 /// list); tolerance; arc_length is refused.
-fn surface_sampling(entries: &[(String, Value)], patch_list: bool) -> Result<Asked, InputError> {
+fn surface_sampling(
+    entries: &[(String, Value)],
+    patch_list: bool,
+) -> Result<SurfaceSampling, InputError> {
     let [(key, v)] = entries else {
         return Err(InputError::field(
             "sampling",
@@ -172,16 +155,15 @@ fn surface_sampling(entries: &[(String, Value)], patch_list: bool) -> Result<Ask
                 }
                 _ => count(v).map(|k| [k as u32; 2]),
             };
-            k.map(|k| Asked::Plan(SurfaceSampling::PerSegment(k)))
-                .ok_or_else(|| {
-                    InputError::field(
-                        "per_segment",
-                        format!(
-                            "must be an integer from 1 to 2^20 or a pair of them, got {}",
-                            describe(v)
-                        ),
-                    )
-                })
+            k.map(SurfaceSampling::PerSegment).ok_or_else(|| {
+                InputError::field(
+                    "per_segment",
+                    format!(
+                        "must be an integer from 1 to 2^20 or a pair of them, got {}",
+                        describe(v)
+                    ),
+                )
+            })
         }
         "at" => {
             let items = v.as_array().ok_or_else(|| {
@@ -214,14 +196,14 @@ fn surface_sampling(entries: &[(String, Value)], patch_list: bool) -> Result<Ask
                     pairs.push([values[0], values[1]]);
                 }
             }
-            Ok(Asked::Plan(if patch_list {
+            Ok(if patch_list {
                 SurfaceSampling::AtPatches(triples)
             } else {
                 SurfaceSampling::At(pairs)
-            }))
+            })
         }
         "tolerance" => match v.as_f64() {
-            Some(tol) if tol > 0.0 => Ok(Asked::Tolerance),
+            Some(tol) if tol > 0.0 => Ok(SurfaceSampling::Tolerance(tol)),
             _ => Err(InputError::field(
                 "tolerance",
                 format!("must be a number > 0, got {}", describe(v)),

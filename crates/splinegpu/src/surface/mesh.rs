@@ -28,6 +28,9 @@ pub enum SurfaceSampling {
     At(Vec<[f64; 2]>),
     /// The given (patch, u, v) of a patch list, in order; no triangles.
     AtPatches(Vec<(usize, [f64; 2])>),
+    /// A certified, watertight mesh within this distance of the surface (see
+    /// [`SurfacePlan::tolerance`]).
+    Tolerance(f64),
 }
 
 /// One vertex: the patch it is evaluated on, its local (u, v) in [0, 1]², and its (u, v) in the
@@ -50,6 +53,10 @@ pub struct SurfacePlan {
     /// Three vertex indices per triangle, counter-clockwise in (u, v); `None` for explicit
     /// (u, v).
     pub triangles: Option<Vec<[u32; 3]>>,
+    /// Per patch, the cells (k_u, k_v) of its grid. A patch list's patch p owns the next
+    /// 2 k_u k_v triangles, cell by cell (u outer); a net's grid is of all patches together.
+    /// Empty for explicit (u, v).
+    pub cells: Vec<[u32; 2]>,
 }
 
 /// The most vertices one surface may have: indices are u32 on every path.
@@ -64,8 +71,17 @@ impl SurfacePlan {
     /// list, or more vertices than u32 indices reach; each names "sampling" and the value.
     pub fn new(table: &PatchTable, sampling: &SurfaceSampling) -> Result<Self, InputError> {
         match (sampling, table.knots()) {
+            (SurfaceSampling::Tolerance(tol), _) => SurfacePlan::tolerance(table, *tol),
             (SurfaceSampling::PerSegment(k), Some(knots)) => {
-                grid(knots, table.closed(), [k[0] as usize, k[1] as usize])
+                if k.contains(&0) {
+                    return Err(InputError::field(
+                        "sampling",
+                        format!("per_segment counts must be >= 1, got [{}, {}]", k[0], k[1]),
+                    ));
+                }
+                let ku = vec![k[0] as usize; knots[0].len() - 1];
+                let kv = vec![k[1] as usize; knots[1].len() - 1];
+                grid(knots, table.closed(), [&ku, &kv])
             }
             (SurfaceSampling::PerSegment([k, l]), None) => {
                 if k != l {
@@ -74,8 +90,14 @@ impl SurfacePlan {
                         format!("per_segment of a patch list takes one k, got [{k}, {l}]"),
                     ));
                 }
+                if *k == 0 {
+                    return Err(InputError::field(
+                        "sampling",
+                        "per_segment count must be >= 1, got 0",
+                    ));
+                }
                 let patches = table.patch_indices().expect("a patch list");
-                welded(patches, *k as usize)
+                welded(patches, &vec![[*k as usize; 2]; patches.len()])
             }
             (SurfaceSampling::At(at), Some(knots)) => explicit(knots, at),
             (SurfaceSampling::AtPatches(at), None) => on_patches(table.len(), at),
@@ -91,27 +113,26 @@ impl SurfacePlan {
     }
 }
 
-/// One direction's lines of a per-segment grid: (segment, local, parameter) for each line.
-fn lines(knots: &[f64], closed: bool, k: usize) -> Vec<(usize, f64, f64)> {
+/// One direction's lines of a grid with `ks[i]` cells on segment i: (segment, local, parameter)
+/// for each line, a closed direction without its last line.
+fn lines(knots: &[f64], closed: bool, ks: &[usize]) -> Vec<(usize, f64, f64)> {
     let segments = knots.len() - 1;
-    let count = segments * k + usize::from(!closed);
-    (0..count)
-        .map(|a| {
-            let (segment, j) = ((a / k).min(segments - 1), a - (a / k).min(segments - 1) * k);
+    let mut out = Vec::with_capacity(ks.iter().sum::<usize>() + 1);
+    for (i, &k) in ks.iter().enumerate() {
+        for j in 0..k {
             let local = j as f64 / k as f64;
-            let t = if a == segments * k {
-                knots[segments]
-            } else {
-                knots[segment] + local * (knots[segment + 1] - knots[segment])
-            };
-            (segment, local, t)
-        })
-        .collect()
+            out.push((i, local, knots[i] + local * (knots[i + 1] - knots[i])));
+        }
+    }
+    if !closed {
+        out.push((segments - 1, 1.0, knots[segments]));
+    }
+    out
 }
 
-/// Refuses a grid of more vertices (or triangle corners) than u32 indices reach.
-fn check_count(vertices: u64, triangles: u64) -> Result<(), InputError> {
-    if vertices > MAX_VERTICES || triangles.saturating_mul(3) > u64::MAX / 2 {
+/// Refuses a mesh of more vertices than u32 indices reach.
+fn check_count(vertices: u64) -> Result<(), InputError> {
+    if vertices > MAX_VERTICES {
         return Err(InputError::field(
             "sampling",
             format!("gives {vertices} vertices, more than the {MAX_VERTICES} one surface may have"),
@@ -120,35 +141,34 @@ fn check_count(vertices: u64, triangles: u64) -> Result<(), InputError> {
     Ok(())
 }
 
-/// A net's per-segment grid.
-fn grid(knots: [&[f64]; 2], closed: [bool; 2], k: [usize; 2]) -> Result<SurfacePlan, InputError> {
-    if k.contains(&0) {
-        return Err(InputError::field(
-            "sampling",
-            format!("per_segment counts must be >= 1, got [{}, {}]", k[0], k[1]),
-        ));
-    }
-    let segments = [knots[0].len() - 1, knots[1].len() - 1];
-    let count = |d: usize| (segments[d] * k[d] + usize::from(!closed[d])) as u64;
-    let cells = (segments[0] * k[0]) as u64 * (segments[1] * k[1]) as u64;
-    check_count(count(0).saturating_mul(count(1)), cells.saturating_mul(2))?;
-    let along_u = lines(knots[0], closed[0], k[0]);
-    let along_v = lines(knots[1], closed[1], k[1]);
+/// A net's grid: `ks[0][i]` cells along u on every patch of row i, `ks[1][j]` along v on every
+/// patch of column j; the patches' cells are (ks[0][i], ks[1][j]).
+pub(crate) fn grid(
+    knots: [&[f64]; 2],
+    closed: [bool; 2],
+    ks: [&[usize]; 2],
+) -> Result<SurfacePlan, InputError> {
+    let count = |d: usize| (ks[d].iter().sum::<usize>() + usize::from(!closed[d])) as u64;
+    check_count(count(0).saturating_mul(count(1)))?;
+    let along_u = lines(knots[0], closed[0], ks[0]);
+    let along_v = lines(knots[1], closed[1], ks[1]);
+    let across = knots[1].len() - 1;
     let mut vertices = Vec::with_capacity(along_u.len() * along_v.len());
     for &(iu, lu, u) in &along_u {
         for &(iv, lv, v) in &along_v {
             vertices.push(Vertex {
-                patch: (iu * segments[1] + iv) as u32,
+                patch: (iu * across + iv) as u32,
                 local: [lu, lv],
                 uv: [u, v],
             });
         }
     }
     let (rows, cols) = (along_u.len(), along_v.len());
+    let (cells_u, cells_v): (usize, usize) = (ks[0].iter().sum(), ks[1].iter().sum());
     let index = |a: usize, b: usize| ((a % rows) * cols + (b % cols)) as u32;
-    let mut triangles = Vec::with_capacity(2 * cells as usize);
-    for a in 0..segments[0] * k[0] {
-        for b in 0..segments[1] * k[1] {
+    let mut triangles = Vec::with_capacity(2 * cells_u * cells_v);
+    for a in 0..cells_u {
+        for b in 0..cells_v {
             let (p, q, r, s) = (
                 index(a, b),
                 index(a + 1, b),
@@ -159,9 +179,14 @@ fn grid(knots: [&[f64]; 2], closed: [bool; 2], k: [usize; 2]) -> Result<SurfaceP
             triangles.push([p, r, s]);
         }
     }
+    let cells = ks[0]
+        .iter()
+        .flat_map(|&ku| ks[1].iter().map(move |&kv| [ku as u32, kv as u32]))
+        .collect();
     Ok(SurfacePlan {
         vertices,
         triangles: Some(triangles),
+        cells,
     })
 }
 
@@ -173,21 +198,15 @@ enum Weld {
     Edge([usize; 4], usize),
 }
 
-/// The weld key of vertex (a, b) of a k x k patch with `controls`, if it lies on the boundary.
-fn weld_key(controls: &[usize; 16], k: usize, a: usize, b: usize) -> Option<Weld> {
-    let on_u = a == 0 || a == k;
-    let on_v = b == 0 || b == k;
-    let corner = |a: usize, b: usize| controls[4 * (3 * a / k) + 3 * b / k];
+/// The weld key of vertex (a, b) of a k_u x k_v patch with `controls`, if it lies on the
+/// boundary.
+fn weld_key(controls: &[usize; 16], [ku, kv]: [usize; 2], a: usize, b: usize) -> Option<Weld> {
+    let (on_u, on_v) = (a == 0 || a == ku, b == 0 || b == kv);
+    let (i, j) = (if a == 0 { 0 } else { 3 }, if b == 0 { 0 } else { 3 });
     match (on_u, on_v) {
-        (true, true) => Some(Weld::Corner(corner(a, b))),
-        (true, false) => {
-            let i = 3 * a / k;
-            Some(edge([0, 1, 2, 3].map(|j| controls[4 * i + j]), b, k))
-        }
-        (false, true) => {
-            let j = 3 * b / k;
-            Some(edge([0, 1, 2, 3].map(|i| controls[4 * i + j]), a, k))
-        }
+        (true, true) => Some(Weld::Corner(controls[4 * i + j])),
+        (true, false) => Some(edge([0, 1, 2, 3].map(|j| controls[4 * i + j]), b, kv)),
+        (false, true) => Some(edge([0, 1, 2, 3].map(|i| controls[4 * i + j]), a, ku)),
         (false, false) => None,
     }
 }
@@ -204,27 +223,28 @@ fn edge(indices: [usize; 4], place: usize, k: usize) -> Weld {
     }
 }
 
-/// A patch list's per-segment mesh, welded.
-fn welded(patches: &[[usize; 16]], k: usize) -> Result<SurfacePlan, InputError> {
-    if k == 0 {
-        return Err(InputError::field(
-            "sampling",
-            "per_segment count must be >= 1, got 0",
-        ));
-    }
-    let per_patch = ((k + 1) * (k + 1)) as u64;
+/// A patch list's mesh, patch p a `cells[p]` = (k_u, k_v) grid, welded. Patches that share an
+/// edge must have the same count along it (per_segment's one k; the tolerance mesher's counts
+/// are made so).
+pub(crate) fn welded(
+    patches: &[[usize; 16]],
+    cells: &[[usize; 2]],
+) -> Result<SurfacePlan, InputError> {
     check_count(
-        per_patch.saturating_mul(patches.len() as u64),
-        (2 * k * k) as u64 * patches.len() as u64,
+        cells
+            .iter()
+            .map(|[ku, kv]| ((ku + 1) * (kv + 1)) as u64)
+            .fold(0u64, u64::saturating_add),
     )?;
     let mut vertices = Vec::new();
     let mut shared: HashMap<Weld, u32> = HashMap::new();
-    let mut triangles = Vec::with_capacity(2 * k * k * patches.len());
-    let mut local = vec![0u32; (k + 1) * (k + 1)];
-    for (p, controls) in patches.iter().enumerate() {
-        for a in 0..=k {
-            for b in 0..=k {
-                let uv = [a as f64 / k as f64, b as f64 / k as f64];
+    let mut triangles = Vec::with_capacity(cells.iter().map(|[ku, kv]| 2 * ku * kv).sum());
+    let mut local = Vec::new();
+    for (p, (controls, &[ku, kv])) in patches.iter().zip(cells).enumerate() {
+        local.clear();
+        for a in 0..=ku {
+            for b in 0..=kv {
+                let uv = [a as f64 / ku as f64, b as f64 / kv as f64];
                 let mut fresh = || {
                     vertices.push(Vertex {
                         patch: p as u32,
@@ -233,15 +253,15 @@ fn welded(patches: &[[usize; 16]], k: usize) -> Result<SurfacePlan, InputError> 
                     });
                     (vertices.len() - 1) as u32
                 };
-                local[a * (k + 1) + b] = match weld_key(controls, k, a, b) {
+                local.push(match weld_key(controls, [ku, kv], a, b) {
                     Some(key) => *shared.entry(key).or_insert_with(fresh),
                     None => fresh(),
-                };
+                });
             }
         }
-        let index = |a: usize, b: usize| local[a * (k + 1) + b];
-        for a in 0..k {
-            for b in 0..k {
+        let index = |a: usize, b: usize| local[a * (kv + 1) + b];
+        for a in 0..ku {
+            for b in 0..kv {
                 let (p, q, r, s) = (
                     index(a, b),
                     index(a + 1, b),
@@ -256,6 +276,10 @@ fn welded(patches: &[[usize; 16]], k: usize) -> Result<SurfacePlan, InputError> 
     Ok(SurfacePlan {
         vertices,
         triangles: Some(triangles),
+        cells: cells
+            .iter()
+            .map(|&[ku, kv]| [ku as u32, kv as u32])
+            .collect(),
     })
 }
 
@@ -309,6 +333,7 @@ fn explicit(knots: [&[f64]; 2], at: &[[f64; 2]]) -> Result<SurfacePlan, InputErr
     Ok(SurfacePlan {
         vertices,
         triangles: None,
+        cells: Vec::new(),
     })
 }
 
@@ -337,5 +362,6 @@ fn on_patches(patches: usize, at: &[(usize, [f64; 2])]) -> Result<SurfacePlan, I
     Ok(SurfacePlan {
         vertices,
         triangles: None,
+        cells: Vec::new(),
     })
 }

@@ -12,6 +12,7 @@
 //! - `normal`: unit normals, with their limits at collapsed edges and poles;
 //! - `mesh`: per-segment grids with shared vertices, patch lists welded along their edges,
 //!   explicit (u, v);
+//! - `tolerance`: certified meshes within a distance, watertight across patches;
 //! - `eval`: a plan's vertices evaluated on the CPU.
 
 pub(crate) mod direction;
@@ -19,6 +20,7 @@ pub(crate) mod eval;
 pub(crate) mod mesh;
 pub(crate) mod normal;
 pub(crate) mod patch;
+pub(crate) mod tolerance;
 
 use crate::basis::Basis;
 use crate::curve::Ends;
@@ -31,6 +33,7 @@ pub use eval::{SurfaceSamples, evaluate_surfaces};
 pub use mesh::{SurfacePlan, SurfaceSampling, Vertex};
 pub use normal::unit_normal;
 pub use patch::{Derivs, Patch, PatchTable};
+pub use tolerance::MAX_PATCH_VERTICES;
 
 /// A net of points: `rows` (n_u) rows of `cols` (n_v) points of `dim` coordinates, u along
 /// the rows' index and v within a row, stored flat (point (i, j) at `(i * cols + j) * dim`).

@@ -432,6 +432,15 @@ impl Patch<'_> {
         }
     }
 
+    /// Proven bounds on the largest |S_uu|, |S_uv|, |S_vv| over the patch, in its local u, v:
+    /// the tolerance mesher's M_uu, M_uv, M_vv (see [`SurfacePlan::tolerance`]).
+    ///
+    /// [`SurfacePlan::tolerance`]: crate::surface::SurfacePlan::tolerance
+    #[must_use]
+    pub fn second_derivative_bounds(&self) -> [f64; 3] {
+        crate::surface::tolerance::second_derivative_bounds(self)
+    }
+
     /// The patch's derivative sizes s_u, s_v (contract, "Surfaces"): the Euclidean norms over
     /// coordinates of Σ_ab a |A_ab| and of Σ_ab b |A_ab|, in local u, v.
     #[must_use]

@@ -17,3 +17,4 @@ mod properties;
 mod scipy_fixture;
 mod support;
 mod surface;
+mod surface_tolerance;

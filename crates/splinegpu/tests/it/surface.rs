@@ -272,7 +272,7 @@ fn circle() -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
 
 /// A torus of radii `big` and `small` about `center`, as a rational nurbs surface: the tensor
 /// product of two circles, P_ij = ((R + r x_j) X_i, (R + r x_j) Y_i, r y_j), w_ij = w_i w_j.
-fn torus(big: f64, small: f64, center: [f64; 3]) -> Surface {
+pub(crate) fn torus_surface(big: f64, small: f64, center: [f64; 3]) -> Surface {
     let (c, w, knots) = circle();
     let n = c.len();
     let mut coords = Vec::new();
@@ -300,7 +300,7 @@ fn torus(big: f64, small: f64, center: [f64; 3]) -> Surface {
 fn a_rational_torus_lies_on_the_torus_with_its_normals_near_the_origin_and_at_1e5() {
     for center in [[0.0, 0.0, 0.0], [1e5, -2e5, 5e4]] {
         let (big, small) = (3.0, 1.0);
-        let surface = torus(big, small, center);
+        let surface = torus_surface(big, small, center);
         let table = surface.fit();
         assert!(table.is_rational());
         let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([7, 5])).unwrap();
