@@ -10,7 +10,7 @@ use std::error::Error;
 
 use splinegpu::Derivatives;
 use splinegpu::surface::{
-    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSampling, SurfaceSamples, evaluate_surfaces,
+    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling, evaluate_surfaces,
 };
 
 /// The picture's size in pixels, and the supersampling per axis.
@@ -19,7 +19,9 @@ const HEIGHT: usize = 420;
 const SUPER: usize = 2;
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let dir = std::env::args().nth(1).unwrap_or_else(|| "docs".to_string());
+    let dir = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "docs".to_string());
     std::fs::create_dir_all(&dir)?;
     std::fs::write(format!("{dir}/surfaces.png"), picture()?)?;
     println!("wrote {dir}/surfaces.png");
@@ -34,17 +36,30 @@ fn picture() -> Result<Vec<u8>, Box<dyn Error>> {
     let extent = teapot.net().extent();
     let mesh = tessellate(&teapot, &SurfaceSampling::Tolerance(1e-3 * extent))?;
     let view = View::new(-0.55, 0.35, [0.2, 0.0, 1.55], 0.5 * HEIGHT as f64 / 3.1);
-    image.draw(&mesh, &view, [0.25 * WIDTH as f64, 0.52 * HEIGHT as f64], [0.80, 0.36, 0.28]);
+    image.draw(
+        &mesh,
+        &view,
+        [0.25 * WIDTH as f64, 0.52 * HEIGHT as f64],
+        [0.80, 0.36, 0.28],
+    );
     // Right half: a NURBS torus, exact circles in both directions.
     let torus = torus(2.2, 0.8)?;
     let mesh = tessellate(&torus, &SurfaceSampling::Tolerance(2e-3))?;
     let view = View::new(0.4, 0.9, [0.0; 3], 0.42 * HEIGHT as f64 / 3.0);
-    image.draw(&mesh, &view, [0.74 * WIDTH as f64, 0.5 * HEIGHT as f64], [0.16, 0.52, 0.58]);
+    image.draw(
+        &mesh,
+        &view,
+        [0.74 * WIDTH as f64, 0.5 * HEIGHT as f64],
+        [0.16, 0.52, 0.58],
+    );
     image.png()
 }
 
 /// The certified (or per-segment) mesh of a surface, with unit normals.
-fn tessellate(surface: &Surface, sampling: &SurfaceSampling) -> Result<SurfaceSamples, Box<dyn Error>> {
+fn tessellate(
+    surface: &Surface,
+    sampling: &SurfaceSampling,
+) -> Result<SurfaceSamples, Box<dyn Error>> {
     let table = surface.fit();
     let plan = SurfacePlan::new(&table, sampling)?;
     Ok(evaluate_surfaces(&table, &plan, Derivatives::None, true))
@@ -59,7 +74,12 @@ fn teapot() -> Result<Surface, Box<dyn Error>> {
         .as_array()
         .ok_or("points")?
         .iter()
-        .flat_map(|p| p.as_array().into_iter().flatten().filter_map(serde_json::Value::as_f64))
+        .flat_map(|p| {
+            p.as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(serde_json::Value::as_f64)
+        })
         .collect();
     let patches = surface["patches"]
         .as_array()
@@ -126,11 +146,19 @@ impl View {
             [sp * sy, sp * cy, cp],
             [-cp * sy, -cp * cy, sp],
         ];
-        Self { rows, center, scale }
+        Self {
+            rows,
+            center,
+            scale,
+        }
     }
 
     fn apply(&self, p: &[f64]) -> [f64; 3] {
-        let d = [p[0] - self.center[0], p[1] - self.center[1], p[2] - self.center[2]];
+        let d = [
+            p[0] - self.center[0],
+            p[1] - self.center[1],
+            p[2] - self.center[2],
+        ];
         self.rows.map(|r| r[0] * d[0] + r[1] * d[1] + r[2] * d[2])
     }
 }
@@ -163,7 +191,11 @@ impl Image {
             .chunks_exact(3)
             .map(|p| {
                 let q = view.apply(p);
-                [s * (at[0] + view.scale * q[0]), s * (at[1] - view.scale * q[1]), q[2]]
+                [
+                    s * (at[0] + view.scale * q[0]),
+                    s * (at[1] - view.scale * q[1]),
+                    q[2],
+                ]
             })
             .collect();
         let normals: Vec<[f64; 3]> = mesh
@@ -171,7 +203,13 @@ impl Image {
             .as_deref()
             .unwrap_or_default()
             .chunks_exact(3)
-            .map(|n| view.apply(&[n[0] + view.center[0], n[1] + view.center[1], n[2] + view.center[2]]))
+            .map(|n| {
+                view.apply(&[
+                    n[0] + view.center[0],
+                    n[1] + view.center[1],
+                    n[2] + view.center[2],
+                ])
+            })
             .collect();
         let light = normalize([-0.4, 0.6, 0.7]);
         for t in mesh.triangles.as_deref().unwrap_or_default() {

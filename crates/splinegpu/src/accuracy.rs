@@ -88,3 +88,70 @@ pub fn gpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize, val
 pub fn cpu_bound(segment: &Segment<'_>, extent: f64, order: usize, k: usize) -> f64 {
     CPU_TOLERANCE * promise_scale(segment, extent, order, k)
 }
+
+/// The surface promise's scale (contract: "GPU accuracy on a patch") of coordinate `k` of
+/// derivative `which` (0: S, 1: S_u, 2: S_v, 3: S_uu, 4: S_uv, 5: S_vv) on `patch`, whose
+/// surface has extent `extent`: max(E, Σ_{(a,b) != (0,0)} |A_ab|) for positions, and
+/// Σ a |A_ab| / Δu, Σ b |A_ab| / Δv, Σ a(a−1) |A_ab| / Δu², Σ a b |A_ab| / (Δu Δv),
+/// Σ b(b−1) |A_ab| / Δv² for the derivatives; a rational patch's (A its numerator relative
+/// to its origin over its smallest weight) times ρ^(order + 1).
+#[must_use]
+pub fn surface_promise_scale(
+    patch: &crate::surface::Patch<'_>,
+    extent: f64,
+    which: usize,
+    k: usize,
+) -> f64 {
+    let [lu, lv] = patch.length();
+    let (weight, length): (fn(f64, f64) -> f64, f64) = match which {
+        0 => (|_, _| 1.0, 1.0),
+        1 => (|a, _| a, lu),
+        2 => (|_, b| b, lv),
+        3 => (|a, _| a * (a - 1.0), lu * lu),
+        4 => (|a, b| a * b, lu * lv),
+        _ => (|_, b| b * (b - 1.0), lv * lv),
+    };
+    let mut sum = 0.0;
+    for a in 0..4 {
+        for b in 0..4 {
+            if a + b > 0 {
+                sum += weight(a as f64, b as f64) * patch.coefficient(a, b)[k].abs();
+            }
+        }
+    }
+    let order = [0, 1, 1, 2, 2, 2][which.min(5)];
+    let rho = patch.rho().powi(order + 1);
+    let scale = if which == 0 {
+        sum.max(extent)
+    } else {
+        sum / length
+    };
+    scale * rho
+}
+
+/// The largest error the GPU path may make in coordinate `k` of derivative `which` (as
+/// [`surface_promise_scale`]) of a vertex on `patch` when the exact value is `value`: the
+/// position's 1e-5 of its scale plus 4 ulp of the patch's largest coordinate plus an ulp of the
+/// value, a derivative's 1e-4 of its scale plus an ulp.
+#[must_use]
+pub fn surface_gpu_bound(
+    patch: &crate::surface::Patch<'_>,
+    extent: f64,
+    which: usize,
+    k: usize,
+    value: f64,
+) -> f64 {
+    let relative = if which == 0 {
+        POSITION_TOLERANCE
+    } else {
+        DERIVATIVE_TOLERANCE
+    };
+    let mut bound = relative * surface_promise_scale(patch, extent, which, k) + ulp_f32(value);
+    if which == 0 {
+        let largest: f64 = (0..16)
+            .map(|ab| patch.coefficient(ab / 4, ab % 4)[k].abs())
+            .sum::<f64>();
+        bound += 4.0 * ulp_f32(largest);
+    }
+    bound
+}

@@ -184,3 +184,41 @@ fn bindings_match_the_rust_binding_list() {
         assert_eq!(u64::from(least), min_size, "min_binding_size of {role}");
     }
 }
+
+/// `shaders/surface.wgsl`, parsed and validated.
+fn surface_module() -> naga::Module {
+    let module = naga::front::wgsl::parse_str(crate::gpu::surface::SURFACE_WGSL)
+        .expect("surface.wgsl parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .expect("surface.wgsl validates");
+    module
+}
+
+#[test]
+fn surface_structs_match_their_rust_twins_and_the_workgroup_size() {
+    use crate::gpu::surface::{GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+    let module = surface_module();
+    assert_twin!(
+        &module,
+        "SurfaceParams",
+        SurfaceParams,
+        [vertex_count, row_width, plane_stride, derivatives, normals]
+    );
+    assert_twin!(
+        &module,
+        "GpuPatch",
+        GpuPatch,
+        [coeff_offset, dim, rational, normal_offset, inv_du, inv_dv]
+    );
+    assert_twin!(&module, "GpuVertex", GpuVertex, [patch_index, out, u, v]);
+    let entry = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == "main")
+        .expect("entry point main");
+    assert_eq!(entry.workgroup_size, [SURFACE_WG_SIZE, 1, 1]);
+}

@@ -17,6 +17,7 @@ pub(crate) mod pack;
 mod pool;
 mod readback;
 mod record;
+pub(crate) mod surface;
 pub(crate) mod timing;
 
 pub use record::OutputLayout;
@@ -114,6 +115,8 @@ pub struct GpuContext {
     pool: std::sync::Mutex<pool::BufferPool>,
     /// Host-side packings kept between calls, for the same reason (one per concurrent call).
     packings: std::sync::Mutex<Vec<pack::Packed>>,
+    /// The surface kernel, compiled on first use.
+    surface: std::sync::OnceLock<surface::SurfacePipeline>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -239,6 +242,7 @@ impl GpuContext {
             pipelines,
             pool: std::sync::Mutex::default(),
             packings: std::sync::Mutex::default(),
+            surface: std::sync::OnceLock::new(),
         }
     }
 

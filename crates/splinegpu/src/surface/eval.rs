@@ -8,9 +8,11 @@ use crate::surface::mesh::SurfacePlan;
 use crate::surface::normal::unit_normal;
 use crate::surface::patch::{Derivs, PatchTable};
 
-/// One surface's samples (contract: "Output of a surface document"), flat and vertex-major.
+/// One surface's samples (contract: "Output of a surface document"), flat and vertex-major:
+/// f64 from the CPU ([`evaluate_surfaces`]), f32 from the GPU
+/// ([`GpuContext::evaluate_surfaces`](crate::GpuContext::evaluate_surfaces)); (u, v) always f64.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SurfaceSamples {
+pub struct SurfaceSamples<F = f64> {
     /// Coordinates per point.
     pub dim: usize,
     /// (u, v) of every vertex in the surface's parameters (a patch list's: local to its patch).
@@ -18,24 +20,24 @@ pub struct SurfaceSamples {
     /// The patch each vertex was evaluated on, for patch lists; `None` for nets.
     pub patch: Option<Vec<u32>>,
     /// Positions, `dim` per vertex.
-    pub points: Vec<f64>,
+    pub points: Vec<F>,
     /// d/du and d/dv, `dim` per vertex, when first derivatives are asked for.
-    pub du: Option<Vec<f64>>,
+    pub du: Option<Vec<F>>,
     /// See [`SurfaceSamples::du`].
-    pub dv: Option<Vec<f64>>,
+    pub dv: Option<Vec<F>>,
     /// Second derivatives d²/du², d²/dudv, d²/dv², when asked for.
-    pub duu: Option<Vec<f64>>,
+    pub duu: Option<Vec<F>>,
     /// See [`SurfaceSamples::duu`].
-    pub duv: Option<Vec<f64>>,
+    pub duv: Option<Vec<F>>,
     /// See [`SurfaceSamples::duu`].
-    pub dvv: Option<Vec<f64>>,
+    pub dvv: Option<Vec<F>>,
     /// Unit normals, 3 per vertex, when asked for (3-D surfaces only).
-    pub normals: Option<Vec<f64>>,
+    pub normals: Option<Vec<F>>,
     /// Three vertex indices per triangle; `None` for explicit (u, v).
     pub triangles: Option<Vec<[u32; 3]>>,
 }
 
-impl SurfaceSamples {
+impl<F> SurfaceSamples<F> {
     /// Number of vertices.
     #[must_use]
     pub fn len(&self) -> usize {

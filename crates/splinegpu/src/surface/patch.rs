@@ -46,6 +46,8 @@ enum Layout {
 pub struct Patch<'a> {
     coeffs: &'a [f64],
     dim: usize,
+    /// The largest over the smallest of its 16 weights (1 without weights).
+    rho: f64,
     /// Start and length of the patch's interval along u and along v.
     start: [f64; 2],
     length: [f64; 2],
@@ -275,6 +277,7 @@ impl PatchTable {
         Patch {
             coeffs: &self.coeffs[p * 16 * self.dim..][..16 * self.dim],
             dim: self.dim,
+            rho: self.rho(p),
             start,
             length,
             denominator: self.denominators.get(p).map(|d| &d.0),
@@ -325,6 +328,12 @@ impl Patch<'_> {
     #[must_use]
     pub fn denominator(&self) -> Option<&[f64; 16]> {
         self.denominator
+    }
+
+    /// ρ: the largest over the smallest of the patch's 16 weights (1 without weights).
+    #[must_use]
+    pub fn rho(&self) -> f64 {
+        self.rho
     }
 
     /// The start of the patch's interval along u and along v (a patch list's: 0).

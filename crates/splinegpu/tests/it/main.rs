@@ -17,4 +17,5 @@ mod properties;
 mod scipy_fixture;
 mod support;
 mod surface;
+mod surface_gpu;
 mod surface_tolerance;

@@ -1,0 +1,449 @@
+//! Surfaces on the GPU: `shaders/surface.wgsl` evaluates every vertex of many surfaces (of mixed
+//! kinds, rational or not) in one dispatch, from patches packed here in f32, with the same
+//! discipline as the curve kernel: Pod twins checked against the shader by naga (the tests
+//! below), an f32 CPU twin of the kernel, the promise tested on lavapipe.
+//!
+//! Packing: each patch's 15 non-constant power coefficients A_ab relative to its origin, the
+//! origin split into o_hi = f32(A_00) and o_lo = f32(A_00 − o_hi), and a rational patch's W;
+//! each vertex its patch, its local (u, v) in f32 and where its values go. The pipeline is
+//! compiled on first use, so that curve-only callers never pay for it.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::error::GpuError;
+use crate::job::Derivatives;
+use crate::surface::{PatchTable, SurfacePlan, SurfaceSamples};
+
+use super::GpuContext;
+
+/// `shaders/surface.wgsl`.
+pub(crate) const SURFACE_WGSL: &str = include_str!("../../shaders/surface.wgsl");
+
+/// The kernel's workgroup size; `const WG_SIZE` in `shaders/surface.wgsl` (checked by a test).
+pub(crate) const SURFACE_WG_SIZE: u32 = 64;
+
+/// Per-dispatch uniforms. WGSL twin: `SurfaceParams` in `shaders/surface.wgsl`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct SurfaceParams {
+    pub vertex_count: u32,
+    pub row_width: u32,
+    pub plane_stride: u32,
+    pub derivatives: u32,
+    pub normals: u32,
+    pub _padding: [u32; 3],
+}
+
+/// One patch. WGSL twin: `GpuPatch`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct GpuPatch {
+    pub coeff_offset: u32,
+    pub dim: u32,
+    pub rational: u32,
+    pub normal_offset: u32,
+    pub inv_du: f32,
+    pub inv_dv: f32,
+    pub _padding1: [u32; 2],
+}
+
+/// One vertex. WGSL twin: `GpuVertex`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct GpuVertex {
+    pub patch_index: u32,
+    pub out: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// The surface pipeline and its bind group layout.
+#[derive(Debug)]
+pub(crate) struct SurfacePipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// The kernel's bindings, in order: the uniform, then patches, coefficients, vertices (read)
+/// and the output (read-write).
+const BINDINGS: [wgpu::BufferBindingType; 5] = [
+    wgpu::BufferBindingType::Uniform,
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: false },
+];
+
+impl SurfacePipeline {
+    fn new(device: &wgpu::Device) -> Self {
+        let entries: Vec<_> = BINDINGS
+            .iter()
+            .enumerate()
+            .map(|(i, ty)| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: *ty,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("surface"),
+            entries: &entries,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("surface.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SURFACE_WGSL.into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("surface"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("surface"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        Self { layout, pipeline }
+    }
+}
+
+/// Many surfaces' patches packed for the kernel: patch records and coefficients, and where
+/// each surface's patches start.
+#[derive(Debug, Default)]
+pub(crate) struct PackedPatches {
+    pub patches: Vec<GpuPatch>,
+    pub coeffs: Vec<f32>,
+    pub first_patch: Vec<u32>,
+}
+
+impl PackedPatches {
+    /// Packs every table's patches (see the module docs).
+    pub(crate) fn new(tables: &[&PatchTable]) -> Self {
+        let mut packed = Self::default();
+        for table in tables {
+            packed.first_patch.push(packed.patches.len() as u32);
+            let dim = table.dim();
+            for p in 0..table.len() {
+                let patch = table.patch(p);
+                let [lu, lv] = patch.length();
+                let rational = patch.denominator();
+                packed.patches.push(GpuPatch {
+                    coeff_offset: packed.coeffs.len() as u32,
+                    dim: dim as u32,
+                    rational: u32::from(rational.is_some()),
+                    inv_du: (1.0 / lu) as f32,
+                    inv_dv: (1.0 / lv) as f32,
+                    ..GpuPatch::default()
+                });
+                for ab in 1..16 {
+                    packed
+                        .coeffs
+                        .extend(patch.coefficient(ab / 4, ab % 4).iter().map(|&x| x as f32));
+                }
+                let origin = patch.coefficient(0, 0);
+                let hi: Vec<f32> = origin.iter().map(|&x| x as f32).collect();
+                packed.coeffs.extend(&hi);
+                packed.coeffs.extend(
+                    origin
+                        .iter()
+                        .zip(&hi)
+                        .map(|(&x, &h)| (x - f64::from(h)) as f32),
+                );
+                if let Some(w) = rational {
+                    packed.coeffs.extend(w.iter().map(|&x| x as f32));
+                }
+                if dim == 3 {
+                    let nets = normal_nets(&patch);
+                    let record = packed.patches.last_mut().expect("pushed above");
+                    record.normal_offset = packed.coeffs.len() as u32;
+                    packed.coeffs.extend(nets.iter().map(|&x| x as f32));
+                }
+            }
+        }
+        packed
+    }
+}
+
+/// A 3-D patch's normal nets (see `shaders/surface.wgsl`): the Bezier points N_ij of its
+/// numerator relative to its origin (16 x 3, i along u), their differences along u
+/// (N_(i+1)j − N_ij, 12 x 3) and along v (N_i(j+1) − N_ij, 12 x 3), in f64.
+fn normal_nets(patch: &crate::surface::Patch<'_>) -> Vec<f64> {
+    // Power to Bernstein along one direction of a cubic: b_j = Σ_{k <= j} C(j,k)/C(3,k) c_k.
+    const TO_BERNSTEIN: [[f64; 4]; 4] = [
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 1.0 / 3.0, 0.0, 0.0],
+        [1.0, 2.0 / 3.0, 1.0 / 3.0, 0.0],
+        [1.0, 1.0, 1.0, 1.0],
+    ];
+    let power = |a: usize, b: usize, k: usize| {
+        if a + b == 0 {
+            0.0 // the numerator relative to the origin (a polynomial's too)
+        } else {
+            patch.coefficient(a, b)[k]
+        }
+    };
+    let mut n = [[[0.0f64; 3]; 4]; 4];
+    for (i, row) in n.iter_mut().enumerate() {
+        for (j, point) in row.iter_mut().enumerate() {
+            for (k, x) in point.iter_mut().enumerate() {
+                for (a, wa) in TO_BERNSTEIN[i].iter().enumerate() {
+                    for (b, wb) in TO_BERNSTEIN[j].iter().enumerate() {
+                        *x += wa * wb * power(a, b, k);
+                    }
+                }
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(120);
+    out.extend(n.iter().flatten().flatten());
+    let mut differences = |d: &dyn Fn(usize, usize, usize) -> f64, rows: usize, cols: usize| {
+        let net: Vec<[f64; 3]> = (0..rows)
+            .flat_map(|i| (0..cols).map(move |j| [0, 1, 2].map(|k| d(i, j, k))))
+            .collect();
+        // Points that coincide (a collapsed edge) differ by rounding only: exactly zero here,
+        // so that the kernel sees a vanishing derivative as one.
+        let length = |p: &[f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        let largest = net.iter().map(length).fold(0.0, f64::max);
+        for p in &net {
+            out.extend(if length(p) <= 1e-12 * largest {
+                [0.0; 3]
+            } else {
+                *p
+            });
+        }
+    };
+    differences(&|i, j, k| n[i + 1][j][k] - n[i][j][k], 3, 4);
+    differences(&|i, j, k| n[i][j + 1][k] - n[i][j][k], 4, 3);
+    out
+}
+
+/// The output planes of a vertex of a job: positions, then the derivatives asked for, then
+/// normals.
+fn plane_count(derivatives: Derivatives, normals: bool) -> usize {
+    1 + match derivatives.order() {
+        0 => 0,
+        1 => 2,
+        _ => 5,
+    } + usize::from(normals)
+}
+
+impl GpuContext {
+    fn surface_pipeline(&self) -> &SurfacePipeline {
+        self.surface
+            .get_or_init(|| SurfacePipeline::new(&self.device))
+    }
+
+    /// Evaluates every surface's plan on the GPU in f32, in dispatches that fit the device's
+    /// limits: positions, the derivatives asked for (d/du, d/dv in the surface's parameters)
+    /// and unit normals (3-D surfaces). Within the contract's surface promise of the f64
+    /// reference ([`evaluate_surfaces`](crate::surface::evaluate_surfaces)).
+    ///
+    /// # Errors
+    /// [`GpuError`] when the device is lost or a buffer cannot be mapped.
+    ///
+    /// # Panics
+    /// If `normals` is asked of a surface that is not 3-D.
+    pub fn evaluate_surfaces(
+        &self,
+        surfaces: &[(&PatchTable, &SurfacePlan)],
+        derivatives: Derivatives,
+        normals: bool,
+    ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+        assert!(
+            !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
+            "normals need 3-D points"
+        );
+        let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
+        let packed = PackedPatches::new(&tables);
+        let planes = plane_count(derivatives, normals);
+        // Every vertex of every surface, in order, with its surface's dimension.
+        let mut all: Vec<(u32, f32, f32, usize)> = Vec::new();
+        for (s, (table, plan)) in surfaces.iter().enumerate() {
+            let first = packed.first_patch[s];
+            all.extend(plan.vertices.iter().map(|v| {
+                (
+                    first + v.patch,
+                    v.local[0] as f32,
+                    v.local[1] as f32,
+                    table.dim(),
+                )
+            }));
+        }
+        // Dispatches of at most `budget` floats per plane (the storage-binding limit).
+        let limits = self.device.limits();
+        let binding = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let budget = ((binding / 4) as usize / planes).clamp(1, 1 << 26);
+        let mut chunk: Vec<GpuVertex> = Vec::new();
+        let mut results: Vec<Vec<f32>> = vec![Vec::new(); planes];
+        let mut flush = |chunk: &mut Vec<GpuVertex>, floats: usize| -> Result<(), GpuError> {
+            if chunk.is_empty() {
+                return Ok(());
+            }
+            let out =
+                self.dispatch_surfaces(&packed, chunk, floats, derivatives, normals, planes)?;
+            for (p, plane) in results.iter_mut().enumerate() {
+                plane.extend_from_slice(&out[p * floats..p * floats + floats]);
+            }
+            chunk.clear();
+            Ok(())
+        };
+        let mut floats = 0usize;
+        for &(patch, u, v, dim) in &all {
+            if floats + dim > budget {
+                flush(&mut chunk, floats)?;
+                floats = 0;
+            }
+            chunk.push(GpuVertex {
+                patch_index: patch,
+                out: floats as u32,
+                u,
+                v,
+            });
+            floats += dim;
+        }
+        flush(&mut chunk, floats)?;
+        // Split the planes per surface: every plane holds `dim` floats per vertex (normals are
+        // asked of 3-D surfaces only).
+        let mut out = Vec::with_capacity(surfaces.len());
+        let mut at = 0usize;
+        for (table, plan) in surfaces {
+            let dim = table.dim();
+            let n = plan.vertices.len();
+            let take = |p: usize| results[p][at..at + n * dim].to_vec();
+            let mut next = 1;
+            let mut plane = |asked: bool| {
+                asked.then(|| {
+                    next += 1;
+                    take(next - 1)
+                })
+            };
+            let (first, second) = (derivatives.order() >= 1, derivatives.order() >= 2);
+            let (du, dv) = (plane(first), plane(first));
+            let (duu, duv, dvv) = (plane(second), plane(second), plane(second));
+            let normal_plane = plane(normals);
+            out.push(SurfaceSamples {
+                dim,
+                uv: plan.vertices.iter().map(|v| v.uv).collect(),
+                patch: table
+                    .patch_indices()
+                    .map(|_| plan.vertices.iter().map(|v| v.patch).collect()),
+                points: take(0),
+                du,
+                dv,
+                duu,
+                duv,
+                dvv,
+                normals: normal_plane,
+                triangles: plan.triangles.clone(),
+            });
+            at += n * dim;
+        }
+        Ok(out)
+    }
+
+    /// One dispatch of `vertices` (`floats` values per plane), read back whole.
+    fn dispatch_surfaces(
+        &self,
+        packed: &PackedPatches,
+        vertices: &[GpuVertex],
+        floats: usize,
+        derivatives: Derivatives,
+        normals: bool,
+        planes: usize,
+    ) -> Result<Vec<f32>, GpuError> {
+        use wgpu::util::DeviceExt;
+        let device = &self.device;
+        let pipeline = self.surface_pipeline();
+        let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE);
+        let across = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
+        let params = SurfaceParams {
+            vertex_count: vertices.len() as u32,
+            row_width: across * SURFACE_WG_SIZE,
+            plane_stride: floats as u32,
+            derivatives: derivatives.order() as u32,
+            normals: u32::from(normals),
+            _padding: [0; 3],
+        };
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let uniform = init(
+            "surface params",
+            bytemuck::bytes_of(&params),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        // Empty tables still need a binding of at least one element.
+        let patches = init(
+            "patches",
+            bytemuck::cast_slice(&nonempty(&packed.patches)),
+            storage,
+        );
+        let coeffs = init(
+            "patch coeffs",
+            bytemuck::cast_slice(&nonempty(&packed.coeffs)),
+            storage,
+        );
+        let vertex_buffer = init("vertices", bytemuck::cast_slice(vertices), storage);
+        let bytes = (planes * floats * 4).max(4) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("surface samples"),
+            size: bytes,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let download = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("surface download"),
+            size: bytes,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("surface"),
+            layout: &pipeline.layout,
+            entries: &[&uniform, &patches, &coeffs, &vertex_buffer, &output]
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
+        self.queue.submit([encoder.finish()]);
+        super::readback::map_read(device, &download, |bytes| {
+            bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats].to_vec()
+        })
+    }
+}
+
+/// `items`, or one default element where there is none (a binding needs at least one).
+fn nonempty<T: Copy + Default>(items: &[T]) -> Vec<T> {
+    if items.is_empty() {
+        vec![T::default()]
+    } else {
+        items.to_vec()
+    }
+}
