@@ -183,24 +183,7 @@ fn tessellate(
             return Err(Failure::input(e));
         }
     }
-    let context = match backend {
-        Backend::Cpu => None,
-        Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
-        Backend::Auto => match GpuContext::auto().map_err(Failure::other)? {
-            Some(context) => {
-                let info = context.adapter_info();
-                eprintln!(
-                    "splinegpu: backend auto: gpu on {} ({:?})",
-                    info.name, info.device_type
-                );
-                Some(context)
-            }
-            None => {
-                eprintln!("splinegpu: backend auto: cpu (no hardware GPU adapter)");
-                None
-            }
-        },
-    };
+    let context = choose_backend(backend)?;
     let format = match format {
         Format::Csv => stream::Format::Csv,
         Format::Json => stream::Format::Json,
@@ -252,8 +235,7 @@ fn tessellate(
     }
 }
 
-/// A surface document: checked for the format, evaluated on the CPU (the GPU surface kernel is
-/// not built yet), written whole.
+/// A surface document: checked for the format, evaluated on the backend, written whole.
 fn tessellate_surfaces(
     job: &SurfaceJob,
     output: Option<&Path>,
@@ -268,27 +250,13 @@ fn tessellate_surfaces(
         Format::Obj => SurfaceFormat::Obj,
     };
     surface_output::check_format(job, format).map_err(Failure::input)?;
-    match backend {
-        Backend::Gpu => {
-            return Err(Failure::other(
-                "not supported yet: surfaces on the GPU backend (use --backend cpu)",
-            ));
+    let context = choose_backend(backend)?;
+    let result = match &context {
+        None => write_surfaces(job, &job.evaluate_cpu(), format, output),
+        Some(gpu) => {
+            let samples = job.evaluate_gpu(gpu).map_err(Failure::other)?;
+            write_surfaces(job, &samples, format, output)
         }
-        Backend::Auto => {
-            eprintln!(
-                "splinegpu: backend auto: cpu (surfaces are evaluated on the CPU in this build)"
-            );
-        }
-        Backend::Cpu => {}
-    }
-    let samples = job.evaluate_cpu();
-    let emit = |out: &mut dyn Write| surface_output::write(job, &samples, format, out);
-    let result = match output {
-        None => {
-            let mut out = io::BufWriter::new(io::stdout().lock());
-            emit(&mut out).and_then(|()| Ok(out.flush()?))
-        }
-        Some(path) => output::write_output(path, emit),
     };
     match (result, output) {
         (Ok(()), _) => Ok(()),
@@ -300,6 +268,46 @@ fn tessellate_surfaces(
         ))),
         (Err(e), _) => Err(Failure::other(e)),
     }
+}
+
+/// `samples` written as `format` to `output` (standard output when none).
+fn write_surfaces<F: surface_output::Number>(
+    job: &SurfaceJob,
+    samples: &[splinegpu::surface::SurfaceSamples<F>],
+    format: SurfaceFormat,
+    output: Option<&Path>,
+) -> Result<(), OutputError> {
+    let emit = |out: &mut dyn Write| surface_output::write(job, samples, format, out);
+    match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_output(path, emit),
+    }
+}
+
+/// The backend's context: none for the CPU; for auto a hardware GPU's when there is one,
+/// saying which on standard error.
+fn choose_backend(backend: Backend) -> Result<Option<GpuContext>, Failure> {
+    Ok(match backend {
+        Backend::Cpu => None,
+        Backend::Gpu => Some(GpuContext::new().map_err(Failure::other)?),
+        Backend::Auto => match GpuContext::auto().map_err(Failure::other)? {
+            Some(context) => {
+                let info = context.adapter_info();
+                eprintln!(
+                    "splinegpu: backend auto: gpu on {} ({:?})",
+                    info.name, info.device_type
+                );
+                Some(context)
+            }
+            None => {
+                eprintln!("splinegpu: backend auto: cpu (no hardware GPU adapter)");
+                None
+            }
+        },
+    })
 }
 
 /// Reads and parses the input document: a file is parsed as it is read (64 KiB at a time), so

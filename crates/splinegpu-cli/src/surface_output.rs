@@ -8,12 +8,18 @@ use std::io::{self, Write};
 
 use gltf::json;
 use gltf::json::validation::{Checked::Valid, USize64};
-use splinegpu::InputError;
 use splinegpu::surface::SurfaceSamples;
+use splinegpu::{InputError, SampleFloat};
 
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
 use crate::surfaces::SurfaceJob;
+
+/// The number types samples come in: f64 from the CPU, f32 from the GPU, each printed as the
+/// shortest text that reads back as the same value of its type.
+pub trait Number: SampleFloat + zmij::Float + Into<f64> {}
+
+impl<F: SampleFloat + zmij::Float + Into<f64>> Number for F {}
 
 /// The formats a surface document is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,10 +90,10 @@ pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), Input
 ///
 /// # Errors
 /// [`OutputError::SurfaceNonFinite`].
-pub fn check_finite(samples: &[SurfaceSamples]) -> Result<(), OutputError> {
+pub fn check_finite<F: Number>(samples: &[SurfaceSamples<F>]) -> Result<(), OutputError> {
     for (surface, s) in samples.iter().enumerate() {
         for (width, plane) in planes(s) {
-            if let Some(i) = plane.iter().position(|v| !v.is_finite()) {
+            if let Some(i) = plane.iter().position(|v| !v.finite()) {
                 return Err(OutputError::SurfaceNonFinite {
                     surface,
                     vertex: i / width,
@@ -100,7 +106,7 @@ pub fn check_finite(samples: &[SurfaceSamples]) -> Result<(), OutputError> {
 
 /// A surface's planes that are present, each with its values per vertex: positions, du, dv,
 /// duu, duv, dvv, normals, with their contract names.
-fn named_planes(s: &SurfaceSamples) -> Vec<(&'static str, usize, &[f64])> {
+fn named_planes<F>(s: &SurfaceSamples<F>) -> Vec<(&'static str, usize, &[F])> {
     let mut out = vec![("points", s.dim, s.points.as_slice())];
     for (name, plane) in [
         ("du", &s.du),
@@ -120,7 +126,7 @@ fn named_planes(s: &SurfaceSamples) -> Vec<(&'static str, usize, &[f64])> {
 }
 
 /// [`named_planes`] as (width, values).
-fn planes(s: &SurfaceSamples) -> Vec<(usize, &[f64])> {
+fn planes<F>(s: &SurfaceSamples<F>) -> Vec<(usize, &[F])> {
     named_planes(s)
         .into_iter()
         .map(|(_, w, p)| (w, p))
@@ -131,9 +137,9 @@ fn planes(s: &SurfaceSamples) -> Vec<(usize, &[f64])> {
 ///
 /// # Errors
 /// An I/O error of `out`, or a value that is not finite (JSON, CSV).
-pub fn write(
+pub fn write<F: Number>(
     job: &SurfaceJob,
-    samples: &[SurfaceSamples],
+    samples: &[SurfaceSamples<F>],
     format: SurfaceFormat,
     out: &mut dyn Write,
 ) -> Result<(), OutputError> {
@@ -153,7 +159,11 @@ pub fn write(
     Ok(())
 }
 
-fn write_csv(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> io::Result<()> {
+fn write_csv<F: Number>(
+    samples: &[SurfaceSamples<F>],
+    patches: bool,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     let dim = samples.iter().map(|s| s.dim).max().unwrap_or(1);
     let first = &samples[0];
     let mut header = String::from("surface,sample,u,v");
@@ -214,9 +224,13 @@ fn write_csv(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> 
     Ok(())
 }
 
-fn write_json(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
-    let mut number = zmij::Buffer::new();
-    let mut rows = |out: &mut dyn Write, values: &[f64], width: usize| -> io::Result<()> {
+fn write_json<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
+    fn rows<T: zmij::Float + Copy>(
+        out: &mut dyn Write,
+        values: &[T],
+        width: usize,
+    ) -> io::Result<()> {
+        let mut number = zmij::Buffer::new();
         out.write_all(b"[")?;
         for (i, row) in values.chunks_exact(width.max(1)).enumerate() {
             out.write_all(if i > 0 { b", [" } else { b"[" })?;
@@ -229,7 +243,7 @@ fn write_json(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()>
             out.write_all(b"]")?;
         }
         out.write_all(b"]")
-    };
+    }
     out.write_all(b"{\"surfaces\": [")?;
     for (i, s) in samples.iter().enumerate() {
         out.write_all(if i > 0 {
@@ -262,11 +276,17 @@ fn write_json(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()>
     out.write_all(b"\n]}\n")
 }
 
-fn write_npz(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> io::Result<()> {
+fn write_npz<F: Number>(
+    samples: &[SurfaceSamples<F>],
+    patches: bool,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     let mut npz = NpzWriter::new(out);
     let vertices: u64 = samples.iter().map(|s| s.len() as u64).sum();
     let f64_bytes =
         |values: &[f64]| -> Vec<u8> { values.iter().flat_map(|v| v.to_le_bytes()).collect() };
+    // The planes' own type, little-endian as every target we build for (NPZ says "<f4"/"<f8").
+    let plane_bytes = |values: &[F]| -> Vec<u8> { bytemuck::cast_slice::<F, u8>(values).to_vec() };
     npz.begin("uv", Dtype::F64, &[vertices, 2])?;
     for s in samples {
         let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
@@ -274,9 +294,9 @@ fn write_npz(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> 
     }
     npz.end()?;
     for (index, (name, width, _)) in named_planes(&samples[0]).into_iter().enumerate() {
-        npz.begin(name, Dtype::F64, &[vertices, width as u64])?;
+        npz.begin(name, Dtype::of::<F>(), &[vertices, width as u64])?;
         for s in samples {
-            npz.write(&f64_bytes(named_planes(s)[index].2))?;
+            npz.write(&plane_bytes(named_planes(s)[index].2))?;
         }
         npz.end()?;
     }
@@ -298,7 +318,7 @@ fn write_npz(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> 
         offset += s.len() as i64;
     }
     npz.end()?;
-    let offsets = |count: &dyn Fn(&SurfaceSamples) -> usize| -> Vec<u8> {
+    let offsets = |count: &dyn Fn(&SurfaceSamples<F>) -> usize| -> Vec<u8> {
         let mut at = 0i64;
         std::iter::once(0i64)
             .chain(samples.iter().map(|s| {
@@ -330,7 +350,7 @@ fn write_npz(samples: &[SurfaceSamples], patches: bool, out: &mut dyn Write) -> 
     Ok(())
 }
 
-fn write_obj(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
+fn write_obj<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
     writeln!(out, "# splinegpu surfaces: one object per surface")?;
     let mut number = zmij::Buffer::new();
     let mut first = 1u64;
@@ -369,7 +389,7 @@ fn write_obj(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> 
 
 /// glTF holds positions and normals as f32 and indices as u32: one buffer, a view per array,
 /// a mesh (one triangle primitive) and a node per surface, one scene.
-fn write_glb(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> {
+fn write_glb<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
     let mut root = json::Root::default();
     let mut bin: Vec<u8> = Vec::new();
     let mut nodes = Vec::new();
@@ -415,7 +435,7 @@ fn write_glb(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> 
         })
     };
     for (i, s) in samples.iter().enumerate() {
-        let positions: Vec<f32> = s.points.iter().map(|&x| x as f32).collect();
+        let positions: Vec<f32> = s.points.iter().map(|&x| x.into() as f32).collect();
         let (mut low, mut high) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for p in positions.chunks_exact(3) {
             for k in 0..3 {
@@ -432,7 +452,7 @@ fn write_glb(samples: &[SurfaceSamples], out: &mut dyn Write) -> io::Result<()> 
         let a = accessor(&mut root, v, s.len(), f32_type, vec3, Some((low, high)));
         attributes.insert(Valid(json::mesh::Semantic::Positions), a);
         if let Some(normals) = &s.normals {
-            let n: Vec<f32> = normals.iter().map(|&x| x as f32).collect();
+            let n: Vec<f32> = normals.iter().map(|&x| x.into() as f32).collect();
             let v = view(&mut root, &mut bin, &f32_bytes(&n), array, Some(12));
             let a = accessor(&mut root, v, s.len(), f32_type, vec3, None);
             attributes.insert(Valid(json::mesh::Semantic::Normals), a);

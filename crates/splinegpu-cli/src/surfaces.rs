@@ -10,7 +10,9 @@ use splinegpu::surface::{
     Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
     evaluate_surfaces,
 };
-use splinegpu::{CurveKind, Derivatives, EndCondition, Ends, InputError, MAX_DIM};
+use splinegpu::{
+    CurveKind, Derivatives, EndCondition, Ends, GpuContext, GpuError, InputError, MAX_DIM,
+};
 
 use crate::document::{describe, number, number_array, parse_ends, parse_matrix};
 
@@ -60,6 +62,15 @@ impl SurfaceJob {
             .iter()
             .map(|(table, plan)| evaluate_surfaces(table, plan, self.derivatives, self.normals))
             .collect()
+    }
+
+    /// Every surface evaluated on the GPU in f32, in one call.
+    ///
+    /// # Errors
+    /// The GPU's ([`GpuError`]).
+    pub fn evaluate_gpu(&self, gpu: &GpuContext) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+        let jobs: Vec<_> = self.surfaces.iter().map(|(t, p)| (t, p)).collect();
+        gpu.evaluate_surfaces(&jobs, self.derivatives, self.normals)
     }
 
     /// Whether any surface is a patch list (the outputs then carry the "patch" column).

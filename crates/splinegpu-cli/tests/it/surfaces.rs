@@ -1,7 +1,7 @@
 //! Surface documents through the binary: JSON that parses back to the library's values, CSV's
 //! header and rows, meshes (.obj, .glb read back by the gltf crate), and every bad surface
 //! exiting 2 with one message naming the surface, the field and the value, writing nothing;
-//! the teapot example; the GPU backend, which this build lacks for surfaces, exits 1.
+//! the teapot example; the GPU backend's f32 values beside the CPU's.
 
 use std::path::Path;
 
@@ -232,7 +232,7 @@ fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
 }
 
 #[test]
-fn the_teapot_example_meshes_within_its_tolerance_and_the_gpu_backend_says_it_lacks_surfaces() {
+fn the_teapot_example_meshes_within_its_tolerance_on_both_backends() {
     let dir = tempfile::tempdir().unwrap();
     let teapot = include_str!("../../examples/teapot.json");
     let (status, stderr) = tessellate(dir.path(), teapot, "teapot.glb", "cpu");
@@ -242,11 +242,40 @@ fn the_teapot_example_meshes_within_its_tolerance_and_the_gpu_backend_says_it_la
     let primitive = gltf.meshes().next().unwrap().primitives().next().unwrap();
     assert!(primitive.get(&gltf::Semantic::Normals).is_some());
     assert!(primitive.indices().unwrap().count() > 3 * 1000);
-    let (status, stderr) = tessellate(dir.path(), &document(), "out.csv", "gpu");
-    assert_eq!(status, 1);
-    assert!(
-        stderr.contains("not supported yet: surfaces on the GPU backend"),
-        "{stderr}"
-    );
-    assert!(!dir.path().join("out.csv").exists());
+    // The GPU backend: the same vertices and triangles, f32 values near the CPU's.
+    if !crate::shared::gpu_tests_run() {
+        return;
+    }
+    let mut values = Vec::new();
+    for (name, backend) in [("cpu.json", "cpu"), ("gpu.json", "gpu")] {
+        let (status, stderr) = tessellate(dir.path(), &document(), name, backend);
+        assert_eq!(status, 0, "{stderr}");
+        let text = std::fs::read_to_string(dir.path().join(name)).unwrap();
+        values.push(serde_json::from_str::<Value>(&text).unwrap());
+    }
+    let (cpus, gpus) = (&values[0]["surfaces"], &values[1]["surfaces"]);
+    for (s, (cpu, gpu)) in cpus
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(gpus.as_array().unwrap())
+        .enumerate()
+    {
+        assert_eq!(cpu["uv"], gpu["uv"]);
+        assert_eq!(cpu["triangles"], gpu["triangles"]);
+        let flat = |v: &Value| -> Vec<f64> {
+            v["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .collect()
+        };
+        for (c, g) in flat(cpu).iter().zip(flat(gpu)) {
+            assert!(
+                (c - g).abs() < 1e-4 * (1.0 + c.abs()),
+                "surface {s}: {c} vs {g}"
+            );
+        }
+    }
 }
