@@ -51,9 +51,9 @@ pub const TIMED_SECONDS: f64 = 0.5;
 pub const MAX_REPETITIONS: usize = 100;
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 12] = [
+pub const WORKLOADS: [&str; 14] = [
     "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
-    "cli-w1", "w1-x10",
+    "cli-w1", "w1-x10", "s1", "teapot",
 ];
 
 /// One measurement: a contract `--json` line.
@@ -373,6 +373,7 @@ pub fn run(
     for name in names {
         match name {
             "fit-1m" => fit_1m(&mut report),
+            "s1" | "teapot" => crate::surface_bench::run(name, gpu, &mut report)?,
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(

@@ -12,6 +12,7 @@ pub mod npz;
 pub mod output;
 pub mod plain;
 pub mod stream;
+mod surface_bench;
 pub mod surface_output;
 pub mod surfaces;
 

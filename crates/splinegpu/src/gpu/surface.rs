@@ -261,6 +261,46 @@ impl GpuContext {
             !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
             "normals need 3-D points"
         );
+        // Groups of surfaces whose packed patches fit one storage binding.
+        let limits = self.device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let bytes = |t: &PatchTable| -> u64 {
+            let per_patch = 17 * t.dim()
+                + if t.is_rational() { 16 } else { 0 }
+                + if t.dim() == 3 { 120 } else { 0 };
+            (t.len() * per_patch * 4) as u64
+        };
+        let mut out = Vec::with_capacity(surfaces.len());
+        let mut start = 0;
+        while start < surfaces.len() {
+            let mut end = start;
+            let mut total = 0u64;
+            while end < surfaces.len() && total + bytes(surfaces[end].0) <= limit {
+                total += bytes(surfaces[end].0);
+                end += 1;
+            }
+            if end == start {
+                return Err(GpuError::TooLarge {
+                    table: "patch coefficients",
+                    bytes: bytes(surfaces[start].0),
+                    limit,
+                });
+            }
+            out.extend(self.evaluate_surface_group(&surfaces[start..end], derivatives, normals)?);
+            start = end;
+        }
+        Ok(out)
+    }
+
+    /// [`GpuContext::evaluate_surfaces`] of surfaces whose patches fit one binding.
+    fn evaluate_surface_group(
+        &self,
+        surfaces: &[(&PatchTable, &SurfacePlan)],
+        derivatives: Derivatives,
+        normals: bool,
+    ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
         let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
         let packed = PackedPatches::new(&tables);
         let planes = plane_count(derivatives, normals);

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use crate::job::Derivatives;
 use crate::surface::mesh::SurfacePlan;
 use crate::surface::normal::unit_normal;
-use crate::surface::patch::{Derivs, PatchTable};
+use crate::surface::patch::{AlongU, Derivs, PatchTable};
 
 /// One surface's samples (contract: "Output of a surface document"), flat and vertex-major:
 /// f64 from the CPU ([`evaluate_surfaces`]), f32 from the GPU
@@ -103,8 +103,23 @@ pub fn evaluate_surfaces(
                 (c, parts)
             })
             .collect();
+        // Positions; Su and Sv for first derivatives or normals; the second ones when asked.
+        let count = if orders >= 2 {
+            6
+        } else if orders == 1 || normals {
+            3
+        } else {
+            1
+        };
+        let u_orders = match count {
+            1 => 1,
+            3 => 2,
+            _ => 3,
+        };
         tasks.par_iter_mut().for_each(|(c, parts)| {
             let mut local: Derivs = Default::default();
+            let mut along = AlongU::default();
+            let mut held: Option<(u32, f64)> = None;
             let first = *c * CHUNK;
             for (i, vertex) in plan.vertices[first..(first + CHUNK).min(n)]
                 .iter()
@@ -112,7 +127,12 @@ pub fn evaluate_surfaces(
             {
                 let patch = table.patch(vertex.patch as usize);
                 let [u, v] = vertex.local;
-                patch.local_derivatives(u, v, &mut local);
+                // Vertices of one patch at one u (a grid's rows) share the u-stage.
+                if held != Some((vertex.patch, u)) {
+                    patch.contract_u(u, u_orders, &mut along);
+                    held = Some((vertex.patch, u));
+                }
+                patch.finish_v(&along, v, count, &mut local);
                 let [lu, lv] = patch.length();
                 let scale = [
                     1.0,

@@ -25,6 +25,8 @@ pub struct PatchTable {
     /// Per patch of a rational surface: W's 16 power coefficients (b fastest) and ρ, the
     /// largest over the smallest of its 16 weights; empty for a polynomial surface.
     denominators: Vec<([f64; 16], f64)>,
+    /// Per patch its derivative sizes s_u, s_v ([`Patch::derivative_sizes`]).
+    sizes: Vec<[f64; 2]>,
     layout: Layout,
 }
 
@@ -46,6 +48,8 @@ enum Layout {
 pub struct Patch<'a> {
     coeffs: &'a [f64],
     dim: usize,
+    /// s_u, s_v (formed with the table; zero while it is being formed).
+    sizes: [f64; 2],
     /// The largest over the smallest of its 16 weights (1 without weights).
     rho: f64,
     /// Start and length of the patch's interval along u and along v.
@@ -57,6 +61,18 @@ pub struct Patch<'a> {
 /// A patch's value and derivatives at one local (u, v), each `dim` values: S, S_u, S_v, S_uu,
 /// S_uv, S_vv, in this order.
 pub type Derivs = [Vec<f64>; 6];
+
+/// A patch's evaluation stage at one u ([`Patch::contract_u`]), kept for the vertices that share
+/// it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AlongU {
+    /// Orders of the u-weights formed (1 to 3).
+    pub(crate) orders: usize,
+    /// Σ_a w_m(a) A_ab at `(m * 4 + b) * dim`.
+    pub(crate) c: Vec<f64>,
+    /// W's, on a rational patch.
+    pub(crate) w: [[f64; 4]; 3],
+}
 
 impl PatchTable {
     /// A net's patches from its two directions' rules; `weights` (one per point) makes them
@@ -143,16 +159,25 @@ impl PatchTable {
                 }
             }
         }
-        Self {
+        Self::with_sizes(Self {
             dim,
             extent,
             coeffs,
             denominators,
+            sizes: Vec::new(),
             layout: Layout::Grid {
                 knots: [along_u.knots().to_vec(), along_v.knots().to_vec()],
                 closed: [directions[0].is_closed(), directions[1].is_closed()],
             },
-        }
+        })
+    }
+
+    /// The table with every patch's derivative sizes formed.
+    fn with_sizes(mut self) -> Self {
+        self.sizes = (0..self.len())
+            .map(|p| self.patch(p).sizes_of_coefficients())
+            .collect();
+        self
     }
 
     /// A patch list's patches: each the Bezier patch of its 16 control points,
@@ -179,15 +204,16 @@ impl PatchTable {
                 }
             }
         }
-        Self {
+        Self::with_sizes(Self {
             dim,
             extent: net.extent(),
             coeffs,
             denominators: Vec::new(),
+            sizes: Vec::new(),
             layout: Layout::List {
                 patches: patches.to_vec(),
             },
-        }
+        })
     }
 
     /// Coordinates per point.
@@ -277,6 +303,7 @@ impl PatchTable {
         Patch {
             coeffs: &self.coeffs[p * 16 * self.dim..][..16 * self.dim],
             dim: self.dim,
+            sizes: self.sizes.get(p).copied().unwrap_or_default(),
             rho: self.rho(p),
             start,
             length,
@@ -350,73 +377,110 @@ impl Patch<'_> {
 
     /// S and its derivatives in the patch's local u, v (d/du on [0, 1], not the surface's
     /// parameter) into `out` (`dim` values each).
+    pub fn local_derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
+        let mut along = AlongU::default();
+        self.contract_u(u, 3, &mut along);
+        self.finish_v(&along, v, 6, out);
+    }
+
+    /// The first stage of an evaluation at u: for the u-weights of orders 0 .. `orders`
+    /// (u^a, then its first and second derivatives) and each power b of v, Σ_a w(a) A_ab (the
+    /// origin's term A_00 left out), and W's likewise on a rational patch. Vertices that share
+    /// a patch and a u (a grid's rows) share it: a vertex then costs 4 terms, not 16.
+    pub(crate) fn contract_u(&self, u: f64, orders: usize, along: &mut AlongU) {
+        let weights = [
+            [1.0, u, u * u, u * u * u],
+            [0.0, 1.0, 2.0 * u, 3.0 * u * u],
+            [0.0, 0.0, 2.0, 6.0 * u],
+        ];
+        let dim = self.dim;
+        along.c.clear();
+        along.c.resize(orders * 4 * dim, 0.0);
+        for (m, w) in weights.iter().enumerate().take(orders) {
+            for b in 0..4 {
+                let to = &mut along.c[(m * 4 + b) * dim..][..dim];
+                for (a, &wa) in w.iter().enumerate() {
+                    if a + b == 0 || wa == 0.0 {
+                        continue;
+                    }
+                    let from = &self.coeffs[(4 * a + b) * dim..][..dim];
+                    for (t, x) in to.iter_mut().zip(from) {
+                        *t += wa * x;
+                    }
+                }
+            }
+        }
+        if let Some(den) = self.denominator {
+            for (m, w) in weights.iter().enumerate().take(orders) {
+                for b in 0..4 {
+                    along.w[m][b] = (0..4).map(|a| w[a] * den[4 * a + b]).sum();
+                }
+            }
+        }
+        along.orders = orders;
+    }
+
+    /// The second stage at v: S, S_u, S_v, S_uu, S_uv, S_vv (the first `planes` of them: 1, 3
+    /// or 6; the u-stage must have orders 1, 2 or 3 for them) into `out`, in local u, v.
     #[expect(
         clippy::needless_range_loop,
-        reason = "a, b and k index the power form and the monomials' weights in step"
+        reason = "k indexes the six planes' coordinate in step, as the quotient rule is written"
     )]
-    pub fn local_derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
-        let pu = [1.0, u, u * u, u * u * u];
-        let dpu = [0.0, 1.0, 2.0 * u, 3.0 * u * u];
-        let ddpu = [0.0, 0.0, 2.0, 6.0 * u];
-        let pv = [1.0, v, v * v, v * v * v];
-        let dpv = [0.0, 1.0, 2.0 * v, 3.0 * v * v];
-        let ddpv = [0.0, 0.0, 2.0, 6.0 * v];
+    pub(crate) fn finish_v(&self, along: &AlongU, v: f64, planes: usize, out: &mut Derivs) {
+        let dim = self.dim;
         let weights = [
-            (&pu, &pv),
-            (&dpu, &pv),
-            (&pu, &dpv),
-            (&ddpu, &pv),
-            (&dpu, &dpv),
-            (&pu, &ddpv),
+            [1.0, v, v * v, v * v * v],
+            [0.0, 1.0, 2.0 * v, 3.0 * v * v],
+            [0.0, 0.0, 2.0, 6.0 * v],
         ];
-        for (o, (wu, wv)) in out.iter_mut().zip(weights) {
-            o.resize(self.dim, 0.0);
-            for k in 0..self.dim {
-                // The origin's term last: the rest is small where the patch is far out.
-                let mut sum = 0.0;
-                for a in 0..4 {
-                    for b in 0..4 {
-                        if a + b > 0 {
-                            sum += wu[a] * wv[b] * self.coeffs[(4 * a + b) * self.dim + k];
+        // Plane m: u-order, v-order.
+        const ORDERS: [(usize, usize); 6] = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
+        for (m, &(ou, ov)) in ORDERS.iter().enumerate().take(planes) {
+            let o = &mut out[m];
+            o.clear();
+            o.resize(dim, 0.0);
+            for (b, &wb) in weights[ov].iter().enumerate() {
+                if wb == 0.0 {
+                    continue;
+                }
+                let from = &along.c[(ou * 4 + b) * dim..][..dim];
+                for (t, x) in o.iter_mut().zip(from) {
+                    *t += wb * x;
+                }
+            }
+        }
+        match self.denominator {
+            None => {
+                for (t, x) in out[0].iter_mut().zip(&self.coeffs[..dim]) {
+                    *t += x;
+                }
+            }
+            Some(_) => {
+                // S = O + R, R = Ñ / W: the quotient rule on each derivative.
+                let w: [f64; 6] = std::array::from_fn(|m| {
+                    let (ou, ov) = ORDERS[m];
+                    if m >= planes {
+                        return 0.0;
+                    }
+                    (0..4).map(|b| weights[ov][b] * along.w[ou][b]).sum()
+                });
+                for k in 0..dim {
+                    let n: [f64; 6] =
+                        std::array::from_fn(|m| if m < planes { out[m][k] } else { 0.0 });
+                    let r = n[0] / w[0];
+                    out[0][k] = self.coeffs[k] + r;
+                    if planes >= 3 {
+                        let ru = (n[1] - r * w[1]) / w[0];
+                        let rv = (n[2] - r * w[2]) / w[0];
+                        out[1][k] = ru;
+                        out[2][k] = rv;
+                        if planes >= 6 {
+                            out[3][k] = (n[3] - 2.0 * ru * w[1] - r * w[3]) / w[0];
+                            out[4][k] = (n[4] - ru * w[2] - rv * w[1] - r * w[4]) / w[0];
+                            out[5][k] = (n[5] - 2.0 * rv * w[2] - r * w[5]) / w[0];
                         }
                     }
                 }
-                o[k] = if self.denominator.is_some() {
-                    sum
-                } else {
-                    sum + wu[0] * wv[0] * self.coeffs[k]
-                };
-            }
-        }
-        if let Some(w) = self.denominator {
-            // S = O + R, R = Ñ / W: the quotient rule on each derivative.
-            let d: [f64; 6] = std::array::from_fn(|m| {
-                let (wu, wv) = weights[m];
-                let mut sum = 0.0;
-                for a in 0..4 {
-                    for b in 0..4 {
-                        sum += wu[a] * wv[b] * w[4 * a + b];
-                    }
-                }
-                sum
-            });
-            let [wz, wu_, wv_, wuu, wuv, wvv] = d;
-            for k in 0..self.dim {
-                let n = [
-                    out[0][k], out[1][k], out[2][k], out[3][k], out[4][k], out[5][k],
-                ];
-                let r = n[0] / wz;
-                let ru = (n[1] - r * wu_) / wz;
-                let rv = (n[2] - r * wv_) / wz;
-                let ruu = (n[3] - 2.0 * ru * wu_ - r * wuu) / wz;
-                let ruv = (n[4] - ru * wv_ - rv * wu_ - r * wuv) / wz;
-                let rvv = (n[5] - 2.0 * rv * wv_ - r * wvv) / wz;
-                out[0][k] = self.coeffs[k] + r;
-                out[1][k] = ru;
-                out[2][k] = rv;
-                out[3][k] = ruu;
-                out[4][k] = ruv;
-                out[5][k] = rvv;
             }
         }
     }
@@ -454,6 +518,11 @@ impl Patch<'_> {
     /// coordinates of Σ_ab a |A_ab| and of Σ_ab b |A_ab|, in local u, v.
     #[must_use]
     pub fn derivative_sizes(&self) -> [f64; 2] {
+        self.sizes
+    }
+
+    /// [`Patch::derivative_sizes`] from the coefficients.
+    fn sizes_of_coefficients(&self) -> [f64; 2] {
         let mut sizes = [0.0; 2];
         for k in 0..self.dim {
             let (mut su, mut sv) = (0.0, 0.0);
