@@ -67,7 +67,7 @@ fn every_wgsl_file_validates() {
             files += 1;
         }
     }
-    assert_eq!(files, 2, "eval.wgsl and store_only.wgsl");
+    assert_eq!(files, 3, "eval.wgsl, store_only.wgsl and surface.wgsl");
 }
 
 #[test]
