@@ -136,7 +136,10 @@ pub use fit::cardinal::CardinalBasis;
 pub use fit::hermite::HermiteSlopes;
 pub use fit::interp::{End, EndCondition, EndKind, Fitter};
 pub use fit::tcb::{PerPoint, Tcb};
-pub use gpu::{GpuContext, OutputLayout, adapters, hardware_adapter, new_instance};
+pub use gpu::{
+    GpuContext, OutputLayout, SurfaceOutputLayout, SurfaceRecording, adapters, hardware_adapter,
+    new_instance,
+};
 pub use job::layout::JobLayout;
 pub use job::planes::Planes;
 pub use job::samples::{CurveSamples, SampleFloat, Samples};

@@ -18,9 +18,11 @@ mod pool;
 mod readback;
 mod record;
 pub(crate) mod surface;
+mod surface_record;
 pub(crate) mod timing;
 
 pub use record::OutputLayout;
+pub use surface_record::{SurfaceOutputLayout, SurfaceRecording};
 
 use crate::error::GpuError;
 

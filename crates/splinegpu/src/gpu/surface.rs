@@ -113,6 +113,16 @@ impl SurfacePipeline {
         });
         Self { layout, pipeline }
     }
+
+    /// The bind group layout of [`BINDINGS`].
+    pub(crate) fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// The compute pipeline.
+    pub(crate) fn pipeline(&self) -> &wgpu::ComputePipeline {
+        &self.pipeline
+    }
 }
 
 /// Many surfaces' patches packed for the kernel: patch records and coefficients, and where
@@ -236,7 +246,7 @@ fn plane_count(derivatives: Derivatives, normals: bool) -> usize {
 }
 
 impl GpuContext {
-    fn surface_pipeline(&self) -> &SurfacePipeline {
+    pub(crate) fn surface_pipeline(&self) -> &SurfacePipeline {
         self.surface
             .get_or_init(|| SurfacePipeline::new(&self.device))
     }

@@ -206,3 +206,115 @@ fn gpu_surfaces_without_derivatives_give_positions_only() {
         );
     }
 }
+
+/// Reads `bytes` of `buffer` back (the test's own readback; the renderer path reads nothing).
+fn read_back(
+    gpu: &splinegpu::GpuContext,
+    buffer: &splinegpu::wgpu::Buffer,
+    bytes: u64,
+) -> Vec<f32> {
+    use splinegpu::wgpu;
+    let download = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("test download"),
+        size: bytes,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &download, 0, bytes);
+    gpu.queue().submit([encoder.finish()]);
+    download
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, |r| r.unwrap());
+    gpu.device()
+        .poll(wgpu::PollType::wait_indefinitely())
+        .unwrap();
+    let view = download.slice(..).get_mapped_range().unwrap();
+    bytemuck::cast_slice::<u8, f32>(&view).to_vec()
+}
+
+#[test]
+fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
+    use splinegpu::wgpu;
+    let Some(gpu) = gpu() else { return };
+    let mut rng = Rng(60);
+    let kind = SurfaceKind::Uniform {
+        basis: Basis::BSpline,
+        ends: [Ends::Closed, Ends::Closed],
+    };
+    let first = Surface::new(kind.clone(), net(&mut rng, 6, 5, 0.0)).unwrap();
+    let teapot = teapot();
+    let tables = [first.fit(), teapot.fit()];
+    let plans = [
+        SurfacePlan::new(&tables[0], &SurfaceSampling::PerSegment([4, 4])).unwrap(),
+        SurfacePlan::new(&tables[1], &SurfaceSampling::Tolerance(0.05)).unwrap(),
+    ];
+    let jobs: Vec<_> = tables.iter().zip(&plans).collect();
+    let mut recording = gpu.surface_recording(&jobs, true).unwrap();
+    let layout = recording.layout().clone();
+    assert_eq!(
+        recording.indices().len() as u32,
+        *layout.index_starts.last().unwrap()
+    );
+    // The renderer's buffer: vertex data at an offset, as a vertex buffer would hold them.
+    let offset = 256;
+    let target = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("renderer vertices"),
+        size: offset + layout.bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    for frame in 0..2 {
+        if frame == 1 {
+            // The net moves: refit, the plans stay.
+            let moved = Surface::new(kind.clone(), net(&mut rng, 6, 5, 0.0))
+                .unwrap()
+                .fit();
+            recording.refit(gpu, &[&moved, &tables[1]]).unwrap();
+            let mut encoder = gpu.device().create_command_encoder(&Default::default());
+            recording
+                .record_into(gpu, &mut encoder, &target, offset)
+                .unwrap();
+            gpu.queue().submit([encoder.finish()]);
+            let want = gpu
+                .evaluate_surfaces(&[(&moved, &plans[0])], Derivatives::None, true)
+                .unwrap();
+            let got = read_back(gpu, &target, offset + layout.bytes);
+            let base = (offset / 4) as usize;
+            let n = want[0].points.len();
+            assert_eq!(&got[base..base + n], want[0].points.as_slice());
+            continue;
+        }
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        recording
+            .record_into(gpu, &mut encoder, &target, offset)
+            .unwrap();
+        gpu.queue().submit([encoder.finish()]);
+        let want = gpu
+            .evaluate_surfaces(&jobs, Derivatives::None, true)
+            .unwrap();
+        let got = read_back(gpu, &target, offset + layout.bytes);
+        let base = (offset / 4) as usize;
+        let points: Vec<f32> = want.iter().flat_map(|s| s.points.clone()).collect();
+        let normals: Vec<f32> = want
+            .iter()
+            .flat_map(|s| s.normals.clone().unwrap())
+            .collect();
+        assert_eq!(&got[base..base + points.len()], points.as_slice());
+        let at = base + (layout.normals.unwrap() / 4) as usize;
+        assert_eq!(&got[at..at + normals.len()], normals.as_slice());
+    }
+    // Misuse is named.
+    let err = recording.refit(gpu, &[&tables[1]]).unwrap_err().to_string();
+    assert!(err.starts_with("surface 0: \"points\""), "{err}");
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
+    let small = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 64,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    assert!(recording.record_into(gpu, &mut encoder, &small, 0).is_err());
+}

@@ -1,0 +1,265 @@
+//! The renderer path for surfaces: a [`SurfaceRecording`] keeps a set of surfaces' plans and
+//! patches on the device, records their evaluation into a renderer's command encoder, writing
+//! positions and unit normals straight into the renderer's vertex buffer and the triangles into
+//! its index buffer (nothing is read back), and takes new patches each frame
+//! ([`SurfaceRecording::refit`]) without touching the plans: a moving net costs its fit and
+//! one upload of its coefficients.
+
+use wgpu::util::DeviceExt;
+
+use crate::error::{GpuError, InputError, TargetError};
+use crate::surface::{PatchTable, SurfacePlan};
+
+use super::GpuContext;
+use super::surface::{GpuVertex, PackedPatches, SURFACE_WG_SIZE, SurfaceParams};
+
+/// Where a recording writes: byte offsets from the target's offset, and each surface's first
+/// vertex and first index. Positions are `dim` f32 per vertex, then (3-D) normals, 3 f32 per
+/// vertex; indices are u32, numbered over all surfaces' vertices (one draw call draws all).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SurfaceOutputLayout {
+    /// Byte offset of the positions.
+    pub positions: u64,
+    /// Byte offset of the normals, when recorded.
+    pub normals: Option<u64>,
+    /// Bytes the vertex data take.
+    pub bytes: u64,
+    /// Each surface's first vertex, and the total at the end.
+    pub vertex_starts: Vec<u32>,
+    /// Each surface's first index, and the total at the end.
+    pub index_starts: Vec<u32>,
+}
+
+/// Surfaces kept on the device for recording, frame after frame (see the module docs).
+#[derive(Debug)]
+pub struct SurfaceRecording {
+    layout: SurfaceOutputLayout,
+    params: wgpu::Buffer,
+    patches: wgpu::Buffer,
+    coeffs: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+    indices: Vec<u32>,
+    vertex_count: u32,
+    /// (patches, dim, rational) of each table, which a refit must keep.
+    shapes: Vec<(usize, usize, bool)>,
+    coeff_floats: usize,
+}
+
+impl GpuContext {
+    /// A recording of `surfaces` (positions, and unit normals when `normals`: 3-D surfaces),
+    /// their plans and patches uploaded once.
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`] when the patches or the vertex data exceed one storage binding.
+    ///
+    /// # Panics
+    /// If `normals` is asked of a surface that is not 3-D.
+    pub fn surface_recording(
+        &self,
+        surfaces: &[(&PatchTable, &SurfacePlan)],
+        normals: bool,
+    ) -> Result<SurfaceRecording, GpuError> {
+        assert!(
+            !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
+            "normals need 3-D points"
+        );
+        let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
+        let packed = PackedPatches::new(&tables);
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
+        let (mut vertex_starts, mut index_starts) = (vec![0u32], vec![0u32]);
+        let mut floats = 0usize;
+        for (s, (table, plan)) in surfaces.iter().enumerate() {
+            let first = vertices.len() as u32;
+            for v in &plan.vertices {
+                vertices.push(GpuVertex {
+                    patch_index: packed.first_patch[s] + v.patch,
+                    out: floats as u32,
+                    u: v.local[0] as f32,
+                    v: v.local[1] as f32,
+                });
+                floats += table.dim();
+            }
+            for t in plan.triangles.as_deref().unwrap_or_default() {
+                indices.extend(t.map(|i| first + i));
+            }
+            vertex_starts.push(vertices.len() as u32);
+            index_starts.push(indices.len() as u32);
+        }
+        let limits = self.device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let planes = 1 + usize::from(normals);
+        let bytes = (planes * floats * 4) as u64;
+        for (table, size) in [
+            ("patch coefficients", (packed.coeffs.len() * 4) as u64),
+            ("surface vertices", bytes),
+        ] {
+            if size > limit {
+                return Err(GpuError::TooLarge {
+                    table,
+                    bytes: size,
+                    limit,
+                });
+            }
+        }
+        let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE).max(1);
+        let across = groups.min(limits.max_compute_workgroups_per_dimension);
+        let params = SurfaceParams {
+            vertex_count: vertices.len() as u32,
+            row_width: across * SURFACE_WG_SIZE,
+            plane_stride: floats as u32,
+            derivatives: 0,
+            normals: u32::from(normals),
+            _padding: [0; 3],
+        };
+        let init = |label: &str, contents: &[u8], usage| {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+        };
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        let one = [GpuVertex::default()];
+        Ok(SurfaceRecording {
+            layout: SurfaceOutputLayout {
+                positions: 0,
+                normals: normals.then_some((floats * 4) as u64),
+                bytes,
+                vertex_starts,
+                index_starts,
+            },
+            params: init(
+                "surface params",
+                bytemuck::bytes_of(&params),
+                wgpu::BufferUsages::UNIFORM,
+            ),
+            patches: init("patches", bytemuck::cast_slice(&packed.patches), storage),
+            coeffs: init(
+                "patch coeffs",
+                bytemuck::cast_slice(&packed.coeffs),
+                storage,
+            ),
+            vertices: init(
+                "vertices",
+                bytemuck::cast_slice(if vertices.is_empty() { &one } else { &vertices }),
+                storage,
+            ),
+            indices,
+            vertex_count: params.vertex_count,
+            shapes: tables
+                .iter()
+                .map(|t| (t.len(), t.dim(), t.is_rational()))
+                .collect(),
+            coeff_floats: packed.coeffs.len(),
+        })
+    }
+}
+
+impl SurfaceRecording {
+    /// Where the recording writes.
+    #[must_use]
+    pub fn layout(&self) -> &SurfaceOutputLayout {
+        &self.layout
+    }
+
+    /// Every surface's triangles as u32 indices over all vertices (the layout's
+    /// `index_starts` say whose): for the renderer's index buffer, written once.
+    #[must_use]
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// New patches for the same surfaces (a moving net, refitted): uploaded in place; the
+    /// plans stay.
+    ///
+    /// # Errors
+    /// A table whose patch count, dimension or kind (rational or not) differs from the one it
+    /// replaces (the plans were made for those), naming "points" and the surface.
+    pub fn refit(&mut self, gpu: &GpuContext, tables: &[&PatchTable]) -> Result<(), InputError> {
+        let shapes: Vec<_> = tables
+            .iter()
+            .map(|t| (t.len(), t.dim(), t.is_rational()))
+            .collect();
+        if let Some(s) =
+            (0..shapes.len().max(self.shapes.len())).find(|&s| shapes.get(s) != self.shapes.get(s))
+        {
+            return Err(InputError::field(
+                "points",
+                "a refit must keep the surface's patches, dimension and weights",
+            )
+            .in_surface(s));
+        }
+        let packed = PackedPatches::new(tables);
+        debug_assert_eq!(packed.coeffs.len(), self.coeff_floats);
+        gpu.queue
+            .write_buffer(&self.coeffs, 0, bytemuck::cast_slice(&packed.coeffs));
+        Ok(())
+    }
+
+    /// Records the evaluation into `encoder`, writing the vertex data into `target` from byte
+    /// `offset` on (as [`SurfaceRecording::layout`] lays it out); the caller submits.
+    ///
+    /// # Errors
+    /// [`GpuError::Target`] as the curve path reports it: a target without `STORAGE` usage, an
+    /// offset not a multiple of the device's storage-offset alignment, or too small a target.
+    pub fn record_into(
+        &self,
+        gpu: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::Buffer,
+        offset: u64,
+    ) -> Result<(), GpuError> {
+        let alignment = u64::from(gpu.device.limits().min_storage_buffer_offset_alignment);
+        let needed = self.layout.bytes.max(4);
+        if !target.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(TargetError::MissingStorageUsage.into());
+        }
+        if !offset.is_multiple_of(alignment) {
+            return Err(TargetError::MisalignedOffset { offset, alignment }.into());
+        }
+        if target.size() < offset + needed {
+            let available = target.size().saturating_sub(offset);
+            return Err(TargetError::TooSmall { available, needed }.into());
+        }
+        let pipeline = gpu.surface_pipeline();
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("surface recording"),
+            layout: pipeline.layout(),
+            entries: &[
+                entry(0, self.params.as_entire_binding()),
+                entry(1, self.patches.as_entire_binding()),
+                entry(2, self.coeffs.as_entire_binding()),
+                entry(3, self.vertices.as_entire_binding()),
+                entry(
+                    4,
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: target,
+                        offset,
+                        size: std::num::NonZeroU64::new(needed),
+                    }),
+                ),
+            ],
+        });
+        let groups = self.vertex_count.div_ceil(SURFACE_WG_SIZE);
+        if groups == 0 {
+            return Ok(());
+        }
+        let across = groups.min(gpu.device.limits().max_compute_workgroups_per_dimension);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("surface recording"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline.pipeline());
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        Ok(())
+    }
+}
+
+fn entry(binding: u32, resource: wgpu::BindingResource<'_>) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource }
+}
