@@ -166,7 +166,7 @@ fn meshes_open_as_they_are() {
 
 #[test]
 fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
-    let cases: [(&str, &[&str]); 10] = [
+    let cases: [(&str, &[&str]); 11] = [
         (
             r#"{"surfaces": [{"kind": "bspline", "points": [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,0],[2,1,0]]]}]}"#,
             &["surface 0", "\"points\"", "points[1] has 3 points, points[0] has 4"],
@@ -203,6 +203,10 @@ fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
         (
             r#"{"surfaces": [{"kind": "interpolating", "conditions": ["natural", "periodic"], "points": [[[0],[1],[2]],[[0],[1],[2]]]}]}"#,
             &["surface 0", "\"points\"", "must close up along v"],
+        ),
+        (
+            r#"{"surfaces": [{"kind": "beta", "bias": [1, 2, 1, 1], "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"bias\"", "must be a number for a surface"],
         ),
         (
             r#"{"surfaces": [{"kind": "catmull-rom", "tension": 0.5, "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
