@@ -222,12 +222,18 @@ fn tessellate(
         Some(path) => output::write_output(path, |out| emit(out)),
     };
     bar.finish_and_clear();
+    finish(result, output)
+}
+
+/// The run's end after writing `output`: quiet when the reader closed early (`| head`), exit 2
+/// for a value that overflows its number type (the input's fault), 1 for the rest.
+fn finish(result: Result<(), OutputError>, output: Option<&Path>) -> Result<(), Failure> {
     match (result, output) {
         (Ok(()), _) => Ok(()),
-        // The reader closed its end early (`| head`): the run ends quietly.
         (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        // A value that overflows its number type is the input's fault.
-        (Err(e @ OutputError::NonFinite { .. }), _) => Err(Failure::input(e)),
+        (Err(e @ (OutputError::NonFinite { .. } | OutputError::SurfaceNonFinite { .. })), _) => {
+            Err(Failure::input(e))
+        }
         (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
             "cannot write output \"{}\": {e}",
             path.display()
@@ -259,16 +265,7 @@ fn tessellate_surfaces(
             write_surfaces(job, &samples, format, output)
         }
     };
-    match (result, output) {
-        (Ok(()), _) => Ok(()),
-        (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        (Err(e @ OutputError::SurfaceNonFinite { .. }), _) => Err(Failure::input(e)),
-        (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
-            "cannot write output \"{}\": {e}",
-            path.display()
-        ))),
-        (Err(e), _) => Err(Failure::other(e)),
-    }
+    finish(result, output)
 }
 
 /// `samples` written as `format` to `output` (standard output when none).

@@ -133,15 +133,7 @@ pub fn evaluate_surfaces(
                     held = Some((vertex.patch, u));
                 }
                 patch.finish_v(&along, v, count, &mut local);
-                let [lu, lv] = patch.length();
-                let scale = [
-                    1.0,
-                    1.0 / lu,
-                    1.0 / lv,
-                    1.0 / (lu * lu),
-                    1.0 / (lu * lv),
-                    1.0 / (lv * lv),
-                ];
+                let scale = patch.parameter_scales();
                 for (m, part) in parts.iter_mut().take(6).enumerate() {
                     if let Some(part) = part {
                         for k in 0..dim {

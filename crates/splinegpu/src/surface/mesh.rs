@@ -169,14 +169,7 @@ pub(crate) fn grid(
     let mut triangles = Vec::with_capacity(2 * cells_u * cells_v);
     for a in 0..cells_u {
         for b in 0..cells_v {
-            let (p, q, r, s) = (
-                index(a, b),
-                index(a + 1, b),
-                index(a + 1, b + 1),
-                index(a, b + 1),
-            );
-            triangles.push([p, q, r]);
-            triangles.push([p, r, s]);
+            push_cell(&mut triangles, a, b, index);
         }
     }
     let cells = ks[0]
@@ -188,6 +181,24 @@ pub(crate) fn grid(
         triangles: Some(triangles),
         cells,
     })
+}
+
+/// Cell (a, b)'s two triangles, counter-clockwise in (u, v): (a, b), (a+1, b), (a+1, b+1) and
+/// (a, b), (a+1, b+1), (a, b+1), `index` giving each corner's vertex.
+fn push_cell(
+    triangles: &mut Vec<[u32; 3]>,
+    a: usize,
+    b: usize,
+    index: impl Fn(usize, usize) -> u32,
+) {
+    let (p, q, r, s) = (
+        index(a, b),
+        index(a + 1, b),
+        index(a + 1, b + 1),
+        index(a, b + 1),
+    );
+    triangles.push([p, q, r]);
+    triangles.push([p, r, s]);
 }
 
 /// Where a patch-list vertex is shared: a corner's control index, or an edge's four indices
@@ -262,14 +273,7 @@ pub(crate) fn welded(
         let index = |a: usize, b: usize| local[a * (kv + 1) + b];
         for a in 0..ku {
             for b in 0..kv {
-                let (p, q, r, s) = (
-                    index(a, b),
-                    index(a + 1, b),
-                    index(a + 1, b + 1),
-                    index(a, b + 1),
-                );
-                triangles.push([p, q, r]);
-                triangles.push([p, r, s]);
+                push_cell(&mut triangles, a, b, index);
             }
         }
     }

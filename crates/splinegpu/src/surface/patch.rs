@@ -485,20 +485,26 @@ impl Patch<'_> {
         }
     }
 
-    /// S and its derivatives with respect to the surface's parameters (d/du = local d/du
-    /// divided by Δu) at local (u, v) into `out`.
-    pub fn derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
-        self.local_derivatives(u, v, out);
+    /// What turns local derivatives (S, S_u, S_v, S_uu, S_uv, S_vv) into derivatives in the
+    /// surface's parameters: 1, 1/Δu, 1/Δv, 1/Δu², 1/(Δu Δv), 1/Δv².
+    #[must_use]
+    pub fn parameter_scales(&self) -> [f64; 6] {
         let [lu, lv] = self.length;
-        let scale = [
+        [
             1.0,
             1.0 / lu,
             1.0 / lv,
             1.0 / (lu * lu),
             1.0 / (lu * lv),
             1.0 / (lv * lv),
-        ];
-        for (o, s) in out.iter_mut().zip(scale).skip(1) {
+        ]
+    }
+
+    /// S and its derivatives with respect to the surface's parameters (d/du = local d/du
+    /// divided by Δu) at local (u, v) into `out`.
+    pub fn derivatives(&self, u: f64, v: f64, out: &mut Derivs) {
+        self.local_derivatives(u, v, out);
+        for (o, s) in out.iter_mut().zip(self.parameter_scales()).skip(1) {
             for x in o.iter_mut() {
                 *x *= s;
             }
