@@ -296,14 +296,18 @@ fn build_surface(fields: &Map<String, Value>, keys: &[String]) -> Result<Surface
                     )
                 })
             };
-            SurfaceKind::Nurbs {
-                knots_u: required("knots_u")?,
-                knots_v: required("knots_v")?,
-                weights: fields
-                    .get("weights")
-                    .map(|w| parse_weights(w, parse_net(points)?.shape()))
-                    .transpose()?,
-            }
+            let (knots_u, knots_v) = (required("knots_u")?, required("knots_v")?);
+            let net = parse_net(points)?;
+            let weights = fields
+                .get("weights")
+                .map(|w| parse_weights(w, net.shape()))
+                .transpose()?;
+            let kind = SurfaceKind::Nurbs {
+                knots_u,
+                knots_v,
+                weights,
+            };
+            return Surface::new(kind, net);
         }
         _ => {
             // The uniform families: the curve kind's basis, one value per field.

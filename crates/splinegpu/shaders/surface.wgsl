@@ -25,8 +25,9 @@ struct SurfaceParams {
 // A_00 = S(0, 0) as o_hi = f32(A_00) and o_lo = f32(A_00 - o_hi) (dim floats each), so that
 // large coordinates keep their low bits: S = o_hi + (o_lo + sum). A rational patch (S = O + N/W,
 // src/surface/patch.rs) has W's 16 coefficients after them, and S = o_hi + (o_lo + N/W).
-// A 3-D patch then has its normal nets (normal_offset): N's Bezier points N_ij (16 x 3, i along
-// u), their differences along u, N_(i+1)j - N_ij (12 x 3), and along v (12 x 3), formed in f64:
+// With normals asked for (3-D patches), a patch then has its normal nets (normal_offset): N's
+// Bezier points N_ij (16 x 3, i along u), their differences along u, N_(i+1)j - N_ij (12 x 3),
+// and along v (12 x 3), formed in f64:
 // the normal's derivatives are sums of these with non-negative Bernstein weights, which keeps
 // their relative accuracy where power coefficients would cancel (uneven knots).
 struct GpuPatch {

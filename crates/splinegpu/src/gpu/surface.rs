@@ -135,8 +135,9 @@ pub(crate) struct PackedPatches {
 }
 
 impl PackedPatches {
-    /// Packs every table's patches (see the module docs).
-    pub(crate) fn new(tables: &[&PatchTable]) -> Self {
+    /// Packs every table's patches (see the module docs); the normal nets only when `normals`
+    /// are asked for.
+    pub(crate) fn new(tables: &[&PatchTable], normals: bool) -> Self {
         let mut packed = Self::default();
         for table in tables {
             packed.first_patch.push(packed.patches.len() as u32);
@@ -170,7 +171,7 @@ impl PackedPatches {
                 if let Some(w) = rational {
                     packed.coeffs.extend(w.iter().map(|&x| x as f32));
                 }
-                if dim == 3 {
+                if normals {
                     let nets = normal_nets(&patch);
                     let record = packed.patches.last_mut().expect("pushed above");
                     record.normal_offset = packed.coeffs.len() as u32;
@@ -277,9 +278,8 @@ impl GpuContext {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
         let bytes = |t: &PatchTable| -> u64 {
-            let per_patch = 17 * t.dim()
-                + if t.is_rational() { 16 } else { 0 }
-                + if t.dim() == 3 { 120 } else { 0 };
+            let per_patch =
+                17 * t.dim() + if t.is_rational() { 16 } else { 0 } + if normals { 120 } else { 0 };
             (t.len() * per_patch * 4) as u64
         };
         let mut out = Vec::with_capacity(surfaces.len());
@@ -312,7 +312,7 @@ impl GpuContext {
         normals: bool,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
         let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
-        let packed = PackedPatches::new(&tables);
+        let packed = PackedPatches::new(&tables, normals);
         let planes = plane_count(derivatives, normals);
         // Every vertex of every surface, in order, with its surface's dimension.
         let mut all: Vec<(u32, f32, f32, usize)> = Vec::new();

@@ -43,6 +43,8 @@ pub struct SurfaceRecording {
     /// (patches, dim, rational) of each table, which a refit must keep.
     shapes: Vec<(usize, usize, bool)>,
     coeff_floats: usize,
+    /// Whether the patches carry their normal nets.
+    normals: bool,
 }
 
 impl GpuContext {
@@ -64,7 +66,7 @@ impl GpuContext {
             "normals need 3-D points"
         );
         let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
-        let packed = PackedPatches::new(&tables);
+        let packed = PackedPatches::new(&tables, normals);
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let (mut vertex_starts, mut index_starts) = (vec![0u32], vec![0u32]);
@@ -155,6 +157,7 @@ impl GpuContext {
                 .map(|t| (t.len(), t.dim(), t.is_rational()))
                 .collect(),
             coeff_floats: packed.coeffs.len(),
+            normals,
         })
     }
 }
@@ -193,7 +196,7 @@ impl SurfaceRecording {
             )
             .in_surface(s));
         }
-        let packed = PackedPatches::new(tables);
+        let packed = PackedPatches::new(tables, self.normals);
         debug_assert_eq!(packed.coeffs.len(), self.coeff_floats);
         gpu.queue
             .write_buffer(&self.coeffs, 0, bytemuck::cast_slice(&packed.coeffs));

@@ -118,6 +118,13 @@ impl PatchTable {
         let mut coeffs = vec![0.0; segments_u * segments_v * 16 * dim];
         let mut denominators = Vec::new();
         let mut homogeneous = vec![0.0; 16 * width];
+        // A weighted net's spans along u and v: patch (iu, iv) has the weights of rows
+        // spans[0][iu] − 3 ..= spans[0][iu] and likewise columns.
+        let spans = |d: &Direction, n: usize| match d {
+            Direction::Knots { knots } => crate::fit::nurbs::spans(knots, n).collect(),
+            _ => Vec::new(),
+        };
+        let spans: [Vec<usize>; 2] = [spans(&directions[0], rows), spans(&directions[1], cols)];
         for iu in 0..segments_u {
             for iv in 0..segments_v {
                 let segment = along_v.segment(iv);
@@ -134,19 +141,8 @@ impl PatchTable {
                 match weights {
                     None => out.copy_from_slice(&homogeneous),
                     Some(w) => {
-                        let window = |d: &Direction, i: usize, n: usize| match d {
-                            Direction::Knots { knots } => {
-                                let span = crate::fit::nurbs::spans(knots, n)
-                                    .nth(i)
-                                    .expect("a span per segment");
-                                span - 3..=span
-                            }
-                            _ => unreachable!("weights belong to nurbs surfaces"),
-                        };
-                        let (ru, rv) = (
-                            window(&directions[0], iu, rows),
-                            window(&directions[1], iv, cols),
-                        );
+                        let (su, sv) = (spans[0][iu], spans[1][iv]);
+                        let (ru, rv) = (su - 3..=su, sv - 3..=sv);
                         let (mut least, mut most) = (f64::INFINITY, 0.0f64);
                         for i in ru {
                             for j in rv.clone() {

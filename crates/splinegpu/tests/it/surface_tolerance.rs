@@ -256,11 +256,26 @@ fn net_meshes_are_within_tol_under_the_cap_and_closed_ones_watertight() {
 #[test]
 fn rational_bounds_are_bounds_within_4x_and_the_torus_mesh_is_certified() {
     let surface = crate::surface::torus_surface(3.0, 1.0, [0.0; 3]);
-    let table = surface.fit();
+    let worst = bounds_over_maxima(&surface.fit());
+    eprintln!("torus: bounds at most {worst:.2}x the sampled maxima");
+    assert!(worst <= 4.0, "rational bounds {worst}x the true maxima");
+    certify(&surface, &[0.05, 0.005], "nurbs torus");
+}
+
+#[test]
+fn polynomial_bounds_are_bounds() {
+    let mut rng = Rng(41);
+    let surface = Surface::new(SurfaceKind::Bezier, random_net(&mut rng, 7, 7)).unwrap();
+    bounds_over_maxima(&surface.fit());
+}
+
+/// Asserts that every patch's second-derivative bounds lie above its sampled maxima, and
+/// returns the largest ratio of the two.
+fn bounds_over_maxima(table: &PatchTable) -> f64 {
     let mut worst = 0.0f64;
     for p in 0..table.len() {
         let bound = table.patch(p).second_derivative_bounds();
-        let truth = sampled_maxima(&table, p);
+        let truth = sampled_maxima(table, p);
         for m in 0..3 {
             assert!(
                 bound[m] >= truth[m] * (1.0 - 1e-12),
@@ -271,26 +286,7 @@ fn rational_bounds_are_bounds_within_4x_and_the_torus_mesh_is_certified() {
             }
         }
     }
-    eprintln!("torus: bounds at most {worst:.2}x the sampled maxima");
-    assert!(worst <= 4.0, "rational bounds {worst}x the true maxima");
-    certify(&surface, &[0.05, 0.005], "nurbs torus");
-}
-
-#[test]
-fn polynomial_bounds_are_bounds() {
-    let mut rng = Rng(41);
-    let surface = Surface::new(SurfaceKind::Bezier, random_net(&mut rng, 7, 7)).unwrap();
-    let table = surface.fit();
-    for p in 0..table.len() {
-        let bound = table.patch(p).second_derivative_bounds();
-        let truth = sampled_maxima(&table, p);
-        for m in 0..3 {
-            assert!(
-                bound[m] >= truth[m] * (1.0 - 1e-12),
-                "patch {p}: {bound:?} below {truth:?}"
-            );
-        }
-    }
+    worst
 }
 
 /// A 7 x 7 Bezier net as a list of its four patches, one corner of the net scaled up so that
