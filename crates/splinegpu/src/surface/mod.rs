@@ -29,7 +29,7 @@ use crate::fit::interp::EndCondition;
 use crate::points::MAX_DIM;
 use direction::Direction;
 
-pub use eval::{SurfaceSamples, evaluate_surfaces};
+pub use eval::{SurfacePlanes, SurfaceSamples, evaluate_surfaces, evaluate_surfaces_into};
 pub use mesh::{SurfacePlan, SurfaceSampling, Vertex};
 pub use normal::unit_normal;
 pub use patch::{Derivs, Patch, PatchTable};

@@ -9,7 +9,7 @@
 //! points along P × Q, again a polynomial along the ray. The coefficients are formed exactly
 //! (binomial expansions of the power form), so the limit is the true one, not a nudge inside.
 
-use crate::surface::patch::{Derivs, Patch};
+use crate::surface::patch::Patch;
 
 /// Below this fraction of |S_u| |S_v| (or of s_u s_v, the patch's derivative sizes) a cross
 /// product is rounding noise in an arbitrary direction: the point is degenerate (contract).
@@ -22,20 +22,84 @@ const DEGENERATE_SIZE: f64 = 1e-10;
 /// power form is large (uneven knots) still has its own cross product as its limit.
 const NOISE: f64 = 1e-13;
 
-/// The unit normal of a 3-D patch at local (u, v), whose local derivatives (as
-/// [`Patch::local_derivatives`] gives them) are `local`.
+/// The unit normal of a 3-D patch at local (u, v), whose local first derivatives (as
+/// [`Patch::local_derivatives`] gives them) are `su` and `sv`.
 #[must_use]
-pub fn unit_normal(patch: &Patch<'_>, u: f64, v: f64, local: &Derivs) -> [f64; 3] {
-    let (su, sv) = (&local[1], &local[2]);
-    let n = cross([su[0], su[1], su[2]], [sv[0], sv[1], sv[2]]);
+pub fn unit_normal(patch: &Patch<'_>, u: f64, v: f64, su: [f64; 3], sv: [f64; 3]) -> [f64; 3] {
+    let n = cross(su, sv);
     let length = norm(n);
     let [size_u, size_v] = patch.derivative_sizes();
-    if length > DEGENERATE_ANGLE * norm([su[0], su[1], su[2]]) * norm([sv[0], sv[1], sv[2]])
-        && length > DEGENERATE_SIZE * size_u * size_v
+    if length > DEGENERATE_ANGLE * norm(su) * norm(sv) && length > DEGENERATE_SIZE * size_u * size_v
     {
         return n.map(|x| x / length);
     }
     limit_normal(patch, u, v)
+}
+
+/// Vertices whose normals [`block_normals`] forms together.
+pub(crate) const BLOCK: usize = 64;
+
+/// The local S_u and S_v of up to [`BLOCK`] vertices, each coordinate in its own array, and
+/// s_u s_v of each vertex's patch: what their normals are formed from.
+pub(crate) struct NormalBlock {
+    pub(crate) su: [[f64; BLOCK]; 3],
+    pub(crate) sv: [[f64; BLOCK]; 3],
+    pub(crate) sizes: [f64; BLOCK],
+}
+
+impl Default for NormalBlock {
+    fn default() -> Self {
+        NormalBlock {
+            su: [[0.0; BLOCK]; 3],
+            sv: [[0.0; BLOCK]; 3],
+            sizes: [0.0; BLOCK],
+        }
+    }
+}
+
+impl NormalBlock {
+    /// Vertex `j`'s local S_u and S_v (3-D: nothing is kept of other dimensions, which have no
+    /// normals) and its patch's sizes.
+    #[inline]
+    pub(crate) fn put(&mut self, j: usize, su: &[f64], sv: &[f64], patch: &Patch<'_>) {
+        if let ([ux, uy, uz], [vx, vy, vz]) = (su, sv) {
+            let ([bx, by, bz], [cx, cy, cz]) = (&mut self.su, &mut self.sv);
+            (bx[j], by[j], bz[j]) = (*ux, *uy, *uz);
+            (cx[j], cy[j], cz[j]) = (*vx, *vy, *vz);
+            let [size_u, size_v] = patch.derivative_sizes();
+            self.sizes[j] = size_u * size_v;
+        }
+    }
+
+    /// The unit normals of the first `len` vertices as [`unit_normal`] gives them, in lanes:
+    /// n = S_u × S_v, and where |n|² is above both noise floors (squared) and within
+    /// [1e-250, 1e250], n / |n| with one square root and one division. Returns which vertices
+    /// passed; the others (degenerate or far out of range) are left for [`unit_normal`].
+    pub(crate) fn normals(&self, len: usize, out: &mut [[f64; BLOCK]; 3]) -> [bool; BLOCK] {
+        let mut regular = [false; BLOCK];
+        let ([ux, uy, uz], [vx, vy, vz]) = (&self.su, &self.sv);
+        for j in 0..len.min(BLOCK) {
+            let n = [
+                uy[j] * vz[j] - uz[j] * vy[j],
+                uz[j] * vx[j] - ux[j] * vz[j],
+                ux[j] * vy[j] - uy[j] * vx[j],
+            ];
+            let n2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+            let su2 = ux[j] * ux[j] + uy[j] * uy[j] + uz[j] * uz[j];
+            let sv2 = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
+            let size = DEGENERATE_SIZE * self.sizes[j];
+            // `&`, not `&&`: no branch in the lanes.
+            let ok = (n2 > DEGENERATE_ANGLE * DEGENERATE_ANGLE * su2 * sv2)
+                & (n2 > size * size)
+                & (1e-250..=1e250).contains(&n2);
+            let inverse = 1.0 / n2.sqrt();
+            for k in 0..3 {
+                out[k][j] = n[k] * inverse;
+            }
+            regular[j] = ok;
+        }
+        regular
+    }
 }
 
 /// The limit of the unit normal at local (u, v) from inside the patch, along the ray toward its

@@ -340,6 +340,13 @@ impl Patch<'_> {
         self.dim
     }
 
+    /// All 16 A_ab, `dim` values each, A_ab at `(4a + b) · dim` (see
+    /// [`Patch::coefficient`]).
+    #[must_use]
+    pub fn coefficients(&self) -> &[f64] {
+        self.coeffs
+    }
+
     /// The power coefficient vector A_ab (`dim` values): of a rational patch, its relative
     /// numerator's (A_00: its origin O).
     #[must_use]

@@ -7,7 +7,8 @@
 
 use crate::support::Rng;
 use splinegpu::surface::{
-    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSampling, evaluate_surfaces,
+    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
+    evaluate_surfaces, evaluate_surfaces_into, unit_normal,
 };
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Sampling,
@@ -133,6 +134,91 @@ fn assert_tensor_product(kind: SurfaceKind, net: Net, what: &str) {
                     want[m][k]
                 );
             }
+        }
+    }
+}
+
+/// The evaluator's paths (polynomial patches of 1 to 4 coordinates with the dimension known at
+/// compile time, wider and rational ones read at run time; grid rows that share their u-stage
+/// and single vertices) against `Patch::derivatives` and `unit_normal` vertex by vertex, and
+/// its f32 planes against its f64 values rounded.
+#[test]
+fn every_evaluator_path_agrees_with_the_patch_and_f32_is_f64_rounded() {
+    let mut rng = Rng(11);
+    let bspline = SurfaceKind::Uniform {
+        basis: Basis::BSpline,
+        ends: [Ends::Control, Ends::Closed],
+    };
+    let mut surfaces: Vec<Surface> = (1..=6)
+        .map(|dim| Surface::new(bspline.clone(), net(&mut rng, 6, 7, dim, -3.0, 3.0)).unwrap())
+        .collect();
+    surfaces.push(torus_surface(3.0, 1.0, [1e3, -2e3, 5.0]));
+    surfaces.push(net_as_patch_list(&net(&mut rng, 7, 7, 3, -1.0, 1.0)));
+    for surface in &surfaces {
+        let table = surface.fit();
+        let dim = table.dim();
+        let normals = dim == 3;
+        let samplings = match table.knots() {
+            Some(_) => vec![
+                SurfaceSampling::PerSegment([3, 5]),
+                SurfaceSampling::At(places(&mut rng, &table)),
+            ],
+            None => vec![SurfaceSampling::PerSegment([4, 4])],
+        };
+        for sampling in samplings {
+            let what = format!("dim {dim}, {:?}", surface.kind());
+            let plan = SurfacePlan::new(&table, &sampling).unwrap();
+            let got = evaluate_surfaces(&table, &plan, Derivatives::Second, normals);
+            let planes = [
+                Some(&got.points),
+                got.du.as_ref(),
+                got.dv.as_ref(),
+                got.duu.as_ref(),
+                got.duv.as_ref(),
+                got.dvv.as_ref(),
+            ];
+            let mut want = Default::default();
+            for (i, vertex) in plan.vertices.iter().enumerate() {
+                let patch = table.patch(vertex.patch as usize);
+                let [u, v] = vertex.local;
+                patch.derivatives(u, v, &mut want);
+                for (m, plane) in planes.iter().enumerate() {
+                    let got = &plane.unwrap()[i * dim..(i + 1) * dim];
+                    for (k, (&g, &w)) in got.iter().zip(&want[m]).enumerate() {
+                        assert!(
+                            (g - w).abs() <= 1e-12 * (1.0 + w.abs()),
+                            "{what}: vertex {i} plane {m} coordinate {k}: {g} vs {w}"
+                        );
+                    }
+                }
+                if normals {
+                    let mut local = Default::default();
+                    patch.local_derivatives(u, v, &mut local);
+                    let su = [local[1][0], local[1][1], local[1][2]];
+                    let sv = [local[2][0], local[2][1], local[2][2]];
+                    let w = unit_normal(&patch, u, v, su, sv);
+                    let g = &got.normals.as_ref().unwrap()[i * 3..i * 3 + 3];
+                    for k in 0..3 {
+                        assert!(
+                            (g[k] - w[k]).abs() < 1e-12,
+                            "{what}: normal {i}: {g:?} vs {w:?}"
+                        );
+                    }
+                }
+            }
+            // f32: the same f64 values, rounded once as they are stored.
+            let mut narrow =
+                SurfaceSamples::<f32>::for_plan(&table, &plan, Derivatives::Second, normals);
+            evaluate_surfaces_into(&table, &plan, narrow.planes_mut());
+            let rounded = |plane: &[f64]| plane.iter().map(|&x| x as f32).collect::<Vec<_>>();
+            assert_eq!(narrow.points, rounded(&got.points), "{what}");
+            assert_eq!(narrow.duv, got.duv.as_deref().map(rounded), "{what}");
+            assert_eq!(
+                narrow.normals,
+                got.normals.as_deref().map(rounded),
+                "{what}"
+            );
+            assert_eq!((narrow.uv, narrow.triangles), (got.uv, got.triangles));
         }
     }
 }
