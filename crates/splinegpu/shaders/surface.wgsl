@@ -1,6 +1,6 @@
 // Evaluates surface vertices (positions, u/v derivatives, unit normals) from bicubic patches in power form.
 // Rust twins of the structs: src/gpu/surface.rs. CPU twin, line by line in f32 (same names,
-// loop order and arithmetic): SurfaceKernel in src/gpu/surface.rs's tests.
+// loop order and arithmetic): src/gpu/surface_twin.rs.
 
 // Rust twin: gpu::surface::SurfaceParams.
 struct SurfaceParams {
@@ -27,7 +27,7 @@ struct SurfaceParams {
 // src/surface/patch.rs) has W's 16 coefficients after them, and S = o_hi + (o_lo + N/W).
 // With normals asked for (3-D patches), a patch then has its normal nets (normal_offset): N's
 // Bezier points N_ij (16 x 3, i along u), their differences along u, N_(i+1)j - N_ij (12 x 3),
-// and along v (12 x 3), formed in f64:
+// and along v (12 x 3), then the differences' lengths (12 along u, 12 along v), formed in f64:
 // the normal's derivatives are sums of these with non-negative Bernstein weights, which keeps
 // their relative accuracy where power coefficients would cancel (uneven knots).
 struct GpuPatch {
@@ -69,10 +69,11 @@ const WG_SIZE: u32 = 64u;
 // zero in the nets (the host makes them so), so a collapsed edge gives a zero cross product.
 const DEGENERATE: f32 = 1e-5;
 
-// The six local derivatives S, Su, Sv, Suu, Suv, Svv of sum_{ab != 00} c_ab u^a v^b, the c_ab
-// read `stride` floats apart from float `first` on (coordinate k of a patch: first = offset + k,
-// stride = dim), and with `constant` the term ab = 00 from float first too (W's 16 terms).
-fn tensor(first: u32, stride: u32, constant: bool, u: f32, v: f32) -> array<f32, 6> {
+// The first `planes` (1, 3 or 6) of the local derivatives S, Su, Sv, Suu, Suv, Svv of
+// sum_{ab != 00} c_ab u^a v^b, the c_ab read `stride` floats apart from float `first` on
+// (coordinate k of a patch: first = offset + k, stride = dim), and with `constant` the term
+// ab = 00 from float first too (W's 16 terms); the others stay 0.
+fn tensor(first: u32, stride: u32, constant: bool, u: f32, v: f32, planes: u32) -> array<f32, 6> {
     let pu = array<f32, 4>(1.0, u, u * u, u * u * u);
     let dpu = array<f32, 4>(0.0, 1.0, 2.0 * u, 3.0 * u * u);
     let ddpu = array<f32, 4>(0.0, 0.0, 2.0, 6.0 * u);
@@ -91,30 +92,38 @@ fn tensor(first: u32, stride: u32, constant: bool, u: f32, v: f32) -> array<f32,
         let c = coeffs[at];
         at += stride;
         d[0] += pu[a] * pv[b] * c;
-        d[1] += dpu[a] * pv[b] * c;
-        d[2] += pu[a] * dpv[b] * c;
-        d[3] += ddpu[a] * pv[b] * c;
-        d[4] += dpu[a] * dpv[b] * c;
-        d[5] += pu[a] * ddpv[b] * c;
+        if planes > 1u {
+            d[1] += dpu[a] * pv[b] * c;
+            d[2] += pu[a] * dpv[b] * c;
+        }
+        if planes > 3u {
+            d[3] += ddpu[a] * pv[b] * c;
+            d[4] += dpu[a] * dpv[b] * c;
+            d[5] += pu[a] * ddpv[b] * c;
+        }
     }
     return d;
 }
 
-// Coordinate k's local derivatives at (u, v), S without its origin (o_hi + o_lo is added by the
-// caller): the polynomial's, or R = N/W's by the quotient rule.
-fn coordinate(p: GpuPatch, k: u32, u: f32, v: f32) -> array<f32, 6> {
-    var n = tensor(p.coeff_offset + k, p.dim, false, u, v);
+// Coordinate k's first `planes` local derivatives at (u, v), S without its origin (o_hi + o_lo
+// is added by the caller): the polynomial's, or R = N/W's by the quotient rule.
+fn coordinate(p: GpuPatch, k: u32, u: f32, v: f32, planes: u32) -> array<f32, 6> {
+    let n = tensor(p.coeff_offset + k, p.dim, false, u, v, planes);
     if p.rational == 0u {
         return n;
     }
-    let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v);
-    let r = n[0] / w[0];
-    let ru = (n[1] - r * w[1]) / w[0];
-    let rv = (n[2] - r * w[2]) / w[0];
-    let ruu = (n[3] - 2.0 * ru * w[1] - r * w[3]) / w[0];
-    let ruv = (n[4] - ru * w[2] - rv * w[1] - r * w[4]) / w[0];
-    let rvv = (n[5] - 2.0 * rv * w[2] - r * w[5]) / w[0];
-    return array<f32, 6>(r, ru, rv, ruu, ruv, rvv);
+    let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v, planes);
+    var r = array<f32, 6>(n[0] / w[0], 0.0, 0.0, 0.0, 0.0, 0.0);
+    if planes > 1u {
+        r[1] = (n[1] - r[0] * w[1]) / w[0];
+        r[2] = (n[2] - r[0] * w[2]) / w[0];
+    }
+    if planes > 3u {
+        r[3] = (n[3] - 2.0 * r[1] * w[1] - r[0] * w[3]) / w[0];
+        r[4] = (n[4] - r[1] * w[2] - r[2] * w[1] - r[0] * w[4]) / w[0];
+        r[5] = (n[5] - 2.0 * r[2] * w[2] - r[0] * w[5]) / w[0];
+    }
+    return r;
 }
 
 // The cubic Bernstein weights at t, and the quadratic ones (times 3: the derivative's).
@@ -150,20 +159,20 @@ fn cross_at(p: GpuPatch, u: f32, v: f32) -> array<vec3<f32>, 4> {
                 let d = base + 48u + 3u * (4u * i + j);
                 let difference = vec3<f32>(coeffs[d], coeffs[d + 1u], coeffs[d + 2u]);
                 nu += cu[i] * bv[j] * difference;
-                sizes.x += cu[i] * bv[j] * length(difference);
+                sizes.x += cu[i] * bv[j] * coeffs[base + 120u + 4u * i + j];
             }
             if j < 3u {
                 let d = base + 84u + 3u * (3u * i + j);
                 let difference = vec3<f32>(coeffs[d], coeffs[d + 1u], coeffs[d + 2u]);
                 nv += bu[i] * cv[j] * difference;
-                sizes.y += bu[i] * cv[j] * length(difference);
+                sizes.y += bu[i] * cv[j] * coeffs[base + 132u + 3u * i + j];
             }
         }
     }
     var su = nu;
     var sv = nv;
     if p.rational == 1u {
-        let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v);
+        let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v, 3u);
         let r = n / w[0];
         su = (nu - r * w[1]) / w[0];
         sv = (nv - r * w[2]) / w[0];
@@ -209,7 +218,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         planes = 6u;
     }
     for (var k = 0u; k < p.dim; k += 1u) {
-        let d = coordinate(p, k, vertex.u, vertex.v);
+        let d = coordinate(p, k, vertex.u, vertex.v, planes);
         let origin = p.coeff_offset + 15u * p.dim + k;
         out[vertex.out + k] = coeffs[origin] + (coeffs[origin + p.dim] + d[0]);
         for (var m = 1u; m < planes; m += 1u) {

@@ -19,6 +19,8 @@ mod readback;
 mod record;
 pub(crate) mod surface;
 mod surface_record;
+#[cfg(test)]
+mod surface_twin;
 pub(crate) mod timing;
 
 pub use record::OutputLayout;

@@ -183,9 +183,13 @@ impl PackedPatches {
     }
 }
 
+/// Floats of a patch's normal nets: 16 points, 12 + 12 differences (3 each), 24 lengths.
+pub(crate) const NORMAL_NET_FLOATS: usize = 48 + 72 + 24;
+
 /// A 3-D patch's normal nets (see `shaders/surface.wgsl`): the Bezier points N_ij of its
 /// numerator relative to its origin (16 x 3, i along u), their differences along u
-/// (N_(i+1)j − N_ij, 12 x 3) and along v (N_i(j+1) − N_ij, 12 x 3), in f64.
+/// (N_(i+1)j − N_ij, 12 x 3) and along v (N_i(j+1) − N_ij, 12 x 3), then the differences'
+/// lengths (12 along u, 12 along v), in f64.
 fn normal_nets(patch: &crate::surface::Patch<'_>) -> Vec<f64> {
     // Power to Bernstein along one direction of a cubic: b_j = Σ_{k <= j} C(j,k)/C(3,k) c_k.
     const TO_BERNSTEIN: [[f64; 4]; 4] = [
@@ -213,7 +217,8 @@ fn normal_nets(patch: &crate::surface::Patch<'_>) -> Vec<f64> {
             }
         }
     }
-    let mut out = Vec::with_capacity(120);
+    let mut out = Vec::with_capacity(NORMAL_NET_FLOATS);
+    let mut lengths = Vec::with_capacity(24);
     out.extend(n.iter().flatten().flatten());
     let mut differences = |d: &dyn Fn(usize, usize, usize) -> f64, rows: usize, cols: usize| {
         let net: Vec<[f64; 3]> = (0..rows)
@@ -224,21 +229,24 @@ fn normal_nets(patch: &crate::surface::Patch<'_>) -> Vec<f64> {
         let length = |p: &[f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
         let largest = net.iter().map(length).fold(0.0, f64::max);
         for p in &net {
-            out.extend(if length(p) <= 1e-12 * largest {
+            let kept = if length(p) <= 1e-12 * largest {
                 [0.0; 3]
             } else {
                 *p
-            });
+            };
+            out.extend(kept);
+            lengths.push(length(&kept));
         }
     };
     differences(&|i, j, k| n[i + 1][j][k] - n[i][j][k], 3, 4);
     differences(&|i, j, k| n[i][j + 1][k] - n[i][j][k], 4, 3);
+    out.extend(lengths);
     out
 }
 
 /// The output planes of a vertex of a job: positions, then the derivatives asked for, then
 /// normals.
-fn plane_count(derivatives: Derivatives, normals: bool) -> usize {
+pub(crate) fn plane_count(derivatives: Derivatives, normals: bool) -> usize {
     1 + match derivatives.order() {
         0 => 0,
         1 => 2,
@@ -278,8 +286,9 @@ impl GpuContext {
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
         let bytes = |t: &PatchTable| -> u64 {
-            let per_patch =
-                17 * t.dim() + if t.is_rational() { 16 } else { 0 } + if normals { 120 } else { 0 };
+            let per_patch = 17 * t.dim()
+                + if t.is_rational() { 16 } else { 0 }
+                + if normals { NORMAL_NET_FLOATS } else { 0 };
             (t.len() * per_patch * 4) as u64
         };
         let mut out = Vec::with_capacity(surfaces.len());
@@ -311,94 +320,22 @@ impl GpuContext {
         derivatives: Derivatives,
         normals: bool,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
-        let packed = PackedPatches::new(&tables, normals);
-        let planes = plane_count(derivatives, normals);
-        // Every vertex of every surface, in order, with its surface's dimension.
-        let mut all: Vec<(u32, f32, f32, usize)> = Vec::new();
-        for (s, (table, plan)) in surfaces.iter().enumerate() {
-            let first = packed.first_patch[s];
-            all.extend(plan.vertices.iter().map(|v| {
-                (
-                    first + v.patch,
-                    v.local[0] as f32,
-                    v.local[1] as f32,
-                    table.dim(),
-                )
-            }));
-        }
         // Dispatches of at most `budget` floats per plane (the storage-binding limit).
         let limits = self.device.limits();
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
+        let planes = plane_count(derivatives, normals);
         let budget = ((binding / 4) as usize / planes).clamp(1, 1 << 26);
-        let mut chunk: Vec<GpuVertex> = Vec::new();
-        let mut results: Vec<Vec<f32>> = vec![Vec::new(); planes];
-        let mut flush = |chunk: &mut Vec<GpuVertex>, floats: usize| -> Result<(), GpuError> {
-            if chunk.is_empty() {
-                return Ok(());
-            }
-            let out =
-                self.dispatch_surfaces(&packed, chunk, floats, derivatives, normals, planes)?;
-            for (p, plane) in results.iter_mut().enumerate() {
-                plane.extend_from_slice(&out[p * floats..p * floats + floats]);
-            }
-            chunk.clear();
-            Ok(())
-        };
-        let mut floats = 0usize;
-        for &(patch, u, v, dim) in &all {
-            if floats + dim > budget {
-                flush(&mut chunk, floats)?;
-                floats = 0;
-            }
-            chunk.push(GpuVertex {
-                patch_index: patch,
-                out: floats as u32,
-                u,
-                v,
-            });
-            floats += dim;
-        }
-        flush(&mut chunk, floats)?;
-        // Split the planes per surface: every plane holds `dim` floats per vertex (normals are
-        // asked of 3-D surfaces only).
-        let mut out = Vec::with_capacity(surfaces.len());
-        let mut at = 0usize;
-        for (table, plan) in surfaces {
-            let dim = table.dim();
-            let n = plan.vertices.len();
-            let take = |p: usize| results[p][at..at + n * dim].to_vec();
-            let mut next = 1;
-            let mut plane = |asked: bool| {
-                asked.then(|| {
-                    next += 1;
-                    take(next - 1)
-                })
-            };
-            let (first, second) = (derivatives.order() >= 1, derivatives.order() >= 2);
-            let (du, dv) = (plane(first), plane(first));
-            let (duu, duv, dvv) = (plane(second), plane(second), plane(second));
-            let normal_plane = plane(normals);
-            out.push(SurfaceSamples {
-                dim,
-                uv: plan.vertices.iter().map(|v| v.uv).collect(),
-                patch: table
-                    .patch_indices()
-                    .map(|_| plan.vertices.iter().map(|v| v.patch).collect()),
-                points: take(0),
-                du,
-                dv,
-                duu,
-                duv,
-                dvv,
-                normals: normal_plane,
-                triangles: plan.triangles.clone(),
-            });
-            at += n * dim;
-        }
-        Ok(out)
+        evaluate_group_with(
+            surfaces,
+            derivatives,
+            normals,
+            budget,
+            |packed, vertices, floats| {
+                self.dispatch_surfaces(packed, vertices, floats, derivatives, normals, planes)
+            },
+        )
     }
 
     /// One dispatch of `vertices` (`floats` values per plane), read back whole.
@@ -487,6 +424,99 @@ impl GpuContext {
             bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats].to_vec()
         })
     }
+}
+
+/// Packs `surfaces` (whose patches fit one binding), runs their vertices through `dispatch`
+/// in dispatches of at most `budget` floats per plane (`dispatch` returns each dispatch's
+/// planes, `floats` apart), and splits the planes per surface.
+pub(crate) fn evaluate_group_with(
+    surfaces: &[(&PatchTable, &SurfacePlan)],
+    derivatives: Derivatives,
+    normals: bool,
+    budget: usize,
+    mut dispatch: impl FnMut(&PackedPatches, &[GpuVertex], usize) -> Result<Vec<f32>, GpuError>,
+) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+    let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
+    let packed = PackedPatches::new(&tables, normals);
+    let planes = plane_count(derivatives, normals);
+    // Every vertex of every surface, in order, with its surface's dimension.
+    let mut all: Vec<(u32, f32, f32, usize)> = Vec::new();
+    for (s, (table, plan)) in surfaces.iter().enumerate() {
+        let first = packed.first_patch[s];
+        all.extend(plan.vertices.iter().map(|v| {
+            (
+                first + v.patch,
+                v.local[0] as f32,
+                v.local[1] as f32,
+                table.dim(),
+            )
+        }));
+    }
+    let mut chunk: Vec<GpuVertex> = Vec::new();
+    let mut results: Vec<Vec<f32>> = vec![Vec::new(); planes];
+    let mut flush = |chunk: &mut Vec<GpuVertex>, floats: usize| -> Result<(), GpuError> {
+        if chunk.is_empty() {
+            return Ok(());
+        }
+        let out = dispatch(&packed, chunk, floats)?;
+        for (p, plane) in results.iter_mut().enumerate() {
+            plane.extend_from_slice(&out[p * floats..p * floats + floats]);
+        }
+        chunk.clear();
+        Ok(())
+    };
+    let mut floats = 0usize;
+    for &(patch, u, v, dim) in &all {
+        if floats + dim > budget {
+            flush(&mut chunk, floats)?;
+            floats = 0;
+        }
+        chunk.push(GpuVertex {
+            patch_index: patch,
+            out: floats as u32,
+            u,
+            v,
+        });
+        floats += dim;
+    }
+    flush(&mut chunk, floats)?;
+    // Split the planes per surface: every plane holds `dim` floats per vertex (normals are
+    // asked of 3-D surfaces only).
+    let mut out = Vec::with_capacity(surfaces.len());
+    let mut at = 0usize;
+    for (table, plan) in surfaces {
+        let dim = table.dim();
+        let n = plan.vertices.len();
+        let take = |p: usize| results[p][at..at + n * dim].to_vec();
+        let mut next = 1;
+        let mut plane = |asked: bool| {
+            asked.then(|| {
+                next += 1;
+                take(next - 1)
+            })
+        };
+        let (first, second) = (derivatives.order() >= 1, derivatives.order() >= 2);
+        let (du, dv) = (plane(first), plane(first));
+        let (duu, duv, dvv) = (plane(second), plane(second), plane(second));
+        let normal_plane = plane(normals);
+        out.push(SurfaceSamples {
+            dim,
+            uv: plan.vertices.iter().map(|v| v.uv).collect(),
+            patch: table
+                .patch_indices()
+                .map(|_| plan.vertices.iter().map(|v| v.patch).collect()),
+            points: take(0),
+            du,
+            dv,
+            duu,
+            duv,
+            dvv,
+            normals: normal_plane,
+            triangles: plan.triangles.clone(),
+        });
+        at += n * dim;
+    }
+    Ok(out)
 }
 
 /// `items`, or one default element where there is none (a binding needs at least one).
