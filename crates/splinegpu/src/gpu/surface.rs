@@ -15,6 +15,9 @@ use crate::job::Derivatives;
 use crate::surface::{PatchTable, SurfacePlan, SurfaceSamples};
 
 use super::GpuContext;
+use super::timing::Timestamps;
+#[cfg(feature = "profiling")]
+use super::timing::{DeviceTime, TimingMethod};
 
 /// `shaders/surface.wgsl`.
 pub(crate) const SURFACE_WGSL: &str = include_str!("../../shaders/surface.wgsl");
@@ -276,6 +279,48 @@ impl GpuContext {
         derivatives: Derivatives,
         normals: bool,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+        Ok(self
+            .surfaces_on_device(surfaces, derivatives, normals, false)?
+            .0)
+    }
+
+    /// [`GpuContext::evaluate_surfaces`], also measuring how long the dispatches ran on the
+    /// device: by timestamp queries where the device has `TIMESTAMP_QUERY`, else from each
+    /// dispatch's submission to its completion.
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate_surfaces`].
+    ///
+    /// # Panics
+    /// As [`GpuContext::evaluate_surfaces`].
+    #[cfg(feature = "profiling")]
+    pub fn evaluate_surfaces_timed(
+        &self,
+        surfaces: &[(&PatchTable, &SurfacePlan)],
+        derivatives: Derivatives,
+        normals: bool,
+    ) -> Result<(Vec<SurfaceSamples<f32>>, DeviceTime), GpuError> {
+        let (samples, seconds) = self.surfaces_on_device(surfaces, derivatives, normals, true)?;
+        let method = if self
+            .device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+        {
+            TimingMethod::Timestamps
+        } else {
+            TimingMethod::SubmitToCompletion
+        };
+        Ok((samples, DeviceTime { seconds, method }))
+    }
+
+    /// [`GpuContext::evaluate_surfaces`], and the dispatches' device seconds when `timed`.
+    fn surfaces_on_device(
+        &self,
+        surfaces: &[(&PatchTable, &SurfacePlan)],
+        derivatives: Derivatives,
+        normals: bool,
+        timed: bool,
+    ) -> Result<(Vec<SurfaceSamples<f32>>, f64), GpuError> {
         assert!(
             !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
             "normals need 3-D points"
@@ -292,6 +337,7 @@ impl GpuContext {
             (t.len() * per_patch * 4) as u64
         };
         let mut out = Vec::with_capacity(surfaces.len());
+        let mut seconds = 0.0;
         let mut start = 0;
         while start < surfaces.len() {
             let mut end = start;
@@ -307,18 +353,28 @@ impl GpuContext {
                     limit,
                 });
             }
-            out.extend(self.evaluate_surface_group(&surfaces[start..end], derivatives, normals)?);
+            let group = &surfaces[start..end];
+            out.extend(self.evaluate_surface_group(
+                group,
+                derivatives,
+                normals,
+                timed,
+                &mut seconds,
+            )?);
             start = end;
         }
-        Ok(out)
+        Ok((out, seconds))
     }
 
-    /// [`GpuContext::evaluate_surfaces`] of surfaces whose patches fit one binding.
+    /// [`GpuContext::evaluate_surfaces`] of surfaces whose patches fit one binding; when
+    /// `timed`, each dispatch's device seconds added to `seconds`.
     fn evaluate_surface_group(
         &self,
         surfaces: &[(&PatchTable, &SurfacePlan)],
         derivatives: Derivatives,
         normals: bool,
+        timed: bool,
+        seconds: &mut f64,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
         // Dispatches of at most `budget` floats per plane (the storage-binding limit).
         let limits = self.device.limits();
@@ -333,12 +389,17 @@ impl GpuContext {
             normals,
             budget,
             |packed, vertices, floats| {
-                self.dispatch_surfaces(packed, vertices, floats, derivatives, normals, planes)
+                let (values, took) =
+                    self.dispatch_surfaces(packed, vertices, floats, derivatives, normals, timed)?;
+                *seconds += took;
+                Ok(values)
             },
         )
     }
 
-    /// One dispatch of `vertices` (`floats` values per plane), read back whole.
+    /// One dispatch of `vertices` (`floats` values per plane), read back whole; when `timed`,
+    /// with the seconds it ran on the device (timestamps around its pass where the device has
+    /// them, else from its submission to the end of its read-back), else 0.
     fn dispatch_surfaces(
         &self,
         packed: &PackedPatches,
@@ -346,8 +407,9 @@ impl GpuContext {
         floats: usize,
         derivatives: Derivatives,
         normals: bool,
-        planes: usize,
-    ) -> Result<Vec<f32>, GpuError> {
+        timed: bool,
+    ) -> Result<(Vec<f32>, f64), GpuError> {
+        let planes = plane_count(derivatives, normals);
         use wgpu::util::DeviceExt;
         let device = &self.device;
         let pipeline = self.surface_pipeline();
@@ -411,18 +473,33 @@ impl GpuContext {
                 })
                 .collect::<Vec<_>>(),
         });
+        let has_timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let stamps = (timed && has_timestamps).then(|| Timestamps::new(device, 1));
         let mut encoder = device.create_command_encoder(&Default::default());
         {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("surfaces"),
+                timestamp_writes: stamps.as_ref().map(|s| s.writes(0)),
+            });
             pass.set_pipeline(&pipeline.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
         }
         encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
+        if let Some(stamps) = &stamps {
+            stamps.resolve(&mut encoder);
+        }
+        let submitted = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
-        super::readback::map_read(device, &download, |bytes| {
+        let values = super::readback::map_read(device, &download, |bytes| {
             bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats].to_vec()
-        })
+        })?;
+        let seconds = match (&stamps, timed) {
+            (Some(stamps), _) => stamps.read(device, self.queue.get_timestamp_period())?,
+            (None, true) => submitted.elapsed().as_secs_f64(),
+            (None, false) => 0.0,
+        };
+        Ok((values, seconds))
     }
 }
 
