@@ -69,115 +69,127 @@ const WG_SIZE: u32 = 64u;
 // zero in the nets (the host makes them so), so a collapsed edge gives a zero cross product.
 const DEGENERATE: f32 = 1e-5;
 
-// The first `planes` (1, 3 or 6) of the local derivatives S, Su, Sv, Suu, Suv, Svv of
-// sum_{ab != 00} c_ab u^a v^b, the c_ab read `stride` floats apart from float `first` on
-// (coordinate k of a patch: first = offset + k, stride = dim), and with `constant` the term
-// ab = 00 from float first too (W's 16 terms); the others stay 0.
-fn tensor(first: u32, stride: u32, constant: bool, u: f32, v: f32, planes: u32) -> array<f32, 6> {
-    let pu = array<f32, 4>(1.0, u, u * u, u * u * u);
-    let dpu = array<f32, 4>(0.0, 1.0, 2.0 * u, 3.0 * u * u);
-    let ddpu = array<f32, 4>(0.0, 0.0, 2.0, 6.0 * u);
-    let pv = array<f32, 4>(1.0, v, v * v, v * v * v);
-    let dpv = array<f32, 4>(0.0, 1.0, 2.0 * v, 3.0 * v * v);
-    let ddpv = array<f32, 4>(0.0, 0.0, 2.0, 6.0 * v);
-    var d = array<f32, 6>(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    var at = first;
-    var ab = 1u;
+// Coefficient c_ab of sum_ab c_ab u^a v^b read `stride` floats apart from float `first` on:
+// with `constant` every ab from first on (W's 16 terms), else ab = 00 is 0 and the 15 others
+// start at first (coordinate k of a patch: first = offset + k, stride = dim).
+fn coefficient(first: u32, stride: u32, constant: bool, a: u32, b: u32) -> f32 {
+    let ab = 4u * a + b;
     if constant {
-        ab = 0u;
+        return coeffs[first + ab * stride];
     }
-    for (; ab < 16u; ab += 1u) {
-        let a = ab / 4u;
-        let b = ab % 4u;
-        let c = coeffs[at];
-        at += stride;
-        d[0] += pu[a] * pv[b] * c;
-        if planes > 1u {
-            d[1] += dpu[a] * pv[b] * c;
-            d[2] += pu[a] * dpv[b] * c;
-        }
-        if planes > 3u {
-            d[3] += ddpu[a] * pv[b] * c;
-            d[4] += dpu[a] * dpv[b] * c;
-            d[5] += pu[a] * ddpv[b] * c;
-        }
+    if ab == 0u {
+        return 0.0;
     }
-    return d;
+    return coeffs[first + (ab - 1u) * stride];
 }
 
-// Coordinate k's first `planes` local derivatives at (u, v), S without its origin (o_hi + o_lo
-// is added by the caller): the polynomial's, or R = N/W's by the quotient rule.
-fn coordinate(p: GpuPatch, k: u32, u: f32, v: f32, planes: u32) -> array<f32, 6> {
-    let n = tensor(p.coeff_offset + k, p.dim, false, u, v, planes);
+// Row a in v by Horner: sum_b c_ab v^b, its first and its second derivative in v.
+fn row(first: u32, stride: u32, constant: bool, a: u32, v: f32) -> vec3<f32> {
+    let c0 = coefficient(first, stride, constant, a, 0u);
+    let c1 = coefficient(first, stride, constant, a, 1u);
+    let c2 = coefficient(first, stride, constant, a, 2u);
+    let c3 = coefficient(first, stride, constant, a, 3u);
+    return vec3<f32>(
+        c0 + v * (c1 + v * (c2 + v * c3)),
+        c1 + v * (2.0 * c2 + 3.0 * v * c3),
+        2.0 * c2 + 6.0 * v * c3,
+    );
+}
+
+// The local derivatives S, Su, Sv, Suu, Suv, Svv of sum_ab c_ab u^a v^b (see `coefficient`):
+// the rows in v, then Horner in u over the rows (x: the value, y: d/dv, z: d2/dv2).
+fn tensor(first: u32, stride: u32, constant: bool, u: f32, v: f32) -> array<f32, 6> {
+    let r0 = row(first, stride, constant, 0u, v);
+    let r1 = row(first, stride, constant, 1u, v);
+    let r2 = row(first, stride, constant, 2u, v);
+    let r3 = row(first, stride, constant, 3u, v);
+    let value = r0 + u * (r1 + u * (r2 + u * r3));
+    let slope = r1 + u * (2.0 * r2 + 3.0 * u * r3);
+    let bend = 2.0 * r2 + 6.0 * u * r3;
+    return array<f32, 6>(value.x, slope.x, value.y, bend.x, slope.y, value.z);
+}
+
+// Coordinate k's local derivatives at (u, v), S without its origin (o_hi + o_lo is added by the
+// caller): the polynomial's, or R = N/W's by the quotient rule.
+fn coordinate(p: GpuPatch, k: u32, u: f32, v: f32) -> array<f32, 6> {
+    let n = tensor(p.coeff_offset + k, p.dim, false, u, v);
     if p.rational == 0u {
         return n;
     }
-    let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v, planes);
-    var r = array<f32, 6>(n[0] / w[0], 0.0, 0.0, 0.0, 0.0, 0.0);
-    if planes > 1u {
-        r[1] = (n[1] - r[0] * w[1]) / w[0];
-        r[2] = (n[2] - r[0] * w[2]) / w[0];
-    }
-    if planes > 3u {
-        r[3] = (n[3] - 2.0 * r[1] * w[1] - r[0] * w[3]) / w[0];
-        r[4] = (n[4] - r[1] * w[2] - r[2] * w[1] - r[0] * w[4]) / w[0];
-        r[5] = (n[5] - 2.0 * r[2] * w[2] - r[0] * w[5]) / w[0];
-    }
-    return r;
+    let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v);
+    let r = n[0] / w[0];
+    let ru = (n[1] - r * w[1]) / w[0];
+    let rv = (n[2] - r * w[2]) / w[0];
+    let ruu = (n[3] - 2.0 * ru * w[1] - r * w[3]) / w[0];
+    let ruv = (n[4] - ru * w[2] - rv * w[1] - r * w[4]) / w[0];
+    let rvv = (n[5] - 2.0 * rv * w[2] - r * w[5]) / w[0];
+    return array<f32, 6>(r, ru, rv, ruu, ruv, rvv);
 }
 
 // The cubic Bernstein weights at t, and the quadratic ones (times 3: the derivative's).
-fn bernstein3(t: f32) -> array<f32, 4> {
+fn bernstein3(t: f32) -> vec4<f32> {
     let s = 1.0 - t;
-    return array<f32, 4>(s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
+    return vec4<f32>(s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
 }
 
-fn bernstein2(t: f32) -> array<f32, 3> {
+fn bernstein2(t: f32) -> vec3<f32> {
     let s = 1.0 - t;
-    return array<f32, 3>(3.0 * s * s, 6.0 * s * t, 3.0 * t * t);
+    return vec3<f32>(3.0 * s * s, 6.0 * s * t, 3.0 * t * t);
+}
+
+// The 3-D point at float `at`.
+fn point3(at: u32) -> vec3<f32> {
+    return vec3<f32>(coeffs[at], coeffs[at + 1u], coeffs[at + 2u]);
+}
+
+// A row of 4 (or 3) 3-D points from float `first` on, weighted by `w`.
+fn weighted4(first: u32, w: vec4<f32>) -> vec3<f32> {
+    return w.x * point3(first) + w.y * point3(first + 3u) + w.z * point3(first + 6u)
+        + w.w * point3(first + 9u);
+}
+
+fn weighted3(first: u32, w: vec3<f32>) -> vec3<f32> {
+    return w.x * point3(first) + w.y * point3(first + 3u) + w.z * point3(first + 6u);
+}
+
+// 4 (or 3) lengths from float `first` on.
+fn lengths4(first: u32) -> vec4<f32> {
+    return vec4<f32>(coeffs[first], coeffs[first + 1u], coeffs[first + 2u], coeffs[first + 3u]);
+}
+
+fn lengths3(first: u32) -> vec3<f32> {
+    return vec3<f32>(coeffs[first], coeffs[first + 1u], coeffs[first + 2u]);
 }
 
 // Su x Sv at local (u, v) of a 3-D patch, from its normal nets (and, rational, W's power form:
 // R_u = (N_u - R W_u) / W), with Su and Sv, and the sizes of the sums that made N_u and N_v
-// (the Bernstein weights times the differences' lengths) in x and y of the fourth.
+// (the Bernstein weights times the differences' lengths) in x and y of the fourth. Each net is
+// contracted row by row in v, then the rows in u.
 fn cross_at(p: GpuPatch, u: f32, v: f32) -> array<vec3<f32>, 4> {
     let bu = bernstein3(u);
     let bv = bernstein3(v);
     let cu = bernstein2(u);
     let cv = bernstein2(v);
-    var n = vec3<f32>(0.0);
-    var nu = vec3<f32>(0.0);
-    var nv = vec3<f32>(0.0);
-    var sizes = vec3<f32>(0.0);
     let base = p.normal_offset;
-    for (var i = 0u; i < 4u; i += 1u) {
-        for (var j = 0u; j < 4u; j += 1u) {
-            let at = base + 3u * (4u * i + j);
-            let point = vec3<f32>(coeffs[at], coeffs[at + 1u], coeffs[at + 2u]);
-            n += bu[i] * bv[j] * point;
-            if i < 3u {
-                let d = base + 48u + 3u * (4u * i + j);
-                let difference = vec3<f32>(coeffs[d], coeffs[d + 1u], coeffs[d + 2u]);
-                nu += cu[i] * bv[j] * difference;
-                sizes.x += cu[i] * bv[j] * coeffs[base + 120u + 4u * i + j];
-            }
-            if j < 3u {
-                let d = base + 84u + 3u * (3u * i + j);
-                let difference = vec3<f32>(coeffs[d], coeffs[d + 1u], coeffs[d + 2u]);
-                nv += bu[i] * cv[j] * difference;
-                sizes.y += bu[i] * cv[j] * coeffs[base + 132u + 3u * i + j];
-            }
-        }
-    }
+    let n = bu.x * weighted4(base, bv) + bu.y * weighted4(base + 12u, bv)
+        + bu.z * weighted4(base + 24u, bv) + bu.w * weighted4(base + 36u, bv);
+    let nu = cu.x * weighted4(base + 48u, bv) + cu.y * weighted4(base + 60u, bv)
+        + cu.z * weighted4(base + 72u, bv);
+    let nv = bu.x * weighted3(base + 84u, cv) + bu.y * weighted3(base + 93u, cv)
+        + bu.z * weighted3(base + 102u, cv) + bu.w * weighted3(base + 111u, cv);
+    let size_u = cu.x * dot(bv, lengths4(base + 120u)) + cu.y * dot(bv, lengths4(base + 124u))
+        + cu.z * dot(bv, lengths4(base + 128u));
+    let size_v = bu.x * dot(cv, lengths3(base + 132u)) + bu.y * dot(cv, lengths3(base + 135u))
+        + bu.z * dot(cv, lengths3(base + 138u)) + bu.w * dot(cv, lengths3(base + 141u));
     var su = nu;
     var sv = nv;
     if p.rational == 1u {
-        let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v, 3u);
+        let w = tensor(p.coeff_offset + 17u * p.dim, 1u, true, u, v);
         let r = n / w[0];
         su = (nu - r * w[1]) / w[0];
         sv = (nv - r * w[2]) / w[0];
     }
-    return array<vec3<f32>, 4>(cross(su, sv), su, sv, sizes);
+    return array<vec3<f32>, 4>(cross(su, sv), su, sv, vec3<f32>(size_u, size_v, 0.0));
 }
 
 // The unit normal: along Su x Sv, or where that vanishes its limit from inside the patch,
@@ -218,7 +230,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         planes = 6u;
     }
     for (var k = 0u; k < p.dim; k += 1u) {
-        let d = coordinate(p, k, vertex.u, vertex.v, planes);
+        let d = coordinate(p, k, vertex.u, vertex.v);
         let origin = p.coeff_offset + 15u * p.dim + k;
         out[vertex.out + k] = coeffs[origin] + (coeffs[origin + p.dim] + d[0]);
         for (var m = 1u; m < planes; m += 1u) {

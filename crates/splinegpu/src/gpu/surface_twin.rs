@@ -91,65 +91,96 @@ fn bernstein2(t: f32) -> [f32; 3] {
     [3.0 * s * s, 6.0 * s * t, 3.0 * t * t]
 }
 
+fn dot4(a: [f32; 4], b: [f32; 4]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+}
+
+fn dot3(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
 impl Kernel<'_> {
-    fn tensor(
-        &self,
-        first: u32,
-        stride: u32,
-        constant: bool,
-        u: f32,
-        v: f32,
-        planes: u32,
-    ) -> [f32; 6] {
-        let pu = [1.0, u, u * u, u * u * u];
-        let dpu = [0.0, 1.0, 2.0 * u, 3.0 * u * u];
-        let ddpu = [0.0, 0.0, 2.0, 6.0 * u];
-        let pv = [1.0, v, v * v, v * v * v];
-        let dpv = [0.0, 1.0, 2.0 * v, 3.0 * v * v];
-        let ddpv = [0.0, 0.0, 2.0, 6.0 * v];
-        let mut d = [0.0f32; 6];
-        let mut at = first;
-        let start = if constant { 0 } else { 1 };
-        for ab in start..16usize {
-            let (a, b) = (ab / 4, ab % 4);
-            let c = self.coeffs[at as usize];
-            at += stride;
-            d[0] += pu[a] * pv[b] * c;
-            if planes > 1 {
-                d[1] += dpu[a] * pv[b] * c;
-                d[2] += pu[a] * dpv[b] * c;
-            }
-            if planes > 3 {
-                d[3] += ddpu[a] * pv[b] * c;
-                d[4] += dpu[a] * dpv[b] * c;
-                d[5] += pu[a] * ddpv[b] * c;
-            }
+    fn coefficient(&self, first: u32, stride: u32, constant: bool, a: u32, b: u32) -> f32 {
+        let ab = 4 * a + b;
+        if constant {
+            return self.coeffs[(first + ab * stride) as usize];
         }
-        d
+        if ab == 0 {
+            return 0.0;
+        }
+        self.coeffs[(first + (ab - 1) * stride) as usize]
     }
 
-    fn coordinate(&self, p: GpuPatch, k: u32, u: f32, v: f32, planes: u32) -> [f32; 6] {
-        let n = self.tensor(p.coeff_offset + k, p.dim, false, u, v, planes);
+    fn row(&self, first: u32, stride: u32, constant: bool, a: u32, v: f32) -> Vec3 {
+        let c0 = self.coefficient(first, stride, constant, a, 0);
+        let c1 = self.coefficient(first, stride, constant, a, 1);
+        let c2 = self.coefficient(first, stride, constant, a, 2);
+        let c3 = self.coefficient(first, stride, constant, a, 3);
+        [
+            c0 + v * (c1 + v * (c2 + v * c3)),
+            c1 + v * (2.0 * c2 + 3.0 * v * c3),
+            2.0 * c2 + 6.0 * v * c3,
+        ]
+    }
+
+    fn tensor(&self, first: u32, stride: u32, constant: bool, u: f32, v: f32) -> [f32; 6] {
+        let r0 = self.row(first, stride, constant, 0, v);
+        let r1 = self.row(first, stride, constant, 1, v);
+        let r2 = self.row(first, stride, constant, 2, v);
+        let r3 = self.row(first, stride, constant, 3, v);
+        let value: Vec3 = std::array::from_fn(|k| r0[k] + u * (r1[k] + u * (r2[k] + u * r3[k])));
+        let slope: Vec3 = std::array::from_fn(|k| r1[k] + u * (2.0 * r2[k] + 3.0 * u * r3[k]));
+        let bend: Vec3 = std::array::from_fn(|k| 2.0 * r2[k] + 6.0 * u * r3[k]);
+        [value[0], slope[0], value[1], bend[0], slope[1], value[2]]
+    }
+
+    fn coordinate(&self, p: GpuPatch, k: u32, u: f32, v: f32) -> [f32; 6] {
+        let n = self.tensor(p.coeff_offset + k, p.dim, false, u, v);
         if p.rational == 0 {
             return n;
         }
-        let w = self.tensor(p.coeff_offset + 17 * p.dim, 1, true, u, v, planes);
-        let mut r = [n[0] / w[0], 0.0, 0.0, 0.0, 0.0, 0.0];
-        if planes > 1 {
-            r[1] = (n[1] - r[0] * w[1]) / w[0];
-            r[2] = (n[2] - r[0] * w[2]) / w[0];
-        }
-        if planes > 3 {
-            r[3] = (n[3] - 2.0 * r[1] * w[1] - r[0] * w[3]) / w[0];
-            r[4] = (n[4] - r[1] * w[2] - r[2] * w[1] - r[0] * w[4]) / w[0];
-            r[5] = (n[5] - 2.0 * r[2] * w[2] - r[0] * w[5]) / w[0];
-        }
-        r
+        let w = self.tensor(p.coeff_offset + 17 * p.dim, 1, true, u, v);
+        let r = n[0] / w[0];
+        let ru = (n[1] - r * w[1]) / w[0];
+        let rv = (n[2] - r * w[2]) / w[0];
+        let ruu = (n[3] - 2.0 * ru * w[1] - r * w[3]) / w[0];
+        let ruv = (n[4] - ru * w[2] - rv * w[1] - r * w[4]) / w[0];
+        let rvv = (n[5] - 2.0 * rv * w[2] - r * w[5]) / w[0];
+        [r, ru, rv, ruu, ruv, rvv]
     }
 
-    fn point(&self, at: u32) -> Vec3 {
+    fn point3(&self, at: u32) -> Vec3 {
         let at = at as usize;
         [self.coeffs[at], self.coeffs[at + 1], self.coeffs[at + 2]]
+    }
+
+    fn weighted4(&self, first: u32, w: [f32; 4]) -> Vec3 {
+        let sum = add(
+            add(
+                scale(w[0], self.point3(first)),
+                scale(w[1], self.point3(first + 3)),
+            ),
+            scale(w[2], self.point3(first + 6)),
+        );
+        add(sum, scale(w[3], self.point3(first + 9)))
+    }
+
+    fn weighted3(&self, first: u32, w: [f32; 3]) -> Vec3 {
+        add(
+            add(
+                scale(w[0], self.point3(first)),
+                scale(w[1], self.point3(first + 3)),
+            ),
+            scale(w[2], self.point3(first + 6)),
+        )
+    }
+
+    fn lengths4(&self, first: u32) -> [f32; 4] {
+        std::array::from_fn(|i| self.coeffs[first as usize + i])
+    }
+
+    fn lengths3(&self, first: u32) -> [f32; 3] {
+        std::array::from_fn(|i| self.coeffs[first as usize + i])
     }
 
     fn cross_at(&self, p: GpuPatch, u: f32, v: f32) -> [Vec3; 4] {
@@ -157,37 +188,50 @@ impl Kernel<'_> {
         let bv = bernstein3(v);
         let cu = bernstein2(u);
         let cv = bernstein2(v);
-        let mut n = [0.0f32; 3];
-        let mut nu = [0.0f32; 3];
-        let mut nv = [0.0f32; 3];
-        let mut sizes = [0.0f32; 3];
         let base = p.normal_offset;
-        for i in 0..4u32 {
-            for j in 0..4u32 {
-                let (iu, ju) = (i as usize, j as usize);
-                let at = base + 3 * (4 * i + j);
-                n = add(n, scale(bu[iu] * bv[ju], self.point(at)));
-                if i < 3 {
-                    let d = base + 48 + 3 * (4 * i + j);
-                    nu = add(nu, scale(cu[iu] * bv[ju], self.point(d)));
-                    sizes[0] += cu[iu] * bv[ju] * self.coeffs[(base + 120 + 4 * i + j) as usize];
-                }
-                if j < 3 {
-                    let d = base + 84 + 3 * (3 * i + j);
-                    nv = add(nv, scale(bu[iu] * cv[ju], self.point(d)));
-                    sizes[1] += bu[iu] * cv[ju] * self.coeffs[(base + 132 + 3 * i + j) as usize];
-                }
-            }
-        }
+        let n = add(
+            add(
+                add(
+                    scale(bu[0], self.weighted4(base, bv)),
+                    scale(bu[1], self.weighted4(base + 12, bv)),
+                ),
+                scale(bu[2], self.weighted4(base + 24, bv)),
+            ),
+            scale(bu[3], self.weighted4(base + 36, bv)),
+        );
+        let nu = add(
+            add(
+                scale(cu[0], self.weighted4(base + 48, bv)),
+                scale(cu[1], self.weighted4(base + 60, bv)),
+            ),
+            scale(cu[2], self.weighted4(base + 72, bv)),
+        );
+        let nv = add(
+            add(
+                add(
+                    scale(bu[0], self.weighted3(base + 84, cv)),
+                    scale(bu[1], self.weighted3(base + 93, cv)),
+                ),
+                scale(bu[2], self.weighted3(base + 102, cv)),
+            ),
+            scale(bu[3], self.weighted3(base + 111, cv)),
+        );
+        let size_u = cu[0] * dot4(bv, self.lengths4(base + 120))
+            + cu[1] * dot4(bv, self.lengths4(base + 124))
+            + cu[2] * dot4(bv, self.lengths4(base + 128));
+        let size_v = bu[0] * dot3(cv, self.lengths3(base + 132))
+            + bu[1] * dot3(cv, self.lengths3(base + 135))
+            + bu[2] * dot3(cv, self.lengths3(base + 138))
+            + bu[3] * dot3(cv, self.lengths3(base + 141));
         let mut su = nu;
         let mut sv = nv;
         if p.rational == 1 {
-            let w = self.tensor(p.coeff_offset + 17 * p.dim, 1, true, u, v, 3);
+            let w = self.tensor(p.coeff_offset + 17 * p.dim, 1, true, u, v);
             let r = n.map(|x| x / w[0]);
             su = [0, 1, 2].map(|k| (nu[k] - r[k] * w[1]) / w[0]);
             sv = [0, 1, 2].map(|k| (nv[k] - r[k] * w[2]) / w[0]);
         }
-        [cross(su, sv), su, sv, sizes]
+        [cross(su, sv), su, sv, [size_u, size_v, 0.0]]
     }
 
     fn unit_normal(&self, p: GpuPatch, u: f32, v: f32) -> Vec3 {
@@ -234,7 +278,7 @@ impl Kernel<'_> {
             planes = 6;
         }
         for k in 0..p.dim {
-            let d = self.coordinate(p, k, vertex.u, vertex.v, planes);
+            let d = self.coordinate(p, k, vertex.u, vertex.v);
             let origin = (p.coeff_offset + 15 * p.dim + k) as usize;
             out[(vertex.out + k) as usize] =
                 self.coeffs[origin] + (self.coeffs[origin + p.dim as usize] + d[0]);
