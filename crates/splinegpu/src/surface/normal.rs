@@ -121,8 +121,8 @@ fn limit_normal(patch: &Patch<'_>, u: f64, v: f64) -> [f64; 3] {
     let w = scalar(&w_of, 0, 0);
     let w_u = scalar(&w_of, 1, 0);
     let w_v = scalar(&w_of, 0, 1);
-    let mut p: [Vec<f64>; 3] = Default::default();
-    let mut q: [Vec<f64>; 3] = Default::default();
+    let mut p = [[0.0; PRODUCT]; 3];
+    let mut q = [[0.0; PRODUCT]; 3];
     for k in 0..3 {
         // Ñ: a rational patch's A_00 slot holds its origin, whose numerator term is zero.
         let n_of = |a: usize, b: usize| {
@@ -140,14 +140,15 @@ fn limit_normal(patch: &Patch<'_>, u: f64, v: f64) -> [f64; 3] {
         p[k] = subtract(&multiply(&n_u, &w), &multiply(&n, &w_u));
         q[k] = subtract(&multiply(&n_v, &w), &multiply(&n, &w_v));
     }
-    let size =
-        |f: &[Vec<f64>; 3]| norm([0, 1, 2].map(|k| f[k].iter().map(|c| c.abs()).sum::<f64>()));
+    let size = |f: &[[f64; PRODUCT]; 3]| {
+        norm([0, 1, 2].map(|k| f[k].iter().map(|c| c.abs()).sum::<f64>()))
+    };
     let threshold = NOISE * size(&p) * size(&q);
     // c = P × Q, coefficient by coefficient.
-    let terms = p[0].len() + q[0].len() - 1;
+    let terms = 2 * PRODUCT - 1;
     for order in 0..terms {
         let coefficient =
-            |f: &[Vec<f64>; 3], k: usize, i: usize| f[k].get(i).copied().unwrap_or(0.0);
+            |f: &[[f64; PRODUCT]; 3], k: usize, i: usize| f[k].get(i).copied().unwrap_or(0.0);
         let mut c = [0.0; 3];
         for i in 0..=order {
             let a = [0, 1, 2].map(|k| coefficient(&p, k, i));
@@ -165,6 +166,11 @@ fn limit_normal(patch: &Patch<'_>, u: f64, v: f64) -> [f64; 3] {
     [0.0, 0.0, 1.0]
 }
 
+/// Coefficients of a bicubic's value or derivative along a ray: powers of t up to 6.
+const RAY: usize = 7;
+/// Coefficients of a product of two of them: powers up to 12.
+const PRODUCT: usize = 2 * RAY - 1;
+
 /// The polynomial in t of ∂^(order_u + order_v) f / ∂u^order_u ∂v^order_v along
 /// (u, v) = origin + t · direction, where f = Σ value(a, b) u^a v^b (a, b in 0..4); coefficients
 /// of t^0, t^1, ... (7 of them).
@@ -174,8 +180,8 @@ fn along_ray(
     order_v: usize,
     origin: [f64; 2],
     direction: [f64; 2],
-) -> Vec<f64> {
-    let mut out = vec![0.0; 7];
+) -> [f64; RAY] {
+    let mut out = [0.0; RAY];
     for a in order_u..4 {
         for b in order_v..4 {
             let c = value(a, b);
@@ -200,22 +206,19 @@ fn falling(a: usize, m: usize) -> f64 {
     (0..m).map(|i| (a - i) as f64).product()
 }
 
-/// The coefficients of (x0 + t dx)^m in powers of t.
-fn binomial_power(x0: f64, dx: f64, m: usize) -> Vec<f64> {
-    let mut out = vec![1.0];
-    for _ in 0..m {
-        let mut next = vec![0.0; out.len() + 1];
-        for (i, c) in out.iter().enumerate() {
-            next[i] += c * x0;
-            next[i + 1] += c * dx;
+/// The coefficients of (x0 + t dx)^m in powers of t (m <= 3: the first m + 1 of 4).
+fn binomial_power(x0: f64, dx: f64, m: usize) -> [f64; 4] {
+    let mut out = [1.0, 0.0, 0.0, 0.0];
+    for n in 0..m {
+        for i in (0..=n + 1).rev() {
+            out[i] = out[i] * x0 + if i > 0 { out[i - 1] * dx } else { 0.0 };
         }
-        out = next;
     }
     out
 }
 
-fn multiply(a: &[f64], b: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; a.len() + b.len() - 1];
+fn multiply(a: &[f64; RAY], b: &[f64; RAY]) -> [f64; PRODUCT] {
+    let mut out = [0.0; PRODUCT];
     for (i, x) in a.iter().enumerate() {
         for (j, y) in b.iter().enumerate() {
             out[i + j] += x * y;
@@ -224,10 +227,8 @@ fn multiply(a: &[f64], b: &[f64]) -> Vec<f64> {
     out
 }
 
-fn subtract(a: &[f64], b: &[f64]) -> Vec<f64> {
-    (0..a.len().max(b.len()))
-        .map(|i| a.get(i).copied().unwrap_or(0.0) - b.get(i).copied().unwrap_or(0.0))
-        .collect()
+fn subtract(a: &[f64; PRODUCT], b: &[f64; PRODUCT]) -> [f64; PRODUCT] {
+    std::array::from_fn(|i| a[i] - b[i])
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

@@ -312,23 +312,6 @@ impl Poly {
             .fold(0.0, f64::max)
     }
 
-    /// The norm of the value at (u, v).
-    fn norm_at(&self, u: f64, v: f64) -> f64 {
-        let mut sum = 0.0;
-        for k in 0..self.dim {
-            let mut x = 0.0;
-            for a in (0..=self.degree[0]).rev() {
-                let mut y = 0.0;
-                for b in (0..=self.degree[1]).rev() {
-                    y = y * v + self.c[self.at(a, b, k)];
-                }
-                x = x * u + y;
-            }
-            sum += x * x;
-        }
-        sum.sqrt()
-    }
-
     /// A bound on the largest norm that tightens the Bernstein one: the largest of its values
     /// on a grid of `GRID` x `GRID`, plus how far it can rise between the nodes (every point is
     /// within h/2 of a node along each axis, h the spacing, and the partial derivatives are
@@ -336,9 +319,28 @@ impl Poly {
     fn tight_bound(&self) -> f64 {
         let h = 1.0 / (GRID - 1) as f64;
         let mut sampled = 0.0f64;
+        // Per node u: the coefficients of v, y_b = Σ_a u^a c_ab (Horner in u), then every
+        // node v by Horner in v.
+        let [du, dv] = self.degree;
+        let mut y = vec![0.0; (dv + 1) * self.dim];
         for i in 0..GRID {
+            let u = i as f64 * h;
+            for b in 0..=dv {
+                for k in 0..self.dim {
+                    y[b * self.dim + k] = (0..=du)
+                        .rev()
+                        .fold(0.0, |x, a| x * u + self.c[self.at(a, b, k)]);
+                }
+            }
             for j in 0..GRID {
-                sampled = sampled.max(self.norm_at(i as f64 * h, j as f64 * h));
+                let v = j as f64 * h;
+                let square: f64 = (0..self.dim)
+                    .map(|k| {
+                        let x = (0..=dv).rev().fold(0.0, |x, b| x * v + y[b * self.dim + k]);
+                        x * x
+                    })
+                    .sum();
+                sampled = sampled.max(square.sqrt());
             }
         }
         let rise = h / 2.0 * (self.derivative(1, 0).bound() + self.derivative(0, 1).bound());
