@@ -245,7 +245,8 @@ fn finish(result: Result<(), OutputError>, output: Option<&Path>) -> Result<(), 
     }
 }
 
-/// A surface document: checked for the format, evaluated on the backend, written whole.
+/// A surface document: checked for the format, evaluated on the backend group by group as it
+/// is written.
 fn tessellate_surfaces(
     job: &SurfaceJob,
     output: Option<&Path>,
@@ -262,23 +263,28 @@ fn tessellate_surfaces(
     surface_output::check_format(job, format).map_err(Failure::input)?;
     let context = choose_backend(backend)?;
     let result = match &context {
-        None => write_surfaces(job, &job.evaluate_cpu(), format, output),
-        Some(gpu) => {
-            let samples = job.evaluate_gpu(gpu).map_err(Failure::other)?;
-            write_surfaces(job, &samples, format, output)
-        }
+        None => write_surfaces(
+            job,
+            format,
+            output,
+            &mut |range| Ok(job.evaluate_cpu(range)),
+        ),
+        Some(gpu) => write_surfaces(job, format, output, &mut |range| {
+            Ok(job.evaluate_gpu(gpu, range)?)
+        }),
     };
     finish(result, output)
 }
 
-/// `samples` written as `format` to `output` (standard output when none).
+/// The job written as `format` to `output` (standard output when none), its surfaces
+/// evaluated by `evaluate` group by group.
 fn write_surfaces<F: surface_output::Number>(
     job: &SurfaceJob,
-    samples: &[splinegpu::surface::SurfaceSamples<F>],
     format: SurfaceFormat,
     output: Option<&Path>,
+    evaluate: &mut surface_output::Evaluate<'_, F>,
 ) -> Result<(), OutputError> {
-    let emit = |out: &mut dyn Write| surface_output::write(job, samples, format, out);
+    let mut emit = |out: &mut dyn Write| surface_output::write(job, format, out, evaluate);
     match output {
         None => {
             let mut out = io::BufWriter::new(io::stdout().lock());

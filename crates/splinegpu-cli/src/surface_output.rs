@@ -1,10 +1,11 @@
 //! Writing a surface document's samples (contract: "Output of a surface document"): JSON, CSV
-//! (vertices), NPZ, and meshes a viewer opens as they are, Wavefront .obj and glTF 2.0 binary
-//! (.glb, through the gltf crate's schema types and container).
+//! (vertices), NPZ (streamed), and meshes a viewer opens as they are, Wavefront .obj and glTF
+//! 2.0 binary (.glb, through the gltf crate's schema types and container).
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
-use std::io::{self, Write};
+use std::io::{self, Read, Seek, Write};
+use std::ops::Range;
 
 use gltf::json;
 use gltf::json::validation::{Checked::Valid, USize64};
@@ -13,7 +14,7 @@ use splinegpu::{InputError, SampleFloat};
 
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
-use crate::surfaces::SurfaceJob;
+use crate::surfaces::{JobSurface, SurfaceJob};
 
 /// The number types samples come in: f64 from the CPU, f32 from the GPU, each printed as the
 /// shortest text that reads back as the same value of its type.
@@ -42,8 +43,9 @@ pub enum SurfaceFormat {
 /// # Errors
 /// The first surface that cannot, naming its field.
 pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), InputError> {
-    let first = job.surfaces[0].0.dim();
-    for (i, (table, plan)) in job.surfaces.iter().enumerate() {
+    let first = job.surfaces[0].table.dim();
+    for (i, surface) in job.surfaces.iter().enumerate() {
+        let table = &surface.table;
         match format {
             SurfaceFormat::Obj | SurfaceFormat::Glb => {
                 let name = if format == SurfaceFormat::Obj {
@@ -61,7 +63,7 @@ pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), Input
                     )
                     .in_surface(i));
                 }
-                if plan.triangles.is_none() {
+                if surface.triangles.is_none() {
                     return Err(InputError::field(
                         "sampling",
                         format!("\"at\" makes no triangles: a .{name} mesh needs per_segment or tolerance"),
@@ -86,12 +88,17 @@ pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), Input
     Ok(())
 }
 
-/// Every value is finite (JSON and CSV have no infinities), naming the first vertex that is not.
+/// Every value is finite (JSON and CSV have no infinities), naming the first vertex that is not
+/// (`samples[0]` is surface `first` of the document).
 ///
 /// # Errors
 /// [`OutputError::SurfaceNonFinite`].
-pub fn check_finite<F: Number>(samples: &[SurfaceSamples<F>]) -> Result<(), OutputError> {
-    for (surface, s) in samples.iter().enumerate() {
+pub fn check_finite<F: Number>(
+    samples: &[SurfaceSamples<F>],
+    first: usize,
+) -> Result<(), OutputError> {
+    for (i, s) in samples.iter().enumerate() {
+        let surface = first + i;
         for (width, plane) in planes(s) {
             if let Some(i) = plane.iter().position(|v| !v.finite()) {
                 return Err(OutputError::SurfaceNonFinite {
@@ -133,59 +140,80 @@ fn planes<F>(s: &SurfaceSamples<F>) -> Vec<(usize, &[F])> {
         .collect()
 }
 
-/// Writes every surface's samples as `format`.
+/// Evaluates a range of a job's surfaces (f64 on the CPU, f32 on the GPU).
+pub type Evaluate<'a, F> =
+    dyn FnMut(Range<usize>) -> Result<Vec<SurfaceSamples<F>>, OutputError> + 'a;
+
+/// Writes every surface of `job` as `format`, evaluating them with `evaluate` group by group
+/// ([`SurfaceJob::groups`]), so that memory holds one group's samples at a time: CSV, JSON and
+/// .obj write each group as it comes; NPZ writes "uv" as it comes and keeps the other arrays in
+/// temporary files until their turn. A .glb holds its whole binary chunk after a header that
+/// gives its length: it is the one format written from every group at once.
 ///
 /// # Errors
-/// An I/O error of `out`, or a value that is not finite (JSON, CSV).
+/// An I/O error of `out`, the evaluator's, or a value that is not finite (JSON, CSV).
 pub fn write<F: Number>(
     job: &SurfaceJob,
-    samples: &[SurfaceSamples<F>],
     format: SurfaceFormat,
     out: &mut dyn Write,
+    evaluate: &mut Evaluate<'_, F>,
 ) -> Result<(), OutputError> {
+    let groups = job.groups();
     match format {
-        SurfaceFormat::Csv => {
-            check_finite(samples)?;
-            write_csv(samples, job.has_patch_lists(), out)?;
+        SurfaceFormat::Csv => write_csv(job, &groups, evaluate, out),
+        SurfaceFormat::Json => write_json(&groups, evaluate, out),
+        SurfaceFormat::Npz => write_npz(job, &groups, evaluate, out),
+        SurfaceFormat::Obj => write_obj(&groups, evaluate, out),
+        SurfaceFormat::Glb => {
+            let mut all = Vec::with_capacity(job.surfaces.len());
+            for group in groups {
+                all.extend(evaluate(group)?);
+            }
+            Ok(write_glb(&all, out)?)
         }
-        SurfaceFormat::Json => {
-            check_finite(samples)?;
-            write_json(samples, out)?;
-        }
-        SurfaceFormat::Npz => write_npz(samples, job.has_patch_lists(), out)?,
-        SurfaceFormat::Obj => write_obj(samples, out)?,
-        SurfaceFormat::Glb => write_glb(samples, out)?,
     }
-    Ok(())
+}
+
+/// The planes the job's samples hold, with their contract names: positions, du, dv, duu, duv,
+/// dvv as asked, normals when asked.
+fn job_planes(job: &SurfaceJob) -> Vec<&'static str> {
+    let order = job.derivatives.order();
+    let mut names = vec!["points"];
+    if order >= 1 {
+        names.extend(["du", "dv"]);
+    }
+    if order >= 2 {
+        names.extend(["duu", "duv", "dvv"]);
+    }
+    if job.normals {
+        names.push("normals");
+    }
+    names
 }
 
 fn write_csv<F: Number>(
-    samples: &[SurfaceSamples<F>],
-    patches: bool,
+    job: &SurfaceJob,
+    groups: &[Range<usize>],
+    evaluate: &mut Evaluate<'_, F>,
     out: &mut dyn Write,
-) -> io::Result<()> {
-    let dim = samples.iter().map(|s| s.dim).max().unwrap_or(1);
-    let first = &samples[0];
+) -> Result<(), OutputError> {
+    let dim = job
+        .surfaces
+        .iter()
+        .map(|s| s.table.dim())
+        .max()
+        .unwrap_or(1);
+    let patches = job.has_patch_lists();
     let mut header = String::from("surface,sample,u,v");
-    let mut columns = |prefix: &str| {
+    for name in job_planes(job) {
+        if name == "normals" {
+            header.push_str(",nx,ny,nz");
+            continue;
+        }
+        let prefix = if name == "points" { "" } else { name };
         for k in 0..dim {
             header.push_str(&format!(",{prefix}x{k}"));
         }
-    };
-    columns("");
-    for (name, plane) in [
-        ("du", &first.du),
-        ("dv", &first.dv),
-        ("duu", &first.duu),
-        ("duv", &first.duv),
-        ("dvv", &first.dvv),
-    ] {
-        if plane.is_some() {
-            columns(name);
-        }
-    }
-    if first.normals.is_some() {
-        header.push_str(",nx,ny,nz");
     }
     if patches {
         header.push_str(",patch");
@@ -193,38 +221,46 @@ fn write_csv<F: Number>(
     writeln!(out, "{header}")?;
     let mut number = zmij::Buffer::new();
     let mut line = Vec::new();
-    for (i, s) in samples.iter().enumerate() {
-        let planes = named_planes(s);
-        for v in 0..s.len() {
-            line.clear();
-            write!(line, "{i},{v}")?;
-            for x in s.uv[v] {
-                line.push(b',');
-                line.extend_from_slice(number.format(x).as_bytes());
-            }
-            for (name, width, plane) in &planes {
-                for x in &plane[v * width..(v + 1) * width] {
+    for group in groups {
+        let samples = evaluate(group.clone())?;
+        check_finite(&samples, group.start)?;
+        for (i, s) in (group.start..).zip(&samples) {
+            let planes = named_planes(s);
+            for v in 0..s.len() {
+                line.clear();
+                write!(line, "{i},{v}")?;
+                for x in s.uv[v] {
                     line.push(b',');
-                    line.extend_from_slice(number.format(*x).as_bytes());
+                    line.extend_from_slice(number.format(x).as_bytes());
                 }
-                if *name != "normals" {
-                    line.extend(std::iter::repeat_n(b',', dim - width));
+                for (name, width, plane) in &planes {
+                    for x in &plane[v * width..(v + 1) * width] {
+                        line.push(b',');
+                        line.extend_from_slice(number.format(*x).as_bytes());
+                    }
+                    if *name != "normals" {
+                        line.extend(std::iter::repeat_n(b',', dim - width));
+                    }
                 }
+                if patches {
+                    line.push(b',');
+                    if let Some(p) = &s.patch {
+                        write!(line, "{}", p[v])?;
+                    }
+                }
+                line.push(b'\n');
+                out.write_all(&line)?;
             }
-            if patches {
-                line.push(b',');
-                if let Some(p) = &s.patch {
-                    write!(line, "{}", p[v])?;
-                }
-            }
-            line.push(b'\n');
-            out.write_all(&line)?;
         }
     }
     Ok(())
 }
 
-fn write_json<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
+fn write_json<F: Number>(
+    groups: &[Range<usize>],
+    evaluate: &mut Evaluate<'_, F>,
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
     fn rows<T: zmij::Float + Copy>(
         out: &mut dyn Write,
         values: &[T],
@@ -245,144 +281,176 @@ fn write_json<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> 
         out.write_all(b"]")
     }
     out.write_all(b"{\"surfaces\": [")?;
-    for (i, s) in samples.iter().enumerate() {
-        out.write_all(if i > 0 {
-            b",\n{\"uv\": "
-        } else {
-            b"\n{\"uv\": "
-        })?;
-        let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
-        rows(out, &uv, 2)?;
-        for (name, width, plane) in named_planes(s) {
-            write!(out, ", \"{name}\": ")?;
-            rows(out, plane, width)?;
-        }
-        if let Some(triangles) = &s.triangles {
-            out.write_all(b", \"triangles\": [")?;
-            for (t, [a, b, c]) in triangles.iter().enumerate() {
-                write!(out, "{}[{a}, {b}, {c}]", if t > 0 { ", " } else { "" })?;
+    for group in groups {
+        let samples = evaluate(group.clone())?;
+        check_finite(&samples, group.start)?;
+        for (i, s) in (group.start..).zip(&samples) {
+            out.write_all(if i > 0 {
+                b",\n{\"uv\": "
+            } else {
+                b"\n{\"uv\": "
+            })?;
+            let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
+            rows(out, &uv, 2)?;
+            for (name, width, plane) in named_planes(s) {
+                write!(out, ", \"{name}\": ")?;
+                rows(out, plane, width)?;
             }
-            out.write_all(b"]")?;
-        }
-        if let Some(patch) = &s.patch {
-            out.write_all(b", \"patch\": [")?;
-            for (t, p) in patch.iter().enumerate() {
-                write!(out, "{}{p}", if t > 0 { ", " } else { "" })?;
+            if let Some(triangles) = &s.triangles {
+                out.write_all(b", \"triangles\": [")?;
+                for (t, [a, b, c]) in triangles.iter().enumerate() {
+                    write!(out, "{}[{a}, {b}, {c}]", if t > 0 { ", " } else { "" })?;
+                }
+                out.write_all(b"]")?;
             }
-            out.write_all(b"]")?;
+            if let Some(patch) = &s.patch {
+                out.write_all(b", \"patch\": [")?;
+                for (t, p) in patch.iter().enumerate() {
+                    write!(out, "{}{p}", if t > 0 { ", " } else { "" })?;
+                }
+                out.write_all(b"]")?;
+            }
+            out.write_all(b"}")?;
         }
-        out.write_all(b"}")?;
     }
-    out.write_all(b"\n]}\n")
+    out.write_all(b"\n]}\n")?;
+    Ok(())
 }
 
+/// A temporary file an NPZ array waits in for its turn.
+type Waiting = io::BufWriter<std::fs::File>;
+
 fn write_npz<F: Number>(
-    samples: &[SurfaceSamples<F>],
-    patches: bool,
+    job: &SurfaceJob,
+    groups: &[Range<usize>],
+    evaluate: &mut Evaluate<'_, F>,
     out: &mut dyn Write,
-) -> io::Result<()> {
+) -> Result<(), OutputError> {
     let mut npz = NpzWriter::new(out);
-    let vertices: u64 = samples.iter().map(|s| s.len() as u64).sum();
-    let f64_bytes =
-        |values: &[f64]| -> Vec<u8> { values.iter().flat_map(|v| v.to_le_bytes()).collect() };
-    // The planes' own type, little-endian as every target we build for (NPZ says "<f4"/"<f8").
-    let plane_bytes = |values: &[F]| -> Vec<u8> { bytemuck::cast_slice::<F, u8>(values).to_vec() };
-    npz.begin("uv", Dtype::F64, &[vertices, 2])?;
-    for s in samples {
-        let uv: Vec<f64> = s.uv.iter().flatten().copied().collect();
-        npz.write(&f64_bytes(&uv))?;
-    }
-    npz.end()?;
-    for (index, (name, width, _)) in named_planes(&samples[0]).into_iter().enumerate() {
-        npz.begin(name, Dtype::of::<F>(), &[vertices, width as u64])?;
-        for s in samples {
-            npz.write(&plane_bytes(named_planes(s)[index].2))?;
-        }
-        npz.end()?;
-    }
-    let triangles: u64 = samples
+    let dim = job.surfaces[0].table.dim() as u64;
+    let vertices: u64 = job.surfaces.iter().map(|s| s.vertices as u64).sum();
+    let triangles: u64 = job
+        .surfaces
         .iter()
-        .map(|s| s.triangles.as_ref().map_or(0, Vec::len) as u64)
+        .map(|s| s.triangles.unwrap_or(0) as u64)
         .sum();
-    npz.begin("triangles", Dtype::I64, &[triangles, 3])?;
+    let patches = job.has_patch_lists();
+    // Every array after "uv" waits in a file: the planes, the triangles, the patches.
+    let names = job_planes(job);
+    let mut waiting: Vec<Waiting> = (0..names.len() + 1 + usize::from(patches))
+        .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
+        .collect::<Result<_, _>>()?;
+    npz.begin("uv", Dtype::F64, &[vertices, 2])?;
     let mut offset = 0i64;
-    for s in samples {
-        if let Some(t) = &s.triangles {
-            let bytes: Vec<u8> = t
-                .iter()
-                .flatten()
-                .flat_map(|&i| (i64::from(i) + offset).to_le_bytes())
-                .collect();
-            npz.write(&bytes)?;
+    for group in groups {
+        for s in evaluate(group.clone())? {
+            npz.write(bytemuck::cast_slice(&s.uv))?;
+            let planes = named_planes(&s);
+            let (files, rest) = waiting.split_at_mut(planes.len());
+            for (file, (_, _, plane)) in files.iter_mut().zip(&planes) {
+                file.write_all(bytemuck::cast_slice(plane))?;
+            }
+            if let Some(t) = &s.triangles {
+                let shifted: Vec<i64> =
+                    t.iter().flatten().map(|&i| i64::from(i) + offset).collect();
+                rest[0].write_all(bytemuck::cast_slice(&shifted))?;
+            }
+            if patches {
+                let patch: Vec<i64> = match &s.patch {
+                    Some(p) => p.iter().map(|&p| i64::from(p)).collect(),
+                    None => vec![-1; s.len()],
+                };
+                rest[1].write_all(bytemuck::cast_slice(&patch))?;
+            }
+            offset += s.len() as i64;
         }
-        offset += s.len() as i64;
     }
     npz.end()?;
-    let offsets = |count: &dyn Fn(&SurfaceSamples<F>) -> usize| -> Vec<u8> {
+    let mut waiting = waiting.into_iter();
+    let mut copy = |npz: &mut NpzWriter<&mut dyn Write>, name, dtype, shape: &[u64]| {
+        let file = waiting.next().expect("one file per waiting array");
+        let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
+        file.rewind()?;
+        npz.begin(name, dtype, shape)?;
+        let mut block = vec![0u8; 1 << 20];
+        loop {
+            let got = file.read(&mut block)?;
+            if got == 0 {
+                break;
+            }
+            npz.write(&block[..got])?;
+        }
+        npz.end()
+    };
+    for name in &names {
+        let width = if *name == "normals" { 3 } else { dim };
+        copy(&mut npz, name, Dtype::of::<F>(), &[vertices, width])?;
+    }
+    copy(&mut npz, "triangles", Dtype::I64, &[triangles, 3])?;
+    let offsets = |count: &dyn Fn(&JobSurface) -> usize| -> Vec<i64> {
         let mut at = 0i64;
-        std::iter::once(0i64)
-            .chain(samples.iter().map(|s| {
+        std::iter::once(0)
+            .chain(job.surfaces.iter().map(|s| {
                 at += count(s) as i64;
                 at
             }))
-            .flat_map(i64::to_le_bytes)
             .collect()
     };
-    let s = samples.len() as u64 + 1;
+    let s = job.surfaces.len() as u64 + 1;
     npz.begin("surface_offsets", Dtype::I64, &[s])?;
-    npz.write(&offsets(&|s| s.len()))?;
+    npz.write(bytemuck::cast_slice(&offsets(&|s| s.vertices)))?;
     npz.end()?;
     npz.begin("triangle_offsets", Dtype::I64, &[s])?;
-    npz.write(&offsets(&|s| s.triangles.as_ref().map_or(0, Vec::len)))?;
+    npz.write(bytemuck::cast_slice(&offsets(&|s| {
+        s.triangles.unwrap_or(0)
+    })))?;
     npz.end()?;
     if patches {
-        npz.begin("patch", Dtype::I64, &[vertices])?;
-        for s in samples {
-            let bytes: Vec<u8> = match &s.patch {
-                Some(p) => p.iter().flat_map(|&p| i64::from(p).to_le_bytes()).collect(),
-                None => (0..s.len()).flat_map(|_| (-1i64).to_le_bytes()).collect(),
-            };
-            npz.write(&bytes)?;
-        }
-        npz.end()?;
+        copy(&mut npz, "patch", Dtype::I64, &[vertices])?;
     }
     npz.finish()?;
     Ok(())
 }
 
-fn write_obj<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
+fn write_obj<F: Number>(
+    groups: &[Range<usize>],
+    evaluate: &mut Evaluate<'_, F>,
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
     writeln!(out, "# splinegpu surfaces: one object per surface")?;
     let mut number = zmij::Buffer::new();
     let mut first = 1u64;
-    for (i, s) in samples.iter().enumerate() {
-        writeln!(out, "o surface-{i}")?;
-        for p in s.points.chunks_exact(3) {
-            out.write_all(b"v")?;
-            for x in p {
-                out.write_all(b" ")?;
-                out.write_all(number.format(*x).as_bytes())?;
-            }
-            out.write_all(b"\n")?;
-        }
-        if let Some(normals) = &s.normals {
-            for n in normals.chunks_exact(3) {
-                out.write_all(b"vn")?;
-                for x in n {
+    for group in groups {
+        for (i, s) in (group.start..).zip(evaluate(group.clone())?) {
+            writeln!(out, "o surface-{i}")?;
+            for p in s.points.chunks_exact(3) {
+                out.write_all(b"v")?;
+                for x in p {
                     out.write_all(b" ")?;
                     out.write_all(number.format(*x).as_bytes())?;
                 }
                 out.write_all(b"\n")?;
             }
-        }
-        for t in s.triangles.as_deref().unwrap_or_default() {
-            let [a, b, c] = t.map(|i| first + u64::from(i));
-            if s.normals.is_some() {
-                writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}")?;
-            } else {
-                writeln!(out, "f {a} {b} {c}")?;
+            if let Some(normals) = &s.normals {
+                for n in normals.chunks_exact(3) {
+                    out.write_all(b"vn")?;
+                    for x in n {
+                        out.write_all(b" ")?;
+                        out.write_all(number.format(*x).as_bytes())?;
+                    }
+                    out.write_all(b"\n")?;
+                }
             }
+            for t in s.triangles.as_deref().unwrap_or_default() {
+                let [a, b, c] = t.map(|i| first + u64::from(i));
+                if s.normals.is_some() {
+                    writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}")?;
+                } else {
+                    writeln!(out, "f {a} {b} {c}")?;
+                }
+            }
+            first += s.len() as u64;
         }
-        first += s.len() as u64;
     }
     Ok(())
 }

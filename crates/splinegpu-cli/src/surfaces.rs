@@ -3,6 +3,9 @@
 //! The JSON walk (duplicate keys, the document's keys) is `document`'s; this is what the
 //! surface objects' values mean.
 
+use std::borrow::Cow;
+use std::ops::Range;
+
 use serde_json::{Map, Value};
 
 use splinegpu::kinds::{KindFields, kind_fields};
@@ -43,33 +46,113 @@ fn surface_fields(name: &str) -> Option<&'static [&'static str]> {
     })
 }
 
-/// A document's surfaces, fitted and planned, with what to evaluate.
+/// Vertices a written document evaluates at a time (whole surfaces, at least one): 1,048,576
+/// as curves' chunks, or `SPLINEGPU_CHUNK_SAMPLES` as for curves. Plans are kept from the job's
+/// checks for its evaluation up to 4 groups' vertices in all (about 256 MiB of plans); the
+/// others are made again when their group is evaluated, so that memory stays bounded however
+/// many surfaces a document holds.
+fn group_vertices() -> usize {
+    std::env::var("SPLINEGPU_CHUNK_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1 << 20)
+}
+
+/// A document's surfaces, fitted and checked, with what to evaluate.
 #[derive(Debug)]
 pub struct SurfaceJob {
-    /// Each surface's patches and its plan, in document order.
-    pub surfaces: Vec<(PatchTable, SurfacePlan)>,
+    /// Each surface, in document order.
+    pub surfaces: Vec<JobSurface>,
     /// The derivatives asked for.
     pub derivatives: Derivatives,
     /// Whether unit normals are asked for (every surface is then 3-D).
     pub normals: bool,
 }
 
+/// One surface of a job: its patches, its sampling, and its plan's sizes.
+#[derive(Debug)]
+pub struct JobSurface {
+    /// The fitted patches.
+    pub table: PatchTable,
+    /// How it is sampled.
+    pub sampling: SurfaceSampling,
+    /// Its vertices.
+    pub vertices: usize,
+    /// Its triangles; `None` for explicit (u, v).
+    pub triangles: Option<usize>,
+    /// Its plan, when kept (see [`group_vertices`]).
+    plan: Option<SurfacePlan>,
+}
+
+impl JobSurface {
+    /// Checks `sampling` on `table` by planning it.
+    fn new(table: PatchTable, sampling: SurfaceSampling) -> Result<Self, InputError> {
+        let plan = SurfacePlan::new(&table, &sampling)?;
+        Ok(JobSurface {
+            vertices: plan.vertices.len(),
+            triangles: plan.triangles.as_ref().map(Vec::len),
+            plan: Some(plan),
+            table,
+            sampling,
+        })
+    }
+
+    /// The plan: the kept one, or made again.
+    fn plan(&self) -> Cow<'_, SurfacePlan> {
+        match &self.plan {
+            Some(plan) => Cow::Borrowed(plan),
+            None => Cow::Owned(
+                SurfacePlan::new(&self.table, &self.sampling)
+                    .expect("the same plan was made when the job was read"),
+            ),
+        }
+    }
+}
+
 impl SurfaceJob {
-    /// Every surface evaluated on the CPU in f64.
+    /// Consecutive surfaces of at most [`group_vertices`] vertices together (a larger surface
+    /// alone), in order: the units a written document is evaluated in.
     #[must_use]
-    pub fn evaluate_cpu(&self) -> Vec<SurfaceSamples> {
-        self.surfaces
+    pub fn groups(&self) -> Vec<Range<usize>> {
+        let limit = group_vertices();
+        let mut groups = Vec::new();
+        let (mut start, mut vertices) = (0, 0);
+        for (i, surface) in self.surfaces.iter().enumerate() {
+            if i > start && vertices + surface.vertices > limit {
+                groups.push(start..i);
+                (start, vertices) = (i, 0);
+            }
+            vertices += surface.vertices;
+        }
+        groups.push(start..self.surfaces.len());
+        groups
+    }
+
+    /// The surfaces of `range` evaluated on the CPU in f64.
+    #[must_use]
+    pub fn evaluate_cpu(&self, range: Range<usize>) -> Vec<SurfaceSamples> {
+        self.surfaces[range]
             .iter()
-            .map(|(table, plan)| evaluate_surfaces(table, plan, self.derivatives, self.normals))
+            .map(|s| evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals))
             .collect()
     }
 
-    /// Every surface evaluated on the GPU in f32, in one call.
+    /// The surfaces of `range` evaluated on the GPU in f32, in one call.
     ///
     /// # Errors
     /// The GPU's ([`GpuError`]).
-    pub fn evaluate_gpu(&self, gpu: &GpuContext) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        let jobs: Vec<_> = self.surfaces.iter().map(|(t, p)| (t, p)).collect();
+    pub fn evaluate_gpu(
+        &self,
+        gpu: &GpuContext,
+        range: Range<usize>,
+    ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+        let surfaces = &self.surfaces[range];
+        let plans: Vec<_> = surfaces.iter().map(JobSurface::plan).collect();
+        let jobs: Vec<_> = surfaces
+            .iter()
+            .zip(&plans)
+            .map(|(s, p)| (&s.table, p.as_ref()))
+            .collect();
         gpu.evaluate_surfaces(&jobs, self.derivatives, self.normals)
     }
 
@@ -78,7 +161,7 @@ impl SurfaceJob {
     pub fn has_patch_lists(&self) -> bool {
         self.surfaces
             .iter()
-            .any(|(table, _)| table.patch_indices().is_some())
+            .any(|s| s.table.patch_indices().is_some())
     }
 }
 
@@ -109,6 +192,7 @@ pub(crate) fn surface_job(
         derivatives,
         normals,
     };
+    let (keep, mut kept) = (group_vertices().saturating_mul(4), 0);
     for (i, read) in surfaces.into_iter().enumerate() {
         let place = |e: InputError| e.in_surface(i);
         let surface = build_surface(&read.fields, &read.keys).map_err(place)?;
@@ -127,8 +211,13 @@ pub(crate) fn surface_job(
                 surface_sampling(entries, table.patch_indices().is_some()).map_err(place)?
             }
         };
-        let plan = SurfacePlan::new(&table, &sampling).map_err(place)?;
-        job.surfaces.push((table, plan));
+        let mut surface = JobSurface::new(table, sampling).map_err(place)?;
+        if kept + surface.vertices <= keep {
+            kept += surface.vertices;
+        } else {
+            surface.plan = None;
+        }
+        job.surfaces.push(surface);
     }
     Ok(job)
 }

@@ -74,7 +74,7 @@ fn chunks_in_order_give_every_sample_once() {
 }
 
 /// The arrays of an NPZ file: name -> (descr, shape, data bytes), CRCs checked.
-fn read_npz(bytes: &[u8]) -> HashMap<String, (String, Vec<usize>, Vec<u8>)> {
+pub(crate) fn read_npz(bytes: &[u8]) -> HashMap<String, (String, Vec<usize>, Vec<u8>)> {
     let u16_at = |i: usize| u16::from_le_bytes(bytes[i..i + 2].try_into().unwrap()) as usize;
     let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap());
     let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap()) as usize;

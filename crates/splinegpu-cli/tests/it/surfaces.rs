@@ -111,6 +111,73 @@ fn json_output_parses_back_to_the_library_values() {
     assert_eq!(surfaces[2]["uv"][1], serde_json::json!([0.5, 1.25]));
 }
 
+/// NPZ is written group by group (SPLINEGPU_CHUNK_SAMPLES=20: the torus alone, its plan made
+/// again; then the other two), byte for byte as in one group, with the library's values, the
+/// triangles indexing the whole vertex array, the offsets and the patch column.
+#[test]
+fn npz_streams_in_groups_with_the_library_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("surfaces.json");
+    std::fs::write(&input, document()).unwrap();
+    let write = |name: &str, envs: &[(&str, &str)]| {
+        let out = dir.path().join(name);
+        let args = [
+            "tessellate",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        let run = crate::support::run_cli(&[&args[..], &["--backend", "cpu"]].concat(), envs, "");
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        std::fs::read(out).unwrap()
+    };
+    let whole = write("whole.npz", &[]);
+    let grouped = write("grouped.npz", &[("SPLINEGPU_CHUNK_SAMPLES", "20")]);
+    assert!(
+        whole == grouped,
+        "the grouped NPZ differs from the whole one"
+    );
+    let arrays = crate::stream::read_npz(&grouped);
+    let f64s = |name: &str| -> Vec<f64> { bytemuck::pod_collect_to_vec(&arrays[name].2) };
+    let i64s = |name: &str| -> Vec<i64> { bytemuck::pod_collect_to_vec(&arrays[name].2) };
+    assert_eq!(arrays["uv"].1, [192, 2]);
+    assert_eq!(arrays["points"].0, "<f8");
+    assert_eq!(arrays["normals"].1, [192, 3]);
+    assert_eq!(i64s("surface_offsets"), [0, 180, 189, 192]);
+    assert_eq!(i64s("triangle_offsets"), [0, 360, 368, 368]);
+    let net = ring_net();
+    let coords: Vec<f64> = net.iter().flatten().flatten().copied().collect();
+    let kind = SurfaceKind::Uniform {
+        basis: splinegpu::Basis::BSpline,
+        ends: [splinegpu::Ends::Closed; 2],
+    };
+    let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
+        .unwrap()
+        .fit();
+    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
+    let want = evaluate_surfaces(&table, &plan, Derivatives::Second, true);
+    assert_eq!(f64s("points")[..540], want.points);
+    assert_eq!(f64s("dvv")[..540], *want.dvv.as_ref().unwrap());
+    let triangles = i64s("triangles");
+    assert_eq!(triangles.len(), 368 * 3);
+    let first: Vec<i64> = want
+        .triangles
+        .unwrap()
+        .iter()
+        .flatten()
+        .map(|&i| i64::from(i))
+        .collect();
+    assert_eq!(triangles[..1080], first);
+    assert!(triangles[1080..].iter().all(|&i| (180..189).contains(&i)));
+    let patch = i64s("patch");
+    assert!(patch[..180].iter().chain(&patch[189..]).all(|&p| p == -1));
+    assert!(patch[180..189].iter().all(|&p| p == 0));
+}
+
 #[test]
 fn csv_has_the_contracts_header_and_one_row_per_vertex() {
     let dir = tempfile::tempdir().unwrap();
