@@ -9,6 +9,7 @@
 //! compiled on first use, so that curve-only callers never pay for it.
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 use crate::error::GpuError;
 use crate::job::Derivatives;
@@ -139,47 +140,70 @@ pub(crate) struct PackedPatches {
 
 impl PackedPatches {
     /// Packs every table's patches (see the module docs); the normal nets only when `normals`
-    /// are asked for.
+    /// are asked for. Tables are packed on every thread, then laid end to end.
     pub(crate) fn new(tables: &[&PatchTable], normals: bool) -> Self {
+        let parts: Vec<Self> = tables
+            .par_iter()
+            .map(|table| Self::of_table(table, normals))
+            .collect();
         let mut packed = Self::default();
-        for table in tables {
+        packed
+            .patches
+            .reserve(parts.iter().map(|p| p.patches.len()).sum());
+        packed
+            .coeffs
+            .reserve(parts.iter().map(|p| p.coeffs.len()).sum());
+        for part in parts {
+            let base = packed.coeffs.len() as u32;
             packed.first_patch.push(packed.patches.len() as u32);
-            let dim = table.dim();
-            for p in 0..table.len() {
-                let patch = table.patch(p);
-                let [lu, lv] = patch.length();
-                let rational = patch.denominator();
-                packed.patches.push(GpuPatch {
-                    coeff_offset: packed.coeffs.len() as u32,
-                    dim: dim as u32,
-                    rational: u32::from(rational.is_some()),
-                    inv_du: (1.0 / lu) as f32,
-                    inv_dv: (1.0 / lv) as f32,
-                    ..GpuPatch::default()
-                });
-                for ab in 1..16 {
-                    packed
-                        .coeffs
-                        .extend(patch.coefficient(ab / 4, ab % 4).iter().map(|&x| x as f32));
-                }
-                let origin = patch.coefficient(0, 0);
-                let hi: Vec<f32> = origin.iter().map(|&x| x as f32).collect();
-                packed.coeffs.extend(&hi);
-                packed.coeffs.extend(
-                    origin
-                        .iter()
-                        .zip(&hi)
-                        .map(|(&x, &h)| (x - f64::from(h)) as f32),
-                );
-                if let Some(w) = rational {
-                    packed.coeffs.extend(w.iter().map(|&x| x as f32));
-                }
-                if normals {
-                    let nets = normal_nets(&patch);
-                    let record = packed.patches.last_mut().expect("pushed above");
-                    record.normal_offset = packed.coeffs.len() as u32;
-                    packed.coeffs.extend(nets.iter().map(|&x| x as f32));
-                }
+            packed.patches.extend(part.patches.iter().map(|p| GpuPatch {
+                coeff_offset: p.coeff_offset + base,
+                normal_offset: if normals { p.normal_offset + base } else { 0 },
+                ..*p
+            }));
+            packed.coeffs.extend_from_slice(&part.coeffs);
+        }
+        packed
+    }
+
+    /// One table's patches, their offsets from its own first float.
+    fn of_table(table: &PatchTable, normals: bool) -> Self {
+        let mut packed = Self::default();
+        let dim = table.dim();
+        for p in 0..table.len() {
+            let patch = table.patch(p);
+            let [lu, lv] = patch.length();
+            let rational = patch.denominator();
+            packed.patches.push(GpuPatch {
+                coeff_offset: packed.coeffs.len() as u32,
+                dim: dim as u32,
+                rational: u32::from(rational.is_some()),
+                inv_du: (1.0 / lu) as f32,
+                inv_dv: (1.0 / lv) as f32,
+                ..GpuPatch::default()
+            });
+            for ab in 1..16 {
+                packed
+                    .coeffs
+                    .extend(patch.coefficient(ab / 4, ab % 4).iter().map(|&x| x as f32));
+            }
+            let origin = patch.coefficient(0, 0);
+            let hi: Vec<f32> = origin.iter().map(|&x| x as f32).collect();
+            packed.coeffs.extend(&hi);
+            packed.coeffs.extend(
+                origin
+                    .iter()
+                    .zip(&hi)
+                    .map(|(&x, &h)| (x - f64::from(h)) as f32),
+            );
+            if let Some(w) = rational {
+                packed.coeffs.extend(w.iter().map(|&x| x as f32));
+            }
+            if normals {
+                let nets = normal_nets(&patch);
+                let record = packed.patches.last_mut().expect("pushed above");
+                record.normal_offset = packed.coeffs.len() as u32;
+                packed.coeffs.extend(nets.iter().map(|&x| x as f32));
             }
         }
         packed
@@ -388,27 +412,33 @@ impl GpuContext {
             derivatives,
             normals,
             budget,
-            |packed, vertices, floats| {
-                let (values, took) =
-                    self.dispatch_surfaces(packed, vertices, floats, derivatives, normals, timed)?;
-                *seconds += took;
-                Ok(values)
+            &mut |packed, vertices, floats, consume| {
+                *seconds += self.dispatch_surfaces(
+                    packed,
+                    vertices,
+                    (floats, consume),
+                    derivatives,
+                    normals,
+                    timed,
+                )?;
+                Ok(())
             },
         )
     }
 
-    /// One dispatch of `vertices` (`floats` values per plane), read back whole; when `timed`,
-    /// with the seconds it ran on the device (timestamps around its pass where the device has
-    /// them, else from its submission to the end of its read-back), else 0.
+    /// One dispatch of `vertices` (`floats` values per plane), its planes handed to `consume`
+    /// from the mapped read-back buffer; when `timed`, the seconds it ran on the device
+    /// (timestamps around its pass where the device has them, else from its submission to the
+    /// end of its read-back), else 0.
     fn dispatch_surfaces(
         &self,
         packed: &PackedPatches,
         vertices: &[GpuVertex],
-        floats: usize,
+        (floats, consume): (usize, Consume<'_>),
         derivatives: Derivatives,
         normals: bool,
         timed: bool,
-    ) -> Result<(Vec<f32>, f64), GpuError> {
+    ) -> Result<f64, GpuError> {
         let planes = plane_count(derivatives, normals);
         use wgpu::util::DeviceExt;
         let device = &self.device;
@@ -491,108 +521,92 @@ impl GpuContext {
         }
         let submitted = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
-        let values = super::readback::map_read(device, &download, |bytes| {
-            bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats].to_vec()
+        super::readback::map_read(device, &download, |bytes| {
+            consume(&bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats]);
         })?;
-        let seconds = match (&stamps, timed) {
+        Ok(match (&stamps, timed) {
             (Some(stamps), _) => stamps.read(device, self.queue.get_timestamp_period())?,
             (None, true) => submitted.elapsed().as_secs_f64(),
             (None, false) => 0.0,
-        };
-        Ok((values, seconds))
+        })
     }
 }
 
+/// Takes a dispatch's planes.
+pub(crate) type Consume<'a> = &'a mut dyn FnMut(&[f32]);
+
+/// Runs one dispatch: its packed patches, its vertices and the floats of each plane, then
+/// hands its planes (`floats` apart) to the last argument.
+pub(crate) type Dispatch<'a> = dyn FnMut(&PackedPatches, &[GpuVertex], usize, &mut dyn FnMut(&[f32])) -> Result<(), GpuError>
+    + 'a;
+
 /// Packs `surfaces` (whose patches fit one binding), runs their vertices through `dispatch`
-/// in dispatches of at most `budget` floats per plane (`dispatch` returns each dispatch's
-/// planes, `floats` apart), and splits the planes per surface.
+/// in dispatches of at most `budget` floats per plane, and copies each dispatch's planes
+/// straight into the surfaces' samples (made by [`SurfaceSamples::for_plan`]).
 pub(crate) fn evaluate_group_with(
     surfaces: &[(&PatchTable, &SurfacePlan)],
     derivatives: Derivatives,
     normals: bool,
     budget: usize,
-    mut dispatch: impl FnMut(&PackedPatches, &[GpuVertex], usize) -> Result<Vec<f32>, GpuError>,
+    dispatch: &mut Dispatch<'_>,
 ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
     let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
     let packed = PackedPatches::new(&tables, normals);
-    let planes = plane_count(derivatives, normals);
-    // Every vertex of every surface, in order, with its surface's dimension.
-    let mut all: Vec<(u32, f32, f32, usize)> = Vec::new();
-    for (s, (table, plan)) in surfaces.iter().enumerate() {
-        let first = packed.first_patch[s];
-        all.extend(plan.vertices.iter().map(|v| {
-            (
-                first + v.patch,
-                v.local[0] as f32,
-                v.local[1] as f32,
-                table.dim(),
-            )
-        }));
-    }
+    let mut out: Vec<SurfaceSamples<f32>> = surfaces
+        .iter()
+        .map(|(table, plan)| SurfaceSamples::for_plan(table, plan, derivatives, normals))
+        .collect();
+    // A dispatch's vertices and the runs of them it holds: (surface, first vertex, count).
     let mut chunk: Vec<GpuVertex> = Vec::new();
-    let mut results: Vec<Vec<f32>> = vec![Vec::new(); planes];
-    let mut flush = |chunk: &mut Vec<GpuVertex>, floats: usize| -> Result<(), GpuError> {
+    let mut pieces: Vec<(usize, usize, usize)> = Vec::new();
+    let mut flush = |chunk: &mut Vec<GpuVertex>,
+                     pieces: &mut Vec<(usize, usize, usize)>,
+                     floats: usize,
+                     out: &mut [SurfaceSamples<f32>]|
+     -> Result<(), GpuError> {
         if chunk.is_empty() {
             return Ok(());
         }
-        let out = dispatch(&packed, chunk, floats)?;
-        for (p, plane) in results.iter_mut().enumerate() {
-            plane.extend_from_slice(&out[p * floats..p * floats + floats]);
-        }
+        dispatch(&packed, chunk, floats, &mut |values| {
+            let mut at = 0;
+            for &(s, first, count) in pieces.iter() {
+                let samples = &mut out[s];
+                // Every plane holds `dim` floats a vertex (normals are asked of 3-D only).
+                let width = count * samples.dim;
+                let target = first * samples.dim..first * samples.dim + width;
+                for (p, plane) in samples.value_planes().into_iter().enumerate() {
+                    let from = p * floats + at;
+                    plane[target.clone()].copy_from_slice(&values[from..from + width]);
+                }
+                at += width;
+            }
+        })?;
         chunk.clear();
+        pieces.clear();
         Ok(())
     };
     let mut floats = 0usize;
-    for &(patch, u, v, dim) in &all {
-        if floats + dim > budget {
-            flush(&mut chunk, floats)?;
-            floats = 0;
+    for (s, (table, plan)) in surfaces.iter().enumerate() {
+        let (dim, first_patch) = (table.dim(), packed.first_patch[s]);
+        for (i, vertex) in plan.vertices.iter().enumerate() {
+            if floats + dim > budget {
+                flush(&mut chunk, &mut pieces, floats, &mut out)?;
+                floats = 0;
+            }
+            match pieces.last_mut() {
+                Some((piece, first, count)) if *piece == s && *first + *count == i => *count += 1,
+                _ => pieces.push((s, i, 1)),
+            }
+            chunk.push(GpuVertex {
+                patch_index: first_patch + vertex.patch,
+                out: floats as u32,
+                u: vertex.local[0] as f32,
+                v: vertex.local[1] as f32,
+            });
+            floats += dim;
         }
-        chunk.push(GpuVertex {
-            patch_index: patch,
-            out: floats as u32,
-            u,
-            v,
-        });
-        floats += dim;
     }
-    flush(&mut chunk, floats)?;
-    // Split the planes per surface: every plane holds `dim` floats per vertex (normals are
-    // asked of 3-D surfaces only).
-    let mut out = Vec::with_capacity(surfaces.len());
-    let mut at = 0usize;
-    for (table, plan) in surfaces {
-        let dim = table.dim();
-        let n = plan.vertices.len();
-        let take = |p: usize| results[p][at..at + n * dim].to_vec();
-        let mut next = 1;
-        let mut plane = |asked: bool| {
-            asked.then(|| {
-                next += 1;
-                take(next - 1)
-            })
-        };
-        let (first, second) = (derivatives.order() >= 1, derivatives.order() >= 2);
-        let (du, dv) = (plane(first), plane(first));
-        let (duu, duv, dvv) = (plane(second), plane(second), plane(second));
-        let normal_plane = plane(normals);
-        out.push(SurfaceSamples {
-            dim,
-            uv: plan.vertices.iter().map(|v| v.uv).collect(),
-            patch: table
-                .patch_indices()
-                .map(|_| plan.vertices.iter().map(|v| v.patch).collect()),
-            points: take(0),
-            du,
-            dv,
-            duu,
-            duv,
-            dvv,
-            normals: normal_plane,
-            triangles: plan.triangles.clone(),
-        });
-        at += n * dim;
-    }
+    flush(&mut chunk, &mut pieces, floats, &mut out)?;
     Ok(out)
 }
 

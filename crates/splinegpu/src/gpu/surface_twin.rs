@@ -27,7 +27,7 @@ pub(crate) fn evaluate_surfaces_twin(
         derivatives,
         normals,
         budget,
-        |packed, vertices, floats| {
+        &mut |packed, vertices, floats, consume| {
             let params = SurfaceParams {
                 vertex_count: vertices.len() as u32,
                 row_width: (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE) * SURFACE_WG_SIZE,
@@ -46,7 +46,8 @@ pub(crate) fn evaluate_surfaces_twin(
             for i in 0..params.row_width {
                 kernel.main(i, &mut out);
             }
-            Ok(out)
+            consume(&out);
+            Ok(())
         },
     )
 }

@@ -93,6 +93,24 @@ impl<F: SampleFloat> SurfaceSamples<F> {
         }
     }
 
+    /// The planes present, in the GPU kernel's order: positions, du, dv, duu, duv, dvv,
+    /// normals.
+    pub(crate) fn value_planes(&mut self) -> Vec<&mut [F]> {
+        [
+            Some(&mut self.points),
+            self.du.as_mut(),
+            self.dv.as_mut(),
+            self.duu.as_mut(),
+            self.duv.as_mut(),
+            self.dvv.as_mut(),
+            self.normals.as_mut(),
+        ]
+        .into_iter()
+        .flatten()
+        .map(Vec::as_mut_slice)
+        .collect()
+    }
+
     /// The value planes this holds, for [`evaluate_surfaces_into`].
     pub fn planes_mut(&mut self) -> SurfacePlanes<'_, F> {
         SurfacePlanes {
