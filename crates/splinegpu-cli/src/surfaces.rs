@@ -80,7 +80,7 @@ pub struct JobSurface {
     pub vertices: usize,
     /// Its triangles; `None` for explicit (u, v).
     pub triangles: Option<usize>,
-    /// Its plan, when kept (see [`group_vertices`]).
+    /// Its plan, when kept (see `group_vertices`).
     plan: Option<SurfacePlan>,
 }
 
@@ -110,8 +110,9 @@ impl JobSurface {
 }
 
 impl SurfaceJob {
-    /// Consecutive surfaces of at most [`group_vertices`] vertices together (a larger surface
-    /// alone), in order: the units a written document is evaluated in.
+    /// Consecutive surfaces of at most 2^20 vertices together (`SPLINEGPU_CHUNK_SAMPLES`, as
+    /// for curves; a larger surface alone), in order: the units a written document is evaluated
+    /// in.
     #[must_use]
     pub fn groups(&self) -> Vec<Range<usize>> {
         let limit = group_vertices();
