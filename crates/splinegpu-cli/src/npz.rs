@@ -5,7 +5,7 @@
 //! CRC-32 follows the data in a data descriptor (general-purpose flag bit 3). Every entry and
 //! the end of the archive carry zip64 records, so arrays and archives past 4 GiB are fine.
 
-use std::io::{self, Write};
+use std::io::{self, Read, Seek, Write};
 
 /// The `.npy` element types written here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -171,6 +171,31 @@ impl<W: Write> NpzWriter<W> {
         self.raw(&descriptor)?;
         self.entries.push(entry);
         Ok(())
+    }
+
+    /// One whole array whose data waited in `file` (written through a buffer, from its start).
+    ///
+    /// # Errors
+    /// Any I/O error; a file that does not hold the array's bytes.
+    pub fn array_from(
+        &mut self,
+        name: &str,
+        dtype: Dtype,
+        shape: &[u64],
+        file: io::BufWriter<std::fs::File>,
+    ) -> io::Result<()> {
+        let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
+        file.rewind()?;
+        self.begin(name, dtype, shape)?;
+        let mut block = vec![0u8; 1 << 20];
+        loop {
+            let got = file.read(&mut block)?;
+            if got == 0 {
+                break;
+            }
+            self.write(&block[..got])?;
+        }
+        self.end()
     }
 
     /// Writes the central directory and the zip64 end records, and returns the output.

@@ -8,7 +8,7 @@
 //! and writes each curve's t, then its points, then each derivative; a curve longer than a
 //! chunk is evaluated chunk by chunk once per plane.
 
-use std::io::{self, Read, Seek, Write};
+use std::io::{self, Write};
 
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::{self, OutputError};
@@ -302,18 +302,7 @@ fn write_npz<F: SampleFloat>(
     }
     npz.end()?;
     for ((name, dtype, shape), file) in later_arrays.into_iter().zip(later) {
-        let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.rewind()?;
-        npz.begin(name, dtype, &shape)?;
-        let mut block = vec![0u8; 1 << 20];
-        loop {
-            let got = file.read(&mut block)?;
-            if got == 0 {
-                break;
-            }
-            npz.write(&block[..got])?;
-        }
-        npz.end()?;
+        npz.array_from(name, dtype, &shape, file)?;
     }
     npz.begin("curve_offsets", Dtype::I64, &[job.len() as u64 + 1])?;
     let offsets: Vec<i64> = std::iter::once(0)

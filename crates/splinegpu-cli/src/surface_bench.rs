@@ -10,8 +10,8 @@ use std::hint::black_box;
 
 use rayon::prelude::*;
 use splinegpu::surface::{
-    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling, evaluate_surfaces,
-    evaluate_surfaces_into,
+    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
+    evaluate_surfaces, evaluate_surfaces_into,
 };
 use splinegpu::{Basis, Derivatives, Ends, GpuContext, GpuError, SampleFloat};
 
@@ -136,21 +136,13 @@ pub(crate) fn run(
         .iter()
         .map(|t| SurfacePlan::new(t, &sampling).expect("a plan"))
         .collect();
-    let mut f32_out: Vec<SurfaceSamples<f32>> = tables
-        .iter()
-        .zip(&plans)
-        .map(|(t, p)| SurfaceSamples::for_plan(t, p, Derivatives::None, true))
-        .collect();
+    let mut f32_out: Vec<SurfaceSamples<f32>> = memory(&tables, &plans);
     report(&measure(
         "cpu-all",
         time(|| reused(&surfaces, &sampling, &mut f32_out)),
         4,
     ));
-    let mut f64_out: Vec<SurfaceSamples> = tables
-        .iter()
-        .zip(&plans)
-        .map(|(t, p)| SurfaceSamples::for_plan(t, p, Derivatives::None, true))
-        .collect();
+    let mut f64_out: Vec<SurfaceSamples> = memory(&tables, &plans);
     report(&measure(
         "cpu-all",
         time(|| reused(&surfaces, &sampling, &mut f64_out)),
@@ -228,6 +220,15 @@ pub(crate) fn run(
         ));
     }
     Ok(())
+}
+
+/// Samples for every surface's plan, positions and normals, in `F`.
+fn memory<F: SampleFloat>(tables: &[PatchTable], plans: &[SurfacePlan]) -> Vec<SurfaceSamples<F>> {
+    tables
+        .iter()
+        .zip(plans)
+        .map(|(t, p)| SurfaceSamples::for_plan(t, p, Derivatives::None, true))
+        .collect()
 }
 
 /// Fits, plans and evaluates every surface into `out`, memory of an earlier call.

@@ -4,7 +4,7 @@
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
-use std::io::{self, Read, Seek, Write};
+use std::io::{self, Write};
 use std::ops::Range;
 
 use gltf::json;
@@ -369,18 +369,7 @@ fn write_npz<F: Number>(
     let mut waiting = waiting.into_iter();
     let mut copy = |npz: &mut NpzWriter<&mut dyn Write>, name, dtype, shape: &[u64]| {
         let file = waiting.next().expect("one file per waiting array");
-        let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.rewind()?;
-        npz.begin(name, dtype, shape)?;
-        let mut block = vec![0u8; 1 << 20];
-        loop {
-            let got = file.read(&mut block)?;
-            if got == 0 {
-                break;
-            }
-            npz.write(&block[..got])?;
-        }
-        npz.end()
+        npz.array_from(name, dtype, shape, file)
     };
     for name in &names {
         let width = if *name == "normals" { 3 } else { dim };

@@ -52,6 +52,20 @@ fn ring_net() -> Vec<Vec<[f64; 3]>> {
 const PATCH_POINTS: &str = "[[0,0,0],[1,0,0],[2,0,0],[3,0,1],[0,1,0],[1,1,1],[2,1,1],[3,1,0],\
 [0,2,0],[1,2,1],[2,2,1],[3,2,0],[0,3,1],[1,3,0],[2,3,0],[3,3,0]]";
 
+/// The document's first surface (the closed ring at per_segment [3, 2]) through the library.
+fn ring_samples() -> splinegpu::surface::SurfaceSamples {
+    let coords: Vec<f64> = ring_net().iter().flatten().flatten().copied().collect();
+    let kind = SurfaceKind::Uniform {
+        basis: splinegpu::Basis::BSpline,
+        ends: [splinegpu::Ends::Closed; 2],
+    };
+    let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
+        .unwrap()
+        .fit();
+    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
+    evaluate_surfaces(&table, &plan, Derivatives::Second, true)
+}
+
 fn document() -> String {
     let net = serde_json::to_string(&ring_net()).unwrap();
     format!(
@@ -80,17 +94,7 @@ fn json_output_parses_back_to_the_library_values() {
     let surfaces = out["surfaces"].as_array().unwrap();
     assert_eq!(surfaces.len(), 3);
     // The closed torus: 18 x 10 vertices, two triangles per cell, no "patch".
-    let net = ring_net();
-    let coords: Vec<f64> = net.iter().flatten().flatten().copied().collect();
-    let kind = SurfaceKind::Uniform {
-        basis: splinegpu::Basis::BSpline,
-        ends: [splinegpu::Ends::Closed; 2],
-    };
-    let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
-        .unwrap()
-        .fit();
-    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
-    let want = evaluate_surfaces(&table, &plan, Derivatives::Second, true);
+    let want = ring_samples();
     let got = &surfaces[0];
     let flat = |key: &str| -> Vec<f64> {
         got[key]
@@ -149,17 +153,7 @@ fn npz_streams_in_groups_with_the_library_values() {
     assert_eq!(arrays["normals"].1, [192, 3]);
     assert_eq!(i64s("surface_offsets"), [0, 180, 189, 192]);
     assert_eq!(i64s("triangle_offsets"), [0, 360, 368, 368]);
-    let net = ring_net();
-    let coords: Vec<f64> = net.iter().flatten().flatten().copied().collect();
-    let kind = SurfaceKind::Uniform {
-        basis: splinegpu::Basis::BSpline,
-        ends: [splinegpu::Ends::Closed; 2],
-    };
-    let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
-        .unwrap()
-        .fit();
-    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
-    let want = evaluate_surfaces(&table, &plan, Derivatives::Second, true);
+    let want = ring_samples();
     assert_eq!(f64s("points")[..540], want.points);
     assert_eq!(f64s("dvv")[..540], *want.dvv.as_ref().unwrap());
     let triangles = i64s("triangles");
