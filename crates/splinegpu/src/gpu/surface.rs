@@ -38,6 +38,27 @@ pub(crate) struct SurfaceParams {
     pub _padding: [u32; 3],
 }
 
+impl SurfaceParams {
+    /// A dispatch of `vertices` vertices in rows of `row_width` invocations, `floats` floats a
+    /// plane, derivatives of `order` (0, 1 or 2), normals when `normals`.
+    pub(crate) fn new(
+        vertices: usize,
+        row_width: u32,
+        floats: usize,
+        order: usize,
+        normals: bool,
+    ) -> Self {
+        SurfaceParams {
+            vertex_count: vertices as u32,
+            row_width,
+            plane_stride: floats as u32,
+            derivatives: order as u32,
+            normals: u32::from(normals),
+            _padding: [0; 3],
+        }
+    }
+}
+
 /// One patch. WGSL twin: `GpuPatch`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
@@ -445,14 +466,13 @@ impl GpuContext {
         let pipeline = self.surface_pipeline();
         let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE);
         let across = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
-        let params = SurfaceParams {
-            vertex_count: vertices.len() as u32,
-            row_width: across * SURFACE_WG_SIZE,
-            plane_stride: floats as u32,
-            derivatives: derivatives.order() as u32,
-            normals: u32::from(normals),
-            _padding: [0; 3],
-        };
+        let params = SurfaceParams::new(
+            vertices.len(),
+            across * SURFACE_WG_SIZE,
+            floats,
+            derivatives.order(),
+            normals,
+        );
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),

@@ -108,14 +108,8 @@ impl GpuContext {
         }
         let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE).max(1);
         let across = groups.min(limits.max_compute_workgroups_per_dimension);
-        let params = SurfaceParams {
-            vertex_count: vertices.len() as u32,
-            row_width: across * SURFACE_WG_SIZE,
-            plane_stride: floats as u32,
-            derivatives: 0,
-            normals: u32::from(normals),
-            _padding: [0; 3],
-        };
+        let params =
+            SurfaceParams::new(vertices.len(), across * SURFACE_WG_SIZE, floats, 0, normals);
         let init = |label: &str, contents: &[u8], usage| {
             self.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {

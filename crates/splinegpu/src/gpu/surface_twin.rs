@@ -28,14 +28,14 @@ pub(crate) fn evaluate_surfaces_twin(
         normals,
         budget,
         &mut |packed, vertices, floats, consume| {
-            let params = SurfaceParams {
-                vertex_count: vertices.len() as u32,
-                row_width: (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE) * SURFACE_WG_SIZE,
-                plane_stride: floats as u32,
-                derivatives: derivatives.order() as u32,
-                normals: u32::from(normals),
-                _padding: [0; 3],
-            };
+            let row_width = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE) * SURFACE_WG_SIZE;
+            let params = SurfaceParams::new(
+                vertices.len(),
+                row_width,
+                floats,
+                derivatives.order(),
+                normals,
+            );
             let kernel = Kernel {
                 params,
                 patches: &packed.patches,
