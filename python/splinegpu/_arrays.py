@@ -39,8 +39,9 @@ def _axis(value, ndim: int, of: str) -> int:
     normalised."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (
             -ndim <= value < ndim):
-        raise ValueError(f"axis: must be an integer from {-ndim} to {ndim - 1} for a "
-                         f"{ndim}-D {of}, got {value!r}")
+        # NumPy's AxisError, a ValueError (and an IndexError), as SciPy raises.
+        raise np.exceptions.AxisError(f"axis: must be an integer from {-ndim} to {ndim - 1} "
+                                      f"for a {ndim}-D {of}, got {value!r}")
     return int(value) % ndim
 
 

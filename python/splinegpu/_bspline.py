@@ -212,3 +212,82 @@ def cubic_coefficients(t: np.ndarray, breaks: np.ndarray, coeff: np.ndarray,
     cubic, square, linear, constant = coeff[0, p], coeff[1, p], coeff[2, p], coeff[3, p]
     return (constant + linear * (v1 + v2 + v3) / 3 + square * (v1 * v2 + v1 * v3 + v2 * v3) / 3
             + cubic * (v1 * v2 * v3))
+
+
+def intervals(t: np.ndarray, k: int, x: np.ndarray) -> np.ndarray:
+    """For each x, its knot span: the l with t_l <= x < t_{l+1} among k <= l <= n - 1
+    (n = len(t) - k - 1), the first below t_k and the last at and above t_n, as SciPy's
+    evaluation picks it."""
+    n = len(t) - k - 1
+    return np.clip(np.searchsorted(t, x, side="right") - 1, k, n - 1)
+
+
+def basis(t: np.ndarray, k: int, x: np.ndarray, span: np.ndarray, nu: int = 0) -> np.ndarray:
+    """The nu-th derivatives of the k + 1 B-splines B_{l-k,k} .. B_{l,k} that do not vanish
+    on [t_l, t_{l+1}], at each x (l its `span`), as (len(x), k + 1); all x at once.
+
+    Cox-de Boor raises the degree from 0 (B_{l,0} = 1) to k - nu:
+        B_{i,p}(x) = w_{i,p} B_{i,p-1} + (1 - w_{i+1,p}) B_{i+1,p-1},
+        w_{i,p} = (x - t_i) / (t_{i+p} - t_i),
+    and each of the last nu degrees applies the derivative instead,
+        B'_{i,p} = p (B_{i,p-1} / (t_{i+p} - t_i) - B_{i+1,p-1} / (t_{i+p+1} - t_{i+1})),
+    a term over a zero width being zero (its function is zero)."""
+    x = np.asarray(x, dtype=np.float64)
+    values = np.ones((len(x), 1))
+    if nu > k:
+        return np.zeros((len(x), k + 1))
+    for p in range(1, k + 1):
+        # Functions l - p .. l of degree p from l - p + 1 .. l of degree p - 1 (zero outside).
+        i = span[:, None] + np.arange(-p, 1)[None, :]
+        lower = np.concatenate([np.zeros((len(x), 1)), values], axis=1)
+        upper = np.concatenate([values, np.zeros((len(x), 1))], axis=1)
+        left = t[i + p] - t[i]
+        right = t[i + p + 1] - t[i + 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if p <= k - nu:
+                a = np.where(left > 0, (x[:, None] - t[i]) / left, 0.0)
+                b = np.where(right > 0, (t[i + p + 1] - x[:, None]) / right, 0.0)
+                values = a * lower + b * upper
+            else:
+                a = np.where(left > 0, p / left, 0.0)
+                b = np.where(right > 0, p / right, 0.0)
+                values = a * lower - b * upper
+    return values
+
+
+def insert(t: np.ndarray, c: np.ndarray, k: int, x: float, periodic: bool):
+    """Knot x inserted once (Boehm): the knots t with x after t_l (t_l <= x < t_{l+1}, the last
+    interval at x = t_n) and the coefficients, one more, of the same spline,
+        c'_i = c_i (i <= l - k),   c'_i = a_i c_i + (1 - a_i) c_{i-1} (l - k < i <= l),
+        c'_i = c_{i-1} (i > l),    a_i = (x - t_i) / (t_{i+k} - t_i).
+    A periodic spline (FITPACK's rule, so that the result equals its `insert(per=1)`) then
+    repeats its first or last k coefficients and knots one period on, when the new knot lies
+    among the last or the first 2k + 1."""
+    n = len(t)
+    span = int(intervals(t, k, np.array([x]))[0])
+    while span > k and t[span] == t[span + 1]:
+        # x at the base interval's end, already a knot there: the last non-empty interval.
+        span -= 1
+    if not t[span] < t[span + 1]:
+        raise ValueError(f"Cannot insert a knot at {x}.")
+    if periodic and span + 1 <= 2 * k and span + 1 >= n - 2 * k:
+        raise ValueError("Not enough internal knots.")
+    tt = np.concatenate([t[:span + 1], [x], t[span + 1:]])
+    cc = np.concatenate([c, c[-1:]])
+    cc[span + 1:] = c[span:]
+    for i in range(span, span - k, -1):
+        a = (x - tt[i]) / (tt[i + k + 1] - tt[i])
+        cc[i] = a * c[i] + (1 - a) * c[i - 1]
+    if periodic:
+        count = n + 1
+        shift = count - 2 * k - 1
+        period = tt[count - k - 1] - tt[k]
+        if span + 2 > shift:
+            for m in range(k):
+                cc[m] = cc[m + shift]
+                tt[k - 1 - m] = tt[count - k - 2 - m] - period
+        elif span + 2 <= 2 * k + 1:
+            for m in range(k):
+                cc[m + shift] = cc[m]
+                tt[count - k + m] = tt[k + 1 + m] + period
+    return tt, cc

@@ -66,22 +66,27 @@ class PPoly:
         poly.c, poly.x, poly.extrapolate, poly.axis = c, x, extrapolate, axis
         return poly
 
-    def _columns(self) -> np.ndarray:
+    def _column_c(self) -> np.ndarray:
         """c as (k, m, columns)."""
-        return self.c.reshape(self.c.shape[0], self.c.shape[1], -1)
+        return self.c.reshape(self.c.shape[0], self.c.shape[1], int(np.prod(self.c.shape[2:])))
+
+    def _like(self, c: np.ndarray, x: np.ndarray, extrapolate) -> PPoly:
+        """A polynomial made from this one (a derivative, an antiderivative)."""
+        return self._made(c, x, extrapolate, self.axis)
 
     def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
         """Derivative nu (>= 0) at x, shape x.shape + c.shape[2:] (x's axes moved to `axis`);
         NaN at NaN, and outside the breakpoints when extrapolate is False."""
-        if isinstance(nu, bool) or not isinstance(nu, (int, np.integer)) or nu < 0:
+        if not isinstance(nu, (int, np.integer)) or nu < 0:
             raise ValueError(f"nu: must be an integer >= 0, got {nu!r}")
+        nu = int(nu)
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         x = np.asarray(x, dtype=np.float64)
         flat = x.ravel()
         lo, hi = self.x[0], self.x[-1]
         if mode == "periodic":
             flat = lo + np.mod(flat - lo, hi - lo)
-        c = self._columns()
+        c = self._column_c()
         for _ in range(nu):
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
         i = np.clip(np.searchsorted(self.x, flat, side="right") - 1, 0, c.shape[1] - 1)
@@ -109,31 +114,28 @@ class PPoly:
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1).reshape(shape)
         if c.shape[0] == 0:
             c = np.zeros((1, *self.c.shape[1:]), dtype=self.c.dtype)
-        return self._made(c, self.x, self.extrapolate, self.axis)
+        return self._like(c, self.x, self.extrapolate)
 
     def antiderivative(self, nu: int = 1) -> PPoly:
         """The nu-th antiderivative (zero at x[0], continuous with its nu - 1 derivatives) as
-        a PPoly of degree k - 1 + nu; a periodic extrapolation becomes False, as SciPy's."""
+        a PPoly of degree k - 1 + nu; a periodic extrapolation becomes False, as SciPy's.
+        One order at a time, all pieces at once: term m (power p) becomes c_m / (p + 1) of
+        power p + 1, and each piece's new constant is the integral of the pieces before it,
+        sum_m c'_m h^(p+1) over each earlier piece's width h."""
         if nu <= 0:
             return self.derivative(-nu)
-        k = self.c.shape[0]
-        c = np.zeros((k + nu, *self.c.shape[1:]), dtype=self.c.dtype)
-        # Term m (power k - 1 - m) gains nu powers: divided by (p + 1)(p + 2)...(p + nu).
-        powers = np.arange(k - 1, -1, -1)
-        factor = np.ones(k)
-        for j in range(1, nu + 1):
-            factor *= powers + j
-        c[:k] = self.c / factor.reshape((k,) + (1,) * (self.c.ndim - 1))
-        # The new low-order terms of each piece continue the previous piece's values and
-        # derivatives up to nu - 1 at their shared breakpoint (the first piece's are zero).
-        flat = c.reshape(c.shape[0], c.shape[1], -1)
-        for i in range(1, flat.shape[1]):
-            h = self.x[i] - self.x[i - 1]
-            for d in range(nu - 1, -1, -1):
-                value = _derivative_at(flat[:, i - 1], h, d)
-                flat[k + nu - 1 - d, i] = value / _factorial(d)
+        c = self.c
+        h = np.diff(self.x).reshape((-1,) + (1,) * (c.ndim - 2))
+        for _ in range(nu):
+            k = c.shape[0]
+            lifted = c / np.arange(k, 0, -1).reshape((k,) + (1,) * (c.ndim - 1))
+            whole = np.zeros(c.shape[1:], dtype=lifted.dtype)
+            for m in range(k):
+                whole = (whole + lifted[m]) * h
+            start = np.concatenate([np.zeros_like(whole[:1]), np.cumsum(whole[:-1], axis=0)])
+            c = np.concatenate([lifted, start[None]], axis=0)
         extrapolate = False if self.extrapolate == "periodic" else self.extrapolate
-        return self._made(c, self.x, extrapolate, self.axis)
+        return self._like(c, self.x, extrapolate)
 
     def integrate(self, a, b, extrapolate=None) -> np.ndarray:
         """The integral from a to b (b < a: its negative), shape c.shape[2:], as SciPy's:
@@ -142,7 +144,7 @@ class PPoly:
         wrapped); see `_integrals`."""
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         m = self.c.shape[1]
-        total = _integrals(self._columns(), self.x[:-1], self.x[1:], np.array([0, m]),
+        total = _integrals(self._column_c(), self.x[:-1], self.x[1:], np.array([0, m]),
                            np.array([float(a)]), np.array([float(b)]), mode)
         return total[0].reshape(self.c.shape[2:])
 
@@ -158,7 +160,7 @@ class PPoly:
             raise ValueError("Root finding is only for real-valued polynomials")
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         y = float(y)
-        c = self._columns()
+        c = self._column_c()
         found = [_real_roots(c[:, :, j], self.x, y, bool(discontinuity), bool(mode))
                  for j in range(c.shape[2])]
         if self.c.ndim == 2:
@@ -203,27 +205,6 @@ class PPoly:
         merged[k - c.shape[0]:, new] = c
         self.c = merged
         self.x = np.concatenate([self.x, x] if right else [x, self.x])
-
-
-def _factorial(d: int) -> float:
-    out = 1.0
-    for j in range(2, d + 1):
-        out *= j
-    return out
-
-
-def _derivative_at(piece: np.ndarray, s: float, d: int) -> np.ndarray:
-    """Derivative d of one piece's polynomial (coefficients (k, columns), highest power
-    first) at s."""
-    k = piece.shape[0]
-    out = np.zeros(piece.shape[1:], dtype=piece.dtype)
-    for m in range(k - d):
-        p = k - 1 - m
-        factor = 1.0
-        for j in range(d):
-            factor *= p - j
-        out = out * s + piece[m] * factor
-    return out
 
 
 def _candidates(c: np.ndarray, y: float, widths: np.ndarray):

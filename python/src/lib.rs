@@ -16,6 +16,7 @@ use numpy::{
 };
 use std::sync::Arc;
 
+mod banded;
 mod roots;
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
@@ -1491,6 +1492,50 @@ fn solve_pieces(
     Ok(PendingRoots::new(py, source, how))
 }
 
+/// X with A X = B for a banded A given by rows (row i: `rows[i]`'s values from column
+/// `first[i]`) and B (n, m), by elimination with partial pivoting inside the band (see
+/// `banded`); None when A is singular. The B-spline fits of any degree solve their collocation
+/// systems here.
+#[pyfunction]
+fn solve_banded<'py>(
+    py: Python<'py>,
+    first: PyReadonlyArray1<'_, i64>,
+    rows: PyReadonlyArray2<'_, f64>,
+    rhs: PyReadonlyArray2<'_, f64>,
+) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+    let first = first.as_slice()?;
+    let (n, width) = (rows.shape()[0], rows.shape()[1]);
+    let m = rhs.shape()[1];
+    if first.len() != n || rhs.shape()[0] != n {
+        return Err(PyValueError::new_err(format!(
+            "solve_banded: {} first columns and {} right-hand rows for {n} rows",
+            first.len(),
+            rhs.shape()[0]
+        )));
+    }
+    let first: Vec<usize> = first
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| {
+            usize::try_from(f)
+                .ok()
+                .filter(|&f| f + width <= n)
+                .ok_or_else(|| {
+                    PyValueError::new_err(format!(
+                        "solve_banded: row {i} starts at column {f}, outside the {n} columns"
+                    ))
+                })
+        })
+        .collect::<PyResult<_>>()?;
+    let values = rows.as_slice()?.to_vec();
+    let mut x = rhs.as_slice()?.to_vec();
+    let solved = py.detach(|| banded::solve(&first, &values, width, &mut x, m));
+    if !solved {
+        return Ok(None);
+    }
+    Ok(Some(PyArray1::from_vec(py, x).reshape([n, m])?))
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -1501,6 +1546,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_hermite, m)?)?;
     m.add_function(wrap_pyfunction!(fit_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(solve_pieces, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_banded, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
