@@ -291,3 +291,18 @@ def insert(t: np.ndarray, c: np.ndarray, k: int, x: float, periodic: bool):
                 cc[m + shift] = cc[m]
                 tt[count - k + m] = tt[k + 1 + m] + period
     return tt, cc
+
+
+def taylor(t: np.ndarray, c: np.ndarray, k: int, at: np.ndarray) -> np.ndarray:
+    """The spline sum_i c_i B_{i,k} (c of shape (>= n, m)) expanded at each point of `at` in
+    SciPy's power form: (k + 1, len(at), m), row k - d holding f^(d)(a+) / d! from the span of
+    each a (the end spans past the base interval)."""
+    span = intervals(t, k, at)
+    out = np.empty((k + 1, len(at), c.shape[1]), dtype=c.dtype)
+    factorial = 1.0
+    for d in range(k + 1):
+        factorial *= max(d, 1)
+        weights = basis(t, k, at, span, d)
+        values = sum(weights[:, r, None] * c[span - k + r] for r in range(k + 1))
+        out[k - d] = values / factorial
+    return out

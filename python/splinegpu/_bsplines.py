@@ -46,7 +46,7 @@ class BSpline:
 
     def __init__(self, t, c, k: int = 3, extrapolate=True, axis: int = 0,
                  context: Context | None = None):
-        k = _natural("k", k)
+        k = _natural("k", operator.index(k))
         t = np.array(_float64(t, "t"), order="C")
         c = np.asarray(c)
         if c.dtype.kind not in "biufc":

@@ -26,11 +26,12 @@ _F64 = np.dtype(np.float64)
 _END_NAMES = {"natural": "second", "clamped": "first", "not-a-knot": "not-a-knot"}
 
 
-def _bc(bc_type, trailing: tuple, complex_y: bool = False):
+def _bc(bc_type, trailing: tuple, complex_y: bool = False, broadcast: bool = False):
     """SciPy's bc_type as (name, start, end) for the native fit: a name, "clamped" with first
     derivatives at both ends, or "each" with every end on its own: (order name, values) where
-    order name is "first", "second" or "not-a-knot". Derivative values have y's
-    trailing shape, flattened as y is (for a complex y, real parts then imaginary parts)."""
+    order name is "first", "second" or "not-a-knot". Derivative values have y's trailing
+    shape (as SciPy requires; the batches, ours, also `broadcast` them to it), flattened as y
+    is (for a complex y, real parts then imaginary parts)."""
     if isinstance(bc_type, str):
         return bc_type, None, None
     wrong = ("bc_type: must be \"not-a-knot\", \"natural\", \"clamped\", \"periodic\", a "
@@ -43,6 +44,12 @@ def _bc(bc_type, trailing: tuple, complex_y: bool = False):
 
     def flat(v):
         v = np.asarray(v) if complex_y else _float64(v, "bc_type")
+        if broadcast and v.shape != trailing:
+            try:
+                v = np.broadcast_to(v, trailing)
+            except ValueError:
+                raise ValueError(f"bc_type: an end's value of shape {v.shape} does not "
+                                 f"broadcast to the values' other axes {trailing}") from None
         if v.shape != trailing:
             raise ValueError(f"bc_type: an end's value must have y's other axes' shape "
                              f"{trailing}, got {v.shape}")
@@ -64,6 +71,8 @@ def _bc(bc_type, trailing: tuple, complex_y: bool = False):
         return ("first" if order == 1 else "second", flat(value))
 
     start, end_ = end(first), end(last)
+    if start[0] == end_[0] == "not-a-knot":
+        return "not-a-knot", None, None
     if start[0] == end_[0] == "first" and start[1] is not None and end_[1] is not None:
         return "clamped", start, end_
     return "each", start, end_
@@ -169,6 +178,7 @@ class _Piecewise(PPoly):
     axis: int
     extrapolate: bool | str
     context: Context | None
+    _fitted = True
     # The fitted tables (the extension's Splines), the coefficients and `c`, made once.
     _native: Any
     _pieces: np.ndarray | None
@@ -350,7 +360,9 @@ class _Piecewise(PPoly):
         degree <= 3 this class, evaluated through the same context (SciPy's derivative of a
         CubicSpline is a CubicSpline too); above, a `PPoly` in NumPy."""
         if c.shape[0] > 4:
-            return PPoly._made(c, x, extrapolate, self.axis)
+            poly = PPoly._made(c, x, extrapolate, self.axis)
+            poly._fitted = True
+            return poly
         values = c[-1].reshape(c.shape[1], -1)
         if np.iscomplexobj(values):
             values = np.concatenate([values.real, values.imag], axis=1)
@@ -406,11 +418,9 @@ class CubicSpline(_Piecewise):
             y = np.asarray(y).astype(np.complex128)
         x, y2 = self._setup(x, y, axis, extrapolate, context)
         name, start, end = _bc(bc_type, self._trailing, self._complex)
-        per_end = name in ("natural", "clamped") or (
-            name == "each" and "not-a-knot" not in (start[0], end[0]))
-        if per_end and len(x) < 4:
-            # Fewer points than the crate's per-end fit takes: the same cubic (one condition
-            # at each end) through the collocation system, as its pieces.
+        if len(x) < 4 and name in ("natural", "clamped", "each"):
+            # Fewer points than the crate's per-end fit takes: the same cubic through the
+            # collocation system, as its pieces.
             self._native = _few_points(x, y2, name, start, end)
             return
         self._native = _in_blocks(
@@ -430,21 +440,32 @@ def _complex_ends(bc_type) -> bool:
 
 
 def _few_points(x: np.ndarray, y2: np.ndarray, name: str, start, end) -> Any:
-    """The tables of the cubic spline through 2 or 3 points with a first or second derivative
-    given at each end (`_bc`'s form; "natural" and "clamped" as zero)."""
+    """The tables of the cubic spline through 2 or 3 points with its ends (`_bc`'s form;
+    "natural" and "clamped" as zero second or first derivatives), as SciPy fits it: on 2
+    points a not-a-knot end is the line's slope; on 3, a not-a-knot end drops x_1 (or x_{n-2})
+    from the knots, a derivative end adds a condition."""
     m = y2.shape[1]
     orders = {"first": 1, "second": 2}
-    if name != "each":
+    if start is None:
         start = end = ("second" if name == "natural" else "first", None)
-    ends = [[(orders[order], np.zeros(m) if values is None else np.asarray(values))]
-            for order, values in (start, end)]
-    t = _interp.with_ends(x, 3)
+    slope = (y2[-1] - y2[0]) / (x[-1] - x[0])
+    ends, inner = [], list(x[1:-1])
+    for side, (order, values) in enumerate((start, end)):
+        if order == "not-a-knot" and len(x) == 2:
+            order, values = "first", slope
+        if order == "not-a-knot":
+            inner = inner[1:] if side == 0 else inner[:-1]
+            ends.append([])
+        else:
+            ends.append([(orders[order], np.zeros(m) if values is None else
+                          np.asarray(values, dtype=np.float64))])
+    t = np.concatenate([np.repeat(x[:1], 4), inner, np.repeat(x[-1:], 4)])
     c = _interp.coefficients(x, y2, t, 3, *ends)
-    breaks, coeff = _bspline.pieces(t, c, 3)
+    coeff = _bspline.taylor(t, c, 3, x[:-1])
     extent = float(np.max(np.ptp(y2, axis=0))) if y2.size else 0.0
     return _in_blocks(
-        lambda cut: _tables([(breaks, np.ascontiguousarray(coeff[:, :, cut]))], [extent], "c"),
-        m, len(breaks) - 1)
+        lambda cut: _tables([(x, np.ascontiguousarray(coeff[:, :, cut]))], [extent], "c"),
+        m, len(x) - 1)
 
 
 class CubicHermiteSpline(_Piecewise):

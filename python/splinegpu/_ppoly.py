@@ -1,10 +1,10 @@
 """`PPoly`: SciPy's piecewise polynomial in the power basis, any degree, evaluated in NumPy
-(float64 or complex128) on the CPU. The cubic splines of `splinegpu.interpolate` turn into one
-for what SciPy answers through PPoly: antiderivatives (of degree 4 and up), roots and solve.
+(float64 or complex128) on the CPU. The cubic splines of `splinegpu.interpolate` are PPoly
+subclasses that evaluate through a context; what SciPy answers through PPoly (antiderivatives,
+integrals, roots and solve) they answer here.
 
-Piece i on [x_i, x_{i+1}] is sum_m c[m, i] (x - x_i)^(k-1-m), the highest power first, as
-SciPy holds it. Where SciPy's x may also descend, this PPoly's must increase (a ValueError
-names it).
+Piece i between x_i and x_{i+1} is sum_m c[m, i] (x - x_i)^(k-1-m), the highest power first,
+as SciPy holds it; x increases or, as SciPy allows, decreases.
 """
 
 from __future__ import annotations
@@ -27,11 +27,15 @@ def _extrapolate(value):
 
 class PPoly:
     """`scipy.interpolate.PPoly(c, x, extrapolate=None, axis=0)`: c of shape (k, m, ...)
-    (with `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing
-    breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0, `derivative`,
+    (with `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing (or
+    decreasing, as SciPy's) breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0, `derivative`,
     `antiderivative`, `integrate`, `solve`, `roots` and `extend` answer as SciPy's (roots by
     the eigenvalues of each piece's companion matrix, as SciPy finds them, refined by one
     Newton step). Evaluated in NumPy on the CPU."""
+
+    # Whether c comes from the package's own fit (its rounding where SciPy's has exact zeros:
+    # roots take a piece's degree from its terms that are not negligible) rather than given.
+    _fitted = False
 
     def __init__(self, c, x, extrapolate=None, axis: int = 0):
         c = np.asarray(c)
@@ -53,8 +57,9 @@ class PPoly:
         if c.shape[1] != len(x) - 1:
             raise ValueError(f"c: {c.shape[1]} pieces for {len(x)} breakpoints (wants "
                              f"{len(x) - 1})")
-        if not np.all(np.isfinite(x)) or np.any(np.diff(x) <= 0):
-            raise ValueError("x: must be finite and strictly increasing")
+        if not np.all(np.isfinite(x)) or not (np.all(np.diff(x) > 0) or
+                                              np.all(np.diff(x) < 0)):
+            raise ValueError("x: must be finite and strictly increasing or decreasing")
         self.c, self.x = np.ascontiguousarray(c), x
         self.axis = int(axis)
         extrapolate = _extrapolate(extrapolate)
@@ -65,6 +70,56 @@ class PPoly:
         poly = cls.__new__(cls)
         poly.c, poly.x, poly.extrapolate, poly.axis = c, x, extrapolate, axis
         return poly
+
+    @classmethod
+    def construct_fast(cls, c, x, extrapolate=None, axis: int = 0) -> PPoly:
+        """A PPoly of c (k, m, ...) and x taken as they are, without checks, as SciPy's."""
+        return cls._made(c, x, True if extrapolate is None else extrapolate, axis)
+
+    @classmethod
+    def from_spline(cls, tck, extrapolate=None) -> PPoly:
+        """The B-spline `tck` (a BSpline, ours or SciPy's, or a (t, c, k) tuple) as SciPy's
+        PPoly.from_spline makes it: one piece per knot interval (len(t) - 1 of them, empty
+        ones too, breakpoints t), each the spline's Taylor expansion at its start."""
+        from . import _bspline
+
+        if all(hasattr(tck, name) for name in ("t", "c", "k")):
+            t, c, k = tck.t, tck.c, tck.k
+            if extrapolate is None:
+                extrapolate = tck.extrapolate
+        else:
+            t, c, k = tck
+        t = np.asarray(t, dtype=np.float64)
+        c = np.asarray(c)
+        c = c.astype(np.complex128 if c.dtype.kind == "c" else np.float64)
+        trailing = c.shape[1:]
+        columns = _bspline.padded(t, c).reshape(max(len(c), len(t)), -1)
+        coeff = _bspline.taylor(t, columns, k, t[:-1])
+        return cls.construct_fast(coeff.reshape((k + 1, len(t) - 1, *trailing)), t,
+                                  extrapolate)
+
+    @classmethod
+    def from_bernstein_basis(cls, bp, extrapolate=None) -> PPoly:
+        """SciPy's BPoly `bp` in the power basis: on a piece of width h,
+        sum_a b_a C(k, a) u^a (1 - u)^(k - a) with u = s / h has the coefficient
+        sum_{a <= d} b_a C(k, a) C(k - a, d - a) (-1)^(d - a) / h^d of s^d."""
+        if isinstance(bp, PPoly) or type(bp).__name__ != "BPoly":
+            raise TypeError(f".from_bernstein_basis only accepts BPoly instances. Got "
+                            f"{type(bp)} instead.")
+        from math import comb
+
+        b = np.asarray(bp.c)
+        x = np.asarray(bp.x, dtype=np.float64)
+        k = b.shape[0] - 1
+        h = np.diff(x).reshape((-1,) + (1,) * (b.ndim - 2))
+        c = np.zeros_like(b, dtype=np.result_type(b, np.float64))
+        for d in range(k + 1):
+            for a in range(d + 1):
+                c[k - d] += b[a] * comb(k, a) * comb(k - a, d - a) * (-1) ** (d - a)
+            c[k - d] /= h ** d
+        if extrapolate is None:
+            extrapolate = bp.extrapolate
+        return cls.construct_fast(c, x, extrapolate, bp.axis)
 
     def _column_c(self) -> np.ndarray:
         """c as (k, m, columns)."""
@@ -83,13 +138,19 @@ class PPoly:
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         x = np.asarray(x, dtype=np.float64)
         flat = x.ravel()
-        lo, hi = self.x[0], self.x[-1]
+        lo, hi = min(self.x[0], self.x[-1]), max(self.x[0], self.x[-1])
         if mode == "periodic":
-            flat = lo + np.mod(flat - lo, hi - lo)
+            flat = self.x[0] + np.mod(flat - self.x[0], self.x[-1] - self.x[0])
         c = self._column_c()
         for _ in range(nu):
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
-        i = np.clip(np.searchsorted(self.x, flat, side="right") - 1, 0, c.shape[1] - 1)
+        if self.x[0] <= self.x[-1]:
+            i = np.searchsorted(self.x, flat, side="right") - 1
+        else:
+            # Descending: piece i spans [x_{i+1}, x_i], the one whose start is the first at or
+            # above each value.
+            i = len(self.x) - 1 - np.searchsorted(self.x[::-1], flat, side="left")
+        i = np.clip(i, 0, c.shape[1] - 1)
         dx = (flat - self.x[i])[:, None]
         out = np.zeros((len(flat), c.shape[2]), dtype=c.dtype)
         for m in range(c.shape[0]):
@@ -144,9 +205,27 @@ class PPoly:
         wrapped); see `_integrals`."""
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         m = self.c.shape[1]
-        total = _integrals(self._column_c(), self.x[:-1], self.x[1:], np.array([0, m]),
-                           np.array([float(a)]), np.array([float(b)]), mode)
+        c, x = self._ascending()
+        total = _integrals(c, x[:-1], x[1:], np.array([0, m]), np.array([float(a)]),
+                           np.array([float(b)]), mode)
         return total[0].reshape(self.c.shape[2:])
+
+    def _ascending(self):
+        """(c (k, m, columns), x) with x increasing: a descending polynomial's pieces in
+        reverse order, each re-expanded at its left end x_{i+1}: with h = x_i - x_{i+1},
+        (v - h)^p = sum_j C(p, j) v^j (-h)^(p - j)."""
+        c = self._column_c()
+        if self.x[0] <= self.x[-1]:
+            return c, self.x
+        from math import comb
+
+        k = c.shape[0]
+        h = (self.x[:-1] - self.x[1:])[:, None]
+        shifted = np.zeros_like(c)
+        for p in range(k):
+            for j in range(p + 1):
+                shifted[k - 1 - j] += c[k - 1 - p] * comb(p, j) * (-h) ** (p - j)
+        return shifted[:, ::-1], self.x[::-1].copy()
 
     def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
         """The x where the polynomial equals y, as SciPy finds them: per piece the real roots
@@ -160,8 +239,9 @@ class PPoly:
             raise ValueError("Root finding is only for real-valued polynomials")
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         y = float(y)
-        c = self._column_c()
-        found = [_real_roots(c[:, :, j], self.x, y, bool(discontinuity), bool(mode))
+        c, x = self._ascending()
+        found = [_real_roots(c[:, :, j], x, y, bool(discontinuity), bool(mode),
+                             not self._fitted)
                  for j in range(c.shape[2])]
         if self.c.ndim == 2:
             return found[0]
@@ -207,10 +287,12 @@ class PPoly:
         self.x = np.concatenate([self.x, x] if right else [x, self.x])
 
 
-def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
+def _candidates(c: np.ndarray, y: float, widths: np.ndarray, exact: bool):
     """Every piece's complex roots of its polynomial minus y, for all pieces at once: (piece,
     real part, imaginary part) arrays, each piece's sorted by real part, and the pieces equal
-    to y everywhere. A piece's degree is that of its highest term that is not negligible:
+    to y everywhere. A piece's degree is that of its highest nonzero term where `exact`
+    (SciPy's rule, for coefficients given as they are), else of its highest term that is not
+    negligible:
     nonzero, and larger over the piece's width than 8 eps of all its terms there (a fitted
     spline's coefficients carry the fit's rounding where SciPy's are exact zeros: a line's
     cubic term of 1e-20 would put a root at 1e8). From degree 3 the roots are the eigenvalues
@@ -220,7 +302,7 @@ def _candidates(c: np.ndarray, y: float, widths: np.ndarray):
     k = c.shape[0]
     powers = np.arange(k - 1, -1, -1)[:, None]
     size = np.abs(c) * np.abs(widths)[None, :] ** powers
-    nonzero = (c != 0) & (size > 8 * np.finfo(float).eps * size.sum(axis=0))
+    nonzero = (c != 0) & (exact | (size > 8 * np.finfo(float).eps * size.sum(axis=0)))
     lead = np.where(nonzero.any(axis=0), nonzero.argmax(axis=0), k)
     order = k - 1 - lead
     constant = c[-1] - y
@@ -289,29 +371,30 @@ def _values(c: np.ndarray, pieces: np.ndarray, s: np.ndarray, d: int) -> np.ndar
 
 
 def _real_roots(c: np.ndarray, x: np.ndarray, y: float, discontinuity: bool,
-                extrapolate: bool) -> np.ndarray:
+                extrapolate: bool, exact: bool) -> np.ndarray:
     """The roots of one column's pieces c (k, m) minus y (see `PPoly.solve`)."""
     m = c.shape[1]
-    return _roots(c, x[:-1], x[1:], np.array([0, m]), y, discontinuity, extrapolate)[0]
+    return _roots(c, x[:-1], x[1:], np.array([0, m]), y, discontinuity, extrapolate, exact)[0]
 
 
 def _roots(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray, y: float,
-           discontinuity: bool, extrapolate: bool):
+           discontinuity: bool, extrapolate: bool, exact: bool = False):
     """The roots minus y of many splines at once: spline s's pieces are columns
     offsets[s]:offsets[s+1] of c (k, P), piece p spanning [start[p], end[p]]; returns (roots,
     offsets of each spline's roots), as SciPy finds them (see `PPoly.solve`). Cubics and below
     go to the native finder (python/src/roots.rs), which leaves the pieces whose closed form
     may decide real against complex otherwise than the companion matrix (a nearly double root)
-    to NumPy's eigenvalues here; higher degrees to `_roots_numpy`."""
+    to NumPy's eigenvalues here; higher degrees to `_roots_numpy`. `exact`: SciPy's degree
+    rule (the highest nonzero term) rather than the fits' (see `_candidates`)."""
     k = c.shape[0]
     if k > 4:
-        return _roots_numpy(c, start, end, offsets, y, discontinuity, extrapolate)
+        return _roots_numpy(c, start, end, offsets, y, discontinuity, extrapolate, exact)
     cubic = np.zeros((4, c.shape[1]))
     cubic[4 - k:] = c
     return _solved(_native.solve_pieces(cubic, np.ascontiguousarray(start, np.float64),
                                         np.ascontiguousarray(end, np.float64),
                                         np.asarray(offsets, np.int64), y, discontinuity,
-                                        extrapolate), y)
+                                        extrapolate, exact), y)
 
 
 def _solved(pending, y: float):
@@ -326,7 +409,7 @@ def _solved(pending, y: float):
 
 
 def _roots_numpy(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray,
-                 y: float, discontinuity: bool, extrapolate: bool):
+                 y: float, discontinuity: bool, extrapolate: bool, exact: bool):
     """`_roots` in NumPy, for any degree: every piece's candidates are found together, then
     put in SciPy's order (per spline and piece: a breakpoint where the value jumps across y,
     then the piece's roots by real part), a value dropped where it equals the one before it,
@@ -337,7 +420,7 @@ def _roots_numpy(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.
     last = np.zeros(c.shape[1], bool)
     first[offsets[:-1][pieces_of > 0]] = True
     last[offsets[1:][pieces_of > 0] - 1] = True
-    pieces, real, imag, everywhere = _candidates(c, y, end - start)
+    pieces, real, imag, everywhere = _candidates(c, y, end - start, exact)
     keep = imag == 0
     pieces, real = pieces[keep], real[keep]
     # One Newton step where it moves the root by less than the root's own size.

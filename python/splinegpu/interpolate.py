@@ -140,7 +140,7 @@ class CubicSplines(_Batch):
 
     def __init__(self, xs, ys, bc_type="not-a-knot", context: Context | None = None):
         xs, ys2, trailing = self._arrays(xs, ys)
-        name, start, end = _bc(bc_type, trailing)
+        name, start, end = _bc(bc_type, trailing, broadcast=True)
         self._native = _native.fit(xs, ys2, name, start, end)
         self.context = context
         if name == "periodic":
@@ -261,7 +261,7 @@ def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) ->
             if len(x) < 4:
                 raise ValueError(f"xs[{i}]: not-a-knot needs at least 4 points for k=3, got "
                                  f"{len(x)}")
-    name, start, end = _bc(bc, trailing)
+    name, start, end = _bc(bc, trailing, broadcast=True)
     batch._native = _native.fit(xs, ys2, name, start, end)
     batch.k, batch.context = 3, context
     batch._extrapolates = "periodic" if bc == "periodic" else True

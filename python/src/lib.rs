@@ -1085,6 +1085,7 @@ impl Splines {
             y,
             discontinuity,
             extrapolate,
+            exact: false,
         };
         Ok(PendingRoots::new(py, source, how))
     }
@@ -1467,7 +1468,8 @@ impl PendingRoots {
 }
 
 /// Every spline's real roots minus `y`, as SciPy's `PPoly.solve` finds them (the rules in
-/// `roots`), of piecewise cubics given as arrays (c (4, P), start, end, offsets (S + 1)).
+/// `roots`; `exact`: SciPy's degree rule), of piecewise cubics given as arrays (c (4, P),
+/// start, end, offsets (S + 1)).
 #[pyfunction]
 #[expect(
     clippy::too_many_arguments,
@@ -1482,12 +1484,14 @@ fn solve_pieces(
     y: f64,
     discontinuity: bool,
     extrapolate: bool,
+    exact: bool,
 ) -> PyResult<PendingRoots> {
     let source = Box::new(arrays(&c, &start, &end, &offsets)?);
     let how = roots::Solve {
         y,
         discontinuity,
         extrapolate,
+        exact,
     };
     Ok(PendingRoots::new(py, source, how))
 }

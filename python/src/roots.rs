@@ -4,9 +4,11 @@
 //!
 //! Piece p of a spline is `c0 v^3 + c1 v^2 + c2 v + c3` with v = x − start_p on
 //! [start_p, end_p]. For the value y:
-//! - its degree is that of its highest term that is not negligible: nonzero and, over the
-//!   piece's width h, larger than 8 eps of all its terms there (|c_m| h^(3−m)); a fitted
-//!   spline's coefficients carry the fit's rounding where SciPy's are exact zeros;
+//! - its degree is that of its highest nonzero term (SciPy's rule, for coefficients given as
+//!   they are: `Solve::exact`) or, for the package's own fits, of its highest term that is not
+//!   negligible: nonzero and, over the piece's width h, larger than 8 eps of all its terms
+//!   there (|c_m| h^(3−m)); a fitted spline's coefficients carry the fit's rounding where
+//!   SciPy's are exact zeros;
 //! - degree 1 and 2 in closed form (the quadratic's without cancellation); degree 3 in closed
 //!   form where that decides real against complex as the companion matrix does (see
 //!   [`Depressed`]), otherwise by the companion matrix's eigenvalues, which the caller supplies
@@ -84,10 +86,11 @@ enum Kind {
     Degree(usize, [f64; 4]),
 }
 
-fn kind(c: [f64; 4], width: f64, y: f64) -> Kind {
+fn kind(c: [f64; 4], width: f64, y: f64, exact: bool) -> Kind {
     let size: [f64; 4] = std::array::from_fn(|m| c[m].abs() * width.abs().powi(3 - m as i32));
     let total: f64 = size.iter().sum();
-    let lead = (0..4).find(|&m| c[m] != 0.0 && size[m] > 8.0 * f64::EPSILON * total);
+    let lead =
+        (0..4).find(|&m| c[m] != 0.0 && (exact || size[m] > 8.0 * f64::EPSILON * total));
     let constant = c[3] - y;
     match lead {
         None if y == 0.0 => Kind::Everywhere,
@@ -222,6 +225,10 @@ pub(crate) struct Solve {
     pub(crate) y: f64,
     pub(crate) discontinuity: bool,
     pub(crate) extrapolate: bool,
+    /// Whether a piece's degree is that of its highest nonzero term (SciPy's rule, for
+    /// coefficients given as they are), rather than of its highest term that is not
+    /// negligible over the piece (for the package's fits, which carry rounding there).
+    pub(crate) exact: bool,
 }
 
 /// A piece the closed forms leave to the companion matrix's eigenvalues: its number and
@@ -326,7 +333,7 @@ fn spline_roots<S: Source + ?Sized>(
             }
         }
         previous = Some(piece);
-        let candidates = match kind(c, end - start, y) {
+        let candidates = match kind(c, end - start, y, how.exact) {
             Kind::Everywhere => {
                 push(start, true, &mut out);
                 push(f64::NAN, true, &mut out);
@@ -395,6 +402,7 @@ mod tests {
             y,
             discontinuity: true,
             extrapolate,
+            exact: false,
         };
         let pending = solve(&pieces, &how);
         assert!(pending.undecided.is_empty());
@@ -438,6 +446,7 @@ mod tests {
             y: 0.0,
             discontinuity: true,
             extrapolate: false,
+            exact: false,
         };
         let pending = solve(&pieces, &how);
         assert_eq!(pending.undecided, vec![(0, a)]);

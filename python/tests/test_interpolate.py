@@ -126,8 +126,11 @@ def test_the_classes_pickle_and_refuse_what_scipys_refuse(cpu):
         si.PchipInterpolator(x, y * 1j)
     with pytest.raises(ValueError, match="y: Akima1DInterpolator only works with real values"):
         si.Akima1DInterpolator(x, y * 1j)
-    with pytest.raises(ValueError, match='method: must be "akima" or "makima"'):
+    with pytest.raises(NotImplementedError, match="`method`=linear is unsupported"):
         si.Akima1DInterpolator(x, y, method="linear")
+    with pytest.raises(ValueError, match=r"bc_type: an end's value must have y's other axes' "
+                       r"shape \(2,\), got \(\)"):
+        si.CubicSpline(x, y, bc_type=((1, 0.5), "natural"))
     with pytest.raises(ValueError, match=r"dydx: must have y's shape \(14, 2\)"):
         si.CubicHermiteSpline(x, y, y[:, 0])
     with pytest.raises(ValueError, match=r'"t" must be strictly increasing'):
@@ -148,7 +151,7 @@ def test_batches_equal_their_single_splines_on_ragged_knots(cpu):
         (si.CubicHermiteSplines(xs, ys, dydxs, context=cpu),
          lambda x, y, d: si.CubicHermiteSpline(x, y, d)),
         (si.CubicSplines(xs, ys, bc_type=("natural", (1, 0.5))),
-         lambda x, y, d: si.CubicSpline(x, y, bc_type=("natural", (1, 0.5)))),
+         lambda x, y, d: si.CubicSpline(x, y, bc_type=("natural", (1, np.full(3, 0.5))))),
     ]
     for batch, single in batches:
         assert len(batch) == len(xs)
@@ -175,7 +178,7 @@ def test_integrals_are_scipys_in_every_extrapolate_mode(shape):
     splines = [
         (si.CubicSpline(x, periodic_y, bc_type="periodic"),
          interpolate.CubicSpline(x, periodic_y, bc_type="periodic")),
-        (si.CubicSpline(x, y * (1 - 2j), bc_type=((2, 1.0), "not-a-knot")),
+        (si.CubicSpline(x, y * (1 - 2j), bc_type=((2, np.full(shape, 1.0)), "not-a-knot")),
          interpolate.CubicSpline(x, y * (1 - 2j),
                                  bc_type=((2, np.full(shape, 1.0)), "not-a-knot"))),
         (si.PchipInterpolator(x, y), interpolate.PchipInterpolator(x, y)),

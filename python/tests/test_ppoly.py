@@ -118,8 +118,9 @@ def test_spline_roots_antiderivatives_and_solve_match_scipy(seed):
 
 
 def test_ppoly_refuses_what_it_cannot_hold():
-    with pytest.raises(ValueError, match="x: must be finite and strictly increasing"):
-        si.PPoly(np.ones((4, 2)), [2.0, 1.0, 0.0])
+    with pytest.raises(ValueError, match="x: must be finite and strictly increasing or "
+                       "decreasing"):
+        si.PPoly(np.ones((4, 2)), [2.0, 3.0, 0.0])
     with pytest.raises(ValueError, match="c: 2 pieces for 4 breakpoints"):
         si.PPoly(np.ones((4, 2)), [0.0, 1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match="only for real-valued"):

@@ -199,7 +199,7 @@ def test_backends_and_bc_types_are_checked():
         splinegpu.CubicSpline(np.array([0, 1, 1, 2, 3.0]), x)
     spline = splinegpu.CubicSpline(x, x)
     with pytest.raises(ValueError, match="nu"):
-        spline(1.0, nu=4)
+        spline(1.0, nu=-1)
 
 
 def test_complex_values_are_refused_not_cut_to_their_real_part(cpu):
@@ -312,8 +312,6 @@ def test_arguments_are_refused_in_words_that_name_them(cpu):
         (lambda: splinegpu.CubicSpline(x, np.sin(x))(0.5, nu=-1), ValueError, "nu: must be"),
         (lambda: splinegpu.CubicSpline([], []), ValueError, "x: must contain at least 2"),
         (lambda: splinegpu.CubicSpline(x, np.float64(1.0)), ValueError, "y: must be at least 1-D"),
-        (lambda: splinegpu.CubicSpline(x, np.zeros((12, 65))), ValueError,
-         "y: at most 64 values per x"),
         (lambda: splinegpu.CubicSpline(x, np.zeros((3, 12)), axis=2), ValueError, "axis: must be"),
         (lambda: splinegpu.CubicSplines([x, x], [np.zeros((12, 2)), np.zeros((12, 3))]),
          ValueError, r"ys\[1\]: every spline's values must have the shape"),

@@ -114,7 +114,15 @@ pub(crate) fn akima_slopes(t: &[f64], values: &[f64], dim: usize, modified: bool
             let m = |j: usize| extended[j * dim + k];
             let (f1, f2) = weights[i * dim + k];
             d[i * dim + k] = if f1 + f2 > 1e-9 * largest {
-                (f1 * m(i + 1) + f2 * m(i + 2)) / (f1 + f2)
+                let blend = (f1 * m(i + 1) + f2 * m(i + 2)) / (f1 + f2);
+                if blend.is_finite() {
+                    blend
+                } else {
+                    // Weights and secants so large that their products overflow (a jump
+                    // of 1e160): the same mean with the weights scaled to at most 1.
+                    let (a, b) = (f1 / f1.max(f2), f2 / f1.max(f2));
+                    (a * m(i + 1) + b * m(i + 2)) / (a + b)
+                }
             } else {
                 0.5 * (m(i + 3) + m(i))
             };
