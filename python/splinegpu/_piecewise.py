@@ -8,6 +8,7 @@ too.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -20,6 +21,9 @@ from ._ppoly import PPoly, _extrapolate
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
+# The largest call on a spline made from pieces (a derivative) that its pieces answer before
+# its tables exist.
+_UNTABULATED_CALL = 1 << 16
 _F64 = np.dtype(np.float64)
 
 
@@ -217,27 +221,52 @@ class _Piecewise(PPoly):
         return x, y2
 
     @classmethod
-    def _of_pieces(cls, x: np.ndarray, c: np.ndarray, extent: float, extrapolate, axis: int,
-                   context: Context | None) -> _Piecewise:
+    def _of_pieces(cls, x: np.ndarray, c: np.ndarray, extent: float | None, extrapolate,
+                   axis: int, context: Context | None) -> _Piecewise:
         """The piecewise polynomial of degree <= 3 with breakpoints x and coefficients c
         (k + 1, P, ...) in SciPy's power form (real or complex), its tables made from them
-        (no fit); `extent` is the spread of the points it was made from, which scales the
-        GPU's accuracy promise."""
+        when first needed (no fit); `extent` is the spread of the points it was made from,
+        which scales the GPU's accuracy promise (None: the spread of its values at the
+        breakpoints)."""
         spline = cls.__new__(cls)
         spline._complex = np.iscomplexobj(c)
         spline._trailing = c.shape[2:]
-        spline.x = np.array(x, dtype=np.float64)
-        spline.x.flags.writeable = False
+        if x.dtype != np.float64 or x.flags.writeable:
+            x = np.array(x, dtype=np.float64)
+            x.flags.writeable = False
+        spline.x = x
         spline.axis, spline.extrapolate, spline.context = axis, extrapolate, context
-        spline._pieces = spline._c = None
-        columns = c.reshape(c.shape[0], c.shape[1], -1)
+        spline._c = None
+        columns = c.reshape(c.shape[0], c.shape[1], math.prod(c.shape[2:]))
         if spline._complex:
             columns = np.concatenate([columns.real, columns.imag], axis=2)
-        spline._native = _in_blocks(
-            lambda cut: _tables([(spline.x, np.ascontiguousarray(columns[:, :, cut]))],
-                                [extent], "c"),
-            columns.shape[2], columns.shape[1])
+        cubic = np.zeros((4, *columns.shape[1:]))
+        cubic[4 - columns.shape[0]:] = columns
+        spline._pieces = cubic
+
+        def tables():
+            # Made at the first call that needs them (a derivative taken only for its roots,
+            # integrals or small calls never pays for them). Without an extent given, the
+            # spread of the values at the pieces' starts.
+            spread = extent
+            if spread is None:
+                spread = float(np.max(np.ptp(columns[-1], axis=0))) if columns.size else 0.0
+            return _in_blocks(
+                lambda cut: _tables([(x, np.ascontiguousarray(columns[:, :, cut]))], [spread],
+                                    "c"),
+                columns.shape[2], columns.shape[1])
+
+        spline._deferred = tables
         return spline
+
+    def __getattr__(self, name: str):
+        # The deferred tables of `_of_pieces`, made once when first asked for.
+        deferred = self.__dict__.get("_deferred")
+        if name == "_native" and deferred is not None:
+            del self.__dict__["_deferred"]
+            self._native = deferred()
+            return self._native
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def _as_columns(self, y, axis: int, name: str) -> np.ndarray:
         """An array of y's shape (`name`: y, or dydx) as the fitted columns."""
@@ -248,7 +277,8 @@ class _Piecewise(PPoly):
         return np.ascontiguousarray(_float64(y2, name))
 
     def __reduce__(self):
-        attributes = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        attributes = {k: v for k, v in self.__dict__.items() if k not in ("_native",
+                                                                          "_deferred")}
         attributes["_pieces"] = attributes["_c"] = None
         return (_restore, (type(self), attributes, self._native.state()))
 
@@ -300,7 +330,20 @@ class _Piecewise(PPoly):
         ctx = self.context
         native = _shared_context() if ctx is None else ctx._native
         values = None
-        if nu <= 2 and mode != "periodic":
+        if native.backend == "cpu" and "_deferred" in self.__dict__ and \
+                len(flat) <= _UNTABULATED_CALL:
+            # A derivative's first calls, small: its pieces in float64 without making the
+            # tables first (a large call makes them, and evaluates on every thread).
+            values = self._by_pieces(self._wrapped(flat, mode), nu)
+            if mode is False:
+                values[(flat < self.x[0]) | (flat > self.x[-1])] = np.nan
+        elif mode is True and len(flat) == 1 and not self.x[0] <= flat[0] <= self.x[-1]:
+            # One x past the knots (or NaN): its end piece in float64, without the native
+            # call's refusal.
+            values = self._by_pieces(flat, nu)
+            if native.backend == "gpu":
+                values = values.astype(np.float32)
+        elif nu <= 2 and mode != "periodic":
             try:
                 values = self._native.evaluate_one(native, flat, nu)
             except ValueError:
@@ -316,13 +359,19 @@ class _Piecewise(PPoly):
             out = np.moveaxis(out, list(range(x.ndim)), list(range(self.axis, self.axis + x.ndim)))
         return out
 
+    def _wrapped(self, flat: np.ndarray, mode) -> np.ndarray:
+        """x wrapped into the knots where `mode` is "periodic"."""
+        if mode != "periodic":
+            return flat
+        lo, hi = self.x[0], self.x[-1]
+        return lo + np.mod(flat - lo, hi - lo)
+
     def _anywhere(self, native, flat: np.ndarray, nu: int, mode) -> np.ndarray:
         """Derivative nu at any x, as (len(x), m) in the fitted columns: inside the knots
         through the context (nu <= 2), elsewhere by the pieces (see `_by_pieces`); NaN outside
         when `mode` is False, x wrapped into the knots when it is "periodic"."""
         lo, hi = self.x[0], self.x[-1]
-        if mode == "periodic":
-            flat = lo + np.mod(flat - lo, hi - lo)
+        flat = self._wrapped(flat, mode)
         inside = (flat >= lo) & (flat <= hi)
         dtype = np.float32 if native.backend == "gpu" else np.float64
         out = np.empty((len(flat), self._coefficients().shape[2]), dtype=dtype)
@@ -343,17 +392,8 @@ class _Piecewise(PPoly):
         """Derivative nu at x from `c` in float64, as SciPy's PPoly evaluates it: the piece
         of the last knot at or below x (the first piece below x[0], the last at and above
         x[-1]), in powers of x - x_i; NaN at NaN."""
-        c = self._coefficients()
-        i = np.clip(np.searchsorted(self.x, x, side="right") - 1, 0, c.shape[1] - 1)
-        dx = (x - self.x[i])[:, None]
-        a, b, cc, d = c[0, i], c[1, i], c[2, i], c[3, i]
-        if nu == 0:
-            return d + dx * (cc + dx * (b + dx * a))
-        if nu == 1:
-            return cc + dx * (2 * b + dx * 3 * a)
-        if nu == 2:
-            return 2 * b + dx * 6 * a
-        return 6 * a + 0 * dx
+        return _native.evaluate_pieces(self.x, self._coefficients(),
+                                       np.ascontiguousarray(x, dtype=np.float64), nu)
 
     def _like(self, c: np.ndarray, x: np.ndarray, extrapolate) -> PPoly:
         """A piecewise polynomial made from this one (a derivative, an antiderivative): of
@@ -363,11 +403,7 @@ class _Piecewise(PPoly):
             poly = PPoly._made(c, x, extrapolate, self.axis)
             poly._fitted = True
             return poly
-        values = c[-1].reshape(c.shape[1], -1)
-        if np.iscomplexobj(values):
-            values = np.concatenate([values.real, values.imag], axis=1)
-        extent = float(np.max(np.ptp(values, axis=0))) if values.size else 0.0
-        return type(self)._of_pieces(x, c, extent, extrapolate, self.axis, self.context)
+        return type(self)._of_pieces(x, c, None, extrapolate, self.axis, self.context)
 
     def ppoly(self) -> PPoly:
         """The spline as a plain `PPoly` (its `c`, `x`, `extrapolate` and `axis`), evaluated

@@ -9,6 +9,8 @@ as SciPy holds it; x increases or, as SciPy allows, decreases.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import _native
@@ -23,6 +25,11 @@ def _extrapolate(value):
             raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
         return value
     return bool(value)
+
+
+def _f64(a) -> np.ndarray:
+    """a as a contiguous float64 array (itself where it is one)."""
+    return np.ascontiguousarray(a, dtype=np.float64)
 
 
 class PPoly:
@@ -123,7 +130,8 @@ class PPoly:
 
     def _column_c(self) -> np.ndarray:
         """c as (k, m, columns)."""
-        return self.c.reshape(self.c.shape[0], self.c.shape[1], int(np.prod(self.c.shape[2:])))
+        c = self.c
+        return c.reshape(c.shape[0], c.shape[1], math.prod(c.shape[2:]))
 
     def _like(self, c: np.ndarray, x: np.ndarray, extrapolate) -> PPoly:
         """A polynomial made from this one (a derivative, an antiderivative)."""
@@ -142,6 +150,23 @@ class PPoly:
         if mode == "periodic":
             flat = self.x[0] + np.mod(flat - self.x[0], self.x[-1] - self.x[0])
         c = self._column_c()
+        if self.x[0] <= self.x[-1] and not np.iscomplexobj(c):
+            out = _native.evaluate_pieces(_f64(self.x), np.ascontiguousarray(c, np.float64), flat,
+                                         nu)
+        else:
+            out = self._by_horner(c, flat, nu)
+        if mode is False:
+            out[~((flat >= lo) & (flat <= hi))] = np.nan
+        out[np.isnan(flat)] = np.nan
+        out = out.reshape(x.shape + self.c.shape[2:])
+        if self.axis != 0 and x.ndim > 0:
+            axes = list(range(out.ndim))
+            axes = axes[x.ndim:x.ndim + self.axis] + axes[:x.ndim] + axes[x.ndim + self.axis:]
+            out = out.transpose(axes)
+        return out
+
+    def _by_horner(self, c: np.ndarray, flat: np.ndarray, nu: int) -> np.ndarray:
+        """Derivative nu at flat in NumPy (complex c, descending breakpoints): (len, columns)."""
         for _ in range(nu):
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
         if self.x[0] <= self.x[-1]:
@@ -152,17 +177,9 @@ class PPoly:
             i = len(self.x) - 1 - np.searchsorted(self.x[::-1], flat, side="left")
         i = np.clip(i, 0, c.shape[1] - 1)
         dx = (flat - self.x[i])[:, None]
-        out = np.zeros((len(flat), c.shape[2]), dtype=c.dtype)
+        out = np.zeros((len(flat), c.shape[2]), dtype=np.result_type(c, np.float64))
         for m in range(c.shape[0]):
             out = out * dx + c[m, i]
-        if mode is False:
-            out[~((flat >= lo) & (flat <= hi))] = np.nan
-        out[np.isnan(flat)] = np.nan
-        out = out.reshape(x.shape + self.c.shape[2:])
-        if self.axis != 0 and x.ndim > 0:
-            axes = list(range(out.ndim))
-            axes = axes[x.ndim:x.ndim + self.axis] + axes[:x.ndim] + axes[x.ndim + self.axis:]
-            out = out.transpose(axes)
         return out
 
     def derivative(self, nu: int = 1) -> PPoly:
@@ -180,21 +197,19 @@ class PPoly:
     def antiderivative(self, nu: int = 1) -> PPoly:
         """The nu-th antiderivative (zero at x[0], continuous with its nu - 1 derivatives) as
         a PPoly of degree k - 1 + nu; a periodic extrapolation becomes False, as SciPy's.
-        One order at a time, all pieces at once: term m (power p) becomes c_m / (p + 1) of
-        power p + 1, and each piece's new constant is the integral of the pieces before it,
-        sum_m c'_m h^(p+1) over each earlier piece's width h."""
+        One order at a time, natively: term m (power p) becomes c_m / (p + 1) of power p + 1,
+        and each piece's new constant is the integral of the pieces before it."""
         if nu <= 0:
             return self.derivative(-nu)
-        c = self.c
-        h = np.diff(self.x).reshape((-1,) + (1,) * (c.ndim - 2))
+        c = self._column_c()
+        x = _f64(self.x)
         for _ in range(nu):
-            k = c.shape[0]
-            lifted = c / np.arange(k, 0, -1).reshape((k,) + (1,) * (c.ndim - 1))
-            whole = np.zeros(c.shape[1:], dtype=lifted.dtype)
-            for m in range(k):
-                whole = (whole + lifted[m]) * h
-            start = np.concatenate([np.zeros_like(whole[:1]), np.cumsum(whole[:-1], axis=0)])
-            c = np.concatenate([lifted, start[None]], axis=0)
+            if np.iscomplexobj(c):
+                c = (_native.antiderivative_pieces(x, _f64(c.real))
+                     + 1j * _native.antiderivative_pieces(x, _f64(c.imag)))
+            else:
+                c = _native.antiderivative_pieces(x, _f64(c))
+        c = c.reshape(c.shape[:2] + self.c.shape[2:])
         extrapolate = False if self.extrapolate == "periodic" else self.extrapolate
         return self._like(c, self.x, extrapolate)
 
@@ -204,10 +219,23 @@ class PPoly:
         False (NaN when a or b lies outside them) or "periodic" (whole periods and the rest,
         wrapped); see `_integrals`."""
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        a, b = float(a), float(b)
+        if mode is not True or self.x[0] > self.x[-1] or a != a or b != b:
+            return self._integrated(a, b, mode)
+        # The common call, in the pieces it touches only (natively; a complex c as its real
+        # and imaginary parts).
+        c = self._column_c()
+        out = _native.integrate_pieces(_f64(self.x), _f64(c.real), a, b)
+        if np.iscomplexobj(c):
+            out = out + 1j * _native.integrate_pieces(_f64(self.x), _f64(c.imag), a, b)
+        return out.reshape(self.c.shape[2:])
+
+    def _integrated(self, a: float, b: float, mode) -> np.ndarray:
+        """`integrate` in every mode, through `_integrals`."""
         m = self.c.shape[1]
         c, x = self._ascending()
-        total = _integrals(c, x[:-1], x[1:], np.array([0, m]), np.array([float(a)]),
-                           np.array([float(b)]), mode)
+        total = _integrals(c, x[:-1], x[1:], np.array([0, m]), np.array([a]), np.array([b]),
+                           mode)
         return total[0].reshape(self.c.shape[2:])
 
     def _ascending(self):
@@ -470,6 +498,11 @@ def _located(start: np.ndarray, offsets: np.ndarray, x: np.ndarray) -> np.ndarra
     """For each spline s and its x[s], the last of its pieces offsets[s]:offsets[s+1] that
     starts at or below x[s] (its first piece below it, and at NaN): a binary search of all
     splines at once."""
+    if len(offsets) == 2:
+        # One spline: NumPy's own search.
+        first, count = offsets[0], offsets[1] - offsets[0]
+        found = np.searchsorted(start[first:offsets[1]], x, side="right") - 1
+        return first + np.where(np.isnan(x), 0, np.clip(found, 0, count - 1))
     lo, hi = offsets[:-1].copy(), offsets[1:] - 1
     while np.any(lo < hi):
         middle = (lo + hi + 1) // 2

@@ -13,7 +13,10 @@ pub fn solve(first: &[usize], values: &[f64], width: usize, rhs: &mut [f64], m: 
     let n = first.len();
     debug_assert_eq!(values.len(), n * width);
     debug_assert_eq!(rhs.len(), n * m);
-    let kl = (0..n).map(|i| i.saturating_sub(first[i])).max().unwrap_or(0);
+    let kl = (0..n)
+        .map(|i| i.saturating_sub(first[i]))
+        .max()
+        .unwrap_or(0);
     let ku = (0..n)
         .map(|i| (first[i] + width).saturating_sub(i + 1))
         .max()

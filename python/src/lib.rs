@@ -17,6 +17,7 @@ use numpy::{
 use std::sync::Arc;
 
 mod banded;
+mod pieces;
 mod roots;
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
@@ -1540,6 +1541,69 @@ fn solve_banded<'py>(
     Ok(Some(PyArray1::from_vec(py, x).reshape([n, m])?))
 }
 
+/// The piecewise polynomial's shape checked: breakpoints (P + 1) and c (k, P, m), both
+/// contiguous; (k, m).
+fn piece_shape(breaks: &[f64], c: &PyReadonlyArray3<'_, f64>) -> PyResult<(usize, usize)> {
+    let shape = c.shape();
+    if breaks.len() < 2 || shape[1] != breaks.len() - 1 {
+        return Err(value_error(format!(
+            "c: {} pieces for {} breakpoints",
+            shape[1],
+            breaks.len()
+        )));
+    }
+    Ok((shape[0], shape[2]))
+}
+
+/// Derivative `nu` of a piecewise polynomial (breakpoints increasing, c (k, P, m) in SciPy's
+/// power form) at x, any x (the end pieces continue), in f64: (len(x), m). See `pieces`.
+#[pyfunction]
+fn evaluate_pieces<'py>(
+    py: Python<'py>,
+    breaks: PyReadonlyArray1<'_, f64>,
+    c: PyReadonlyArray3<'_, f64>,
+    x: PyReadonlyArray1<'_, f64>,
+    nu: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let breaks = breaks.as_slice()?;
+    let (k, m) = piece_shape(breaks, &c)?;
+    let (c, x) = (c.as_slice()?, x.as_slice()?);
+    let mut out = vec![0.0; x.len() * m];
+    pieces::evaluate(breaks, c, k, m, x, nu, &mut out);
+    Ok(PyArray1::from_vec(py, out).reshape([x.len(), m])?)
+}
+
+/// The integral from a to b of a piecewise polynomial (as `evaluate_pieces` takes it), the
+/// end pieces continuing past the breakpoints: (m,).
+#[pyfunction]
+fn integrate_pieces<'py>(
+    py: Python<'py>,
+    breaks: PyReadonlyArray1<'_, f64>,
+    c: PyReadonlyArray3<'_, f64>,
+    a: f64,
+    b: f64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let breaks = breaks.as_slice()?;
+    let (k, m) = piece_shape(breaks, &c)?;
+    let mut out = vec![0.0; m];
+    pieces::integrate(breaks, c.as_slice()?, k, m, a, b, &mut out);
+    Ok(PyArray1::from_vec(py, out))
+}
+
+/// The antiderivative of a piecewise polynomial (as `evaluate_pieces` takes it; breakpoints
+/// may decrease), zero at the first breakpoint and continuous: (k + 1, P, m).
+#[pyfunction]
+fn antiderivative_pieces<'py>(
+    py: Python<'py>,
+    breaks: PyReadonlyArray1<'_, f64>,
+    c: PyReadonlyArray3<'_, f64>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let breaks = breaks.as_slice()?;
+    let (k, m) = piece_shape(breaks, &c)?;
+    let out = pieces::antiderivative(breaks, c.as_slice()?, k, m);
+    Ok(PyArray1::from_vec(py, out).reshape([k + 1, breaks.len() - 1, m])?)
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -1551,6 +1615,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(solve_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(solve_banded, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate_pieces, m)?)?;
+    m.add_function(wrap_pyfunction!(integrate_pieces, m)?)?;
+    m.add_function(wrap_pyfunction!(antiderivative_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())

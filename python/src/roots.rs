@@ -89,8 +89,7 @@ enum Kind {
 fn kind(c: [f64; 4], width: f64, y: f64, exact: bool) -> Kind {
     let size: [f64; 4] = std::array::from_fn(|m| c[m].abs() * width.abs().powi(3 - m as i32));
     let total: f64 = size.iter().sum();
-    let lead =
-        (0..4).find(|&m| c[m] != 0.0 && (exact || size[m] > 8.0 * f64::EPSILON * total));
+    let lead = (0..4).find(|&m| c[m] != 0.0 && (exact || size[m] > 8.0 * f64::EPSILON * total));
     let constant = c[3] - y;
     match lead {
         None if y == 0.0 => Kind::Everywhere,

@@ -100,9 +100,9 @@ def prepare(folder: Path, ours: bool) -> dict:
     return names
 
 
-def run_session(folder: Path, names: dict, timeout: float) -> dict:
-    """Every selected test's outcome and first error, by id; sessions restarted past a test
-    whose interpreter died."""
+def run_session(folder: Path, names: dict, timeout: float, files=FILES) -> dict:
+    """Every selected test's outcome and first error, by id, of the test `files` in `folder`;
+    sessions restarted past a test whose interpreter died."""
     log, done = folder / "log.jsonl", folder / "done.txt"
     outcomes: dict = {}
     every = sorted({n for file_names in names.values() for n in file_names})
@@ -112,7 +112,7 @@ def run_session(folder: Path, names: dict, timeout: float) -> dict:
         command = [sys.executable, "-m", "pytest", "-q", "-p", "suite_plugin",
                    "-p", "no:cacheprovider", "-W", "ignore", "--tb=line",
                    f"--suite-log={log}", f"--suite-names={','.join(every)}",
-                   f"--suite-done={done}", f"--suite-timeout={timeout}", *FILES]
+                   f"--suite-done={done}", f"--suite-timeout={timeout}", *files]
         env = dict(os.environ, PYTHONPATH=str(folder), PYTHONFAULTHANDLER="1")
         subprocess.run(command, cwd=folder, env=env, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL, check=False)
