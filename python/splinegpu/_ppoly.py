@@ -35,10 +35,12 @@ def _f64(a) -> np.ndarray:
 class PPoly:
     """`scipy.interpolate.PPoly(c, x, extrapolate=None, axis=0)`: c of shape (k, m, ...)
     (with `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing (or
-    decreasing, as SciPy's) breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0, `derivative`,
-    `antiderivative`, `integrate`, `solve`, `roots` and `extend` answer as SciPy's (roots by
-    the eigenvalues of each piece's companion matrix, as SciPy finds them, refined by one
-    Newton step). Evaluated in NumPy on the CPU."""
+    decreasing, as SciPy's) breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0,
+    `derivative`, `antiderivative`, `integrate`, `solve`, `roots`, `extend`, `from_spline`,
+    `from_bernstein_basis` and `construct_fast` answer as SciPy's (roots by the eigenvalues
+    of each piece's companion matrix, as SciPy finds them, refined by one Newton step).
+    Evaluated, integrated and antidifferentiated in the extension in float64 (complex c as
+    its two parts; descending breakpoints in NumPy)."""
 
     # Whether c comes from the package's own fit (its rounding where SciPy's has exact zeros:
     # roots take a piece's degree from its terms that are not negligible) rather than given.

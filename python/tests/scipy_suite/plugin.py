@@ -31,7 +31,7 @@ def _write(record: dict) -> None:
 
 def pytest_configure(config):
     global _LOG
-    _LOG = open(config.getoption("--suite-log"), "a", encoding="utf-8")  # noqa: SIM115
+    _LOG = open(config.getoption("--suite-log"), "a", encoding="utf-8")
 
 
 def _loaded_names(obj, module, seen: set) -> set:
