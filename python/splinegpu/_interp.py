@@ -80,10 +80,12 @@ def coefficients(x, y, t, k: int, left: list, right: list) -> np.ndarray:
 def periodic_coefficients(x, y, t, k: int) -> np.ndarray:
     """c (n + k - 1, m) of the periodic spline through (x, y (n, m), real; y_last = y_0) on
     periodic knots: the n - 1 free coefficients c_0 .. c_{n-2} (c_{j+n-1} = c_j) from the
-    cyclic system at x_0 .. x_{n-2}, row j touching c_j .. c_{j+k} (indices mod n - 1)."""
+    cyclic system at x_0 .. x_{n-2}, the row of x_j in knot span l touching c_{l-k} .. c_l
+    (indices mod n - 1)."""
     size = len(x) - 1
-    rows = _bspline.basis(t, k, x[:-1], np.arange(k, k + size))
-    columns = np.arange(size)[:, None] + np.arange(k + 1)[None, :]
+    span = _bspline.intervals(t, k, x[:-1])
+    rows = _bspline.basis(t, k, x[:-1], span)
+    columns = (span - k)[:, None] + np.arange(k + 1)[None, :]
     rhs = y[:-1]
     free = None
     if size > 2 * (k + 1):
@@ -102,17 +104,21 @@ def periodic_coefficients(x, y, t, k: int) -> np.ndarray:
 def _woodbury(rows, columns, rhs, size: int) -> np.ndarray | None:
     """The cyclic system solved as its band B plus the wrapped corner entries U V^T:
     x = z - Z (I + V^T Z)^-1 V^T z with B z = rhs and B Z = U; None where B or the small
-    system is singular."""
+    system is singular. The unknowns are first turned k // 2 places, so that each row's
+    largest entries (the middle of its k + 1) lie on B's diagonal and the corners are split
+    between both ends: B is then as well conditioned as the collocation itself."""
     k1 = rows.shape[1]
-    wraps = columns >= size
+    turn = (k1 - 1) // 2
+    turned = columns - turn
+    wraps = (turned < 0) | (turned >= size)
     band = np.where(wraps, 0.0, rows)
-    # Rows whose band runs past the last column keep their window inside the matrix.
-    first = np.minimum(np.arange(size), size - k1)
-    shift = np.arange(size) - first
+    # Each row's window of k + 1 columns, kept inside the matrix.
+    first = np.clip(turned[:, 0], 0, size - k1)
+    shift = turned[:, 0] - first
     shifted = np.zeros_like(band)
     for r in range(k1):
         target = r + shift
-        keep = target < k1
+        keep = (target >= 0) & (target < k1)
         shifted[np.flatnonzero(keep), target[keep]] = band[keep, r]
     corner_rows, corner_slots = np.nonzero(wraps)
     u = np.zeros((size, len(corner_rows)))
@@ -121,9 +127,11 @@ def _woodbury(rows, columns, rhs, size: int) -> np.ndarray | None:
     if solved is None:
         return None
     z, zu = solved[:, :rhs.shape[1]], solved[:, rhs.shape[1]:]
-    v_columns = columns[corner_rows, corner_slots] - size
+    v_columns = turned[corner_rows, corner_slots] % size
     small = np.eye(len(corner_rows)) + zu[v_columns]
     try:
-        return z - zu @ np.linalg.solve(small, z[v_columns])
+        x = z - zu @ np.linalg.solve(small, z[v_columns])
     except np.linalg.LinAlgError:
         return None
+    # Back from the turned order: coefficient c is unknown (c - turn) mod size.
+    return x[(np.arange(size) - turn) % size]

@@ -183,6 +183,8 @@ class _Piecewise(PPoly):
     extrapolate: bool | str
     context: Context | None
     _fitted = True
+    # Tables made at the first call that needs them (`_of_pieces`), until then.
+    _deferred: Any
     # The fitted tables (the extension's Splines), the coefficients and `c`, made once.
     _native: Any
     _pieces: np.ndarray | None
@@ -292,6 +294,11 @@ class _Piecewise(PPoly):
             c.flags.writeable = False
             self._c = c
         return self._c
+
+    @c.setter
+    def c(self, value) -> None:
+        raise AttributeError("c: the spline's coefficients are read-only (its fit does not "
+                             "follow them); make a PPoly(c, x) instead")
 
     def _coefficients(self) -> np.ndarray:
         """The fitted columns' coefficients, (4, n - 1, m), made once."""
@@ -485,7 +492,8 @@ def _few_points(x: np.ndarray, y2: np.ndarray, name: str, start, end) -> Any:
     if start is None:
         start = end = ("second" if name == "natural" else "first", None)
     slope = (y2[-1] - y2[0]) / (x[-1] - x[0])
-    ends, inner = [], list(x[1:-1])
+    ends: list = []
+    inner = list(x[1:-1])
     for side, (order, values) in enumerate((start, end)):
         if order == "not-a-knot" and len(x) == 2:
             order, values = "first", slope

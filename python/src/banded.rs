@@ -9,7 +9,13 @@
 
 /// A X = B solved in place: `rhs` holds B (n x m, row-major) on entry and X on return; false
 /// when a pivot column is zero (A singular), `rhs` then left half-solved.
-pub fn solve(first: &[usize], values: &[f64], width: usize, rhs: &mut [f64], m: usize) -> bool {
+pub(crate) fn solve(
+    first: &[usize],
+    values: &[f64],
+    width: usize,
+    rhs: &mut [f64],
+    m: usize,
+) -> bool {
     let n = first.len();
     debug_assert_eq!(values.len(), n * width);
     debug_assert_eq!(rhs.len(), n * m);

@@ -801,7 +801,7 @@ fn fit<'py>(
                 Fitter::new()
                     .fit_into(xs[c], y, dim, &condition, &mut table)
                     .map_err(|e| e.in_curve(c))?;
-                Ok(Arc::new(table))
+                Ok(Arc::new(finite(table).map_err(|e| e.in_curve(c))?))
             })
         })
         .map_err(value_error)?;
@@ -849,6 +849,18 @@ fn fit_bspline<'py>(py: Python<'py>, ts: Stack1<'py>, cs: Stack2<'py>) -> PyResu
     })
 }
 
+/// The fitted table, refused where a coefficient is not finite: finite data whose slopes
+/// overflow f64 (a jump of 1e300 over 1e-300), as SciPy refuses them.
+fn finite(table: SegmentTable) -> Result<SegmentTable, InputError> {
+    if table.is_finite() {
+        return Ok(table);
+    }
+    Err(InputError::field(
+        "points",
+        "the fitted slopes are not finite (the data's slopes overflow float64)".to_string(),
+    ))
+}
+
 /// Curve c's kind and points (`make(c)`: the kind, values per point, coordinates) for every
 /// c < n, each made into a curve and fitted on the library's threads; a curve's error names
 /// it.
@@ -862,9 +874,8 @@ fn fit_curves(
             on_threads(n, |c| {
                 let (kind, dim, coords) = make(c)?;
                 let points = Points::new(dim, coords).map_err(|e| e.in_curve(c))?;
-                Ok(Arc::new(
-                    Curve::new(kind, points).map_err(|e| e.in_curve(c))?.fit(),
-                ))
+                let table = Curve::new(kind, points).map_err(|e| e.in_curve(c))?.fit();
+                Ok(Arc::new(finite(table).map_err(|e| e.in_curve(c))?))
             })
         })
         .map_err(value_error)?;
@@ -1570,7 +1581,7 @@ fn evaluate_pieces<'py>(
     let (c, x) = (c.as_slice()?, x.as_slice()?);
     let mut out = vec![0.0; x.len() * m];
     pieces::evaluate(breaks, c, k, m, x, nu, &mut out);
-    Ok(PyArray1::from_vec(py, out).reshape([x.len(), m])?)
+    PyArray1::from_vec(py, out).reshape([x.len(), m])
 }
 
 /// The integral from a to b of a piecewise polynomial (as `evaluate_pieces` takes it), the
@@ -1601,7 +1612,7 @@ fn antiderivative_pieces<'py>(
     let breaks = breaks.as_slice()?;
     let (k, m) = piece_shape(breaks, &c)?;
     let out = pieces::antiderivative(breaks, c.as_slice()?, k, m);
-    Ok(PyArray1::from_vec(py, out).reshape([k + 1, breaks.len() - 1, m])?)
+    PyArray1::from_vec(py, out).reshape([k + 1, breaks.len() - 1, m])
 }
 
 /// The extension module.

@@ -5,6 +5,8 @@ extrapolation."""
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import splinegpu.interpolate as si
 
@@ -175,3 +177,47 @@ def test_a_batch_of_ppolys_is_scipys_one_by_one():
         si.PPolys(cs[:2], [xs[0], xs[1][::-1]])
     with pytest.raises(ValueError, match=r"cs\[0\]: must have the shape"):
         si.PPolys([np.ones((5, 3))], [np.arange(4.0)])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(5, 19), st.booleans())
+def test_roots_of_high_degree_pieces_are_scipys(seed, degree, extrapolate):
+    """Pieces of degree 5 to 19, the end pieces extrapolated or not: SciPy's roots, the same
+    count, within 1e-8 of the span (SciPy's own test_roots_random's tolerance)."""
+    rng = np.random.default_rng(seed)
+    c = rng.uniform(-1, 1, (degree + 1, 6))
+    x = np.sort(rng.uniform(0, 10, 7))
+    ours = si.PPoly(c, x).roots(extrapolate=extrapolate)
+    theirs = interpolate.PPoly(c, x).roots(extrapolate=extrapolate)
+    assert len(ours) == len(theirs)
+    np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-8 * 10)
+
+
+def test_a_tiny_piece_keeps_its_terms_for_the_roots():
+    # x^3 - 1 given on [0, 1e-5]: SciPy finds the extrapolated root at 1.
+    for module in (si, interpolate):
+        np.testing.assert_allclose(module.PPoly([[1], [0], [0], [-1]], [0, 1e-5]).roots(), [1.0])
+
+
+def test_descending_breakpoints_are_scipys():
+    rng = np.random.default_rng(2)
+    c, x = rng.uniform(-2, 2, (4, 5)), np.sort(rng.uniform(0, 10, 6))[::-1]
+    ours, theirs = si.PPoly(c, x), interpolate.PPoly(c, x)
+    q = rng.uniform(-3, 13, 40)
+    for nu in range(3):
+        np.testing.assert_allclose(ours(q, nu), theirs(q, nu), rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(ours.integrate(-1, 12), theirs.integrate(-1, 12), rtol=1e-13)
+    np.testing.assert_allclose(np.sort(ours.roots()), np.sort(theirs.roots()), rtol=1e-12)
+
+
+def test_a_splines_derivatives_are_splines_and_minus_one_integrates():
+    x = np.linspace(0, 6, 13)
+    ours, theirs = si.CubicSpline(x, np.sin(x)), interpolate.CubicSpline(x, np.sin(x))
+    d = ours.derivative()
+    assert isinstance(d, si.PPoly) and isinstance(d, si.CubicSpline)
+    np.testing.assert_allclose(d.roots(), theirs.derivative().roots(), rtol=0, atol=1e-12)
+    q = np.linspace(-1, 7, 17)
+    np.testing.assert_allclose(ours.derivative(-1)(q), theirs.antiderivative()(q), rtol=0,
+                               atol=1e-12)
+    np.testing.assert_allclose(ours.antiderivative(2)(q), theirs.antiderivative(2)(q), rtol=0,
+                               atol=1e-12)

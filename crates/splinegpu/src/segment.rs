@@ -253,6 +253,13 @@ impl SegmentTable {
         &self.coeffs
     }
 
+    /// Whether every coefficient is finite (a fit whose slopes overflow f64 makes some
+    /// infinite or NaN).
+    #[must_use]
+    pub fn is_finite(&self) -> bool {
+        self.coeffs.iter().all(|c| c.is_finite())
+    }
+
     /// The knots t_0 < t_1 < ... < t_len.
     #[must_use]
     pub fn knots(&self) -> &[f64] {
