@@ -6,7 +6,8 @@ results allocated.
 
 - s(x) on one spline: one point on 100 and on 1,000,000 knots (the cost per call must not
   grow with the knots), 1,000 random points on 1,000 knots, 10 M sorted points on 1 M knots
-  in 3-D.
+  in 3-D; on 101 knots, what SciPy answers through PPoly: a call at one x past the knots, the
+  antiderivative, a derivative made and called at one x, an integral.
 - CubicSplines: 10,000 natural splines of 64 uneven knots in 3-D, fitted (against SciPy's loop
   of CubicSpline constructions) and called at 1,000 unsorted x each (against SciPy's loop of
   calls on splines already made).
@@ -82,6 +83,21 @@ def main(argv):
         rows.append((f"s(x), {knots:,} knots, 1 point", a, "SciPy", b, faster(a, b, ">= 1x")))
     rows.append(("  1 M knots / 100 knots", one_point[1_000_000], "", one_point[100],
                  f"{one_point[1_000_000] / one_point[100]:.2f} (goal <= 1.5)"))
+
+    # What SciPy answers through PPoly on a spline of 101 knots: a call at one x past the
+    # knots, the antiderivative, a derivative called at one x, an integral.
+    x = uneven_knots(rng, 101)
+    y = rng.uniform(-10, 10, 101)
+    ours, theirs = splinegpu.CubicSpline(x, y), CubicSpline(x, y)
+    past = np.array([x[-1] * 1.2])
+    for label, call in (("s(x), 101 knots, 1 point past them", lambda s: s(past)),
+                        ("s.antiderivative(), 101 knots", lambda s: s.antiderivative()),
+                        ("s.derivative()(x), 101 knots, 1 point",
+                         lambda s: s.derivative()(past)),
+                        ("s.integrate(a, b), 101 knots", lambda s: s.integrate(1.0, x[-1]))):
+        a = best(lambda c=call: c(ours), calls=2000)
+        b = best(lambda c=call: c(theirs), calls=2000)
+        rows.append((label, a, "SciPy", b, faster(a, b, ">= 1x")))
 
     x = uneven_knots(rng, 1000)
     y = rng.uniform(-10, 10, 1000)

@@ -59,8 +59,9 @@ pub(crate) fn integrate(
 ) {
     let (lo, hi, sign) = if b < a { (b, a, -1.0) } else { (a, b, 1.0) };
     let pieces = breaks.len() - 1;
-    let primitive = |i: usize, v: f64, out: &mut [f64], weight: f64| {
-        let mut term = vec![0.0; m];
+    let mut term = vec![0.0; m];
+    let mut primitive = |i: usize, v: f64, out: &mut [f64], weight: f64| {
+        term.fill(0.0);
         for j in 0..k {
             let power = (k - j) as f64;
             let coefficients = &c[(j * pieces + i) * m..(j * pieces + i + 1) * m];
@@ -89,9 +90,10 @@ pub(crate) fn antiderivative(breaks: &[f64], c: &[f64], k: usize, m: usize) -> V
     let pieces = breaks.len() - 1;
     let mut out = vec![0.0; (k + 1) * pieces * m];
     let mut running = vec![0.0; m];
+    let mut whole = vec![0.0; m];
     for i in 0..pieces {
         let width = breaks[i + 1] - breaks[i];
-        let mut whole = vec![0.0; m];
+        whole.fill(0.0);
         for j in 0..k {
             let power = (k - j) as f64;
             for col in 0..m {
