@@ -50,8 +50,11 @@ def periodic(x: np.ndarray, k: int) -> np.ndarray:
 
 
 def _banded(first: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
-    return _native.solve_banded(np.ascontiguousarray(first, dtype=np.int64),
-                                np.ascontiguousarray(rows), np.ascontiguousarray(rhs))
+    # Aligned and C-contiguous, as the extension takes them (y may come misaligned from a
+    # network buffer).
+    return _native.solve_banded(np.require(first, np.int64, ["C", "A"]),
+                                np.require(rows, np.float64, ["C", "A"]),
+                                np.require(rhs, np.float64, ["C", "A"]))
 
 
 def _singular() -> np.linalg.LinAlgError:

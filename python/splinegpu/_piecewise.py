@@ -17,7 +17,7 @@ import numpy as np
 from . import _bspline, _interp, _native
 from ._arrays import _axis, _flat, _float64, _order
 from ._context import Context, _shared_context
-from ._ppoly import PPoly, _extrapolate
+from ._ppoly import PPoly, _extrapolate, _f64
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
@@ -399,8 +399,7 @@ class _Piecewise(PPoly):
         """Derivative nu at x from `c` in float64, as SciPy's PPoly evaluates it: the piece
         of the last knot at or below x (the first piece below x[0], the last at and above
         x[-1]), in powers of x - x_i; NaN at NaN."""
-        return _native.evaluate_pieces(self.x, self._coefficients(),
-                                       np.ascontiguousarray(x, dtype=np.float64), nu)
+        return _native.evaluate_pieces(_f64(self.x), _f64(self._coefficients()), _f64(x), nu)
 
     def _like(self, c: np.ndarray, x: np.ndarray, extrapolate) -> PPoly:
         """A piecewise polynomial made from this one (a derivative, an antiderivative): of

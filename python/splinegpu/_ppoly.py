@@ -28,8 +28,9 @@ def _extrapolate(value):
 
 
 def _f64(a) -> np.ndarray:
-    """a as a contiguous float64 array (itself where it is one)."""
-    return np.ascontiguousarray(a, dtype=np.float64)
+    """a as an aligned, C-contiguous float64 array for the extension (itself where it is one):
+    arrays unpickled from a network buffer (Dask) may be misaligned."""
+    return np.require(a, dtype=np.float64, requirements=["C", "A"])
 
 
 class PPoly:
@@ -153,8 +154,7 @@ class PPoly:
             flat = self.x[0] + np.mod(flat - self.x[0], self.x[-1] - self.x[0])
         c = self._column_c()
         if self.x[0] <= self.x[-1] and not np.iscomplexobj(c):
-            out = _native.evaluate_pieces(_f64(self.x), np.ascontiguousarray(c, np.float64), flat,
-                                         nu)
+            out = _native.evaluate_pieces(_f64(self.x), _f64(c), _f64(flat), nu)
         else:
             out = self._by_horner(c, flat, nu)
         if mode is False:

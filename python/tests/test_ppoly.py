@@ -221,3 +221,28 @@ def test_a_splines_derivatives_are_splines_and_minus_one_integrates():
                                atol=1e-12)
     np.testing.assert_allclose(ours.antiderivative(2)(q), theirs.antiderivative(2)(q), rtol=0,
                                atol=1e-12)
+
+
+def test_misaligned_arrays_are_read_right():
+    """Arrays as Dask hands them over from a network buffer (misaligned): breakpoints,
+    coefficients and points, through every native door of PPoly and the splines."""
+
+    def misaligned(a):
+        raw = bytearray(a.nbytes + 1)
+        out = np.frombuffer(raw, dtype=np.float64, count=a.size, offset=1).reshape(a.shape)
+        out[...] = a
+        assert not out.flags.aligned
+        return out
+
+    rng = np.random.default_rng(6)
+    c, x = rng.uniform(-1, 1, (5, 6)), np.sort(rng.uniform(0, 10, 7))
+    q = rng.uniform(-2, 12, 9)
+    ours = si.PPoly(misaligned(c), misaligned(x))
+    theirs = interpolate.PPoly(c, x)
+    np.testing.assert_allclose(ours(misaligned(q)), theirs(q), rtol=1e-13)
+    np.testing.assert_allclose(ours.integrate(-1, 11), theirs.integrate(-1, 11), rtol=1e-13)
+    np.testing.assert_allclose(ours.antiderivative()(q), theirs.antiderivative()(q),
+                               rtol=1e-12)
+    spline = si.make_interp_spline(misaligned(x), misaligned(x ** 2), k=4)
+    np.testing.assert_allclose(spline(q), interpolate.make_interp_spline(x, x ** 2, k=4)(q),
+                               rtol=1e-10)
