@@ -11,11 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from . import _bspline, _interp
+from . import _bspline, _interp, _native
 from ._arrays import _axis, _float64, _natural
 from ._context import Context
 from ._piecewise import CubicSpline, _Piecewise
-from ._ppoly import PPoly, _extrapolate
+from ._ppoly import _F64, PPoly, _extrapolate, _f64
+
+_COMPLEX = np.dtype(np.complex128)
 
 
 class BSpline:
@@ -26,13 +28,13 @@ class BSpline:
     `derivative`, `antiderivative` (their t, c, k laid out as SciPy's), `integrate` (False:
     zero outside the base interval), `tck`.
 
-    Evaluated as its polynomial pieces (made once, in float64): of degree 3 and below through
-    `context` as `CubicSpline`'s (the same promise on the GPU), above it (an antiderivative of
-    a cubic) in NumPy on the CPU. Differences from SciPy: `t` and `c` are read-only copies;
-    non-finite coefficients are refused (SciPy's evaluate to NaN); `integrate` with
+    Evaluated on the CPU as SciPy evaluates it, by de Boor's sums over each x's knot span (in
+    the extension, on every thread for large calls); on a GPU context as its polynomial pieces
+    (made once in float64, degree 3 and below, within `CubicSpline`'s promise), but where an
+    end interval is empty or a coefficient is not finite. Integrals, roots and conversions use
+    the pieces. Differences from SciPy: `t` and `c` are read-only copies; `integrate` with
     extrapolate False gives 0 past the base interval for an N-D c too (SciPy's N-D path gives
-    NaN there, its 1-D path 0); `basis_element`, `design_matrix`, `from_power_basis` and
-    `insert_knot` are absent.
+    NaN there, its 1-D path 0).
     """
 
     t: np.ndarray
@@ -197,15 +199,13 @@ class BSpline:
         """Derivative nu (>= 0) at x, shape x.shape + c.shape[1:] (x's axes at `axis`);
         `extrapolate` None (the spline's), True (the end pieces continue), False (NaN outside
         [t[k], t[n]]) or "periodic" (x wrapped into it)."""
-        nu = _natural("nu", int(nu) if isinstance(nu, bool) else nu)
+        if nu.__class__ is not int or nu < 0:
+            nu = _natural("nu", int(nu) if isinstance(nu, bool) else nu)
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
-        n = len(self.t) - self.k - 1
-        if not (self.t[self.k] < self.t[self.k + 1] and self.t[n - 1] < self.t[n]) or not \
-                np.all(np.isfinite(self.c[:n])):
-            # An empty end interval (where SciPy evaluates past the ends, unlike the last
-            # non-empty piece) or a coefficient that is not finite (NaN only where its
-            # B-spline reaches): de Boor's sums, as SciPy evaluates.
-            return self._de_boor(x, nu, mode)
+        on_gpu = self.context is not None and self.context.backend == "gpu"
+        regular = self._regular()
+        if not on_gpu or not regular:
+            return self._de_boor(x, nu, mode, regular)
         pp = self._pieces()
         if isinstance(pp, _Piecewise) and nu <= 3:
             return pp(x, nu, mode)
@@ -213,25 +213,57 @@ class BSpline:
             pp = pp.ppoly()
         return pp(x, nu, mode)
 
-    def _de_boor(self, x, nu: int, mode) -> np.ndarray:
+    def _regular(self) -> bool:
+        """Whether the pieces give SciPy's values everywhere: no empty end interval (where
+        SciPy evaluates past the ends otherwise than the last non-empty piece), every
+        coefficient finite (NaN only where its B-spline reaches). Found once (t and c are
+        read-only)."""
+        regular = self.__dict__.get("_is_regular")
+        if regular is None:
+            t, k = self.t, self.k
+            n = len(t) - k - 1
+            regular = bool(t[k] < t[k + 1] and t[n - 1] < t[n] and np.all(np.isfinite(self.c[:n])))
+            self._is_regular = regular
+        return regular
+
+    def _columns(self) -> tuple:
+        """t and c as the extension takes them: (t, (c as (rows, m),)) or, for a complex c,
+        (t, (real parts, imaginary parts)); made once (t and c are read-only)."""
+        made = self.__dict__.get("_as_columns")
+        if made is None:
+            c = self.c.reshape(len(self.c), -1)
+            parts = (c.real, c.imag) if c.dtype == _COMPLEX else (c,)
+            made = (_f64(self.t), tuple(_f64(part) for part in parts))
+            self._as_columns = made
+        return made
+
+    def _de_boor(self, x, nu: int, mode, regular: bool) -> np.ndarray:
         """Derivative nu at x as SciPy computes it: sum_r B_{l-k+r,k}^(nu)(x) c_{l-k+r} over
-        the knot span l of each x, in NumPy float64 (or complex)."""
-        x = _float64(x, "x")
-        flat = x.ravel()
+        the knot span l of each x (the extension's `evaluate_bspline`), in float64 (a complex
+        c as its two parts); NaN at NaN, and outside [t[k], t[n]] when `mode` is False. Past
+        the base interval of a `regular` spline (its end intervals not empty, c finite), the
+        end polynomials in powers of x - t[k] or x - t[n] instead: the same polynomials,
+        without the cancellation de Boor's blending suffers far from the knots (SciPy's loses
+        1e-8 of a degree-5 antiderivative 5 knot spans past the end)."""
+        if x.__class__ is float:
+            x = np.array(x)
+        elif x.__class__ is not np.ndarray or x.dtype != _F64:
+            x = _float64(x, "x")
+        flat = _f64(x.reshape(-1))
         t, k = self.t, self.k
         n = len(t) - k - 1
+        lo, hi = t[k], t[n]
         if mode == "periodic":
-            flat = t[k] + np.mod(flat - t[k], t[n] - t[k])
-        span = _bspline.intervals(t, k, flat)
-        weights = _bspline.basis(t, k, np.nan_to_num(flat), span, nu)
-        c = self.c.reshape(len(self.c), -1)
-        out = np.zeros((len(flat), c.shape[1]), dtype=c.dtype)
-        for r in range(k + 1):
-            out += weights[:, r, None] * c[span - k + r]
-        outside = np.isnan(flat)
+            flat = lo + np.mod(flat - lo, hi - lo)
+        knots, columns = self._columns()
+        powers = mode is True and regular
+        if len(columns) == 2:
+            out = (_native.evaluate_bspline(knots, columns[0], k, flat, nu, powers)
+                   + 1j * _native.evaluate_bspline(knots, columns[1], k, flat, nu, powers))
+        else:
+            out = _native.evaluate_bspline(knots, columns[0], k, flat, nu, powers)
         if mode is False:
-            outside |= (flat < t[k]) | (flat > t[n])
-        out[outside] = np.nan
+            out[(flat < lo) | (flat > hi)] = np.nan
         out = out.reshape(x.shape + self.c.shape[1:])
         if self.axis != 0 and x.ndim > 0:
             out = np.moveaxis(out, list(range(x.ndim)),
@@ -263,7 +295,9 @@ class BSpline:
         return pp.integrate(a, b, mode)
 
     def __reduce__(self):
-        return (_restore_bspline, (self.__dict__,))
+        # Without the arrays made for the extension (made again, aligned, where unpickled).
+        attributes = {k: v for k, v in self.__dict__.items() if k != "_as_columns"}
+        return (_restore_bspline, (attributes,))
 
 
 def _restore_bspline(attributes: dict) -> BSpline:

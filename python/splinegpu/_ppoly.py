@@ -27,9 +27,17 @@ def _extrapolate(value):
     return bool(value)
 
 
+_F64 = np.dtype(np.float64)
+
+
 def _f64(a) -> np.ndarray:
-    """a as an aligned, C-contiguous float64 array for the extension (itself where it is one):
-    arrays unpickled from a network buffer (Dask) may be misaligned."""
+    """a as an aligned, C-contiguous float64 array for the extension (itself where it is one,
+    checked first: a call of microseconds makes several): arrays unpickled from a network
+    buffer (Dask) may be misaligned."""
+    if a.__class__ is np.ndarray and a.dtype == _F64:
+        flags = a.flags
+        if flags.c_contiguous and flags.aligned:
+            return a
     return np.require(a, dtype=np.float64, requirements=["C", "A"])
 
 

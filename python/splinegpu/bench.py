@@ -7,7 +7,8 @@ results allocated.
 - s(x) on one spline: one point on 100 and on 1,000,000 knots (the cost per call must not
   grow with the knots), 1,000 random points on 1,000 knots, 10 M sorted points on 1 M knots
   in 3-D; on 101 knots, what SciPy answers through PPoly: a call at one x past the knots, the
-  antiderivative, a derivative made and called at one x, an integral.
+  antiderivative, a derivative made and called at one x, an integral; a BSpline of 1,000
+  knots at one point and at 1,000,000.
 - CubicSplines: 10,000 natural splines of 64 uneven knots in 3-D, fitted (against SciPy's loop
   of CubicSpline constructions) and called at 1,000 unsorted x each (against SciPy's loop of
   calls on splines already made).
@@ -98,6 +99,20 @@ def main(argv):
         a = best(lambda c=call: c(ours), calls=2000)
         b = best(lambda c=call: c(theirs), calls=2000)
         rows.append((label, a, "SciPy", b, faster(a, b, ">= 1x")))
+
+    # A BSpline (SciPy's knots and coefficients, de Boor's sums on the CPU as SciPy's): one
+    # point, and 1,000,000 random points, on 1,000 knots.
+    from scipy.interpolate import BSpline, make_interp_spline
+
+    x = uneven_knots(rng, 1000)
+    fitted = make_interp_spline(x, rng.uniform(-10, 10, 1000))
+    ours, theirs = splinegpu.interpolate.BSpline(*fitted.tck), BSpline(*fitted.tck)
+    for label, q, calls in (("1 point", np.array([x[-1] * 0.37]), 2000),
+                            ("1,000,000 points", rng.uniform(0, x[-1], 1_000_000), 1)):
+        a = best(lambda q=q: ours(q), calls=calls)
+        b = best(lambda q=q: theirs(q), calls=calls)
+        rows.append((f"BSpline(t, c, 3)(x), 1,000 knots, {label}", a, "SciPy", b,
+                     faster(a, b, ">= 1x")))
 
     x = uneven_knots(rng, 1000)
     y = rng.uniform(-10, 10, 1000)

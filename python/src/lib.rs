@@ -17,6 +17,7 @@ use numpy::{
 use std::sync::Arc;
 
 mod banded;
+mod de_boor;
 mod pieces;
 mod roots;
 
@@ -1627,6 +1628,39 @@ fn antiderivative_pieces<'py>(
     PyArray1::from_vec(py, out).reshape([k + 1, breaks.len() - 1, m])
 }
 
+/// Derivative `nu` of the B-spline (knots t, coefficients c (>= n, m), degree k) at x, as
+/// SciPy evaluates it (de Boor's sums over each x's knot span; past the base interval the end
+/// polynomials in powers where `ends_in_powers`; see `de_boor`): (len(x), m).
+#[pyfunction]
+fn evaluate_bspline<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'_, f64>,
+    c: PyReadonlyArray2<'_, f64>,
+    k: usize,
+    x: PyReadonlyArray1<'_, f64>,
+    nu: usize,
+    ends_in_powers: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let t = t.as_slice()?;
+    let (rows, m) = (c.shape()[0], c.shape()[1]);
+    if t.len() < 2 * k + 2 || rows < t.len() - k - 1 {
+        return Err(value_error(format!(
+            "c: {rows} coefficients for {} knots of degree {k}",
+            t.len()
+        )));
+    }
+    let (c, x) = (c.as_slice()?, x.as_slice()?);
+    let mut out = vec![0.0; x.len() * m];
+    let evaluate = |out: &mut [f64]| de_boor::evaluate(t, c, m, k, x, nu, ends_in_powers, out);
+    if x.len() < 1024 {
+        // A small call: releasing the GIL would cost more than the work.
+        evaluate(&mut out);
+    } else {
+        py.detach(|| evaluate(&mut out));
+    }
+    PyArray1::from_vec(py, out).reshape([x.len(), m])
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -1641,6 +1675,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(antiderivative_pieces, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())

@@ -1,0 +1,175 @@
+//! B-splines evaluated as SciPy evaluates them (`BSpline.__call__` on the CPU): at each x the
+//! k + 1 B-splines of its knot span by the Cox-de Boor recurrence, summed with their
+//! coefficients. Exact zeros off a basis function's support, NaN only where a coefficient
+//! that is NaN reaches, and SciPy's span at the ends (an empty end interval included), which
+//! the polynomial pieces the context evaluates cannot all give.
+//!
+//! The span of x is l = clamp(#{t_j <= x} - 1, k, n - 1) (n = len(t) - k - 1). Degrees rise
+//! from B_{l,0} = 1 to k - nu by
+//!     B_{i,p}(x) = (x - t_i) / (t_{i+p} - t_i) B_{i,p-1} + (t_{i+p+1} - x) / (t_{i+p+1} - t_{i+1}) B_{i+1,p-1},
+//! and each of the last nu degrees takes the derivative instead,
+//!     B'_{i,p} = p B_{i,p-1} / (t_{i+p} - t_i) - p B_{i+1,p-1} / (t_{i+p+1} - t_{i+1}),
+//! a term over a zero width being zero.
+
+use rayon::prelude::*;
+
+/// Points per task when the work is spread over the pool.
+const CHUNK: usize = 4096;
+
+/// The nu-th derivatives of the B-splines B_{l-k,k} .. B_{l,k} at x into `values` (k + 1),
+/// `scratch` the same length; returns l.
+fn basis(t: &[f64], k: usize, x: f64, nu: usize, values: &mut [f64], scratch: &mut [f64]) -> usize {
+    let n = t.len() - k - 1;
+    let l = t
+        .partition_point(|&v| v <= x)
+        .saturating_sub(1)
+        .clamp(k, n - 1);
+    values.fill(0.0);
+    if nu > k {
+        return l;
+    }
+    values[0] = 1.0;
+    for p in 1..=k {
+        for r in 0..=p {
+            let i = l + r - p;
+            let lower = if r > 0 { values[r - 1] } else { 0.0 };
+            let upper = if r < p { values[r] } else { 0.0 };
+            let left = t[i + p] - t[i];
+            let right = t[i + p + 1] - t[i + 1];
+            scratch[r] = if p <= k - nu {
+                let a = if left > 0.0 { (x - t[i]) / left } else { 0.0 };
+                let b = if right > 0.0 {
+                    (t[i + p + 1] - x) / right
+                } else {
+                    0.0
+                };
+                a * lower + b * upper
+            } else {
+                let a = if left > 0.0 { p as f64 / left } else { 0.0 };
+                let b = if right > 0.0 { p as f64 / right } else { 0.0 };
+                a * lower - b * upper
+            };
+        }
+        values[..=p].copy_from_slice(&scratch[..=p]);
+    }
+    l
+}
+
+/// The spline's Taylor coefficients f^(d)(at) / d! (d = 0..=k, m values each, row-major)
+/// from the span `at` falls in.
+fn taylor(t: &[f64], c: &[f64], m: usize, k: usize, at: f64) -> Vec<f64> {
+    let (mut values, mut scratch) = (vec![0.0; k + 1], vec![0.0; k + 1]);
+    let mut out = vec![0.0; (k + 1) * m];
+    let mut factorial = 1.0;
+    for d in 0..=k {
+        factorial *= d.max(1) as f64;
+        let l = basis(t, k, at, d, &mut values, &mut scratch);
+        for (r, &weight) in values.iter().enumerate() {
+            for j in 0..m {
+                out[d * m + j] += weight * c[(l - k + r) * m + j] / factorial;
+            }
+        }
+    }
+    out
+}
+
+/// sum_r B^(nu)_{l-k+r,k}(x) c_{l-k+r} at each x into `out` (len(x) rows of m); c holds at
+/// least n rows of m values. With `ends_in_powers`, x past the base interval [t_k, t_n] takes
+/// the end polynomial in powers of x - t_k (or x - t_n) instead: the same polynomial, without
+/// the cancellation de Boor's blending suffers far from the knots (for end intervals that are
+/// not empty). Large calls are spread over the pool.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the spline, the points, the order and the output of one call"
+)]
+pub(crate) fn evaluate(
+    t: &[f64],
+    c: &[f64],
+    m: usize,
+    k: usize,
+    x: &[f64],
+    nu: usize,
+    ends_in_powers: bool,
+    out: &mut [f64],
+) {
+    if m == 0 {
+        return;
+    }
+    let n = t.len() - k - 1;
+    let (lo, hi) = (t[k], t[n]);
+    // Each end's expansion only where some x needs it.
+    let end = |needed: bool, at: f64| (ends_in_powers && needed).then(|| taylor(t, c, m, k, at));
+    let left = end(x.iter().any(|&at| at < lo), lo);
+    let right = end(x.iter().any(|&at| at > hi), hi);
+    let run = |x: &[f64], out: &mut [f64]| {
+        let (mut values, mut scratch) = (vec![0.0; k + 1], vec![0.0; k + 1]);
+        for (row, &at) in out.chunks_exact_mut(m).zip(x) {
+            if at.is_nan() {
+                // NaN, also where the derivative's weights do not depend on x (nu = k).
+                row.fill(f64::NAN);
+                continue;
+            }
+            row.fill(0.0);
+            let past = match (&left, &right) {
+                (Some(left), _) if at < lo => Some((left, at - lo)),
+                (_, Some(right)) if at > hi => Some((right, at - hi)),
+                _ => None,
+            };
+            if let Some((coefficients, v)) = past {
+                // sum_{d >= nu} a_d d! / (d - nu)! v^(d - nu), by Horner from d = k.
+                for d in (nu..=k).rev() {
+                    let factor: f64 = (d - nu + 1..=d).map(|j| j as f64).product();
+                    for (o, &a) in row.iter_mut().zip(&coefficients[d * m..(d + 1) * m]) {
+                        *o = *o * v + a * factor;
+                    }
+                }
+                continue;
+            }
+            let l = basis(t, k, at, nu, &mut values, &mut scratch);
+            for (r, &weight) in values.iter().enumerate() {
+                let coefficients = &c[(l - k + r) * m..(l - k + r + 1) * m];
+                for (o, &cj) in row.iter_mut().zip(coefficients) {
+                    *o += weight * cj;
+                }
+            }
+        }
+    };
+    if x.len() <= CHUNK {
+        run(x, out);
+    } else {
+        out.par_chunks_mut(CHUNK * m)
+            .zip(x.par_chunks(CHUNK))
+            .for_each(|(out, x)| run(x, out));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::evaluate;
+
+    /// The clamped quadratic on knots 0 0 0 1 2 2 2 with coefficients 0 1 2 3 is x (its
+    /// control points at the Greville abscissae 0, 0.5, 1.5, 2): values and slopes inside
+    /// and past both ends, the second derivative zero.
+    #[test]
+    fn a_line_in_the_quadratic_basis() {
+        let t = [0.0, 0.0, 0.0, 1.0, 2.0, 2.0, 2.0];
+        let c = [0.0, 0.5, 1.5, 2.0];
+        let x = [-1.0, 0.0, 0.3, 1.0, 1.7, 2.0, 3.0];
+        let mut out = [0.0; 7];
+        for powers in [false, true] {
+            evaluate(&t, &c, 1, 2, &x, 0, powers, &mut out);
+            for (o, &at) in out.iter().zip(&x) {
+                assert!((o - at).abs() < 1e-15, "{o} at {at}");
+            }
+            evaluate(&t, &c, 1, 2, &x, 1, powers, &mut out);
+            assert!(out.iter().all(|&o| (o - 1.0).abs() < 1e-15));
+            evaluate(&t, &c, 1, 2, &x, 2, powers, &mut out);
+            assert!(out.iter().all(|&o| o.abs() < 1e-15));
+            evaluate(&t, &c, 1, 2, &x, 3, powers, &mut out);
+            assert!(out.iter().all(|&o| o == 0.0));
+            let mut one = [0.0];
+            evaluate(&t, &c, 1, 2, &[f64::NAN], 2, powers, &mut one);
+            assert!(one[0].is_nan());
+        }
+    }
+}
