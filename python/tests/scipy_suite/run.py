@@ -11,10 +11,11 @@ in its own interpreter with a per-test timeout; one that dies (a crash, a hang's
 started again past the test it died in, which counts as failed. Prints, per file, the tests
 splinegpu passes against those SciPy passes.
 
---check fails (exit 1) when a file's count falls below ratchet.json's or a test SciPy passes
-fails here without an entry in expected_failures.txt (each entry: the test's id, " | ", and the
-difference python/README.md's coverage table states). --update raises ratchet.json to the
-counts reached. --failures lists each failing test with its first error.
+--check fails (exit 1) when a file's count falls below ratchet.json's, a test SciPy passes
+fails here without an entry in expected_failures.txt (each entry: the test's id, " | ", and
+the difference python/README.md's coverage table states), or the installed SciPy is not the
+one the ratchet was made against (python/pyproject.toml pins it). --update raises
+ratchet.json to the counts reached. --failures lists each failing test with its first error.
 """
 
 from __future__ import annotations
@@ -164,6 +165,15 @@ def main() -> int:
                                    encoding="utf-8")
     expected = expected_failures()
     ratchet = json.loads(RATCHET.read_text(encoding="utf-8"))
+    from scipy import __version__ as version
+
+    if ratchet.get("scipy") != version:
+        # Another release's test files: the counts and the ids do not compare.
+        print(f"the ratchet was made against SciPy {ratchet.get('scipy')}, this is SciPy "
+              f"{version} (python/pyproject.toml pins the tests' SciPy)",
+              file=sys.stderr)
+        if args.check and not args.update:
+            return 1
     counts, problems = {}, []
     print(f"{'file':<22}{'splinegpu':>10}{'SciPy':>8}{'ratchet':>9}")
     for name in FILES:
@@ -191,6 +201,7 @@ def main() -> int:
         problems.append(f"{test} is listed in {EXPECTED.name} but passes (or is not selected)")
     if args.update:
         raised = {k: max(v, ratchet.get(k, 0)) for k, v in counts.items()}
+        raised["scipy"] = version
         RATCHET.write_text(json.dumps(raised, indent=1) + "\n", encoding="utf-8")
     if args.check and problems:
         print("\n".join(problems), file=sys.stderr)
