@@ -1,7 +1,9 @@
 """B-spline arithmetic for `splinegpu.interpolate.BSpline` and `make_interp_spline`, in NumPy
 float64 (or complex128): the pieces of a B-spline in SciPy's power form, the coefficients of
-its derivatives and antiderivatives as SciPy's `splder`/`splantider` lay them out, the knot
-vectors of `make_interp_spline`, and B-spline coefficients read off a fitted cubic's pieces.
+its derivatives and antiderivatives as SciPy's `splder`/`splantider` lay them out, B-spline
+coefficients read off a fitted cubic's pieces, and the basis at points (knot spans, Cox-de
+Boor values and derivatives, Taylor expansions) with knot insertion, for the fits of any
+degree, the design matrix and `insert_knot`.
 
 Notation: knots t_0 <= ... <= t_{n+k}, coefficients c_0 .. c_{n-1}, degree k; B_{i,k} is
 supported on [t_i, t_{i+k+1}], and the base interval is [t_k, t_n].
@@ -161,32 +163,6 @@ def antiderivative(t: np.ndarray, c: np.ndarray, k: int, nu: int):
         t = np.concatenate([t[:1], t, t[-1:]])
         k += 1
     return t, c, k
-
-
-def not_a_knot_knots(x: np.ndarray) -> np.ndarray:
-    """The cubic not-a-knot knot vector: x_0 and x_last four times each, x_2 .. x_{n-3}
-    between (x_1 and x_{n-2} are not knots)."""
-    return np.concatenate([np.repeat(x[:1], 4), x[2:-2], np.repeat(x[-1:], 4)])
-
-
-def end_knots(x: np.ndarray) -> np.ndarray:
-    """The cubic knot vector for a derivative condition at each end: every x, the ends three
-    times more."""
-    return np.concatenate([np.repeat(x[:1], 3), x, np.repeat(x[-1:], 3)])
-
-
-def periodic_knots(x: np.ndarray) -> np.ndarray:
-    """The cubic periodic knot vector: x, and three knots past each end that repeat the
-    spacing of the other end (the widths x_{n-1} - x_{n-2}, ... before x_0; x_1 - x_0, ...
-    after x_{n-1}, cycling when there are fewer than three)."""
-    widths = np.diff(x)
-    n = len(x)
-    # Knot by knot outward from each end (each from its neighbour, as SciPy rounds them).
-    before, after = [x[0]], [x[-1]]
-    for i in range(3):
-        before.append(before[-1] - widths[-(i % (n - 1)) - 1])
-        after.append(after[-1] + widths[i % (n - 1)])
-    return np.concatenate([before[:0:-1], x, after[1:]])
 
 
 def cubic_coefficients(t: np.ndarray, breaks: np.ndarray, coeff: np.ndarray,

@@ -366,7 +366,7 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
     columns = y.reshape(len(x), -1)
     if k == 3 and t is None and 0 < columns.size and columns.shape[1] * (
             2 if np.iscomplexobj(y) else 1) <= 64:
-        fast = _cubic_ends(bc_type, left, right, len(x))
+        fast = _cubic_ends(bc_type, len(x))
         if fast is not None:
             return _cubic(x, np.moveaxis(y, 0, axis), fast, axis, context)
     if t is None:
@@ -453,27 +453,14 @@ def _end_conditions(end, trailing: tuple):
     return [int(o) for o in orders], flat
 
 
-def _cubic_ends(bc_type, left, right, n: int):
-    """bc_type as CubicSpline's where the cubic fast path takes it (one condition of order 1
-    or 2 at each end, or not-a-knot on 4 points or more, or periodic), else None."""
-    if bc_type is None or (isinstance(bc_type, str) and bc_type == "not-a-knot"):
-        return "not-a-knot" if n >= 4 else None
-    if isinstance(bc_type, str):
-        return bc_type if bc_type in ("natural", "clamped", "periodic") else None
-
-    def end(spec):
-        if isinstance(spec, str):
-            return spec if spec in ("natural", "clamped") else None
-        try:
-            (order, value), = spec
-        except (TypeError, ValueError):
-            return None
-        if isinstance(order, bool) or order not in (1, 2):
-            return None
-        return (int(order), value)
-
-    ends = (end(left), end(right))
-    return None if None in ends else ends
+def _cubic_ends(bc_type, n: int):
+    """bc_type as CubicSpline's where the cubic fast path takes it (`_interp_bc`'s forms, and
+    not-a-knot on 4 points or more), else None."""
+    try:
+        bc = _interp_bc(bc_type)
+    except ValueError:
+        return None
+    return None if bc == "not-a-knot" and n < 4 else bc
 
 
 def _cubic(x, y, bc, axis: int, context) -> BSpline:
@@ -493,11 +480,11 @@ def _interp_coefficients(x: np.ndarray, pieces: np.ndarray, bc):
     (n, m) of the cubic (pieces (4, len(x) - 1, m) in SciPy's power form) on them."""
     period = None
     if bc == "periodic":
-        knots, period = _bspline.periodic_knots(x), x[-1] - x[0]
+        knots, period = _interp.periodic(x, 3), x[-1] - x[0]
     elif bc == "not-a-knot":
-        knots = _bspline.not_a_knot_knots(x)
+        knots = _interp.not_a_knot(x, 3)
     else:
-        knots = _bspline.end_knots(x)
+        knots = _interp.with_ends(x, 3)
     return knots, _bspline.cubic_coefficients(knots, x, pieces, period)
 
 
