@@ -21,6 +21,7 @@ from . import _bspline, _native
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
+from ._ndbspline import NdBSpline
 from ._piecewise import (
     Akima1DInterpolator,
     CubicHermiteSpline,
@@ -32,14 +33,17 @@ from ._piecewise import (
     pchip_interpolate,
 )
 from ._ppoly import PPoly, _extrapolate, _integrals, _solved
+from ._rect import RectBivariateSpline
+from ._rgi import RegularGridInterpolator, interpn
 
 # SciPy's alias of PchipInterpolator.
 pchip = PchipInterpolator
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
-           "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "PPoly",
-           "PPolys", "PchipInterpolator", "PchipInterpolators", "make_interp_spline",
-           "make_interp_splines", "pchip", "pchip_interpolate"]
+           "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "NdBSpline",
+           "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators", "RectBivariateSpline",
+           "RegularGridInterpolator", "interpn", "make_interp_spline", "make_interp_splines",
+           "pchip", "pchip_interpolate"]
 
 
 class _Batch:

@@ -18,7 +18,14 @@ const CHUNK: usize = 4096;
 
 /// The nu-th derivatives of the B-splines B_{l-k,k} .. B_{l,k} at x into `values` (k + 1),
 /// `scratch` the same length; returns l.
-fn basis(t: &[f64], k: usize, x: f64, nu: usize, values: &mut [f64], scratch: &mut [f64]) -> usize {
+pub(crate) fn basis(
+    t: &[f64],
+    k: usize,
+    x: f64,
+    nu: usize,
+    values: &mut [f64],
+    scratch: &mut [f64],
+) -> usize {
     let n = t.len() - k - 1;
     let l = t
         .partition_point(|&v| v <= x)

@@ -18,6 +18,7 @@ use std::sync::Arc;
 
 mod banded;
 mod de_boor;
+mod grid;
 mod pieces;
 mod roots;
 
@@ -1661,6 +1662,131 @@ fn evaluate_bspline<'py>(
     PyArray1::from_vec(py, out).reshape([x.len(), m])
 }
 
+/// The knots of each axis, checked against the degrees: at least 2 k + 2 each.
+fn tensor_axes<'a>(ts: &'a [PyReadonlyArray1<'_, f64>], k: &[usize]) -> PyResult<Vec<&'a [f64]>> {
+    if ts.len() != k.len() || ts.is_empty() {
+        return Err(value_error(format!(
+            "t: {} knot vectors for {} degrees",
+            ts.len(),
+            k.len()
+        )));
+    }
+    ts.iter()
+        .zip(k)
+        .enumerate()
+        .map(|(a, (t, &k))| {
+            let t = t.as_slice()?;
+            if t.len() < 2 * k + 2 {
+                return Err(value_error(format!(
+                    "t[{a}]: {} knots for degree {k}, need at least {}",
+                    t.len(),
+                    2 * k + 2
+                )));
+            }
+            Ok(t)
+        })
+        .collect()
+}
+
+/// The points (N, d) checked against d axes.
+fn points_of<'a>(xi: &'a PyReadonlyArray2<'_, f64>, d: usize) -> PyResult<&'a [f64]> {
+    if xi.shape()[1] != d {
+        return Err(value_error(format!(
+            "xi: points of {} coordinates for {d} axes",
+            xi.shape()[1]
+        )));
+    }
+    Ok(xi.as_slice()?)
+}
+
+/// Derivative `nu` (one order per axis) of the tensor-product B-spline (knots `ts`, degrees
+/// `k`, coefficients c (n_0 · .. · n_{d-1}, m)) at the points xi (N, d), as SciPy's
+/// `NdBSpline` evaluates it (see `grid`): (N, m).
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts a list of arrays as a Vec"
+)]
+fn evaluate_tensor<'py>(
+    py: Python<'py>,
+    ts: Vec<PyReadonlyArray1<'_, f64>>,
+    k: Vec<usize>,
+    c: PyReadonlyArray2<'_, f64>,
+    xi: PyReadonlyArray2<'_, f64>,
+    nu: Vec<usize>,
+    extrapolate: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let t = tensor_axes(&ts, &k)?;
+    let needed: usize = t.iter().zip(&k).map(|(t, k)| t.len() - k - 1).product();
+    if c.shape()[0] != needed || nu.len() != t.len() {
+        return Err(value_error(format!(
+            "c: {} rows of coefficients for {needed} knot products, nu of {} orders for {} axes",
+            c.shape()[0],
+            nu.len(),
+            t.len()
+        )));
+    }
+    let m = c.shape()[1];
+    let xi = points_of(&xi, t.len())?;
+    let tensor = grid::Tensor {
+        t,
+        k,
+        c: c.as_slice()?,
+        m,
+    };
+    let rows = xi.len() / tensor.t.len();
+    let mut out = vec![0.0; rows * m];
+    if rows < 1024 {
+        tensor.evaluate(xi, &nu, extrapolate, &mut out);
+    } else {
+        py.detach(|| tensor.evaluate(xi, &nu, extrapolate, &mut out));
+    }
+    PyArray1::from_vec(py, out).reshape([rows, m])
+}
+
+/// SciPy's gridded PCHIP (`RegularGridInterpolator`'s "pchip": the last axis first) of the
+/// values (n_0 · .. · n_{d-1}, m) on the strictly increasing axes at the points xi (N, d):
+/// (N, m).
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts a list of arrays as a Vec"
+)]
+fn pchip_grid<'py>(
+    py: Python<'py>,
+    axes: Vec<PyReadonlyArray1<'_, f64>>,
+    values: PyReadonlyArray2<'_, f64>,
+    xi: PyReadonlyArray2<'_, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let axes: Vec<&[f64]> = axes
+        .iter()
+        .map(|a| a.as_slice())
+        .collect::<Result<_, _>>()?;
+    let needed: usize = axes.iter().map(|a| a.len()).product();
+    if axes.is_empty() || axes.iter().any(|a| a.len() < 2) || values.shape()[0] != needed {
+        return Err(value_error(format!(
+            "values: {} rows for axes of {:?} points (each at least 2)",
+            values.shape()[0],
+            axes.iter().map(|a| a.len()).collect::<Vec<_>>()
+        )));
+    }
+    let m = values.shape()[1];
+    let xi = points_of(&xi, axes.len())?;
+    let grid = grid::Grid {
+        axes,
+        values: values.as_slice()?,
+        m,
+    };
+    let rows = xi.len() / grid.axes.len();
+    let mut out = vec![0.0; rows * m];
+    if rows < 256 {
+        grid.pchip(xi, &mut out);
+    } else {
+        py.detach(|| grid.pchip(xi, &mut out));
+    }
+    PyArray1::from_vec(py, out).reshape([rows, m])
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -1676,6 +1802,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(antiderivative_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_bspline, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate_tensor, m)?)?;
+    m.add_function(wrap_pyfunction!(pchip_grid, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())

@@ -135,6 +135,7 @@ pub use error::{GpuError, InputError, Location, TargetError};
 pub use fit::cardinal::CardinalBasis;
 pub use fit::hermite::HermiteSlopes;
 pub use fit::interp::{End, EndCondition, EndKind, Fitter};
+pub use fit::shape::pchip_slopes_into;
 pub use fit::tcb::{PerPoint, Tcb};
 pub use gpu::{
     GpuContext, OutputLayout, SurfaceOutputLayout, SurfaceRecording, adapters, hardware_adapter,

