@@ -167,14 +167,18 @@ class RegularGridInterpolator:
                              f"but this RegularGridInterpolator has dimension {ndim}")
         shape = xi.shape
         xi = np.asarray(xi, dtype=np.float64).reshape(-1, ndim)
-        nans = np.isnan(xi).any(axis=-1)
+        # One pass per bound over the points (NaN propagates through min and max, and then
+        # hides the bounds: the masks are made); the per-point masks only where needed.
+        lo, hi = (xi.min(axis=0), xi.max(axis=0)) if len(xi) else (np.zeros(ndim),) * 2
+        nans = np.isnan(xi).any(axis=-1) if np.isnan(lo).any() else None
         outside = None
         if self.bounds_error:
-            for a, p in enumerate(xi.T):
-                if not np.all((self._grid[a][0] <= p) & (p <= self._grid[a][-1])):
+            for a in range(ndim):
+                if not (self._grid[a][0] <= lo[a] and hi[a] <= self._grid[a][-1]):
                     raise ValueError(f"One of the requested xi is out of bounds in dimension "
                                      f"{a}")
-        else:
+        elif nans is not None or any(lo[a] < g[0] or hi[a] > g[-1]
+                                     for a, g in enumerate(self._grid)):
             outside = np.zeros(len(xi), dtype=bool)
             for a, p in enumerate(xi.T):
                 outside |= (p < self._grid[a][0]) | (p > self._grid[a][-1])
@@ -192,7 +196,7 @@ class RegularGridInterpolator:
             result = spline(xi, nu=nu)
         if outside is not None and self.fill_value is not None:
             result[outside] = self.fill_value
-        if nans.any():
+        if nans is not None:
             result[nans] = np.nan
         return result.reshape(shape[:-1] + self._values.shape[ndim:])
 

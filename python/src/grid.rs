@@ -20,6 +20,7 @@
 use rayon::prelude::*;
 
 use crate::de_boor;
+use crate::tensor_values::{self, Axis};
 
 /// Points per task when the work is spread over the pool.
 const CHUNK: usize = 2048;
@@ -56,6 +57,19 @@ impl Tensor<'_> {
         for a in (0..d - 1).rev() {
             strides[a] = strides[a + 1] * counts[a + 1];
         }
+        let k = self.k[0];
+        if d <= 3 && k <= 5 && self.k.iter().all(|&ka| ka == k) && nu.iter().all(|&o| o == 0) {
+            let axes: Vec<Axis<'_>> = self.t.iter().map(|t| Axis::new(t, k)).collect();
+            let values = |xi: &[f64], out: &mut [f64]| match k {
+                0 => tensor_values::evaluate::<1>(&axes, self.c, &strides, m, xi, extrapolate, out),
+                1 => tensor_values::evaluate::<2>(&axes, self.c, &strides, m, xi, extrapolate, out),
+                2 => tensor_values::evaluate::<3>(&axes, self.c, &strides, m, xi, extrapolate, out),
+                3 => tensor_values::evaluate::<4>(&axes, self.c, &strides, m, xi, extrapolate, out),
+                4 => tensor_values::evaluate::<5>(&axes, self.c, &strides, m, xi, extrapolate, out),
+                _ => tensor_values::evaluate::<6>(&axes, self.c, &strides, m, xi, extrapolate, out),
+            };
+            return on_pool(xi, d, out, m, values);
+        }
         let run = |xi: &[f64], out: &mut [f64]| {
             let mut weights: Vec<Vec<f64>> = self.k.iter().map(|&k| vec![0.0; k + 1]).collect();
             let mut scratch = vec![0.0; self.k.iter().max().map_or(1, |k| k + 1)];
@@ -82,13 +96,24 @@ impl Tensor<'_> {
                 accumulate(self.c, &weights, &strides, start, 1.0, row);
             }
         };
-        if xi.len() / d <= CHUNK {
-            run(xi, out);
-        } else {
-            out.par_chunks_mut(CHUNK * m)
-                .zip(xi.par_chunks(CHUNK * d))
-                .for_each(|(out, xi)| run(xi, out));
-        }
+        on_pool(xi, d, out, m, run);
+    }
+}
+
+/// `run(xi, out)` on the whole call, or in chunks over the pool when it is large.
+fn on_pool(
+    xi: &[f64],
+    d: usize,
+    out: &mut [f64],
+    m: usize,
+    run: impl Fn(&[f64], &mut [f64]) + Sync,
+) {
+    if xi.len() / d <= CHUNK {
+        run(xi, out);
+    } else {
+        out.par_chunks_mut(CHUNK * m)
+            .zip(xi.par_chunks(CHUNK * d))
+            .for_each(|(out, xi)| run(xi, out));
     }
 }
 
@@ -154,13 +179,7 @@ impl Grid<'_> {
                 fold.point(self, &strides, x, row);
             }
         };
-        if xi.len() / d <= CHUNK {
-            run(xi, out);
-        } else {
-            out.par_chunks_mut(CHUNK * m)
-                .zip(xi.par_chunks(CHUNK * d))
-                .for_each(|(out, xi)| run(xi, out));
-        }
+        on_pool(xi, d, out, m, run);
     }
 }
 

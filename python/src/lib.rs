@@ -21,6 +21,7 @@ mod de_boor;
 mod grid;
 mod pieces;
 mod roots;
+mod tensor_values;
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -1744,6 +1745,88 @@ fn evaluate_tensor<'py>(
     PyArray1::from_vec(py, out).reshape([rows, m])
 }
 
+/// One spline of a tensor batch as Python hands it: knots per axis, degrees, coefficients.
+type TensorArgs<'py> = (
+    Vec<PyReadonlyArray1<'py, f64>>,
+    Vec<usize>,
+    PyReadonlyArray2<'py, f64>,
+);
+
+/// A batch's values (N, m) and each member's first row (S + 1).
+type Batched<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>);
+
+/// Many tensor-product B-splines (each its own axes, knots and degrees; every one m values a
+/// point), spline i at its own points xis[i] (N_i, d_i): (values (sum N_i, m), offsets
+/// (S + 1,)), spline i's rows offsets[i]..offsets[i + 1]. Splines are spread over the pool.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts lists of arrays as Vecs"
+)]
+fn evaluate_tensors<'py>(
+    py: Python<'py>,
+    splines: Vec<TensorArgs<'_>>,
+    xis: Vec<PyReadonlyArray2<'_, f64>>,
+    nu: Vec<usize>,
+    extrapolate: bool,
+) -> PyResult<Batched<'py>> {
+    if splines.len() != xis.len() {
+        return Err(value_error(format!(
+            "xis: {} arrays of points for {} splines",
+            xis.len(),
+            splines.len()
+        )));
+    }
+    let m = splines.first().map_or(0, |s| s.2.shape()[1]);
+    let mut tensors = Vec::with_capacity(splines.len());
+    let mut points = Vec::with_capacity(splines.len());
+    for (i, ((ts, k, c), xi)) in splines.iter().zip(&xis).enumerate() {
+        let named = |e: PyErr| value_error(format!("spline {i}: {e}"));
+        let t = tensor_axes(ts, k).map_err(named)?;
+        let needed: usize = t.iter().zip(k).map(|(t, k)| t.len() - k - 1).product();
+        if c.shape()[0] != needed || c.shape()[1] != m || nu.len() != t.len() {
+            return Err(value_error(format!(
+                "spline {i}: c of {:?} for {needed} knot products and {m} values a point, \
+                 nu of {} orders for {} axes",
+                c.shape(),
+                nu.len(),
+                t.len()
+            )));
+        }
+        points.push(points_of(xi, t.len()).map_err(named)?);
+        tensors.push(grid::Tensor {
+            t,
+            k: k.clone(),
+            c: c.as_slice()?,
+            m,
+        });
+    }
+    let mut offsets = vec![0i64; tensors.len() + 1];
+    for (i, (x, tensor)) in points.iter().zip(&tensors).enumerate() {
+        offsets[i + 1] = offsets[i] + (x.len() / tensor.t.len()) as i64;
+    }
+    let rows = usize::try_from(offsets[tensors.len()]).unwrap_or(0);
+    let mut out = vec![0.0; rows * m];
+    py.detach(|| {
+        use rayon::prelude::*;
+        let mut parts = Vec::with_capacity(tensors.len());
+        let mut rest = out.as_mut_slice();
+        for (x, tensor) in points.iter().zip(&tensors) {
+            let (part, tail) = rest.split_at_mut(x.len() / tensor.t.len() * m);
+            parts.push(part);
+            rest = tail;
+        }
+        parts
+            .into_par_iter()
+            .zip(points.par_iter().zip(tensors.par_iter()))
+            .for_each(|(part, (x, tensor))| tensor.evaluate(x, &nu, extrapolate, part));
+    });
+    Ok((
+        PyArray1::from_vec(py, out).reshape([rows, m])?,
+        PyArray1::from_vec(py, offsets),
+    ))
+}
+
 /// SciPy's gridded PCHIP (`RegularGridInterpolator`'s "pchip": the last axis first) of the
 /// values (n_0 · .. · n_{d-1}, m) on the strictly increasing axes at the points xi (N, d):
 /// (N, m).
@@ -1803,6 +1886,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(antiderivative_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_tensor, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate_tensors, m)?)?;
     m.add_function(wrap_pyfunction!(pchip_grid, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;

@@ -184,3 +184,17 @@ def test_bad_input_is_named():
         G.RectBivariateSpline(grid[0], grid[1], values, s=1.0)
     with pytest.raises(ValueError, match="dimension 0 are inconsistent"):
         G.NdBSpline((np.r_[0, 0, 1, 1.0], np.r_[0, 0, 1, 1.0]), np.zeros((3, 2)), 1)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_nan_does_not_hide_a_point_outside(method):
+    # The bounds are read per axis with min and max, which NaN poisons: a point outside in an
+    # axis that also holds a NaN must still get fill_value.
+    grid = (np.linspace(0, 1, 7), np.linspace(0, 2, 8))
+    values = np.arange(56.0).reshape(7, 8)
+    xi = np.array([[np.nan, 1.0], [-5.0, 1.0], [0.5, 1.0], [0.5, np.nan]])
+    got = G.RegularGridInterpolator(grid, values, method=method, bounds_error=False,
+                                    fill_value=7.0)(xi)
+    want = scipy_rgi(grid, values, method, bounds_error=False, fill_value=7.0)(xi)
+    np.testing.assert_allclose(got, want, equal_nan=True, atol=1e-12)
+    assert np.isnan(got[0]) and got[1] == 7.0 and np.isnan(got[3])
