@@ -250,6 +250,11 @@ class RegularGridInterpolator:
 
     def _pchip(self, xi: np.ndarray) -> np.ndarray:
         d = len(self._grid)
+        if d > 1 and np.isnan(xi[:, 1:]).any():
+            # SciPy folds the later axes first through PchipInterpolator, which refuses the
+            # NaN values a NaN coordinate there makes.
+            raise ValueError("xi: a NaN coordinate in dimension 1 or later, which method "
+                             "'pchip' refuses (as SciPy: `y` must contain only finite values)")
         values = np.asarray(self._values, dtype=np.float64)
         columns = np.require(values.reshape(int(np.prod(values.shape[:d])), -1), np.float64,
                              ["C", "A"])

@@ -193,8 +193,13 @@ def test_a_nan_does_not_hide_a_point_outside(method):
     grid = (np.linspace(0, 1, 7), np.linspace(0, 2, 8))
     values = np.arange(56.0).reshape(7, 8)
     xi = np.array([[np.nan, 1.0], [-5.0, 1.0], [0.5, 1.0], [0.5, np.nan]])
+    if method == "pchip":
+        # SciPy refuses a NaN past the first coordinate here; so does this class, by name.
+        with pytest.raises(ValueError, match="xi: a NaN coordinate in dimension 1"):
+            G.RegularGridInterpolator(grid, values, method=method, bounds_error=False)(xi)
+        xi = xi[:3]
     got = G.RegularGridInterpolator(grid, values, method=method, bounds_error=False,
                                     fill_value=7.0)(xi)
     want = scipy_rgi(grid, values, method, bounds_error=False, fill_value=7.0)(xi)
     np.testing.assert_allclose(got, want, equal_nan=True, atol=1e-12)
-    assert np.isnan(got[0]) and got[1] == 7.0 and np.isnan(got[3])
+    assert np.isnan(got[0]) and got[1] == 7.0
