@@ -154,12 +154,7 @@ class RegularGridInterpolator:
     def __call__(self, xi, method=None, *, nu=None):
         """Values (or, spline methods, derivatives of orders nu, one per axis) at xi
         (..., ndim): shape xi.shape[:-1] + values.shape[ndim:] (a 1-D xi is one point)."""
-        method = self.method if method is None else method
-        if method not in _METHODS:
-            raise ValueError(f"Method '{method}' is not defined")
-        if nu is not None and method not in _SPLINES:
-            raise ValueError(f"Can only compute derivatives for methods {_SPLINES}, got "
-                             f"{method =}.")
+        method = self._method(method, nu)
         ndim = len(self._grid)
         xi = coordinates(xi, ndim)
         if xi.shape[-1] != ndim:
@@ -167,6 +162,34 @@ class RegularGridInterpolator:
                              f"but this RegularGridInterpolator has dimension {ndim}")
         shape = xi.shape
         xi = np.asarray(xi, dtype=np.float64).reshape(-1, ndim)
+        nans, outside = self._bounds(xi)
+        if method == "nearest":
+            result = self._nearest(xi)
+        elif method == "linear":
+            result = self._linear(xi)
+        elif method == "pchip":
+            result = self._pchip(xi)
+        else:
+            result = self._tensor(method)(xi, nu=nu)
+        return self._filled(result, nans, outside).reshape(shape[:-1] +
+                                                           self._values.shape[ndim:])
+
+    def _method(self, method, nu) -> str:
+        """The method of a call (None: the interpolator's), checked with its nu."""
+        method = self.method if method is None else method
+        if method not in _METHODS:
+            raise ValueError(f"Method '{method}' is not defined")
+        if nu is not None and method not in _SPLINES:
+            raise ValueError(f"Can only compute derivatives for methods {_SPLINES}, got "
+                             f"{method =}.")
+        if method != self.method and method in _DEGREES:
+            _spline_points(self._grid, method)
+        return method
+
+    def _bounds(self, xi: np.ndarray) -> tuple:
+        """The points (N, ndim) checked against the grid: a ValueError naming the dimension
+        where `bounds_error`; else (the NaN rows or None, the rows outside or None)."""
+        ndim = len(self._grid)
         # One pass per bound over the points (NaN propagates through min and max, and then
         # hides the bounds: the masks are made); the per-point masks only where needed.
         lo, hi = (xi.min(axis=0), xi.max(axis=0)) if len(xi) else (np.zeros(ndim),) * 2
@@ -182,23 +205,35 @@ class RegularGridInterpolator:
             outside = np.zeros(len(xi), dtype=bool)
             for a, p in enumerate(xi.T):
                 outside |= (p < self._grid[a][0]) | (p > self._grid[a][-1])
-        if method != self.method and method in _DEGREES:
-            _spline_points(self._grid, method)
-        if method == "nearest":
-            result = self._nearest(xi)
-        elif method == "linear":
-            result = self._linear(xi)
-        elif method == "pchip":
-            result = self._pchip(xi)
-        else:
-            spline = self._spline if (method == self.method and self._spline is not None) \
-                else self._fit(method.removesuffix("_legacy"))
-            result = spline(xi, nu=nu)
+        return nans, outside
+
+    def _filled(self, result: np.ndarray, nans, outside) -> np.ndarray:
         if outside is not None and self.fill_value is not None:
             result[outside] = self.fill_value
         if nans is not None:
             result[nans] = np.nan
-        return result.reshape(shape[:-1] + self._values.shape[ndim:])
+        return result
+
+    def _tensor(self, method: str) -> NdBSpline:
+        """The tensor B-spline of a spline method: the fitted one for the interpolator's own
+        method, else fitted now (not kept: a call does not change the interpolator)."""
+        if method == self.method and self._spline is not None:
+            return self._spline
+        return self._fit(method.removesuffix("_legacy"))
+
+    def _linear_tensor(self):
+        """The multilinear interpolant as a degree-1 tensor B-spline on the grid's nodes (its
+        coefficients are the values) over the axes longer than one node (constant along the
+        others), and those axes; None for values that are not an array."""
+        if not isinstance(self._values, np.ndarray):
+            return None
+        kept = [a for a, g in enumerate(self._grid) if len(g) > 1]
+        if not kept:
+            return None
+        values = self._values[tuple(slice(None) if a in kept else 0
+                                    for a in range(len(self._grid)))]
+        t = tuple(np.concatenate([g[:1], g, g[-1:]]) for g in (self._grid[a] for a in kept))
+        return NdBSpline(t, values, 1), kept
 
     def _nearest(self, xi: np.ndarray):
         index = []
@@ -214,20 +249,18 @@ class RegularGridInterpolator:
         return np.array(self._values[tuple(index)], copy=True)
 
     def _linear(self, xi: np.ndarray) -> np.ndarray:
-        """Multilinear: the degree-1 tensor B-spline on the grid's nodes (its coefficients are
-        the values); a length-1 axis is constant along it. Values that are not an array (an
-        object NumPy cannot convert but that indexes as one) are read corner by corner."""
+        """Multilinear (see `_linear_tensor`); values that are not an array (an object NumPy
+        cannot convert but that indexes as one) are read corner by corner."""
         if not isinstance(self._values, np.ndarray):
             return self._linear_indexed(xi)
-        kept = [a for a, g in enumerate(self._grid) if len(g) > 1]
-        values = self._values[tuple(slice(None) if a in kept else 0
-                                    for a in range(len(self._grid)))]
-        if not kept:
-            constant = np.asarray(values, dtype=np.result_type(values.dtype, np.float64))
-            return np.repeat(constant[None], len(xi), axis=0)
-        grid = [self._grid[a] for a in kept]
-        t = tuple(np.concatenate([g[:1], g, g[-1:]]) for g in grid)
-        return NdBSpline(t, values, 1)(np.ascontiguousarray(xi[:, kept]))
+        made = self._linear_tensor()
+        if made is None:  # every axis one node: the value, promoted as SciPy's linear does
+            value = np.asarray(self._values, dtype=np.result_type(self._values.dtype,
+                                                                  np.float64))
+            return np.repeat(value.reshape((1,) + value.shape[len(self._grid):]), len(xi),
+                             axis=0)
+        spline, kept = made
+        return spline(np.ascontiguousarray(xi[:, kept]))
 
     def _linear_indexed(self, xi: np.ndarray) -> np.ndarray:
         lower, weights = [], []

@@ -21,6 +21,7 @@ from . import _bspline, _native
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
+from ._grid_batches import NdBSplines, RegularGridInterpolators
 from ._ndbspline import NdBSpline
 from ._piecewise import (
     Akima1DInterpolator,
@@ -41,8 +42,8 @@ pchip = PchipInterpolator
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "NdBSpline",
-           "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators", "RectBivariateSpline",
-           "RegularGridInterpolator", "interpn", "make_interp_spline", "make_interp_splines",
+           "NdBSplines", "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators",
+           "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators", "interpn", "make_interp_spline", "make_interp_splines",
            "pchip", "pchip_interpolate"]
 
 

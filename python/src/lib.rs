@@ -1757,7 +1757,8 @@ type Batched<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<i64>>);
 
 /// Many tensor-product B-splines (each its own axes, knots and degrees; every one m values a
 /// point), spline i at its own points xis[i] (N_i, d_i): (values (sum N_i, m), offsets
-/// (S + 1,)), spline i's rows offsets[i]..offsets[i + 1]. Splines are spread over the pool.
+/// (S + 1,)), spline i's rows offsets[i]..offsets[i + 1]; derivative orders nu[i] (one per
+/// axis). Splines are spread over the pool.
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
@@ -1767,20 +1768,21 @@ fn evaluate_tensors<'py>(
     py: Python<'py>,
     splines: Vec<TensorArgs<'_>>,
     xis: Vec<PyReadonlyArray2<'_, f64>>,
-    nu: Vec<usize>,
+    nu: Vec<Vec<usize>>,
     extrapolate: bool,
 ) -> PyResult<Batched<'py>> {
-    if splines.len() != xis.len() {
+    if splines.len() != xis.len() || splines.len() != nu.len() {
         return Err(value_error(format!(
-            "xis: {} arrays of points for {} splines",
+            "xis: {} arrays of points and {} derivative orders for {} splines",
             xis.len(),
+            nu.len(),
             splines.len()
         )));
     }
     let m = splines.first().map_or(0, |s| s.2.shape()[1]);
     let mut tensors = Vec::with_capacity(splines.len());
     let mut points = Vec::with_capacity(splines.len());
-    for (i, ((ts, k, c), xi)) in splines.iter().zip(&xis).enumerate() {
+    for (i, (((ts, k, c), xi), nu)) in splines.iter().zip(&xis).zip(&nu).enumerate() {
         let named = |e: PyErr| value_error(format!("spline {i}: {e}"));
         let t = tensor_axes(ts, k).map_err(named)?;
         let needed: usize = t.iter().zip(k).map(|(t, k)| t.len() - k - 1).product();
@@ -1818,8 +1820,8 @@ fn evaluate_tensors<'py>(
         }
         parts
             .into_par_iter()
-            .zip(points.par_iter().zip(tensors.par_iter()))
-            .for_each(|(part, (x, tensor))| tensor.evaluate(x, &nu, extrapolate, part));
+            .zip(points.par_iter().zip(tensors.par_iter()).zip(nu.par_iter()))
+            .for_each(|(part, ((x, tensor), nu))| tensor.evaluate(x, nu, extrapolate, part));
     });
     Ok((
         PyArray1::from_vec(py, out).reshape([rows, m])?,

@@ -203,3 +203,46 @@ def test_a_nan_does_not_hide_a_point_outside(method):
     want = scipy_rgi(grid, values, method, bounds_error=False, fill_value=7.0)(xi)
     np.testing.assert_allclose(got, want, equal_nan=True, atol=1e-12)
     assert np.isnan(got[0]) and got[1] == 7.0
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_ragged_grid_batch_equals_each_interpolator(method):
+    rng = np.random.default_rng(7)
+    grids, values, xis = [], [], []
+    for i in range(12):
+        d = 2 if i % 3 else 3
+        grid = tuple(uneven_axis(rng, int(rng.integers(6, 11)), 10.0) for _ in range(d))
+        grids.append(grid)
+        values.append(rng.normal(size=(*(len(g) for g in grid), 2)))
+        xi = inside(rng, grid, int(rng.integers(0, 40)))
+        if len(xi):
+            xi[0, 0] = grid[0][0] - 1.0  # one point outside: the fill value
+        xis.append(xi)
+    batch = G.RegularGridInterpolators(grids, values, method=method, bounds_error=False,
+                                       fill_value=-9.0)
+    got, offsets = batch(xis)
+    assert got.shape == (sum(len(x) for x in xis), 2)
+    for i, (grid, v, xi) in enumerate(zip(grids, values, xis)):
+        want = scipy_rgi(grid, v, method, bounds_error=False, fill_value=-9.0)(xi)
+        np.testing.assert_allclose(got[offsets[i]:offsets[i + 1]], want, atol=1e-10)
+
+
+def test_ndbspline_batch_equals_each_spline():
+    rng = np.random.default_rng(8)
+    ts, cs, xis = [], [], []
+    for _ in range(9):
+        t = tuple(np.r_[[0.0] * 4, np.sort(rng.uniform(0, 3, int(rng.integers(1, 6)))),
+                        [3.0] * 4] for _ in range(2))
+        ts.append(t)
+        cs.append(rng.normal(size=tuple(len(ta) - 4 for ta in t)))
+        xis.append(rng.uniform(-0.5, 3.5, (int(rng.integers(0, 30)), 2)))
+    batch = G.NdBSplines(ts, cs, 3)
+    for nu in (None, (1, 2)):
+        got, offsets = batch(xis, nu=nu)
+        for i in range(len(ts)):
+            want = S.NdBSpline(ts[i], cs[i], 3)(xis[i], nu=nu)
+            np.testing.assert_allclose(got[offsets[i]:offsets[i + 1]], want, atol=1e-12)
+    with pytest.raises(ValueError, match=r"splines\[1\]"):
+        G.NdBSplines([ts[0], (ts[0][0][::-1], ts[0][1])], [cs[0], cs[0]], 3)
+    with pytest.raises(ValueError, match=r"xis\[0\]"):
+        batch([np.zeros((3, 3))] + xis[1:])
