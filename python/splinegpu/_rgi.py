@@ -257,7 +257,7 @@ class RegularGridInterpolator:
         if made is None:  # every axis one node: the value, promoted as SciPy's linear does
             value = np.asarray(self._values, dtype=np.result_type(self._values.dtype,
                                                                   np.float64))
-            return np.repeat(value.reshape((1,) + value.shape[len(self._grid):]), len(xi),
+            return np.repeat(value.reshape((1, *value.shape[len(self._grid):])), len(xi),
                              axis=0)
         spline, kept = made
         return spline(np.ascontiguousarray(xi[:, kept]))

@@ -43,8 +43,8 @@ pchip = PchipInterpolator
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "NdBSpline",
            "NdBSplines", "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators",
-           "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators", "interpn", "make_interp_spline", "make_interp_splines",
-           "pchip", "pchip_interpolate"]
+           "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators",
+           "interpn", "make_interp_spline", "make_interp_splines", "pchip", "pchip_interpolate"]
 
 
 class _Batch:

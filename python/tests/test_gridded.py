@@ -245,4 +245,4 @@ def test_ndbspline_batch_equals_each_spline():
     with pytest.raises(ValueError, match=r"splines\[1\]"):
         G.NdBSplines([ts[0], (ts[0][0][::-1], ts[0][1])], [cs[0], cs[0]], 3)
     with pytest.raises(ValueError, match=r"xis\[0\]"):
-        batch([np.zeros((3, 3))] + xis[1:])
+        batch([np.zeros((3, 3)), *xis[1:]])
