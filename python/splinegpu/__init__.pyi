@@ -24,6 +24,27 @@ class Tessellation:
     def curve(self, c: int) -> Tessellation: ...
     def __len__(self) -> int: ...
 
+class SurfaceTessellation:
+    """The vertices and triangles of `Context.tessellate_surfaces`, by the NPZ's names."""
+
+    uv: npt.NDArray[np.float64]
+    points: npt.NDArray[Any]
+    du: npt.NDArray[Any] | None
+    dv: npt.NDArray[Any] | None
+    duu: npt.NDArray[Any] | None
+    duv: npt.NDArray[Any] | None
+    dvv: npt.NDArray[Any] | None
+    normals: npt.NDArray[Any] | None
+    triangles: npt.NDArray[np.int64]
+    surface_offsets: npt.NDArray[np.int64]
+    triangle_offsets: npt.NDArray[np.int64]
+    patch: npt.NDArray[np.int64] | None
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+    def surface(self, s: int) -> dict[str, Any]: ...
+    def trimesh(self, s: int | None = None) -> Any: ...
+
 class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
@@ -57,6 +78,29 @@ class Context:
         derivatives: int = 0,
         out: Tessellation | None = None,
     ) -> Tessellation: ...
+    def tessellate_surfaces(
+        self,
+        nets: _Batch,
+        kind: str = "bspline",
+        *,
+        ends: str | tuple[str, str] | None = None,
+        tension: float | None = None,
+        bias: float | None = None,
+        matrix: _ArrayLike | None = None,
+        patches: _Batch | None = None,
+        conditions: tuple[str, str] | None = None,
+        u: _Batch | None = None,
+        v: _Batch | None = None,
+        knots_u: _Batch | None = None,
+        knots_v: _Batch | None = None,
+        weights: _Batch | None = None,
+        per_segment: int | tuple[int, int] | None = None,
+        at: _Batch | None = None,
+        tolerance: float | None = None,
+        derivatives: int = 0,
+        normals: bool = False,
+        out: SurfaceTessellation | None = None,
+    ) -> SurfaceTessellation: ...
 
 _BcType = str | tuple[tuple[int, _ArrayLike], tuple[int, _ArrayLike]]
 

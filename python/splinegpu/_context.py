@@ -139,6 +139,40 @@ class Context:
         result = self._native.tessellate(curves, kind, fields, (name, value), derivatives, reuse)
         return Tessellation(*result)
 
+    def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
+                            bias=None, matrix=None, patches=None, conditions=None, u=None,
+                            v=None, knots_u=None, knots_v=None, weights=None,
+                            per_segment=None, at=None, tolerance=None, derivatives: int = 0,
+                            normals: bool = False, out=None):
+        """Fits, samples and evaluates a batch of surfaces of one kind: a
+        `SurfaceTessellation` holding the arrays of the command line's NPZ.
+
+        `nets`: an (n_u, n_v, D) array, a list of them (each its own shape) or an (S, n_u,
+        n_v, D) array; with `patches` (bezier patch lists, the Utah teapot's form), a list of
+        (n, D) control-point arrays and `patches` one (P, 16) integer array for all or a list
+        of one per surface. `kind` and its fields are the contract's surface kinds ("bspline",
+        "catmull-rom", "cardinal", "tensioned-bspline", "beta", "matrix" with `ends` (one
+        name or (ends_u, ends_v)), `tension`, `bias`, `matrix`; "bezier"; "interpolating"
+        with `conditions` (c_u, c_v) and optional `u`, `v`; "nurbs" with `knots_u`, `knots_v`
+        and optional `weights`); `u`, `v`, `knots_u`, `knots_v` and `weights` are one array
+        for all surfaces or a list with one per surface. One sampling: `per_segment=k` or
+        (k_u, k_v) (the default, 16), `at=` (N, 2) parameter pairs ((N, 3) triples (p, u, v)
+        on patch lists; one array for all or a list), or `tolerance=tol` (a certified,
+        watertight mesh). `derivatives`: 0, 1 (du, dv) or 2 (and duu, duv, dvv); `normals`:
+        unit normals (3-D surfaces). `out`: an earlier result of the same shapes, whose
+        arrays are filled again instead of new ones.
+
+        Raises ValueError naming the surface, field and value for bad input.
+        """
+        from ._surfaces import tessellate_surfaces
+
+        return tessellate_surfaces(self, nets, kind, ends=ends, tension=tension, bias=bias,
+                                   matrix=matrix, patches=patches, conditions=conditions,
+                                   u=u, v=v, knots_u=knots_u, knots_v=knots_v,
+                                   weights=weights, per_segment=per_segment, at=at,
+                                   tolerance=tolerance, derivatives=derivatives,
+                                   normals=normals, out=out)
+
 
 _shared_cpu: Context | None = None
 _shared_lock = threading.Lock()

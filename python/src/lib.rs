@@ -21,6 +21,7 @@ mod de_boor;
 mod grid;
 mod pieces;
 mod roots;
+mod surfaces;
 mod tensor_values;
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
@@ -1890,6 +1891,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_tensors, m)?)?;
     m.add_function(wrap_pyfunction!(pchip_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())

@@ -1,0 +1,466 @@
+//! Surfaces from NumPy (`Context.tessellate_surfaces`): nets of points and the contract's
+//! surface fields into the crate's [`Surface`]s, fitted, planned and evaluated on the context's
+//! backend, into the arrays the command line's NPZ holds ("uv", "points", "du", "dv", "duu",
+//! "duv", "dvv", "normals", "triangles" indexing the whole vertex array, "surface_offsets",
+//! "triangle_offsets", "patch" where a patch list is present): float64 written in place by the
+//! CPU, float32 from the GPU.
+
+use numpy::{
+    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use splinegpu::kinds::KindFields;
+use splinegpu::surface::{
+    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
+    evaluate_surfaces_into,
+};
+use splinegpu::{CurveKind, Derivatives, EndCondition, Ends, InputError, PerPoint};
+
+use crate::{Context, available_memory, runtime_error, value_error};
+
+/// The surface fields, as the Python side normalises them: one value for every surface, or
+/// (per-surface arrays) a list with one entry per surface.
+#[derive(FromPyObject)]
+pub(crate) struct SurfaceFields<'py> {
+    #[pyo3(item)]
+    ends: Option<(String, String)>,
+    #[pyo3(item)]
+    tension: Option<f64>,
+    #[pyo3(item)]
+    bias: Option<f64>,
+    #[pyo3(item)]
+    matrix: Option<[[f64; 4]; 4]>,
+    #[pyo3(item)]
+    patches: Option<Vec<PyReadonlyArray2<'py, i64>>>,
+    #[pyo3(item)]
+    conditions: Option<(String, String)>,
+    #[pyo3(item)]
+    u: Option<Vec<PyReadonlyArray1<'py, f64>>>,
+    #[pyo3(item)]
+    v: Option<Vec<PyReadonlyArray1<'py, f64>>>,
+    #[pyo3(item)]
+    knots_u: Option<Vec<PyReadonlyArray1<'py, f64>>>,
+    #[pyo3(item)]
+    knots_v: Option<Vec<PyReadonlyArray1<'py, f64>>>,
+    #[pyo3(item)]
+    weights: Option<Vec<PyReadonlyArray2<'py, f64>>>,
+}
+
+/// The sampling, told apart by its type: per_segment (k_u, k_v), tolerance (a number), or at
+/// (one (N, 2) or (N, 3) array per surface).
+#[derive(FromPyObject)]
+pub(crate) enum SurfaceSamplingArg<'py> {
+    PerSegment((u32, u32)),
+    Tolerance(f64),
+    At(Vec<PyReadonlyArray2<'py, f64>>),
+}
+
+/// Surface s's kind from the fields.
+fn kind_of(name: &str, f: &SurfaceFields<'_>, s: usize) -> Result<SurfaceKind, InputError> {
+    let slice = |list: &Option<Vec<PyReadonlyArray1<'_, f64>>>| -> Option<Vec<f64>> {
+        list.as_ref()
+            .map(|l| l[s].as_slice().map(<[f64]>::to_vec).unwrap_or_default())
+    };
+    Ok(match name {
+        "bezier" => match &f.patches {
+            Some(patches) => {
+                let rows = patches[s].as_array();
+                let mut list = Vec::with_capacity(rows.nrows());
+                for (p, row) in rows.outer_iter().enumerate() {
+                    let mut indices = [0usize; 16];
+                    for (j, (&i, slot)) in row.iter().zip(&mut indices).enumerate() {
+                        *slot = usize::try_from(i).map_err(|_| {
+                            InputError::field(
+                                "patches",
+                                format!("patches[{p}][{j}] = {i} is negative"),
+                            )
+                        })?;
+                    }
+                    list.push(indices);
+                }
+                SurfaceKind::BezierPatches { patches: list }
+            }
+            None => SurfaceKind::Bezier,
+        },
+        "interpolating" => {
+            let (cu, cv) = f.conditions.as_ref().ok_or_else(|| {
+                InputError::field("conditions", "is missing (one per direction: [c_u, c_v])")
+            })?;
+            SurfaceKind::Interpolating {
+                conditions: [condition(cu)?, condition(cv)?],
+                u: slice(&f.u),
+                v: slice(&f.v),
+            }
+        }
+        "nurbs" => {
+            let required = |list: &Option<Vec<PyReadonlyArray1<'_, f64>>>, field: &str| {
+                slice(list).ok_or_else(|| {
+                    InputError::field(
+                        field,
+                        "is missing (a nurbs surface needs n + 4 per direction)",
+                    )
+                })
+            };
+            SurfaceKind::Nurbs {
+                knots_u: required(&f.knots_u, "knots_u")?,
+                knots_v: required(&f.knots_v, "knots_v")?,
+                weights: f
+                    .weights
+                    .as_ref()
+                    .map(|w| w[s].as_slice().map(<[f64]>::to_vec).unwrap_or_default()),
+            }
+        }
+        _ => {
+            let fields = KindFields {
+                tension: f.tension.map(PerPoint::All),
+                bias: f.bias.map(PerPoint::All),
+                matrix: f.matrix,
+                ..KindFields::default()
+            };
+            let surface_kinds = [
+                "bspline",
+                "catmull-rom",
+                "cardinal",
+                "tensioned-bspline",
+                "beta",
+                "matrix",
+            ];
+            if !surface_kinds.contains(&name) {
+                return Err(InputError::field(
+                    "kind",
+                    format!(
+                        "is not a surface kind: \"{name}\" (expected one of {}, bezier, \
+                         interpolating, nurbs)",
+                        surface_kinds.join(", ")
+                    ),
+                ));
+            }
+            let CurveKind::Uniform { basis, .. } = CurveKind::named(name, fields)? else {
+                return Err(InputError::field(
+                    "kind",
+                    format!("\"{name}\" has no basis matrix"),
+                ));
+            };
+            let ends = match &f.ends {
+                None => [Ends::Control; 2],
+                Some((u, v)) => [ends(u)?, ends(v)?],
+            };
+            SurfaceKind::Uniform { basis, ends }
+        }
+    })
+}
+
+fn ends(name: &str) -> Result<Ends, InputError> {
+    Ends::from_name(name).ok_or_else(|| {
+        InputError::field(
+            "ends",
+            format!("must be \"control\", \"repeat\" or \"closed\", got \"{name}\""),
+        )
+    })
+}
+
+fn condition(name: &str) -> Result<EndCondition, InputError> {
+    match name {
+        "natural" => Ok(EndCondition::Natural),
+        "not-a-knot" => Ok(EndCondition::NotAKnot),
+        "periodic" => Ok(EndCondition::Periodic),
+        _ => Err(InputError::field(
+            "conditions",
+            format!("each must be \"natural\", \"not-a-knot\" or \"periodic\", got \"{name}\""),
+        )),
+    }
+}
+
+/// Surface s's sampling.
+fn sampling_of(arg: &SurfaceSamplingArg<'_>, s: usize) -> Result<SurfaceSampling, InputError> {
+    Ok(match arg {
+        SurfaceSamplingArg::PerSegment((ku, kv)) => SurfaceSampling::PerSegment([*ku, *kv]),
+        SurfaceSamplingArg::Tolerance(tol) => SurfaceSampling::Tolerance(*tol),
+        SurfaceSamplingArg::At(at) => {
+            let rows = at[s].as_array();
+            match rows.ncols() {
+                2 => SurfaceSampling::At(rows.outer_iter().map(|r| [r[0], r[1]]).collect()),
+                3 => {
+                    let mut list = Vec::with_capacity(rows.nrows());
+                    for r in rows.outer_iter() {
+                        if !(r[0] >= 0.0 && r[0].fract() == 0.0 && r[0] < u32::MAX as f64) {
+                            return Err(InputError::field(
+                                "sampling",
+                                format!("\"at\" triples start with a patch index, got {}", r[0]),
+                            ));
+                        }
+                        list.push((r[0] as usize, [r[1], r[2]]));
+                    }
+                    SurfaceSampling::AtPatches(list)
+                }
+                n => {
+                    return Err(InputError::field(
+                        "sampling",
+                        format!(
+                            "\"at\" takes pairs [u, v] (triples [p, u, v] on a patch list), got {n} values each"
+                        ),
+                    ));
+                }
+            }
+        }
+    })
+}
+
+/// One surface made ready: its table and plan.
+struct Planned {
+    table: PatchTable,
+    plan: SurfacePlan,
+}
+
+/// Fits and plans every surface; errors name the surface.
+fn planned(
+    nets: &[PyReadonlyArray3<'_, f64>],
+    kind: &str,
+    fields: &SurfaceFields<'_>,
+    sampling: &SurfaceSamplingArg<'_>,
+    normals: bool,
+) -> Result<Vec<Planned>, InputError> {
+    let mut out = Vec::with_capacity(nets.len());
+    for (s, net) in nets.iter().enumerate() {
+        let place = |e: InputError| e.in_surface(s);
+        let shape = net.shape();
+        let coords = net
+            .as_slice()
+            .map_err(|e| InputError::field("points", e.to_string()))
+            .map_err(place)?
+            .to_vec();
+        let net = Net::new(shape[2], shape[0], shape[1], coords).map_err(place)?;
+        if normals && net.dim() != 3 {
+            return Err(place(InputError::field(
+                "normals",
+                format!("need 3-D points, got {} coordinates per point", net.dim()),
+            )));
+        }
+        let surface = Surface::new(kind_of(kind, fields, s).map_err(place)?, net).map_err(place)?;
+        let table = surface.fit();
+        let plan =
+            SurfacePlan::new(&table, &sampling_of(sampling, s).map_err(place)?).map_err(place)?;
+        out.push(Planned { table, plan });
+    }
+    Ok(out)
+}
+
+/// Fits, samples and evaluates a batch of surfaces of one kind (see
+/// `splinegpu.Context.tessellate_surfaces`): a dict of the NPZ's arrays, the value planes, "uv"
+/// and "triangles" those of `out` (an earlier result of the same shapes) where given.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts the Python call's arguments by value"
+)]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the Python call's arguments, one each"
+)]
+pub(crate) fn tessellate_surfaces<'py>(
+    py: Python<'py>,
+    context: PyRef<'py, Context>,
+    nets: Vec<PyReadonlyArray3<'py, f64>>,
+    kind: &str,
+    fields: SurfaceFields<'py>,
+    sampling: SurfaceSamplingArg<'py>,
+    derivatives: u64,
+    normals: bool,
+    out: Option<Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let derivatives = Derivatives::from_order(derivatives)
+        .ok_or_else(|| value_error(format!("derivatives: must be 0, 1 or 2, got {derivatives}")))?;
+    let surfaces = planned(&nets, kind, &fields, &sampling, normals).map_err(value_error)?;
+    let dims: Vec<usize> = surfaces.iter().map(|s| s.table.dim()).collect();
+    let dim = dims.first().copied().unwrap_or(0);
+    if let Some(s) = dims.iter().position(|&d| d != dim) {
+        return Err(value_error(format!(
+            "surface {s}: \"points\" has {} coordinates per point, surface 0 {dim}: one array \
+             of points holds one dimension",
+            dims[s]
+        )));
+    }
+    let vertices: Vec<usize> = surfaces.iter().map(|s| s.plan.vertices.len()).collect();
+    let triangles: Vec<usize> = surfaces
+        .iter()
+        .map(|s| s.plan.triangles.as_ref().map_or(0, Vec::len))
+        .collect();
+    let (n, m) = (
+        vertices.iter().sum::<usize>(),
+        triangles.iter().sum::<usize>(),
+    );
+    let orders = derivatives.order();
+    let planes = 1 + [0, 2, 5][orders];
+    let value_bytes = if context.gpu.is_some() { 4 } else { 8 };
+    let bytes = (n
+        * (16 + planes * dim * value_bytes + if normals { 3 * value_bytes } else { 0 } + 8)
+        + m * 24) as u128;
+    if let Some(available) = available_memory()
+        && bytes > available
+    {
+        return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
+            "tessellate_surfaces: the sampling gives {n} vertices and {m} triangles, whose \
+             arrays need {bytes} bytes; this machine has {available} bytes of memory available"
+        )));
+    }
+    let offsets = |counts: &[usize]| {
+        let mut o = vec![0i64; counts.len() + 1];
+        for (i, c) in counts.iter().enumerate() {
+            o[i + 1] = o[i] + *c as i64;
+        }
+        o
+    };
+    let (vertex_offsets, triangle_offsets) = (offsets(&vertices), offsets(&triangles));
+    // (u, v), triangles (indexing the whole vertex array) and patches.
+    let mut uv = Vec::with_capacity(2 * n);
+    let mut tri = Vec::with_capacity(3 * m);
+    let lists = surfaces.iter().any(|s| s.table.patch_indices().is_some());
+    let mut patch = Vec::with_capacity(if lists { n } else { 0 });
+    for (s, planned) in surfaces.iter().enumerate() {
+        for vertex in &planned.plan.vertices {
+            uv.extend_from_slice(&vertex.uv);
+        }
+        if lists {
+            let list = planned.table.patch_indices().is_some();
+            patch.extend(
+                planned
+                    .plan
+                    .vertices
+                    .iter()
+                    .map(|v| if list { i64::from(v.patch) } else { -1 }),
+            );
+        }
+        for t in planned.plan.triangles.iter().flatten() {
+            tri.extend(t.iter().map(|&i| i64::from(i) + vertex_offsets[s]));
+        }
+    }
+    let result = PyDict::new(py);
+    let uv_array = array::<f64>(py, out.as_ref(), "uv", [n, 2])?;
+    uv_array.readwrite().as_slice_mut()?.copy_from_slice(&uv);
+    let tri_array = array::<i64>(py, out.as_ref(), "triangles", [m, 3])?;
+    tri_array.readwrite().as_slice_mut()?.copy_from_slice(&tri);
+    result.set_item("uv", uv_array)?;
+    result.set_item("triangles", tri_array)?;
+    result.set_item(
+        "surface_offsets",
+        PyArray1::from_vec(py, vertex_offsets.clone()),
+    )?;
+    result.set_item("triangle_offsets", PyArray1::from_vec(py, triangle_offsets))?;
+    if lists {
+        result.set_item("patch", PyArray1::from_vec(py, patch))?;
+    }
+    let names: Vec<&str> = ["points", "du", "dv", "duu", "duv", "dvv"][..planes]
+        .iter()
+        .copied()
+        .chain(normals.then_some("normals"))
+        .collect();
+    let width = |name: &str| if name == "normals" { 3 } else { dim };
+    match &context.gpu {
+        None => {
+            let arrays: Vec<Bound<'py, PyArray2<f64>>> = names
+                .iter()
+                .map(|name| array::<f64>(py, out.as_ref(), name, [n, width(name)]))
+                .collect::<PyResult<_>>()?;
+            let mut views: Vec<numpy::PyReadwriteArray2<'py, f64>> =
+                arrays.iter().map(|a| a.readwrite()).collect();
+            let mut slices: Vec<&mut [f64]> = views
+                .iter_mut()
+                .map(|v| v.as_slice_mut())
+                .collect::<Result<_, _>>()?;
+            py.detach(|| {
+                for (s, planned) in surfaces.iter().enumerate() {
+                    let (a, b) = (vertex_offsets[s] as usize, vertex_offsets[s + 1] as usize);
+                    // The surface's rows of each plane, in the order of `names`.
+                    let mut parts = slices.iter_mut().zip(&names).map(|(plane, name)| {
+                        let w = width(name);
+                        &mut plane[a * w..b * w]
+                    });
+                    let points = parts.next().expect("the positions' plane");
+                    let mut pick = |asked: bool| if asked { parts.next() } else { None };
+                    let planes = SurfacePlanes {
+                        points,
+                        du: pick(orders >= 1),
+                        dv: pick(orders >= 1),
+                        duu: pick(orders >= 2),
+                        duv: pick(orders >= 2),
+                        dvv: pick(orders >= 2),
+                        normals: pick(normals),
+                    };
+                    evaluate_surfaces_into(&planned.table, &planned.plan, planes);
+                }
+            });
+            drop(views);
+            for (name, array) in names.iter().zip(arrays) {
+                result.set_item(*name, array)?;
+            }
+        }
+        Some(gpu) => {
+            let pairs: Vec<(&PatchTable, &SurfacePlan)> =
+                surfaces.iter().map(|s| (&s.table, &s.plan)).collect();
+            let samples = py
+                .detach(|| gpu.evaluate_surfaces(&pairs, derivatives, normals))
+                .map_err(runtime_error)?;
+            for name in &names {
+                let target = array::<f32>(py, out.as_ref(), name, [n, width(name)])?;
+                {
+                    let mut view = target.readwrite();
+                    let mut rest = view.as_slice_mut()?;
+                    for sample in &samples {
+                        let plane = match *name {
+                            "points" => Some(&sample.points),
+                            "du" => sample.du.as_ref(),
+                            "dv" => sample.dv.as_ref(),
+                            "duu" => sample.duu.as_ref(),
+                            "duv" => sample.duv.as_ref(),
+                            "dvv" => sample.dvv.as_ref(),
+                            _ => sample.normals.as_ref(),
+                        };
+                        let plane = plane.map_or(&[][..], Vec::as_slice);
+                        let (part, tail) = rest.split_at_mut(plane.len());
+                        part.copy_from_slice(plane);
+                        rest = tail;
+                    }
+                }
+                result.set_item(*name, target)?;
+            }
+        }
+    }
+    Ok(result)
+}
+
+/// The array `name` of shape `shape`: `out`'s (checked: dtype, shape, C order, writeable),
+/// or a new one of zeros.
+fn array<'py, F: numpy::Element>(
+    py: Python<'py>,
+    out: Option<&Bound<'py, PyDict>>,
+    name: &str,
+    shape: [usize; 2],
+) -> PyResult<Bound<'py, PyArray2<F>>> {
+    let Some(given) = out.map(|o| o.get_item(name)).transpose()?.flatten() else {
+        return Ok(PyArray2::<F>::zeros(py, shape, false));
+    };
+    let wrong = |what: String| value_error(format!("out: \"{name}\" {what}"));
+    let Ok(given) = given.cast_into::<PyArray2<F>>() else {
+        return Err(wrong(format!(
+            "must be a 2-D {} array",
+            numpy::dtype::<F>(py)
+        )));
+    };
+    if given.shape() != shape {
+        return Err(wrong(format!(
+            "has shape {:?}, this result {shape:?}",
+            given.shape()
+        )));
+    }
+    if !given.is_c_contiguous() {
+        return Err(wrong("must be C-contiguous".into()));
+    }
+    if given.try_readwrite().is_err() {
+        return Err(wrong(
+            "must be writeable (and not borrowed elsewhere)".into(),
+        ));
+    }
+    Ok(given)
+}
