@@ -15,15 +15,20 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import _native
-from ._ndbspline import NdBSpline, _orders
+from ._ndbspline import NdBSpline, _orders, on_device
 from ._rgi import RegularGridInterpolator
 
 
 def _evaluate(splines: list, points: list, nu, extrapolate) -> tuple:
     """Each tensor spline at its points (N_i, d_i) in one native call: (values (N, m),
     offsets); NdBSpline's rules for nu and complex coefficients (the same dtype for all)."""
-    arguments = [(list(s.t), list(s.k), s._columns()) for s in splines]
     orders = [_orders(nu, len(s.t)) for s in splines]
+    if len({len(s.t) for s in splines}) == 1:
+        on_gpu = on_device(splines, points, orders[0])
+        if on_gpu is not None:
+            offsets = np.concatenate([[0], np.cumsum([len(p) for p in points])])
+            return np.concatenate(on_gpu), offsets.astype(np.int64)
+    arguments = [(list(s.t), list(s.k), s._columns()) for s in splines]
     values, offsets = _native.evaluate_tensors(arguments, points, orders, extrapolate)
     if splines[0].c.dtype.kind == "c":
         values = np.ascontiguousarray(values).view(np.complex128)
@@ -95,14 +100,15 @@ class RegularGridInterpolators:
     grid i's interpolator."""
 
     def __init__(self, points: Sequence, values: Sequence, method="linear", bounds_error=True,
-                 fill_value=np.nan):
+                 fill_value=np.nan, *, context=None):
         if len(points) != len(values):
             raise ValueError(f"values: {len(values)} arrays for {len(points)} grids")
         self._members = []
         for i, (p, v) in enumerate(zip(points, values)):
             try:
                 self._members.append(RegularGridInterpolator(
-                    p, v, method=method, bounds_error=bounds_error, fill_value=fill_value))
+                    p, v, method=method, bounds_error=bounds_error, fill_value=fill_value,
+                    context=context))
             except ValueError as e:
                 raise ValueError(f"grids[{i}]: {e}") from None
         trailing = {m.values.shape[len(m.grid):] for m in self._members}

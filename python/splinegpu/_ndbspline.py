@@ -79,7 +79,9 @@ class NdBSpline:
     """SciPy's `NdBSpline(t, c, k, extrapolate=None)`: the tensor product of d B-spline bases,
     t a tuple of d knot vectors, c of shape (n_0, .., n_{d-1}, ...) (trailing axes: values per
     point), k one degree or one per axis. Evaluated in float64 on the CPU's threads (any d, any
-    k; `context` is kept for the batches and pickling, the call is exact on every context).
+    k), or, on a GPU `context`, a bicubic one (d = 2, k = 3, real, up to 64 values a point) at
+    points inside its base intervals, derivatives of total order <= 2, as the crate's NURBS
+    surface without weights on the device: float32 within the contract's surface promise.
     """
 
     def __init__(self, t, c, k, *, extrapolate=None, context=None):
@@ -134,6 +136,9 @@ class NdBSpline:
         if shape[-1] != d:
             raise ValueError(f"Shapes: xi.shape={shape} and ndim={d}")
         points = np.require(xi.reshape(-1, d), np.float64, ["C", "A"])
+        on_gpu = on_device([self], [points], orders)
+        if on_gpu is not None:
+            return on_gpu[0].reshape(shape[:-1] + self._c.shape[d:])
         out = _native.evaluate_tensor(list(self._t), list(self._k), self._columns(), points,
                                       orders, extrapolate)
         if self._c.dtype.kind == "c":
@@ -203,6 +208,42 @@ class NdBSpline:
 
     def __reduce__(self):
         return (_restore, (self._t, self._c, self._k, self.extrapolate, self.context))
+
+
+# The surface planes of each derivative order (nu_u, nu_v) a surface gives, and the
+# `derivatives` that makes it.
+_PLANES = {(0, 0): ("points", 0), (1, 0): ("du", 1), (0, 1): ("dv", 1), (2, 0): ("duu", 2),
+           (1, 1): ("duv", 2), (0, 2): ("dvv", 2)}
+
+
+def on_device(splines: list, points: list, orders: list):
+    """Bicubic splines on a GPU context, each at its points (N_i, 2) in one dispatch (the
+    crate's NURBS surfaces without weights at those (u, v)): their values (N_i, m) float32, or
+    None where the call is not one the device takes (another context, degree or dimension,
+    complex or wide values, a derivative order it has no plane for, a point outside a base
+    interval or NaN, knots the crate's NURBS rules refuse): the CPU evaluates those."""
+    context = splines[0].context
+    plane = _PLANES.get(tuple(orders))
+    if context is None or context.backend != "gpu" or plane is None:
+        return None
+    for spline, xi in zip(splines, points):
+        c = spline.c
+        if len(spline.t) != 2 or spline.k != (3, 3) or c.dtype.kind == "c" or \
+                spline.context is not context or spline._columns().shape[1] > 64:
+            return None
+        for a, t in enumerate(spline.t):
+            x = xi[:, a]
+            if len(x) and not (t[3] <= x.min() and x.max() <= t[-4]):
+                return None  # also NaN
+    nets = [s._columns().reshape(len(s.t[0]) - 4, len(s.t[1]) - 4, -1) for s in splines]
+    try:
+        result = context.tessellate_surfaces(
+            nets, "nurbs", knots_u=[s.t[0] for s in splines], knots_v=[s.t[1] for s in splines],
+            at=list(points), derivatives=plane[1])
+    except ValueError:
+        return None
+    values = getattr(result, plane[0])
+    return np.split(values, result.surface_offsets[1:-1])
 
 
 def _restore(t, c, k, extrapolate, context) -> NdBSpline:
