@@ -167,3 +167,13 @@ def _rows(name: str, value, curves: int):
     if isinstance(value, np.ndarray) and value.ndim == 1:
         return _aligned(np.broadcast_to(value, (curves, len(value))), name)
     return _per_curve(name, value, curves, 1)
+
+
+def _one_sampling(options: dict, default: tuple) -> tuple:
+    """The one sampling given among `options` (its name -> its value, or None where not
+    given) as (name, value), else `default`; two given is a ValueError naming them."""
+    given = [(name, value) for name, value in options.items() if value is not None]
+    if len(given) > 1:
+        raise ValueError(f"sampling: give one of {', '.join(options)}, got "
+                         f"{', '.join(n for n, _ in given)}")
+    return given[0] if given else default

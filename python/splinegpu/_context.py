@@ -8,9 +8,17 @@ import threading
 import numpy as np
 
 from . import _native
-from ._arrays import _count, _curves, _float64, _matrix, _order, _per_curve, _per_point, _rows
-
-_SAMPLINGS = ("per_segment", "at", "arc_length", "tolerance")
+from ._arrays import (
+    _count,
+    _curves,
+    _float64,
+    _matrix,
+    _one_sampling,
+    _order,
+    _per_curve,
+    _per_point,
+    _rows,
+)
 
 
 class Tessellation:
@@ -100,13 +108,9 @@ class Context:
         Raises ValueError naming the curve, field and value for bad input.
         """
         curves = _curves(points)
-        given = [(name, v) for name, v in
-                 (("per_segment", per_segment), ("at", at), ("arc_length", arc_length),
-                  ("tolerance", tolerance)) if v is not None]
-        if len(given) > 1:
-            raise ValueError(f"sampling: give one of {', '.join(_SAMPLINGS)}, got "
-                             f"{', '.join(n for n, _ in given)}")
-        name, value = given[0] if given else ("per_segment", 16)
+        name, value = _one_sampling({"per_segment": per_segment, "at": at,
+                                     "arc_length": arc_length, "tolerance": tolerance},
+                                    ("per_segment", 16))
         if name == "at":
             value = _rows("at", value, len(curves))
         elif name in ("per_segment", "arc_length"):

@@ -49,6 +49,26 @@ def _points(xis, dims: list) -> list:
     return out
 
 
+def _bounds(members: list, points: list):
+    """Every member's points checked against its grid at once (as each member's `_bounds`
+    would, one pass over all points): None where every point of every member lies inside
+    its grid; else each member's (NaN rows or None, rows outside or None), or the first
+    member's ValueError where `bounds_error`."""
+    d = {len(m.grid) for m in members}
+    if len(d) > 1:
+        return [m._bounds(xi) for m, xi in zip(members, points)]
+    counts = np.array([len(xi) for xi in points])
+    every = np.concatenate(points) if len(points) > 1 else points[0]
+    lo = np.repeat(np.array([[g[0] for g in m.grid] for m in members]), counts, axis=0)
+    hi = np.repeat(np.array([[g[-1] for g in m.grid] for m in members]), counts, axis=0)
+    inside = (lo <= every) & (every <= hi)  # False at NaN
+    if inside.all():
+        return None
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    return [m._bounds(xi) if not inside[a:b].all() else (None, None)
+            for m, xi, a, b in zip(members, points, starts[:-1], starts[1:])]
+
+
 class NdBSplines:
     """Many `NdBSpline`s in one batch: `ts` a list of knot tuples (one per spline, each its
     own axes and lengths), `cs` the matching coefficient arrays (n_0, .., n_{d-1}, ...), with
@@ -131,24 +151,25 @@ class RegularGridInterpolators:
             return np.zeros((0, *self._trailing)), np.zeros(1, dtype=np.int64)
         methods = [m._method(method, None) for m in members]
         points = _points(xis, [len(m.grid) for m in members])
-        checks = [m._bounds(xi) for m, xi in zip(members, points)]
         tensors = None
         if methods[0] not in ("nearest", "pchip"):
             tensors = [m._tensor(methods[0]) if methods[0] != "linear" else m._linear_tensor()
                        for m in members]
-        if tensors is not None and all(t is not None for t in tensors):
-            if methods[0] == "linear":
-                points = [np.ascontiguousarray(xi[:, kept]) for xi, (_, kept) in
-                          zip(points, tensors)]
-                tensors = [spline for spline, _ in tensors]
-            values, offsets = _evaluate(tensors, points, None, True)
+        if tensors is None or any(t is None for t in tensors):
+            values = np.concatenate([m(xi, method=method).reshape(len(xi), -1)
+                                     for m, xi in zip(members, points)])
+            offsets = np.concatenate([[0], np.cumsum([len(xi) for xi in points])])
+            return values.reshape((len(values), *self._trailing)), offsets.astype(np.int64)
+        checks = _bounds(members, points)
+        if methods[0] == "linear":
+            points = [np.ascontiguousarray(xi[:, kept]) if len(kept) < xi.shape[1] else xi
+                      for xi, (_, kept) in zip(points, tensors)]
+            tensors = [spline for spline, _ in tensors]
+        values, offsets = _evaluate(tensors, points, None, True)
+        if checks is not None:
             # Each member's fill and NaN rules on its rows (views of the one result).
             for m, part, (nans, outside) in zip(members, np.split(values, offsets[1:-1]),
                                                 checks):
                 m._filled(part, nans, outside)
-        else:
-            values = np.concatenate([m(xi, method=method).reshape(len(xi), -1)
-                                     for m, xi in zip(members, points)])
-            offsets = np.concatenate([[0], np.cumsum([len(xi) for xi in points])])
         return values.reshape((len(values), *self._trailing)), np.asarray(offsets,
                                                                           dtype=np.int64)

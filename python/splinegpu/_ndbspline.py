@@ -101,6 +101,14 @@ class NdBSpline:
         self._c = np.ascontiguousarray(c, dtype=_value_dtype(c.dtype))
         self._flat = None
 
+    @classmethod
+    def _made(cls, t: tuple, c: np.ndarray, k: tuple, context=None) -> NdBSpline:
+        """A spline whose knots this package made (a fit's, a grid's): not checked again."""
+        self = cls.__new__(cls)
+        self._t, self._k, self._c = t, k, np.ascontiguousarray(c, dtype=_value_dtype(c.dtype))
+        self.extrapolate, self.context, self._flat = True, context, None
+        return self
+
     @property
     def t(self) -> tuple:
         return self._t

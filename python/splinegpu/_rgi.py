@@ -152,7 +152,7 @@ class RegularGridInterpolator:
             t, c = fit_grid(self._grid, values, k)
         else:
             t, c = _solved_by(solver, solver_args, self._grid, values, k)
-        return NdBSpline(t, c, k, context=self.context)
+        return NdBSpline._made(t, c, k, self.context)
 
     def __call__(self, xi, method=None, *, nu=None):
         """Values (or, spline methods, derivatives of orders nu, one per axis) at xi
@@ -236,7 +236,7 @@ class RegularGridInterpolator:
         values = self._values[tuple(slice(None) if a in kept else 0
                                     for a in range(len(self._grid)))]
         t = tuple(np.concatenate([g[:1], g, g[-1:]]) for g in (self._grid[a] for a in kept))
-        return NdBSpline(t, values, 1, context=self.context), kept
+        return NdBSpline._made(t, values, (1,) * len(kept), self.context), kept
 
     def _nearest(self, xi: np.ndarray):
         index = []

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _native
-from ._arrays import _float64, _order
+from ._arrays import _float64, _one_sampling, _order
 
 # The arrays of a result, by the NPZ's names, in its order.
 _ARRAYS = ("uv", "points", "du", "dv", "duu", "duv", "dvv", "normals", "triangles",
@@ -113,12 +113,8 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
                 raise ValueError(f"nets[{s}]: a net must be (n_u, n_v, D), got shape {n.shape}")
     nets3 = [np.require(n, np.float64, ["C", "A"]) for n in nets3]
     count = len(nets3)
-    given = [(name, value) for name, value in (("per_segment", per_segment), ("at", at),
-                                               ("tolerance", tolerance)) if value is not None]
-    if len(given) > 1:
-        raise ValueError(f"sampling: give one of per_segment, at, tolerance, got "
-                         f"{', '.join(n for n, _ in given)}")
-    name, value = given[0] if given else ("per_segment", 16)
+    name, value = _one_sampling({"per_segment": per_segment, "at": at, "tolerance": tolerance},
+                                ("per_segment", 16))
     if name == "per_segment":
         ks = (value, value) if np.ndim(value) == 0 else tuple(value)
         if len(ks) != 2 or any(int(k) != k or k < 1 for k in ks):

@@ -24,7 +24,9 @@ results allocated.
   crate's own path from Rust in this process (the package's overhead).
 - nurbs: w1's curves as clamped NURBS with weights (w1-nurbs) against w1 in the same run, and
   100 of them against geomdl's NURBS curves on the same parameters (`pip install geomdl`).
-With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4.
+- gridded data (`_bench_gridded`): RegularGridInterpolator, NdBSpline and their batches.
+With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4; with
+--gridded: the gridded rows alone.
 """
 
 from __future__ import annotations
@@ -66,9 +68,28 @@ def faster(ours, theirs, goal=None):
 
 
 def main(argv):
+    ctx = splinegpu.Context("cpu")
+    rows = [] if "--gridded" in argv else curves_and_1d(ctx)
+    if "--workers" in argv:
+        rows.extend(workers())
+    from ._bench_gridded import rows as gridded
+
+    try:
+        gpu = splinegpu.Context("gpu")
+    except RuntimeError:
+        gpu = None
+    rows.extend(gridded(gpu))
+    print(f"splinegpu.bench on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
+    print(f"| {'ours':<38} | {'seconds':>10} | {'against':<26} | {'seconds':>10} | ratio |")
+    print(f"|{'-' * 40}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")
+    for name, a, other, b, ratio in rows:
+        print(f"| {name:<38} | {a:10.3g} | {other:<26} | {b:10.3g} | {ratio} |")
+
+
+def curves_and_1d(ctx) -> list:
+    """The rows of the curves and the 1-D classes (all but the gridded ones)."""
     from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
-    ctx = splinegpu.Context("cpu")
     rows = []
     rng = np.random.default_rng(4)
 
@@ -175,15 +196,7 @@ def main(argv):
                  f"out= overhead {100 * (reused / rust_whole - 1):+.1f} %"))
 
     rows.extend(nurbs(ctx, fresh))
-
-    if "--workers" in argv:
-        rows.extend(workers())
-
-    print(f"splinegpu.bench on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
-    print(f"| {'ours':<34} | {'seconds':>10} | {'against':<26} | {'seconds':>10} | ratio |")
-    print(f"|{'-' * 36}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")
-    for name, a, other, b, ratio in rows:
-        print(f"| {name:<34} | {a:10.3g} | {other:<26} | {b:10.3g} | {ratio} |")
+    return rows
 
 
 def batches(xs, ys, qs):

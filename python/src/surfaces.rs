@@ -13,8 +13,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use splinegpu::kinds::KindFields;
 use splinegpu::surface::{
-    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
-    evaluate_surfaces_into,
+    Net, PatchTable, SURFACE_KINDS, Surface, SurfaceKind, SurfacePlan, SurfacePlanes,
+    SurfaceSampling, evaluate_surfaces_into,
 };
 use splinegpu::{CurveKind, Derivatives, EndCondition, Ends, InputError, PerPoint};
 
@@ -119,21 +119,12 @@ fn kind_of(name: &str, f: &SurfaceFields<'_>, s: usize) -> Result<SurfaceKind, I
                 matrix: f.matrix,
                 ..KindFields::default()
             };
-            let surface_kinds = [
-                "bspline",
-                "catmull-rom",
-                "cardinal",
-                "tensioned-bspline",
-                "beta",
-                "matrix",
-            ];
-            if !surface_kinds.contains(&name) {
+            if !SURFACE_KINDS.contains(&name) {
                 return Err(InputError::field(
                     "kind",
                     format!(
-                        "is not a surface kind: \"{name}\" (expected one of {}, bezier, \
-                         interpolating, nurbs)",
-                        surface_kinds.join(", ")
+                        "is not a surface kind: \"{name}\" (expected one of {})",
+                        SURFACE_KINDS.join(", ")
                     ),
                 ));
             }

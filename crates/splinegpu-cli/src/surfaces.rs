@@ -18,19 +18,7 @@ use splinegpu::{
 };
 
 use crate::document::{describe, number, number_array, parse_ends, parse_matrix};
-
-/// The surface kinds, in the contract's order.
-pub const SURFACE_KINDS: [&str; 9] = [
-    "bspline",
-    "catmull-rom",
-    "cardinal",
-    "tensioned-bspline",
-    "beta",
-    "matrix",
-    "bezier",
-    "interpolating",
-    "nurbs",
-];
+use splinegpu::surface::SURFACE_KINDS;
 
 /// The fields surface kind `name` takes besides "kind", "points" and "sampling".
 fn surface_fields(name: &str) -> Option<&'static [&'static str]> {

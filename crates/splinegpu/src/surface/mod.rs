@@ -35,6 +35,19 @@ pub use normal::unit_normal;
 pub use patch::{Derivs, Patch, PatchTable};
 pub use tolerance::MAX_PATCH_VERTICES;
 
+/// The surface kinds by the contract's names, in its order (the uniform families first).
+pub const SURFACE_KINDS: [&str; 9] = [
+    "bspline",
+    "catmull-rom",
+    "cardinal",
+    "tensioned-bspline",
+    "beta",
+    "matrix",
+    "bezier",
+    "interpolating",
+    "nurbs",
+];
+
 /// A net of points: `rows` (n_u) rows of `cols` (n_v) points of `dim` coordinates, u along
 /// the rows' index and v within a row, stored flat (point (i, j) at `(i * cols + j) * dim`).
 /// A patch list's control points are a net of one column.
