@@ -30,17 +30,26 @@ from .bench import best, faster
 
 # The extra memory of the xarray#11342 call, measured in a fresh interpreter: its peak
 # resident set over the one it had with the grid made (tracemalloc would slow SciPy's
-# Python-level iterative solve a hundredfold).
+# Python-level iterative solve a hundredfold). Linux's /proc.
 _MEMORY = """
-import resource, sys, numpy as np
+import numpy as np
 import {module} as m
+
+
+def high_water():
+    # VmHWM: this process' peak resident set (ru_maxrss would carry the parent's over exec).
+    with open("/proc/self/status") as status:
+        line = next(l for l in status if l.startswith("VmHWM:"))
+    return int(line.split()[1]) * 1024
+
+
 rng = np.random.default_rng(31)
 axes = tuple(np.linspace(0, 1, n) for n in (288, 71, 73))
 values = rng.normal(size=(288, 71, 73))
 point = np.stack([rng.uniform(a[0], a[-1], 1) for a in axes], axis=-1)
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+before = high_water()
 m.RegularGridInterpolator(axes, values, method="cubic")(point)
-print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) * 1024)
+print(high_water() - before)
 """
 
 

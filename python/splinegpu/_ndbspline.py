@@ -263,23 +263,27 @@ def fit_grid(grid: tuple, values: np.ndarray, k: tuple) -> tuple:
     B-spline of degrees k through `values` (n_0, .., n_{d-1}, ...) on the grid (d strictly
     increasing axes), by one sweep of banded solves per axis (see the module's documentation).
     Complex values are fitted as their real and imaginary parts."""
+    grid = tuple(np.asarray(x, dtype=np.float64) for x in grid)
+    t = tuple(_interp.not_a_knot(x, ka) for x, ka in zip(grid, k))
+    return t, solve_grid(grid, t, k, values)
+
+
+def solve_grid(grid: tuple, t: tuple, k: tuple, values: np.ndarray) -> np.ndarray:
+    """The coefficients on knots t (one vector per axis, len(t_a) = len(grid_a) + k_a + 1) of
+    the tensor B-spline of degrees k through `values` at the grid's nodes, in the extension
+    (`_native.fit_tensor`); LinAlgError where an axis' collocation matrix is singular."""
     d = len(grid)
-    t = tuple(_interp.not_a_knot(np.asarray(x, dtype=np.float64), ka) for x, ka in zip(grid, k))
     dtype = _value_dtype(values.dtype)
-    c = np.asarray(values, dtype=dtype)
-    trailing = c.shape[d:]
-    real = c.reshape((*c.shape[:d], -1))
+    c = np.ascontiguousarray(values, dtype=dtype)
+    shape = c.shape
+    real = c.reshape(int(np.prod(shape[:d])), -1)
     if dtype is np.complex128:
-        real = np.ascontiguousarray(real).view(np.float64)
-    for a in range(d):
-        if k[a] <= 1:
-            continue  # the collocation matrix of degree 0 or 1 at these knots is the identity
-        moved = np.moveaxis(real, a, 0)
-        lines = np.ascontiguousarray(moved).reshape(moved.shape[0], -1)
-        solved = _interp.coefficients(np.asarray(grid[a], dtype=np.float64), lines, t[a], k[a],
-                                      [], [])
-        real = np.moveaxis(solved.reshape(moved.shape), 0, a)
-    real = np.ascontiguousarray(real)
+        real = real.view(np.float64)
+    solved = _native.fit_tensor([np.require(x, np.float64, ["C", "A"]) for x in grid],
+                                [np.require(ta, np.float64, ["C", "A"]) for ta in t],
+                                [int(ka) for ka in k], np.require(real, np.float64, ["C", "A"]))
+    if solved is None:
+        raise _interp._singular()
     if dtype is np.complex128:
-        real = real.view(np.complex128)
-    return t, real.reshape(c.shape[:d] + trailing)
+        solved = solved.view(np.complex128)
+    return solved.reshape(shape)

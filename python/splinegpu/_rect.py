@@ -5,7 +5,7 @@ With s = 0 FITPACK places the interior knots as SciPy's not-a-knot knots (the da
 the midpoints of the data for even k, without k // 2 + (k odd) of them at each end) and the end
 knots at the bounding box (default: the data's ends), and the spline interpolates: the unique
 tensor B-spline on those knots through z, fitted here by separable banded solves
-(`_ndbspline.fit_grid`'s sweep). FITPACK evaluates at a point clipped to the bounding box (no
+(`_ndbspline.solve_grid`). FITPACK evaluates at a point clipped to the bounding box (no
 extrapolation: past an end, the value at the end), and so does this class; a smoothing s > 0
 is refused by name (the fitting issue brings it).
 """
@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _bspline, _interp
-from ._ndbspline import NdBSpline
+from ._ndbspline import NdBSpline, solve_grid
 
 
 class _Bivariate:
@@ -188,10 +188,7 @@ class RectBivariateSpline(BivariateSpline):
             t = _interp.not_a_knot(v, k)
             t[:k + 1], t[-k - 1:] = lo, hi
             knots.append(t)
-        c = z
-        for axis, (v, k, t) in enumerate(zip((x, y), (kx, ky), knots)):
-            moved = np.ascontiguousarray(np.moveaxis(c, axis, 0))
-            c = np.moveaxis(_interp.coefficients(v, moved, t, k, [], []), 0, axis)
+        c = solve_grid((x, y), tuple(knots), (kx, ky), z)
         self.fp = 0.0
-        self.tck = (knots[0], knots[1], np.ascontiguousarray(c).ravel())
+        self.tck = (knots[0], knots[1], c.ravel())
         self.degrees = (kx, ky)

@@ -1830,6 +1830,50 @@ fn evaluate_tensors<'py>(
     ))
 }
 
+/// The interpolating tensor B-spline through `values` (n_0 · .. · n_{d-1}, m) at the grid of
+/// `nodes` (one strictly increasing array per axis), on the knots and degrees given (n_a =
+/// len(t_a) − k_a − 1 = len(nodes_a)): its coefficients, the same shape (see `grid::fit`);
+/// None where an axis' collocation system is singular.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts lists of arrays as Vecs"
+)]
+fn fit_tensor<'py>(
+    py: Python<'py>,
+    nodes: Vec<PyReadonlyArray1<'_, f64>>,
+    ts: Vec<PyReadonlyArray1<'_, f64>>,
+    k: Vec<usize>,
+    values: PyReadonlyArray2<'_, f64>,
+) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+    let t = tensor_axes(&ts, &k)?;
+    let nodes: Vec<&[f64]> = nodes
+        .iter()
+        .map(|a| a.as_slice())
+        .collect::<Result<_, _>>()?;
+    let shape_ok = nodes.len() == t.len()
+        && nodes
+            .iter()
+            .zip(t.iter().zip(&k))
+            .all(|(x, (t, k))| x.len() == t.len() - k - 1);
+    let needed: usize = nodes.iter().map(|x| x.len()).product();
+    if !shape_ok || values.shape()[0] != needed {
+        return Err(value_error(format!(
+            "fit_tensor: nodes of {:?} points for {} knot vectors, values of {} rows",
+            nodes.iter().map(|x| x.len()).collect::<Vec<_>>(),
+            t.len(),
+            values.shape()[0]
+        )));
+    }
+    let m = values.shape()[1];
+    let mut c = values.as_slice()?.to_vec();
+    let solved = py.detach(|| grid::fit(&nodes, &t, &k, &mut c, m));
+    if solved.is_err() {
+        return Ok(None);
+    }
+    Ok(Some(PyArray1::from_vec(py, c).reshape([needed, m])?))
+}
+
 /// SciPy's gridded PCHIP (`RegularGridInterpolator`'s "pchip": the last axis first) of the
 /// values (n_0 · .. · n_{d-1}, m) on the strictly increasing axes at the points xi (N, d):
 /// (N, m).
@@ -1891,6 +1935,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_tensors, m)?)?;
     m.add_function(wrap_pyfunction!(pchip_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
