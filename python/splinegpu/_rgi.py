@@ -193,9 +193,13 @@ class RegularGridInterpolator:
         """The points (N, ndim) checked against the grid: a ValueError naming the dimension
         where `bounds_error`; else (the NaN rows or None, the rows outside or None)."""
         ndim = len(self._grid)
-        # One pass per bound over the points (NaN propagates through min and max, and then
-        # hides the bounds: the masks are made); the per-point masks only where needed.
-        lo, hi = (xi.min(axis=0), xi.max(axis=0)) if len(xi) else (np.zeros(ndim),) * 2
+        # Each axis' smallest and largest coordinate in one pass (NaN where a coordinate is:
+        # it hides the bounds, so the masks are made); the per-point masks only where needed.
+        if len(xi):
+            lo, hi = (np.array(v) for v in _native.column_ranges(np.require(xi, np.float64,
+                                                                            ["C", "A"])))
+        else:
+            lo, hi = (np.zeros(ndim),) * 2
         nans = np.isnan(xi).any(axis=-1) if np.isnan(lo).any() else None
         outside = None
         if self.bounds_error:
