@@ -8,7 +8,7 @@
 //! is O(n kl (kl + ku)) for the matrix and O(n (2 kl + ku) m) for m right-hand sides.
 
 /// A X = B solved in place: `rhs` holds B (n x m, row-major) on entry and X on return; false
-/// when a pivot column is zero (A singular), `rhs` then left half-solved.
+/// when a pivot column is zero (A singular), `rhs` then untouched.
 pub(crate) fn solve(
     first: &[usize],
     values: &[f64],
@@ -16,68 +16,121 @@ pub(crate) fn solve(
     rhs: &mut [f64],
     m: usize,
 ) -> bool {
-    let n = first.len();
-    debug_assert_eq!(values.len(), n * width);
-    debug_assert_eq!(rhs.len(), n * m);
-    let kl = (0..n)
-        .map(|i| i.saturating_sub(first[i]))
-        .max()
-        .unwrap_or(0);
-    let ku = (0..n)
-        .map(|i| (first[i] + width).saturating_sub(i + 1))
-        .max()
-        .unwrap_or(0);
-    let span = 2 * kl + ku + 1;
-    // a[i * span + (col + kl - i)] is A[i][col].
-    let mut a = vec![0.0; n * span];
-    for i in 0..n {
-        for (w, &v) in values[i * width..(i + 1) * width].iter().enumerate() {
-            a[i * span + first[i] + w + kl - i] = v;
+    match Factored::new(first, values, width) {
+        Some(factored) => {
+            factored.solve(rhs, m);
+            true
         }
+        None => false,
     }
-    let at = |i: usize, col: usize| i * span + col + kl - i;
-    for j in 0..n {
-        let last_row = (j + kl).min(n - 1);
-        let last_col = (j + kl + ku).min(n - 1);
-        let pivot = (j..=last_row)
-            .max_by(|&r, &s| a[at(r, j)].abs().total_cmp(&a[at(s, j)].abs()))
-            .unwrap_or(j);
-        if a[at(pivot, j)] == 0.0 || !a[at(pivot, j)].is_finite() {
-            return false;
-        }
-        if pivot != j {
-            for col in j..=last_col {
-                a.swap(at(j, col), at(pivot, col));
+}
+
+/// A banded matrix factored once (P A = L U, the elimination's multipliers kept where it
+/// zeroed the entries), to solve for any number of right-hand sides after: the elimination's
+/// row swaps and steps replayed on them, then back substitution.
+pub(crate) struct Factored {
+    n: usize,
+    kl: usize,
+    ku: usize,
+    /// Row i's window of columns [i − kl, i + kl + ku]: a[i · span + (col + kl − i)].
+    a: Vec<f64>,
+    /// The row swapped into place at each step.
+    pivots: Vec<usize>,
+}
+
+impl Factored {
+    /// The factored matrix, or None where a pivot column is zero or not finite (A singular).
+    pub(crate) fn new(first: &[usize], values: &[f64], width: usize) -> Option<Self> {
+        let n = first.len();
+        debug_assert_eq!(values.len(), n * width);
+        let kl = (0..n)
+            .map(|i| i.saturating_sub(first[i]))
+            .max()
+            .unwrap_or(0);
+        let ku = (0..n)
+            .map(|i| (first[i] + width).saturating_sub(i + 1))
+            .max()
+            .unwrap_or(0);
+        let span = 2 * kl + ku + 1;
+        let mut a = vec![0.0; n * span];
+        for i in 0..n {
+            for (w, &v) in values[i * width..(i + 1) * width].iter().enumerate() {
+                a[i * span + first[i] + w + kl - i] = v;
             }
+        }
+        let at = |i: usize, col: usize| i * span + col + kl - i;
+        let mut pivots = Vec::with_capacity(n);
+        for j in 0..n {
+            let last_row = (j + kl).min(n - 1);
+            let last_col = (j + kl + ku).min(n - 1);
+            let pivot = (j..=last_row)
+                .max_by(|&r, &s| a[at(r, j)].abs().total_cmp(&a[at(s, j)].abs()))
+                .unwrap_or(j);
+            if a[at(pivot, j)] == 0.0 || !a[at(pivot, j)].is_finite() {
+                return None;
+            }
+            if pivot != j {
+                for col in j..=last_col {
+                    a.swap(at(j, col), at(pivot, col));
+                }
+            }
+            pivots.push(pivot);
+            let diagonal = a[at(j, j)];
+            for r in j + 1..=last_row {
+                let f = a[at(r, j)] / diagonal;
+                // The multiplier takes the place of the entry it zeroes.
+                a[at(r, j)] = f;
+                if f == 0.0 {
+                    continue;
+                }
+                for col in j + 1..=last_col {
+                    a[at(r, col)] -= f * a[at(j, col)];
+                }
+            }
+        }
+        Some(Self {
+            n,
+            kl,
+            ku,
+            a,
+            pivots,
+        })
+    }
+
+    /// A X = B in place for `rhs` (n x m, row-major).
+    pub(crate) fn solve(&self, rhs: &mut [f64], m: usize) {
+        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        debug_assert_eq!(rhs.len(), n * m);
+        let span = 2 * kl + ku + 1;
+        let a = &self.a;
+        let at = |i: usize, col: usize| i * span + col + kl - i;
+        for (j, &pivot) in self.pivots.iter().enumerate() {
+            if pivot != j {
+                for c in 0..m {
+                    rhs.swap(j * m + c, pivot * m + c);
+                }
+            }
+            for r in j + 1..=(j + kl).min(n - 1) {
+                let f = a[at(r, j)];
+                if f == 0.0 {
+                    continue;
+                }
+                for c in 0..m {
+                    rhs[r * m + c] -= f * rhs[j * m + c];
+                }
+            }
+        }
+        for i in (0..n).rev() {
+            let last_col = (i + kl + ku).min(n - 1);
             for c in 0..m {
-                rhs.swap(j * m + c, pivot * m + c);
-            }
-        }
-        let diagonal = a[at(j, j)];
-        for r in j + 1..=last_row {
-            let f = a[at(r, j)] / diagonal;
-            if f == 0.0 {
-                continue;
-            }
-            for col in j + 1..=last_col {
-                a[at(r, col)] -= f * a[at(j, col)];
-            }
-            for c in 0..m {
-                rhs[r * m + c] -= f * rhs[j * m + c];
+                let mut sum = rhs[i * m + c];
+                for col in i + 1..=last_col {
+                    sum -= a[at(i, col)] * rhs[col * m + c];
+                }
+                rhs[i * m + c] = sum / a[at(i, i)];
             }
         }
     }
-    for i in (0..n).rev() {
-        let last_col = (i + kl + ku).min(n - 1);
-        for c in 0..m {
-            let mut sum = rhs[i * m + c];
-            for col in i + 1..=last_col {
-                sum -= a[at(i, col)] * rhs[col * m + c];
-            }
-            rhs[i * m + c] = sum / a[at(i, i)];
-        }
-    }
-    true
 }
 
 #[cfg(test)]

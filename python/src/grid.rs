@@ -274,7 +274,8 @@ impl Fold {
 /// the Kronecker product of the axes' (row j of axis a: the k_a + 1 B-splines of knots t_a
 /// that do not vanish at node j), so c is one banded solve per axis: along axis a the values
 /// are (pre, n_a, post) blocks, each n_a x post right-hand sides of that axis' system, the
-/// blocks spread over the pool. Err(a) where axis a's system is singular.
+/// blocks spread over the pool (the system factored once). Err(a) where axis a's system is
+/// singular.
 pub(crate) fn fit(
     nodes: &[&[f64]],
     knots: &[&[f64]],
@@ -297,12 +298,16 @@ pub(crate) fn fit(
         if post == 0 || n == 0 {
             continue;
         }
-        let solved = values
-            .par_chunks_mut(n * post)
-            .map(|block| banded::solve(&first, &rows, ka + 1, block, post))
-            .all(|ok| ok);
-        if !solved {
-            return Err(a);
+        let factored = banded::Factored::new(&first, &rows, ka + 1).ok_or(a)?;
+        if values.len() < 1 << 16 {
+            // A small grid: the pool's start-up would cost more than the solves.
+            values
+                .chunks_exact_mut(n * post)
+                .for_each(|block| factored.solve(block, post));
+        } else {
+            values
+                .par_chunks_mut(n * post)
+                .for_each(|block| factored.solve(block, post));
         }
     }
     Ok(())

@@ -9,6 +9,7 @@ use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
     PyUntypedArrayMethods,
 };
+use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use splinegpu::kinds::KindFields;
@@ -212,10 +213,11 @@ fn planned(
     fields: &SurfaceFields<'_>,
     sampling: &SurfaceSamplingArg<'_>,
     normals: bool,
-) -> Result<Vec<Planned>, InputError> {
-    let mut out = Vec::with_capacity(nets.len());
+    value_bytes: u128,
+) -> PyResult<Vec<Planned>> {
+    let mut fitted = Vec::with_capacity(nets.len());
     for (s, net) in nets.iter().enumerate() {
-        let place = |e: InputError| e.in_surface(s);
+        let place = |e: InputError| value_error(e.in_surface(s));
         let shape = net.shape();
         let coords = net
             .as_slice()
@@ -230,12 +232,41 @@ fn planned(
             )));
         }
         let surface = Surface::new(kind_of(kind, fields, s).map_err(place)?, net).map_err(place)?;
-        let table = surface.fit();
-        let plan =
-            SurfacePlan::new(&table, &sampling_of(sampling, s).map_err(place)?).map_err(place)?;
-        out.push(Planned { table, plan });
+        fitted.push((surface.fit(), sampling_of(sampling, s).map_err(place)?));
     }
-    Ok(out)
+    // Counts a per-segment sampling gives, refused before its plans are made where they and
+    // the arrays would not fit in memory (a plan holds 40 bytes a vertex).
+    let mut bytes: u128 = 0;
+    for (table, sampling) in &fitted {
+        if let SurfaceSampling::PerSegment([ku, kv]) = sampling {
+            let vertices = match table.knots() {
+                Some([u, v]) => {
+                    (((u.len() - 1) as u128) * u128::from(*ku) + 1)
+                        * (((v.len() - 1) as u128) * u128::from(*kv) + 1)
+                }
+                None => table.len() as u128 * (u128::from(*ku) + 1) * (u128::from(*kv) + 1),
+            };
+            let per_vertex = 40 + 16 + 8 + 6 * table.dim() as u128 * value_bytes + 3 * value_bytes;
+            bytes += vertices * per_vertex;
+        }
+    }
+    if let Some(available) = available_memory()
+        && bytes > available
+    {
+        return Err(PyMemoryError::new_err(format!(
+            "tessellate_surfaces: per_segment gives meshes whose plans and arrays need {bytes} \
+             bytes; this machine has {available} bytes of memory available"
+        )));
+    }
+    fitted
+        .into_iter()
+        .enumerate()
+        .map(|(s, (table, sampling))| {
+            let plan =
+                SurfacePlan::new(&table, &sampling).map_err(|e| value_error(e.in_surface(s)))?;
+            Ok(Planned { table, plan })
+        })
+        .collect()
 }
 
 /// Fits, samples and evaluates a batch of surfaces of one kind (see
@@ -263,7 +294,8 @@ pub(crate) fn tessellate_surfaces<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let derivatives = Derivatives::from_order(derivatives)
         .ok_or_else(|| value_error(format!("derivatives: must be 0, 1 or 2, got {derivatives}")))?;
-    let surfaces = planned(&nets, kind, &fields, &sampling, normals).map_err(value_error)?;
+    let value_bytes = if context.gpu.is_some() { 4 } else { 8 };
+    let surfaces = planned(&nets, kind, &fields, &sampling, normals, value_bytes)?;
     let dims: Vec<usize> = surfaces.iter().map(|s| s.table.dim()).collect();
     let dim = dims.first().copied().unwrap_or(0);
     if let Some(s) = dims.iter().position(|&d| d != dim) {
@@ -284,14 +316,13 @@ pub(crate) fn tessellate_surfaces<'py>(
     );
     let orders = derivatives.order();
     let planes = 1 + [0, 2, 5][orders];
-    let value_bytes = if context.gpu.is_some() { 4 } else { 8 };
-    let bytes = (n
-        * (16 + planes * dim * value_bytes + if normals { 3 * value_bytes } else { 0 } + 8)
-        + m * 24) as u128;
+    let per_vertex =
+        16 + (planes * dim) as u128 * value_bytes + u128::from(normals) * 3 * value_bytes + 8;
+    let bytes = n as u128 * per_vertex + m as u128 * 24;
     if let Some(available) = available_memory()
         && bytes > available
     {
-        return Err(pyo3::exceptions::PyMemoryError::new_err(format!(
+        return Err(PyMemoryError::new_err(format!(
             "tessellate_surfaces: the sampling gives {n} vertices and {m} triangles, whose \
              arrays need {bytes} bytes; this machine has {available} bytes of memory available"
         )));
