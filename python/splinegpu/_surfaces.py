@@ -117,9 +117,9 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
                                 ("per_segment", 16))
     if name == "per_segment":
         ks = (value, value) if np.ndim(value) == 0 else tuple(value)
-        if len(ks) != 2 or any(int(k) != k or k < 1 for k in ks):
-            raise ValueError(f"per_segment: must be a count >= 1 or a pair (k_u, k_v), got "
-                             f"{value!r}")
+        if len(ks) != 2 or any(int(k) != k or not 1 <= k < 2**32 for k in ks):
+            raise ValueError(f"per_segment: must be a count from 1 to 2^32 - 1 or a pair "
+                             f"(k_u, k_v) of them, got {value!r}")
         sampling = (int(ks[0]), int(ks[1]))
     elif name == "at":
         sampling = _per_surface("at", value, count, 2)
