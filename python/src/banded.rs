@@ -97,7 +97,8 @@ impl Factored {
         })
     }
 
-    /// A X = B in place for `rhs` (n x m, row-major).
+    /// A X = B in place for `rhs` (n x m, row-major), row by row (each step a row of m
+    /// values less a multiple of another: contiguous, and vectorised where m is large).
     pub(crate) fn solve(&self, rhs: &mut [f64], m: usize) {
         let (n, kl, ku) = (self.n, self.kl, self.ku);
         debug_assert_eq!(rhs.len(), n * m);
@@ -106,28 +107,34 @@ impl Factored {
         let at = |i: usize, col: usize| i * span + col + kl - i;
         for (j, &pivot) in self.pivots.iter().enumerate() {
             if pivot != j {
-                for c in 0..m {
-                    rhs.swap(j * m + c, pivot * m + c);
-                }
+                let (top, bottom) = rhs.split_at_mut(pivot * m);
+                top[j * m..(j + 1) * m].swap_with_slice(&mut bottom[..m]);
             }
             for r in j + 1..=(j + kl).min(n - 1) {
                 let f = a[at(r, j)];
-                if f == 0.0 {
-                    continue;
-                }
-                for c in 0..m {
-                    rhs[r * m + c] -= f * rhs[j * m + c];
+                if f != 0.0 {
+                    let (top, bottom) = rhs.split_at_mut(r * m);
+                    let source = &top[j * m..(j + 1) * m];
+                    for (target, &v) in bottom[..m].iter_mut().zip(source) {
+                        *target -= f * v;
+                    }
                 }
             }
         }
         for i in (0..n).rev() {
             let last_col = (i + kl + ku).min(n - 1);
-            for c in 0..m {
-                let mut sum = rhs[i * m + c];
-                for col in i + 1..=last_col {
-                    sum -= a[at(i, col)] * rhs[col * m + c];
+            let (top, below) = rhs.split_at_mut((i + 1) * m);
+            let row = &mut top[i * m..];
+            for col in i + 1..=last_col {
+                let coefficient = a[at(i, col)];
+                let source = &below[(col - i - 1) * m..(col - i) * m];
+                for (target, &v) in row.iter_mut().zip(source) {
+                    *target -= coefficient * v;
                 }
-                rhs[i * m + c] = sum / a[at(i, i)];
+            }
+            let diagonal = a[at(i, i)];
+            for target in row.iter_mut() {
+                *target /= diagonal;
             }
         }
     }

@@ -273,8 +273,8 @@ impl Fold {
 /// place: `values` (n_0, .., n_{d-1}, m) in C order becomes c. The grid's collocation matrix is
 /// the Kronecker product of the axes' (row j of axis a: the k_a + 1 B-splines of knots t_a
 /// that do not vanish at node j), so c is one banded solve per axis: along axis a the values
-/// are (pre, n_a, post) blocks, each n_a x post right-hand sides of that axis' system, the
-/// blocks spread over the pool (the system factored once). Err(a) where axis a's system is
+/// are (pre, n_a, post) blocks, each n_a x post right-hand sides of that axis' system, solved
+/// together as one (n_a, pre · post) system (factored once). Err(a) where axis a's system is
 /// singular.
 pub(crate) fn fit(
     nodes: &[&[f64]],
@@ -299,15 +299,26 @@ pub(crate) fn fit(
             continue;
         }
         let factored = banded::Factored::new(&first, &rows, ka + 1).ok_or(a)?;
-        if values.len() < 1 << 16 {
-            // A small grid: the pool's start-up would cost more than the solves.
-            values
-                .chunks_exact_mut(n * post)
-                .for_each(|block| factored.solve(block, post));
-        } else {
-            values
-                .par_chunks_mut(n * post)
-                .for_each(|block| factored.solve(block, post));
+        let pre = values.len() / (n * post);
+        if pre == 1 {
+            factored.solve(values, post);
+            continue;
+        }
+        // The (pre, n, post) blocks gathered into one (n, pre · post) system, so that the
+        // elimination runs along rows of many right-hand sides (a last axis would otherwise
+        // be `pre` solves of one column each), and scattered back.
+        let width = pre * post;
+        let mut wide = vec![0.0; values.len()];
+        for (p, block) in values.chunks_exact(n * post).enumerate() {
+            for (j, line) in block.chunks_exact(post).enumerate() {
+                wide[j * width + p * post..j * width + (p + 1) * post].copy_from_slice(line);
+            }
+        }
+        factored.solve(&mut wide, width);
+        for (p, block) in values.chunks_exact_mut(n * post).enumerate() {
+            for (j, line) in block.chunks_exact_mut(post).enumerate() {
+                line.copy_from_slice(&wide[j * width + p * post..j * width + (p + 1) * post]);
+            }
         }
     }
     Ok(())
