@@ -99,8 +99,8 @@ def rows(gpu) -> list:
              repeats=1)
     out.append(("RGI cubic 288x71x73, make + 1 point", a, "SciPy (1 run)", b,
                 faster(a, b, ">= 20x")))
-    ours, theirs = _extra_memory("splinegpu.interpolate"), _extra_memory("scipy.interpolate")
-    out.append(("  extra memory (peak RSS), MB", ours / 1e6, "SciPy", theirs / 1e6,
+    mine, scipys = _extra_memory("splinegpu.interpolate"), _extra_memory("scipy.interpolate")
+    out.append(("  extra memory (peak RSS), MB", mine / 1e6, "SciPy", scipys / 1e6,
                 "(goal < 100 MB)"))
 
     axes, values = _grid(rng, (256, 256))

@@ -11,6 +11,7 @@ members are evaluated one by one.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -151,7 +152,7 @@ class RegularGridInterpolators:
             return np.zeros((0, *self._trailing)), np.zeros(1, dtype=np.int64)
         methods = [m._method(method, None) for m in members]
         points = _points(xis, [len(m.grid) for m in members])
-        tensors = None
+        tensors: list[Any] | None = None
         if methods[0] not in ("nearest", "pchip"):
             tensors = [m._tensor(methods[0]) if methods[0] != "linear" else m._linear_tensor()
                        for m in members]

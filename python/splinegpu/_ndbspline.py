@@ -274,7 +274,7 @@ def solve_grid(grid: tuple, t: tuple, k: tuple, values: np.ndarray) -> np.ndarra
     (`_native.fit_tensor`); LinAlgError where an axis' collocation matrix is singular."""
     d = len(grid)
     dtype = _value_dtype(values.dtype)
-    c = np.ascontiguousarray(values, dtype=dtype)
+    c: np.ndarray = np.ascontiguousarray(values, dtype=dtype)
     shape = c.shape
     real = c.reshape(int(np.prod(shape[:d])), -1)
     if dtype is np.complex128:

@@ -98,6 +98,8 @@ class _Bivariate:
 class BivariateSpline(_Bivariate):
     """The evaluations every fitted bivariate spline has: `ev` and `integral`."""
 
+    fp: float
+
     def ev(self, xi, yi, dx=0, dy=0) -> np.ndarray:
         """At the pairs (xi, yi): `self(xi, yi, dx, dy, grid=False)`."""
         return self(xi, yi, dx=dx, dy=dy, grid=False)

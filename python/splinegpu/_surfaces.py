@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from . import _native
@@ -24,6 +26,18 @@ class SurfaceTessellation:
     present, else None."""
 
     __slots__ = _ARRAYS
+    uv: np.ndarray
+    points: np.ndarray
+    du: np.ndarray | None
+    dv: np.ndarray | None
+    duu: np.ndarray | None
+    duv: np.ndarray | None
+    dvv: np.ndarray | None
+    normals: np.ndarray | None
+    triangles: np.ndarray
+    surface_offsets: np.ndarray
+    triangle_offsets: np.ndarray
+    patch: np.ndarray | None
 
     def __init__(self, arrays: dict):
         for name in _ARRAYS:
@@ -115,6 +129,7 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
     count = len(nets3)
     name, value = _one_sampling({"per_segment": per_segment, "at": at, "tolerance": tolerance},
                                 ("per_segment", 16))
+    sampling: Any
     if name == "per_segment":
         ks = (value, value) if np.ndim(value) == 0 else tuple(value)
         if len(ks) != 2 or any(int(k) != k or not 1 <= k < 2**32 for k in ks):

@@ -86,7 +86,7 @@ def main(argv):
         print(f"| {name:<38} | {a:10.3g} | {other:<26} | {b:10.3g} | {ratio} |")
 
 
-def curves_and_1d(ctx) -> list:
+def curves_and_1d(ctx):
     """The rows of the curves and the 1-D classes (all but the gridded ones)."""
     from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
