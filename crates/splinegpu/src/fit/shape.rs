@@ -25,8 +25,10 @@ pub(crate) fn pchip_slopes(t: &[f64], values: &[f64], dim: usize) -> Vec<f64> {
     d
 }
 
-/// [`pchip_slopes`] into a caller's memory (`t.len() · dim` values), for callers that take
-/// slopes of many short runs (a gridded PCHIP's windows of up to four points).
+/// PCHIP's derivative at every point, `dim` values per point (SciPy's `PchipInterpolator`
+/// slopes: the weighted harmonic mean inside, the three-point estimate at the ends, the line
+/// on two points), into a caller's memory (`t.len() · dim` values): for callers that take
+/// the slopes of many short runs (a gridded PCHIP's windows of up to four points).
 ///
 /// # Panics
 /// If `t` has fewer than 2 points, or `values` or `d` is not `t.len() · dim` long.
