@@ -491,12 +491,9 @@ fn check_result_fits(job: &EvalJob, value_bytes: u128, sampling: &str) -> PyResu
     }
 }
 
-/// The bytes of memory available now (Linux's MemAvailable), if the system says.
+/// The bytes of memory available now (the crate's reading of Linux's MemAvailable).
 fn available_memory() -> Option<u128> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u128 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    splinegpu::available_memory().map(u128::from)
 }
 
 /// The arrays of an earlier result, reused (`out=`): t, points, d1, d2, curve_offsets.

@@ -234,27 +234,20 @@ fn planned(
         let surface = Surface::new(kind_of(kind, fields, s).map_err(place)?, net).map_err(place)?;
         fitted.push((surface.fit(), sampling_of(sampling, s).map_err(place)?));
     }
-    // Counts a per-segment sampling gives, refused before its plans are made where they and
-    // the arrays would not fit in memory (a plan holds 40 bytes a vertex).
+    // The counts the samplings give, refused before the plans are made where the plans (40
+    // bytes a vertex) and the arrays would not fit in memory.
     let mut bytes: u128 = 0;
     for (table, sampling) in &fitted {
-        if let SurfaceSampling::PerSegment([ku, kv]) = sampling {
-            let vertices = match table.knots() {
-                Some([u, v]) => {
-                    (((u.len() - 1) as u128) * u128::from(*ku) + 1)
-                        * (((v.len() - 1) as u128) * u128::from(*kv) + 1)
-                }
-                None => table.len() as u128 * (u128::from(*ku) + 1) * (u128::from(*kv) + 1),
-            };
+        if let Some(vertices) = SurfacePlan::vertex_count(table, sampling) {
             let per_vertex = 40 + 16 + 8 + 6 * table.dim() as u128 * value_bytes + 3 * value_bytes;
-            bytes += vertices * per_vertex;
+            bytes += u128::from(vertices) * per_vertex;
         }
     }
     if let Some(available) = available_memory()
         && bytes > available
     {
         return Err(PyMemoryError::new_err(format!(
-            "tessellate_surfaces: per_segment gives meshes whose plans and arrays need {bytes} \
+            "tessellate_surfaces: the sampling gives meshes whose plans and arrays need {bytes} \
              bytes; this machine has {available} bytes of memory available"
         )));
     }

@@ -176,7 +176,7 @@ def test_bad_input_is_named():
         CPU.tessellate_surfaces(NETS, "interpolating")
     with pytest.raises(ValueError, match="normals"):
         CPU.tessellate_surfaces([NETS[0][..., :2]], "bspline", normals=True)
-    with pytest.raises(MemoryError, match="per_segment gives meshes"):
+    with pytest.raises(MemoryError, match="the sampling gives meshes"):
         CPU.tessellate_surfaces(NETS, "bspline", per_segment=2**32 - 1)
     with pytest.raises(ValueError, match="per_segment: must be a count"):
         CPU.tessellate_surfaces(NETS, "bspline", per_segment=2**40)

@@ -200,6 +200,7 @@ pub(crate) fn surface_job(
                 surface_sampling(entries, table.patch_indices().is_some()).map_err(place)?
             }
         };
+        check_fits(&table, &sampling, derivatives, normals).map_err(place)?;
         let mut surface = JobSurface::new(table, sampling).map_err(place)?;
         if kept + surface.vertices <= keep {
             kept += surface.vertices;
@@ -209,6 +210,36 @@ pub(crate) fn surface_job(
         job.surfaces.push(surface);
     }
     Ok(job)
+}
+
+/// Refuses, before its plan is made, a surface whose plan (40 bytes a vertex) and f64 values
+/// (a group holds one surface whole) would not fit in the memory available: a count near the
+/// u32 vertex cap would otherwise end in an allocation failure, not exit 2.
+fn check_fits(
+    table: &PatchTable,
+    sampling: &SurfaceSampling,
+    derivatives: Derivatives,
+    normals: bool,
+) -> Result<(), InputError> {
+    let (Some(vertices), Some(available)) = (
+        SurfacePlan::vertex_count(table, sampling),
+        splinegpu::available_memory(),
+    ) else {
+        return Ok(());
+    };
+    let planes = 1 + [0, 2, 5][derivatives.order()];
+    let per_vertex = 40 + 8 * (2 + planes * table.dim() as u128 + 3 * u128::from(normals));
+    let bytes = u128::from(vertices) * per_vertex;
+    if bytes > u128::from(available) {
+        return Err(InputError::field(
+            "sampling",
+            format!(
+                "gives {vertices} vertices, whose plan and values need {bytes} bytes; this \
+                 machine has {available} bytes of memory available"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A surface's "sampling" entries: per_segment k or [k_u, k_v]; at pairs (triples on a patch

@@ -145,6 +145,7 @@ pub use job::layout::JobLayout;
 pub use job::planes::Planes;
 pub use job::samples::{CurveSamples, SampleFloat, Samples};
 pub use job::{Chunk, Derivatives, EvalJob, Piece};
+pub use memory::available_memory;
 pub use points::{MAX_DIM, Points};
 pub use rational::Denominator;
 pub use sampling::arc_length::DEFAULT_ARCLEN_ACCURACY;

@@ -7,6 +7,16 @@
 //! (the usual default) gives them only where asked: a 2 MiB page costs one fault. The crate's
 //! own large buffers ask the same before they are first touched.
 
+/// The bytes of memory available now (Linux's MemAvailable in /proc/meminfo), if the system
+/// says: what a job too large for memory is measured against before anything is allocated.
+#[must_use]
+pub fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// Bytes below which a buffer is left as the allocator made it (a huge page is 2 MiB; the
 /// advice covers only the whole huge pages inside the buffer).
 const ADVISED_BYTES: usize = 4 << 20;

@@ -227,7 +227,7 @@ fn meshes_open_as_they_are() {
 
 #[test]
 fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
-    let cases: [(&str, &[&str]); 11] = [
+    let cases: [(&str, &[&str]); 12] = [
         (
             r#"{"surfaces": [{"kind": "bspline", "points": [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,0],[2,1,0]]]}]}"#,
             &["surface 0", "\"points\"", "points[1] has 3 points, points[0] has 4"],
@@ -268,6 +268,12 @@ fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
         (
             r#"{"surfaces": [{"kind": "beta", "bias": [1, 2, 1, 1], "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
             &["surface 0", "\"bias\"", "must be a number for a surface"],
+        ),
+        (
+            // 3.6e9 vertices (under the u32 cap), whose plan alone would take 144 GB: refused
+            // before it is made.
+            r#"{"sampling": {"per_segment": [60000, 60000]}, "surfaces": [{"kind": "bspline", "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            &["surface 0", "\"sampling\"", "3600120001 vertices", "bytes of memory available"],
         ),
         (
             r#"{"surfaces": [{"kind": "catmull-rom", "tension": 0.5, "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,

@@ -113,6 +113,28 @@ impl SurfacePlan {
     }
 }
 
+impl SurfacePlan {
+    /// The vertices `sampling` gives on `table`, counted without making the plan (a patch
+    /// list's welded grids: their bound, each patch's grid whole); None for a tolerance
+    /// sampling, whose counts come from the patches' bounds as the plan is made. What a
+    /// caller checks against the memory it has before asking for a plan of billions.
+    #[must_use]
+    pub fn vertex_count(table: &PatchTable, sampling: &SurfaceSampling) -> Option<u64> {
+        match (sampling, table.knots()) {
+            (SurfaceSampling::PerSegment([ku, kv]), Some([u, v])) => Some(
+                ((u.len() as u64 - 1) * u64::from(*ku) + 1)
+                    .saturating_mul((v.len() as u64 - 1) * u64::from(*kv) + 1),
+            ),
+            (SurfaceSampling::PerSegment([k, _]), None) => {
+                Some((table.len() as u64).saturating_mul((u64::from(*k) + 1).saturating_pow(2)))
+            }
+            (SurfaceSampling::At(at), _) => Some(at.len() as u64),
+            (SurfaceSampling::AtPatches(at), _) => Some(at.len() as u64),
+            (SurfaceSampling::Tolerance(_), _) => None,
+        }
+    }
+}
+
 /// One direction's lines of a grid with `ks[i]` cells on segment i: (segment, local, parameter)
 /// for each line, a closed direction without its last line.
 fn lines(knots: &[f64], closed: bool, ks: &[usize]) -> Vec<(usize, f64, f64)> {
