@@ -382,14 +382,15 @@ def interpn(points, values, xi, method="linear", bounds_error=True, fill_value=n
     if xi.shape[-1] != len(grid):
         raise ValueError(f"The requested sample points xi have dimension {xi.shape[-1]}, but "
                          f"this RegularGridInterpolator has dimension {len(grid)}")
+    if method != "splinef2d":
+        # The interpolator checks the bounds (one pass, the same message).
+        return RegularGridInterpolator(points, values, method=method,
+                                       bounds_error=bounds_error, fill_value=fill_value,
+                                       context=context)(xi)
     if bounds_error:
         for a, p in enumerate(np.asarray(xi, dtype=np.float64).reshape(-1, len(grid)).T):
             if not np.all((grid[a][0] <= p) & (p <= grid[a][-1])):
                 raise ValueError(f"One of the requested xi is out of bounds in dimension {a}")
-    if method != "splinef2d":
-        return RegularGridInterpolator(points, values, method=method,
-                                       bounds_error=bounds_error, fill_value=fill_value,
-                                       context=context)(xi)
     shape = xi.shape
     xi = np.asarray(xi, dtype=np.float64).reshape(-1, 2)
     inside = ((grid[0][0] <= xi[:, 0]) & (xi[:, 0] <= grid[0][-1])
