@@ -59,7 +59,10 @@ class _Bivariate:
         points = np.stack([np.clip(x, tx[0], tx[-1]), np.clip(y, ty[0], ty[-1])], axis=-1)
         # A derivative is the derived spline's value, as FITPACK computes it (so that
         # partial_derivative(dx, dy)(x, y) equals self(x, y, dx, dy) bit for bit).
-        return self.partial_derivative(dx, dy)._spline()(points)
+        derived = self.__dict__.setdefault("_derived", {})
+        if (dx, dy) not in derived:
+            derived[(dx, dy)] = self.partial_derivative(dx, dy)._spline()
+        return derived[(dx, dy)](points)
 
     def __call__(self, x, y, dx=0, dy=0, grid=True) -> np.ndarray:
         """The spline (or its derivative (dx, dy)) on the grid x times y (grid: x and y sorted
