@@ -17,11 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from . import _bspline, _native
+from . import _bspline, _lsq, _native, _smoothing
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
 from ._grid_batches import NdBSplines, RegularGridInterpolators
+from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline
 from ._piecewise import (
     Akima1DInterpolator,
@@ -36,6 +37,7 @@ from ._piecewise import (
 from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 from ._rect import RectBivariateSpline
 from ._rgi import RegularGridInterpolator, interpn
+from ._smoothing import make_smoothing_spline
 
 # SciPy's alias of PchipInterpolator.
 pchip = PchipInterpolator
@@ -44,7 +46,9 @@ __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "NdBSpline",
            "NdBSplines", "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators",
            "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators",
-           "interpn", "make_interp_spline", "make_interp_splines", "pchip", "pchip_interpolate"]
+           "interpn", "make_interp_spline", "make_interp_splines", "make_lsq_spline",
+           "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines", "pchip",
+           "pchip_interpolate"]
 
 
 class _Batch:
@@ -272,6 +276,46 @@ def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) ->
     batch._extrapolates = "periodic" if bc == "periodic" else True
     batch._source = ("fitted", [np.array(x) for x in xs], bc, trailing)
     return batch
+
+
+def _fitted_batch(xs, ys, fit, context) -> BSplines:
+    """A BSplines batch of cubic-or-lower fits: `fit(xs, ys2, m)` gives each series' knots,
+    (rows, m) coefficients and degree from the checked arrays."""
+    batch = BSplines.__new__(BSplines)
+    xs, ys2, trailing = batch._arrays(xs, ys)
+    m = int(np.prod(trailing, dtype=np.int64))
+    ts, cs, k = fit(list(xs), ys2, m)
+    return BSplines(ts, [c.reshape((len(c), *trailing)) for c in cs], k, context=context)
+
+
+def make_smoothing_splines(xs, ys, ws=None, lams=None,
+                           context: Context | None = None) -> BSplines:
+    """Many `make_smoothing_spline(x, y, w, lam)`s in one call, each series its own x (a list
+    of 1-D arrays or a 2-D array), y ((n_i,) or (n_i, m): each column its own lam), weights
+    (`ws`, None for ones) and lam (`lams`: None for GCV, one number for all, or one per series
+    (S,) or per series and column (S, m)), fitted on every thread. The batch's `lam` holds the
+    lams used, (S,) + y's trailing shape; `batch[i]` is series i's spline with SciPy's knots
+    and coefficients."""
+    chosen = []
+
+    def fit(xs, ys2, m):
+        ts, cs, lam = _smoothing.fit_many(xs, ys2, ws, lams, m)
+        chosen.append(lam)
+        return ts, cs, 3
+
+    batch = _fitted_batch(xs, ys, fit, context)
+    trailing = batch._source[3]
+    batch.lam = chosen[0].reshape((len(chosen[0]), *trailing))
+    return batch
+
+
+def make_lsq_splines(xs, ys, ts, k: int = 3, ws=None, context: Context | None = None) -> BSplines:
+    """Many `make_lsq_spline(x, y, t, k, w)`s in one call, each series its own x (a list of
+    1-D arrays or a 2-D array), y ((n_i,) or (n_i, m)) and weights (`ws`, None for ones), on
+    one knot vector `ts` for all or one per series, degree k <= 3, fitted on every thread.
+    `batch[i]` is series i's spline."""
+    return _fitted_batch(xs, ys, lambda xs, ys2, m: (*_lsq.fit_many(xs, ys2, ts, k, ws), k),
+                         context)
 
 
 class PPolys(_Batch):

@@ -1,0 +1,132 @@
+"""Least-squares splines (SciPy's `make_lsq_spline`), one or a batch: the checks and shapes
+here, the fit in the extension (`python/src/lsq.rs`: Givens rotations into a banded
+triangle, O(m k^2)), every series on its own thread."""
+
+from __future__ import annotations
+
+import operator
+
+import numpy as np
+
+from . import _native
+from ._arrays import _aligned, _axis, _float64
+from ._bsplines import BSpline
+from ._context import Context
+
+
+def _finite(a, name: str, check_finite: bool) -> np.ndarray:
+    a = np.asarray(a)
+    if a.dtype.kind not in "biufc":
+        raise TypeError(f"{name}: must be numbers, got an array of {a.dtype}")
+    a = a.astype(np.complex128 if a.dtype.kind == "c" else np.float64, copy=False)
+    if check_finite and not np.all(np.isfinite(a)):
+        raise ValueError("array must not contain infs or NaNs")
+    return a
+
+
+def check(x: np.ndarray, y_rows: int, t: np.ndarray, k: int, w: np.ndarray,
+          strict: bool, i: int | None = None) -> None:
+    """SciPy's checks of one series, in its order and words (`i` the series of a batch,
+    named as "xs[i]: ..."); x must also be finite here (SciPy's check_finite=False lets NaN
+    through into NaN coefficients)."""
+    xs, ts, ws = ("", "", "w: ") if i is None else (f"xs[{i}]: ", f"ts[{i}]: ", f"ws[{i}]: ")
+    if x.ndim != 1:
+        raise ValueError(f"{xs}Expect x to be a 1-D sequence.")
+    if x.shape[0] < k + 1:
+        raise ValueError(f"{xs}Need more x points.")
+    if k < 0:
+        raise ValueError("Expect non-negative k.")
+    if t.ndim != 1 or np.any(t[1:] - t[:-1] < 0) or not np.all(np.isfinite(t)):
+        raise ValueError(f"{ts}Expect t to be a 1D strictly increasing sequence.")
+    if len(t) < 2 * k + 2:
+        raise ValueError(f"{ts}Need at least {2 * k + 2} knots for degree {k}, got {len(t)}")
+    if x.size != y_rows:
+        raise ValueError(f"{xs}Shapes of x {x.shape} and y ({y_rows}, ...) are incompatible")
+    if not np.all(np.isfinite(x)) or (k > 0 and np.any((x < t[k]) | (x > t[-k]))):
+        raise ValueError(f"{xs}Out of bounds w/ x = {x}.")
+    if k == 0 and np.any((x < t[0]) | (x > t[-1])):
+        raise ValueError(f"{xs}Out of bounds w/ x = {x}.")
+    if x.size != w.size:
+        raise ValueError(f"{ws}Shapes of x {x.shape} and w {w.shape} are incompatible")
+    if not np.all(w >= 0) or not np.all(np.isfinite(w)):
+        raise ValueError(f"{ws}weights must be finite and >= 0")
+    if strict and np.any(x[1:] - x[:-1] <= 0):
+        raise ValueError(f"{xs}Expect x to be a 1D strictly increasing sequence.")
+    if np.any(x[1:] - x[:-1] < 0):
+        raise ValueError(f"{xs}Expect x to be a 1D non-decreasing sequence.")
+
+
+def singular(i: int | None) -> ValueError:
+    where = "" if i is None else f"series {i}: "
+    return ValueError(f"{where}the least-squares matrix is singular: the knots and x violate "
+                      f"the Schoenberg-Whitney conditions (a B-spline with no x inside its "
+                      f"support)")
+
+
+def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bool = True, *,
+                    method: str = "qr", context: Context | None = None) -> BSpline:
+    """`scipy.interpolate.make_lsq_spline(x, y, t, k=3, w=None, axis=0, check_finite=True,
+    method="qr")`: the B-spline on knots t minimising sum (w_i (y_i - f(x_i)))^2, any k,
+    complex y as its parts. Both methods solve by Givens rotations (the normal equations
+    "norm-eq" would square the condition; it keeps its stricter check of x). Knots that no
+    data supports (Schoenberg-Whitney) raise ValueError where SciPy's "qr" returns NaN."""
+    x = _finite(x, "x", check_finite)
+    if np.iscomplexobj(x):
+        raise ValueError("x: complex values are not supported")
+    y = _finite(y, "y", check_finite)
+    t = _finite(t, "t", check_finite)
+    if np.iscomplexobj(t):
+        raise ValueError("t: complex values are not supported")
+    w = np.ones_like(x) if w is None else _float64(w, "w")
+    k = operator.index(k)
+    if y.ndim == 0:
+        raise ValueError("y: must be at least 1-D, got a 0-d array")
+    axis = _axis(axis, y.ndim, "y")
+    y = np.moveaxis(y, axis, 0)
+    if method not in ("qr", "norm-eq"):
+        raise ValueError(f"Unknown method = {method!r}.")
+    check(x, y.shape[0], t, k, w.ravel() if w.ndim else w, method == "norm-eq")
+    trailing = y.shape[1:]
+    columns = y.reshape(len(x), -1)
+    if np.iscomplexobj(columns):
+        columns = columns.view(np.float64)
+    nc = len(t) - k - 1
+    if columns.shape[1] == 0:
+        c = np.zeros((nc, 0))
+    else:
+        c, _, bad = _native.fit_lsq([np.require(x, np.float64, ["C", "A"])],
+                                    [_aligned(columns, "y")], [_aligned(w, "w")],
+                                    [np.require(t, np.float64, ["C", "A"])], k)
+        if bad is not None:
+            raise singular(None)
+    if np.iscomplexobj(y):
+        c = np.ascontiguousarray(c).view(np.complex128)
+    c = np.ascontiguousarray(c.reshape((nc, *trailing)))
+    return BSpline.construct_fast(np.array(t, order="C"), c, k, axis=axis, context=context)
+
+
+def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
+    """Many series' least-squares coefficients ((len(t_i) - k - 1, m) each), `xs` checked 1-D
+    arrays, `ys` their (n_i, m) arrays or one (S, n, m) array, `ts` one knot vector for all or
+    one per series."""
+    k = operator.index(k)
+    if not 0 <= k <= 3:
+        raise ValueError(f"k: a batch evaluates degrees 0 to 3, got {k}")
+    ts = _float64(ts, "ts") if not isinstance(ts, (list, tuple)) else ts
+    if isinstance(ts, np.ndarray) and ts.ndim == 1:
+        ts = [ts] * len(xs)
+    ts = [np.require(_float64(t, f"ts[{i}]"), np.float64, ["C", "A"]) for i, t in enumerate(ts)]
+    if len(ts) != len(xs):
+        raise ValueError(f"ts: {len(ts)} knot vectors for {len(xs)} series")
+    ws = [np.ones(len(x)) for x in xs] if ws is None else [
+        _aligned(w, f"ws[{i}]") for i, w in enumerate(ws)]
+    if len(ws) != len(xs):
+        raise ValueError(f"ws: {len(ws)} weight arrays for {len(xs)} series")
+    if not xs:
+        return [], []
+    # Each series checked in the extension, as `check` does, naming it.
+    c, _, bad = _native.fit_lsq(xs, ys, ws, ts, k)
+    if bad is not None:
+        raise singular(bad)
+    ends = np.cumsum([len(t) - k - 1 for t in ts])
+    return ts, np.split(c, ends[:-1])
