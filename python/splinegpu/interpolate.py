@@ -17,10 +17,11 @@ from typing import Any
 
 import numpy as np
 
-from . import _bspline, _lsq, _native, _smoothing
+from . import _bspline, _fitpack, _lsq, _native, _smoothing
 from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
+from ._fitpack import make_splprep, make_splrep
 from ._grid_batches import NdBSplines, RegularGridInterpolators
 from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline
@@ -47,7 +48,8 @@ __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "NdBSplines", "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators",
            "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators",
            "interpn", "make_interp_spline", "make_interp_splines", "make_lsq_spline",
-           "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines", "pchip",
+           "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines",
+           "make_splprep", "make_splpreps", "make_splrep", "make_splreps", "pchip",
            "pchip_interpolate"]
 
 
@@ -316,6 +318,56 @@ def make_lsq_splines(xs, ys, ts, k: int = 3, ws=None, context: Context | None = 
     `batch[i]` is series i's spline."""
     return _fitted_batch(xs, ys, lambda xs, ys2, m: (*_lsq.fit_many(xs, ys2, ts, k, ws), k),
                          context)
+
+
+def make_splreps(xs, ys, ws=None, s=None, k: int = 3, xb=None, xe=None, nest=None,
+                 context: Context | None = None) -> BSplines:
+    """Many `make_splrep(x, y, w=w, s=s, k=k, xb=xb, xe=xe, nest=nest)`s in one call, each
+    series its own x (a list of 1-D arrays or a 2-D array), y, weights (`ws`, None for ones)
+    and s (one value > 0 for all, or one per series), degree k <= 3, FITPACK's knots found
+    for each on every thread. `xb`/`xe`: None (each series' first and last x), or one value
+    or one per series. `batch[i]` is series i's spline, SciPy's knots and coefficients."""
+    if s is None:
+        raise ValueError("s: give the smoothing (> 0) of every series; s = 0 interpolates: "
+                         "make_interp_splines")
+    ends = None if xb is None and xe is None else (xb, xe)
+
+    def fit(xs, ys2, m):
+        if m != 1:
+            raise ValueError(f"ys: one value per x (make_splpreps fits curves), got {m}")
+        if ends is not None and (ends[0] is None or ends[1] is None):
+            raise ValueError("xb, xe: give both or neither")
+        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, ends, nest)
+        return ts, [c[:, 0] for c in cs], k
+
+    return _fitted_batch(xs, ys, fit, context)
+
+
+def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None,
+                  context: Context | None = None):
+    """Many `make_splprep(x, w=w, u=u, s=s, k=k, nest=nest)`s in one call: `points` a list of
+    (d, m_i) coordinate arrays (each as make_splprep's x) or one (S, d, m) array, `us` their
+    parameters (None: each curve's normalised chord lengths), `s` one value > 0 for all or
+    one per curve, degree k <= 3, fitted on every thread. Returns (batch, us): the batch's
+    curves evaluate to (N, d) rows (`batch[i]` has c of shape (n_i, d), axis 0, where
+    make_splprep's BSpline has axis 1: `batch[i](u).T` is its value)."""
+    if s is None:
+        raise ValueError("s: give the smoothing (> 0) of every curve; s = 0 interpolates: "
+                         "make_interp_splines")
+    if isinstance(points, np.ndarray) and points.ndim == 3:
+        rows = np.ascontiguousarray(np.swapaxes(_float64(points, "points"), 1, 2))
+    else:
+        rows = [np.ascontiguousarray(_float64(p, f"points[{i}]").T)
+                for i, p in enumerate(points)]
+    if us is None:
+        us = [_fitpack.chord_lengths(r) for r in rows]
+    us = [np.ascontiguousarray(_float64(u, f"us[{i}]")) for i, u in enumerate(us)]
+
+    def fit(xs, ys2, m):
+        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, None, nest)
+        return ts, cs, k
+
+    return _fitted_batch(us, rows, fit, context), us
 
 
 class PPolys(_Batch):

@@ -19,6 +19,7 @@ use std::sync::Arc;
 mod banded;
 mod bounded_search;
 mod de_boor;
+mod fitpack;
 mod grid;
 mod lsq;
 mod pieces;
@@ -1575,6 +1576,9 @@ type Series<'a> = (&'a [f64], &'a [f64], &'a [f64]);
 /// series.
 type LsqFits<'py> = (Bound<'py, PyArray2<f64>>, Vec<f64>, Option<usize>);
 
+/// FITPACK fits: the knots stacked, their offsets, the coefficients stacked, each ier.
+type FitpackFits<'py> = (Bound<'py, PyArray1<f64>>, Vec<i64>, Bound<'py, PyArray2<f64>>, Vec<u8>);
+
 /// Each series' columns' lams (S, m).
 type Lams<'py> = Bound<'py, PyArray2<f64>>;
 
@@ -1823,6 +1827,96 @@ fn fit_smoothing<'py>(
     }
     let lams = PyArray1::from_vec(py, used).reshape([blocks.len(), m])?;
     Ok((stacked(py, blocks, m)?, lams))
+}
+
+/// A FITPACK series' data checked (the message's "{i}" stands for the series' index).
+fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str> {
+    let x = data.x;
+    if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] < p[0]) {
+        return Err("xs[{i}]: Expect `x` to be an ordered 1D sequence.");
+    }
+    if x.len() <= k {
+        return Err("xs[{i}]: m > k must hold (more points than the degree)");
+    }
+    if data.w.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err("ws[{i}]: Weights must be non-negative");
+    }
+    if data.w.iter().all(|&v| v == 0.0) {
+        return Err("ws[{i}]: All weights are zero.");
+    }
+    if data.y.iter().any(|v| !v.is_finite()) {
+        return Err("ys[{i}]: must be finite (NaN or infinity found)");
+    }
+    if !(data.xb <= x[0] && data.xe >= x[x.len() - 1] && data.xb < data.xe) {
+        return Err("xb, xe[{i}]: must satisfy xb <= x[0] < x[-1] <= xe");
+    }
+    Ok(())
+}
+
+/// FITPACK smoothing splines (`fitpack::fit`), one per series, on every thread: series i's
+/// x, y (rows of d), w, [xb_i, xe_i] and s_i, degree k, knots found (or given in `ts`), at
+/// most `nest` of them (None: FITPACK's default). The knots stacked with their offsets, the
+/// coefficients stacked ((sum of len(t_i) - k - 1), d), and each root finder's ier.
+#[pyfunction]
+#[pyo3(signature = (xs, ys, ws, xb, xe, k, s, ts = None, nest = None))]
+#[expect(
+    clippy::too_many_arguments,
+    clippy::needless_pass_by_value,
+    reason = "FITPACK's arguments, one each; PyO3 extracts lists as Vecs"
+)]
+fn fit_splrep<'py>(
+    py: Python<'py>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    ws: Stack1<'py>,
+    xb: Vec<f64>,
+    xe: Vec<f64>,
+    k: usize,
+    s: Vec<f64>,
+    ts: Option<Stack1<'py>>,
+    nest: Option<usize>,
+) -> PyResult<FitpackFits<'py>> {
+    use rayon::prelude::*;
+    let (data, d) = series(&xs, &ys, &ws)?;
+    let given = ts.as_ref().map(Stack1::items).transpose()?;
+    if xb.len() != data.len() || xe.len() != data.len() || s.len() != data.len() {
+        return Err(value_error("fit_splrep: one xb, xe and s per series"));
+    }
+    if !(1..=5).contains(&k) {
+        return Err(value_error(format!("k: must be 1 to 5, got {k}")));
+    }
+    let fitted: Vec<Result<fitpack::Spline, String>> = py.detach(|| {
+        data.par_iter()
+            .enumerate()
+            .map(|(i, &(x, y, w))| {
+                let one = fitpack::Data {
+                    x,
+                    y,
+                    d,
+                    w,
+                    xb: xb[i],
+                    xe: xe[i],
+                };
+                let named = |e: &str| e.replace("{i}", &i.to_string());
+                fitpack_input(&one, k).map_err(named)?;
+                let most = nest.unwrap_or((x.len() + k + 1).max(2 * k + 3));
+                let t = given.as_ref().map(|g| g[i]);
+                fitpack::fit(&one, k, s[i], t, most).map_err(|_| {
+                    named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
+                })
+            })
+            .collect()
+    });
+    let fitted = fitted.into_iter().collect::<Result<Vec<_>, String>>().map_err(value_error)?;
+    let mut offsets = vec![0_i64];
+    let (mut knots, mut blocks, mut iers) = (Vec::new(), Vec::new(), Vec::new());
+    for spline in fitted {
+        knots.extend_from_slice(&spline.t);
+        offsets.push(i64::try_from(knots.len()).unwrap_or(i64::MAX));
+        blocks.push(spline.c);
+        iers.push(spline.ier);
+    }
+    Ok((PyArray1::from_vec(py, knots), offsets, stacked(py, blocks, d)?, iers))
 }
 
 /// GCV(lam) of one series (x, y, w) at each lam: the criterion `fit_smoothing` minimises,
@@ -2243,6 +2337,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve_banded, m)?)?;
     m.add_function(wrap_pyfunction!(fit_lsq, m)?)?;
     m.add_function(wrap_pyfunction!(fit_smoothing, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_splrep, m)?)?;
     m.add_function(wrap_pyfunction!(smoothing_gcv, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_pieces, m)?)?;

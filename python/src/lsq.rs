@@ -2,15 +2,241 @@
 //! coefficients c minimising
 //!     sum_i (w_i (y_i - sum_j c_j B_{j,k}(x_i)))^2
 //! for given knots, by Givens rotations. Each data row (k + 1 basis values from its span's
-//! first column, times w_i) is rotated into an upper triangular band R (k + 1 entries a row)
-//! and the right-hand sides Z = Q^T W y, one row at a time; what the rotations leave of the
-//! row's right-hand side is its part of the residual. Back substitution R c = Z then gives c.
-//! O(m k^2) for m data points, and no normal equations (whose condition is R's squared).
+//! first column, times w_i) is rotated into an upper triangular band R and the right-hand
+//! sides Z = Q^T W y, one row at a time; what the rotations leave of the row's right-hand side
+//! is its part of the residual. Back substitution R c = Z then gives c. O(m k^2) for m data
+//! points, and no normal equations (whose condition is R's squared).
 //!
 //! R's diagonal is zero exactly when a coefficient is touched by no data (Schoenberg and
 //! Whitney's condition fails): that fit is refused.
 
 use crate::de_boor;
+
+/// An upper triangular band R (`width` entries a row: R[row, row + d] at
+/// `r[row * width + d]`) with its right-hand sides Z (m a row), built by rotating rows in.
+#[derive(Clone)]
+pub(crate) struct Triangle {
+    pub width: usize,
+    pub m: usize,
+    pub r: Vec<f64>,
+    pub z: Vec<f64>,
+}
+
+impl Triangle {
+    pub(crate) fn new(rows: usize, width: usize, m: usize) -> Self {
+        Self {
+            width,
+            m,
+            r: vec![0.0; rows * width],
+            z: vec![0.0; rows * m],
+        }
+    }
+
+    /// The row h (its entries from column `first`; h.len() <= width) with right-hand side
+    /// `rhs` rotated in, as FITPACK does it (fpgivs and fprota): the row is a window of
+    /// `width` columns sliding right one column a step, so that what a rotation brings in
+    /// from R's row beyond the row's own entries is rotated on into the rows below. `rhs` is
+    /// left with what the rotations did not take: the row's residual.
+    pub(crate) fn rotate_in(&mut self, first: usize, h: &[f64], rhs: &mut [f64]) {
+        // The window in registers for the widths of degrees 0 to 6 (k + 1 and k + 2).
+        match self.width {
+            1 => self.rotate_fixed::<1>(first, h, rhs),
+            2 => self.rotate_fixed::<2>(first, h, rhs),
+            3 => self.rotate_fixed::<3>(first, h, rhs),
+            4 => self.rotate_fixed::<4>(first, h, rhs),
+            5 => self.rotate_fixed::<5>(first, h, rhs),
+            6 => self.rotate_fixed::<6>(first, h, rhs),
+            7 => self.rotate_fixed::<7>(first, h, rhs),
+            8 => self.rotate_fixed::<8>(first, h, rhs),
+            _ => self.rotate_any(first, h, rhs),
+        }
+    }
+
+    /// `rotate_in` with the window a fixed-size array.
+    fn rotate_fixed<const W: usize>(&mut self, first: usize, h: &[f64], rhs: &mut [f64]) {
+        let m = self.m;
+        let rows = self.r.len() / W;
+        let mut window = [0.0; W];
+        window[..h.len()].copy_from_slice(h);
+        for row in first..rows {
+            let pivot = window[0];
+            if pivot != 0.0 {
+                let band: &mut [f64; W] = (&mut self.r[row * W..(row + 1) * W])
+                    .try_into()
+                    .expect("a row of the band");
+                let (cos, sin) = givens(pivot, band);
+                for j in 1..W {
+                    let (old, incoming) = (band[j], window[j]);
+                    band[j] = cos * old + sin * incoming;
+                    window[j] = cos * incoming - sin * old;
+                }
+                rotate_rhs(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
+            }
+            let mut rest = false;
+            for j in 1..W {
+                window[j - 1] = window[j];
+                rest |= window[j] != 0.0;
+            }
+            window[W - 1] = 0.0;
+            if !rest {
+                break;
+            }
+        }
+    }
+
+    /// `rotate_in` for any width.
+    fn rotate_any(&mut self, first: usize, h: &[f64], rhs: &mut [f64]) {
+        let (width, m) = (self.width, self.m);
+        let rows = self.r.len() / width;
+        let mut window = h.to_vec();
+        window.resize(width, 0.0);
+        for row in first..rows {
+            let pivot = window[0];
+            if pivot != 0.0 {
+                let band = &mut self.r[row * width..(row + 1) * width];
+                let (cos, sin) = givens(pivot, band);
+                for (target, v) in band[1..].iter_mut().zip(&mut window[1..]) {
+                    let (old, incoming) = (*target, *v);
+                    *target = cos * old + sin * incoming;
+                    *v = cos * incoming - sin * old;
+                }
+                rotate_rhs(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
+            }
+            window.rotate_left(1);
+            window[width - 1] = 0.0;
+            if window.iter().all(|&v| v == 0.0) {
+                break;
+            }
+        }
+    }
+
+    /// R c = Z solved (rows x m), or None where R's diagonal has a zero or c is not finite.
+    pub(crate) fn back_substitute(&self) -> Option<Vec<f64>> {
+        let (width, m) = (self.width, self.m);
+        let rows = self.r.len() / width;
+        let mut c = self.z.clone();
+        for row in (0..rows).rev() {
+            let diagonal = self.r[row * width];
+            if diagonal == 0.0 {
+                return None;
+            }
+            for col in 0..m {
+                let mut v = c[row * m + col];
+                for d in 1..width.min(rows - row) {
+                    v -= self.r[row * width + d] * c[(row + d) * m + col];
+                }
+                c[row * m + col] = v / diagonal;
+            }
+        }
+        c.iter().all(|v| v.is_finite()).then_some(c)
+    }
+}
+
+/// FITPACK's fpgivs: the rotation (cos, sin) that zeroes `pivot` against the band row's
+/// diagonal, which becomes their root sum of squares (unscaled: the rows are weights times
+/// B-splines, far from overflow; one division).
+#[inline(always)]
+fn givens(pivot: f64, band: &mut [f64]) -> (f64, f64) {
+    let root = (pivot * pivot + band[0] * band[0]).sqrt();
+    let inverse = 1.0 / root;
+    let rotation = (band[0] * inverse, pivot * inverse);
+    band[0] = root;
+    rotation
+}
+
+/// FITPACK's fprota on the right-hand sides: Z's row and the incoming row's.
+#[inline(always)]
+fn rotate_rhs(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
+    for (target, v) in z.iter_mut().zip(rhs.iter_mut()) {
+        let (old, incoming) = (*target, *v);
+        *target = cos * old + sin * incoming;
+        *v = cos * incoming - sin * old;
+    }
+}
+
+/// The k + 1 B-splines of degree k that do not vanish at each x (FITPACK's fpbspl, de Boor's
+/// BSPLVB recurrence): rows[i] = B_{first_i .. first_i + k}(x_i), first_i = l - k for x's
+/// knot span l = clamp(#{t_j <= x} - 1, k, n - 1).
+pub(crate) struct BasisRows {
+    pub k: usize,
+    pub first: Vec<usize>,
+    pub values: Vec<f64>,
+}
+
+impl BasisRows {
+    pub(crate) fn new(x: &[f64], t: &[f64], k: usize) -> Self {
+        let n = t.len() - k - 1;
+        let (mut left, mut right) = (vec![0.0; k + 1], vec![0.0; k + 1]);
+        let mut first = Vec::with_capacity(x.len());
+        let mut values = vec![0.0; x.len() * (k + 1)];
+        let mut l = k;
+        for (i, &xi) in x.iter().enumerate() {
+            // x is sorted for every fit: walk the span forward, search only when it falls back.
+            if xi < t[l] {
+                l = k;
+            }
+            while l + 1 < n && t[l + 1] <= xi {
+                l += 1;
+            }
+            let row = &mut values[i * (k + 1)..(i + 1) * (k + 1)];
+            if t[l + 1] > t[l] {
+                row[0] = 1.0;
+                for j in 0..k {
+                    left[j] = xi - t[l - j];
+                    right[j] = t[l + 1 + j] - xi;
+                    let mut saved = 0.0;
+                    for r in 0..=j {
+                        let term = row[r] / (right[r] + left[j - r]);
+                        row[r] = saved + right[r] * term;
+                        saved = left[j - r] * term;
+                    }
+                    row[j + 1] = saved;
+                }
+            } else {
+                // An empty span (repeated end knots): the general recurrence's zeros.
+                let mut scratch = vec![0.0; k + 1];
+                de_boor::basis(t, k, xi, 0, row, &mut scratch);
+            }
+            first.push(l - k);
+        }
+        Self { k, first, values }
+    }
+
+    /// Row i: its first column and k + 1 values.
+    pub(crate) fn row(&self, i: usize) -> (usize, &[f64]) {
+        let k1 = self.k + 1;
+        (self.first[i], &self.values[i * k1..(i + 1) * k1])
+    }
+}
+
+/// The data rows (basis rows times w_i, right-hand sides w_i y_i, y len(x) rows of m) rotated
+/// into a triangle of `width` >= k + 1 entries a row, for `columns` coefficients; and the
+/// weighted residual sum of squares of the least-squares fit.
+pub(crate) fn triangle(
+    rows: &BasisRows,
+    y: &[f64],
+    m: usize,
+    w: &[f64],
+    columns: usize,
+    width: usize,
+) -> (Triangle, f64) {
+    let mut tri = Triangle::new(columns, width, m);
+    let mut h = vec![0.0; rows.k + 1];
+    let mut rhs = vec![0.0; m];
+    let mut residual = 0.0;
+    for (i, &wi) in w.iter().enumerate() {
+        let (first, values) = rows.row(i);
+        for (target, v) in h.iter_mut().zip(values) {
+            *target = wi * v;
+        }
+        for (target, &v) in rhs.iter_mut().zip(&y[i * m..(i + 1) * m]) {
+            *target = wi * v;
+        }
+        tri.rotate_in(first, &h, &mut rhs);
+        residual += rhs.iter().map(|v| v * v).sum::<f64>();
+    }
+    (tri, residual)
+}
 
 /// A least-squares fit: coefficients (len(t) - k - 1 rows of m) and the weighted residual
 /// sum of squares (all columns together).
@@ -23,61 +249,10 @@ pub(crate) struct Fit {
 /// when R is singular (some coefficient has no data: Schoenberg-Whitney). x must lie in
 /// [t_k, t_n].
 pub(crate) fn fit(x: &[f64], y: &[f64], m: usize, w: &[f64], t: &[f64], k: usize) -> Option<Fit> {
-    let nc = t.len() - k - 1;
-    let k1 = k + 1;
-    // r[row * k1 + d] = R[row, row + d].
-    let mut r = vec![0.0; nc * k1];
-    let mut z = vec![0.0; nc * m];
-    let (mut h, mut scratch) = (vec![0.0; k1], vec![0.0; k1]);
-    let mut rhs = vec![0.0; m];
-    let mut residual = 0.0;
-    for (i, (&xi, &wi)) in x.iter().zip(w).enumerate() {
-        let l = de_boor::basis(t, k, xi, 0, &mut h, &mut scratch);
-        for v in &mut h {
-            *v *= wi;
-        }
-        for (target, &v) in rhs.iter_mut().zip(&y[i * m..(i + 1) * m]) {
-            *target = wi * v;
-        }
-        for first in 0..k1 {
-            let pivot = h[first];
-            if pivot == 0.0 {
-                continue;
-            }
-            let row = l - k + first;
-            let band = &mut r[row * k1..(row + 1) * k1];
-            let hypot = pivot.hypot(band[0]);
-            let (cos, sin) = (band[0] / hypot, pivot / hypot);
-            band[0] = hypot;
-            for (target, v) in band[1..].iter_mut().zip(&mut h[first + 1..]) {
-                let (old, incoming) = (*target, *v);
-                *target = cos * old + sin * incoming;
-                *v = cos * incoming - sin * old;
-            }
-            for (target, v) in z[row * m..(row + 1) * m].iter_mut().zip(&mut rhs) {
-                let (old, incoming) = (*target, *v);
-                *target = cos * old + sin * incoming;
-                *v = cos * incoming - sin * old;
-            }
-        }
-        residual += rhs.iter().map(|v| v * v).sum::<f64>();
-    }
-    for row in (0..nc).rev() {
-        let diagonal = r[row * k1];
-        if diagonal == 0.0 {
-            return None;
-        }
-        for col in 0..m {
-            let mut v = z[row * m + col];
-            for d in 1..k1.min(nc - row) {
-                v -= r[row * k1 + d] * z[(row + d) * m + col];
-            }
-            z[row * m + col] = v / diagonal;
-        }
-    }
-    z.iter().all(|v| v.is_finite()).then_some(Fit { c: z, residual })
+    let rows = BasisRows::new(x, t, k);
+    let (tri, residual) = triangle(&rows, y, m, w, t.len() - k - 1, k + 1);
+    tri.back_substitute().map(|c| Fit { c, residual })
 }
-
 #[cfg(test)]
 mod tests {
     use super::fit;
