@@ -161,6 +161,9 @@ def make_splprep(x, *, w=None, u=None, ub=None, ue=None, k: int = 3, s: float = 
     x (a list of d coordinate arrays, or a (d, m) array), as (BSpline with axis=1, u), u by
     default the normalised chord lengths. SciPy's knots and coefficients for the same s."""
     points = np.stack([_float64(v, "x") for v in x], axis=1)
+    if points.ndim != 2:
+        raise ValueError(f"x: a list of coordinate arrays (or a (d, m) array), got "
+                         f"{np.ndim(x)} dimensions")
     if u is None:
         u = chord_lengths(points)
     if s == 0:

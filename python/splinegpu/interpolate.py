@@ -23,6 +23,8 @@ from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_sp
 from ._context import Context, _default_context
 from ._fitpack import make_splprep, make_splrep
 from ._grid_batches import NdBSplines, RegularGridInterpolators
+from ._interp1d import interp1d
+from ._legacy import splantider, splder, splev, splint, splprep, splrep, sproot
 from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline
 from ._piecewise import (
@@ -39,18 +41,21 @@ from ._ppoly import PPoly, _extrapolate, _integrals, _solved
 from ._rect import RectBivariateSpline
 from ._rgi import RegularGridInterpolator, interpn
 from ._smoothing import make_smoothing_spline
+from ._univariate import InterpolatedUnivariateSpline, LSQUnivariateSpline, UnivariateSpline
 
 # SciPy's alias of PchipInterpolator.
 pchip = PchipInterpolator
 
 __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
-           "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines", "NdBSpline",
-           "NdBSplines", "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators",
-           "RectBivariateSpline", "RegularGridInterpolator", "RegularGridInterpolators",
-           "interpn", "make_interp_spline", "make_interp_splines", "make_lsq_spline",
+           "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines",
+           "InterpolatedUnivariateSpline", "LSQUnivariateSpline", "NdBSpline", "NdBSplines",
+           "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators", "RectBivariateSpline",
+           "RegularGridInterpolator", "RegularGridInterpolators", "UnivariateSpline",
+           "interp1d", "interpn", "make_interp_spline", "make_interp_splines", "make_lsq_spline",
            "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines",
            "make_splprep", "make_splpreps", "make_splrep", "make_splreps", "pchip",
-           "pchip_interpolate"]
+           "pchip_interpolate", "splantider", "splder", "splev", "splint", "splprep", "splrep",
+           "sproot"]
 
 
 class _Batch:

@@ -59,7 +59,7 @@ def test_smoothing_spline_matches_scipy(n, weighted):
         np.testing.assert_array_equal(ours.t, theirs.t)
         close(ours.c, theirs.c)
         close(ours(x), theirs(x))
-    criterion, lam = scipy_gcv(x, y, w)
+    _, lam = scipy_gcv(x, y, w)
     chosen = G.make_smoothing_spline(x, y, w).lam
     assert abs(chosen - lam) <= 1e-6 * lam
 

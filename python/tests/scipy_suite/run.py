@@ -3,10 +3,11 @@
     python python/tests/scipy_suite/run.py [--check] [--update] [--failures]
 
 Takes the installed SciPy's test files (scipy/interpolate/tests: test_bsplines.py,
-test_polyint.py, test_interpolate.py, test_rgi.py, test_fitpack2.py), keeps the tests that
-exercise a name `splinegpu.interpolate` exports (their code, their helpers' code or their
-parameters name it; plugin.py decides), and runs them twice in pytest: once as SciPy ships them,
-once with those names imported from `splinegpu.interpolate` (every other name stays SciPy's).
+test_polyint.py, test_interpolate.py, test_rgi.py, test_fitpack2.py, test_fitpack.py), keeps the
+tests that exercise a name `splinegpu.interpolate` exports (their code, their helpers' code or
+their parameters name it; plugin.py decides), and runs them twice in pytest: once as SciPy ships
+them, once with those names imported from `splinegpu.interpolate` (every other name stays
+SciPy's).
 Each session runs in its own interpreter with a per-test timeout; one that dies (a crash, a
 hang's timeout) is started again past the test it died in, which counts as failed. Prints, per
 file, the tests splinegpu passes against those SciPy passes.
@@ -33,10 +34,10 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 FILES = ("test_bsplines.py", "test_polyint.py", "test_interpolate.py", "test_rgi.py",
-         "test_fitpack2.py")
+         "test_fitpack2.py", "test_fitpack.py")
 # Where the test files import the names from.
 MODULES = ("scipy.interpolate", "scipy.interpolate._fitpack2", "scipy.interpolate._rgi",
-           "scipy.interpolate._ndbspline")
+           "scipy.interpolate._ndbspline", "scipy.interpolate._fitpack_py")
 RATCHET = HERE / "ratchet.json"
 EXPECTED = HERE / "expected_failures.txt"
 
