@@ -110,6 +110,9 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
     m = len(points[0])
     if m <= k:
         raise TypeError(f"m > k must hold: {m} points for k = {k}")
+    if s is None:
+        # splprep smooths by default, with or without weights (splrep interpolates).
+        s = m - np.sqrt(2 * m)
     if u is None:
         steps = np.sqrt(np.sum(np.diff(x, axis=1) ** 2, axis=0))
         if np.any(steps == 0) and np.sum(steps) > 0 and np.any(np.diff(np.cumsum(steps)) <= 0):
@@ -117,8 +120,6 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
                              "twice in a row)")
     elif np.any(np.diff(np.asarray(u, dtype=np.float64)) <= 0):
         raise ValueError("Invalid inputs: u must be strictly increasing")
-    if s is None:
-        s = _default_s(m, w)
     if s == 0:
         spline, u = make_splprep(points, u=u, k=k, s=0)
     else:
