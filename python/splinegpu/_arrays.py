@@ -177,3 +177,19 @@ def _one_sampling(options: dict, default: tuple) -> tuple:
         raise ValueError(f"sampling: give one of {', '.join(options)}, got "
                          f"{', '.join(n for n, _ in given)}")
     return given[0] if given else default
+
+
+def _end_to_end(arrays, name: str) -> tuple:
+    """A batch's arrays (a list of (n_i, ...) arrays, or one (S, n, ...) array) laid end to
+    end as one aligned float64 array (sum n_i, ...), and the (S + 1,) int64 offsets where each
+    starts: the extension borrows two arrays, not one per series."""
+    if isinstance(arrays, np.ndarray) and arrays.ndim >= 2:
+        count, n = arrays.shape[:2]
+        flat = arrays.reshape((count * n, *arrays.shape[2:]))
+        offsets = np.arange(count + 1, dtype=np.int64) * n
+    else:
+        arrays = list(arrays)
+        lengths = [len(a) for a in arrays]
+        offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
+        flat = np.concatenate(arrays) if arrays else np.zeros(0)
+    return _aligned(flat, name), offsets

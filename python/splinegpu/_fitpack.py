@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _float64
+from ._arrays import _aligned, _end_to_end, _float64
 from ._bsplines import BSpline, make_interp_spline
 from ._context import Context
 
@@ -113,17 +113,19 @@ def _fit(x, y, w, xb, xe, k, s, t, nest):
             raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
         if t is not None:
             raise ValueError("Either supply `t` or `nest`.")
-    ts = None
+    knots = None
     if t is not None:
         t = np.ascontiguousarray(_float64(t, "t"))
         fpcheck(x, t, k)
-        ts = [t]
+        knots = (_aligned(t, "t"), np.array([0, len(t)], np.int64))
     if m <= k:
         raise ValueError(f"x: m > k must hold, got m = {m} points for k = {k}")
-    knots, offsets, c, iers = _native.fit_splrep([x], [_aligned(y, "y")], [_aligned(w, "w")],
-                                                 [xb], [xe], k, [s], ts, nest)
+    one = np.array([0, len(x)], np.int64)
+    made, offsets, c, iers = _native.fit_splrep(_aligned(x, "x"), _aligned(y, "y"),
+                                                _aligned(w, "w"), one, [xb], [xe], k, [s],
+                                                knots, nest)
     _warn(iers)
-    return np.array(knots[offsets[0]:offsets[1]]), c
+    return np.array(made[offsets[0]:offsets[1]]), c
 
 
 def _warn(iers) -> None:
@@ -190,20 +192,29 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest) -> tuple:
         raise ValueError(f"k: FITPACK fits degrees 1 to 5, got {k}")
     if nest is not None and operator.index(nest) < 2 * (k + 1):
         raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
-    ws = [np.ones(len(u)) for u in us] if ws is None else [_aligned(w, f"ws[{i}]")
-                                                           for i, w in enumerate(ws)]
-    if len(ws) != count:
-        raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
+    x, offsets = _end_to_end(us, "us")
+    if ws is None:
+        w = np.ones(len(x))
+    else:
+        ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
+        if len(ws) != count:
+            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
+        w, _ = _end_to_end(ws, "ws")
     if ends is None:
-        xb = [float(u[0]) if len(u) else 0.0 for u in us]
-        xe = [float(u[-1]) if len(u) else 0.0 for u in us]
+        # Each series' first and last u (an empty series is refused in the extension).
+        last = max(len(x) - 1, 0)
+        starts = np.minimum(offsets[:-1], last)
+        stops = np.minimum(np.maximum(offsets[1:] - 1, offsets[:-1]), last)
+        xb = list(x[starts]) if len(x) else [0.0] * count
+        xe = list(x[stops]) if len(x) else [0.0] * count
     else:
         xb, xe = ([float(v) for v in np.broadcast_to(_float64(e, "ends"), (count,))]
                   for e in ends)
     if not count:
         return [], [], []
-    knots, offsets, c, iers = _native.fit_splrep(us, points, ws, xb, xe, k, list(s), None,
-                                                 nest)
+    y, _ = _end_to_end(points, "points")
+    knots, offsets, c, iers = _native.fit_splrep(x, y, _aligned(w, "ws"), offsets, xb, xe, k,
+                                                 list(s), None, nest)
     _warn(iers)
     ts = [knots[offsets[i]:offsets[i + 1]] for i in range(count)]
     ends_c = np.cumsum([len(t) - k - 1 for t in ts])

@@ -9,7 +9,7 @@ import operator
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _float64
+from ._arrays import _aligned, _axis, _end_to_end, _float64
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -94,9 +94,9 @@ def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bo
     if columns.shape[1] == 0:
         c = np.zeros((nc, 0))
     else:
-        c, _, bad = _native.fit_lsq([np.require(x, np.float64, ["C", "A"])],
-                                    [_aligned(columns, "y")], [_aligned(w, "w")],
-                                    [np.require(t, np.float64, ["C", "A"])], k)
+        one = np.array([0, len(x)], dtype=np.int64)
+        c, _, bad = _native.fit_lsq(_aligned(x, "x"), _aligned(columns, "y"), _aligned(w, "w"),
+                                    one, _aligned(t, "t"), np.array([0, len(t)], np.int64), k)
         if bad is not None:
             raise singular(None)
     if np.iscomplexobj(y):
@@ -112,21 +112,32 @@ def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
     k = operator.index(k)
     if not 0 <= k <= 3:
         raise ValueError(f"k: a batch evaluates degrees 0 to 3, got {k}")
-    ts = _float64(ts, "ts") if not isinstance(ts, (list, tuple)) else ts
-    if isinstance(ts, np.ndarray) and ts.ndim == 1:
-        ts = [ts] * len(xs)
-    ts = [np.require(_float64(t, f"ts[{i}]"), np.float64, ["C", "A"]) for i, t in enumerate(ts)]
-    if len(ts) != len(xs):
-        raise ValueError(f"ts: {len(ts)} knot vectors for {len(xs)} series")
-    ws = [np.ones(len(x)) for x in xs] if ws is None else [
-        _aligned(w, f"ws[{i}]") for i, w in enumerate(ws)]
-    if len(ws) != len(xs):
-        raise ValueError(f"ws: {len(ws)} weight arrays for {len(xs)} series")
-    if not xs:
+    count = len(xs)
+    if not isinstance(ts, (list, tuple)) and np.ndim(ts) == 1:
+        # One knot vector for all: laid end to end once, not copied per series.
+        t = np.ascontiguousarray(_float64(ts, "ts"))
+        ts = [t] * count
+        t_flat, t_offsets = np.tile(t, count), np.arange(count + 1, dtype=np.int64) * len(t)
+    else:
+        ts = [np.ascontiguousarray(_float64(t, f"ts[{i}]")) for i, t in enumerate(ts)]
+        if len(ts) != count:
+            raise ValueError(f"ts: {len(ts)} knot vectors for {count} series")
+        t_flat, t_offsets = _end_to_end(ts, "ts") if ts else (np.zeros(0), np.zeros(1, np.int64))
+    x, offsets = _end_to_end(xs, "xs")
+    if ws is None:
+        w = np.ones(len(x))
+    else:
+        ws = list(ws)
+        if len(ws) != count:
+            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
+        w, _ = _end_to_end([_float64(w, f"ws[{i}]") for i, w in enumerate(ws)], "ws")
+    if count == 0:
         return [], []
     # Each series checked in the extension, as `check` does, naming it.
-    c, _, bad = _native.fit_lsq(xs, ys, ws, ts, k)
+    y, _ = _end_to_end(ys, "ys")
+    c, _, bad = _native.fit_lsq(x, y, _aligned(w, "ws"), offsets, _aligned(t_flat, "ts"),
+                                t_offsets, k)
     if bad is not None:
         raise singular(bad)
-    ends = np.cumsum([len(t) - k - 1 for t in ts])
+    ends = np.diff(t_offsets).cumsum() - (k + 1) * np.arange(1, count + 1)
     return ts, np.split(c, ends[:-1])

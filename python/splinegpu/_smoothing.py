@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _float64
+from ._arrays import _aligned, _axis, _end_to_end, _float64
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -74,7 +74,8 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
     if columns.shape[1] == 0:
         c, used = np.zeros((len(x) + 2, 0)), lams
     else:
-        c, used = _native.fit_smoothing([x], [_aligned(columns, "y")], [_aligned(w, "w")],
+        c, used = _native.fit_smoothing(_aligned(x, "x"), _aligned(columns, "y"),
+                                        _aligned(w, "w"), np.array([0, len(x)], np.int64),
                                         _aligned(lams, "lam"))
     c = c.reshape((len(x) + 2, *trailing))
     spline = BSpline.construct_fast(knots(x), np.ascontiguousarray(c), 3, axis=axis,
@@ -86,18 +87,23 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
 def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     """Many series' smoothing splines (`xs` checked 1-D arrays, `ys` their (n_i, m) arrays or
     one (S, n, m) array): their knots, coefficients (a list of (n_i + 2, m)) and lams (S, m)."""
-    ws = [np.ones(len(x)) for x in xs] if ws is None else [_float64(w, f"ws[{i}]")
-                                                           for i, w in enumerate(ws)]
-    if len(ws) != len(xs):
-        raise ValueError(f"ws: {len(ws)} weight arrays for {len(xs)} series")
+    count = len(xs)
+    x, offsets = _end_to_end(xs, "xs")
+    if ws is None:
+        w = np.ones(len(x))
+    else:
+        ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
+        if len(ws) != count:
+            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
+        w, _ = _end_to_end(ws, "ws")
     # Each series' x, y and w are checked in the extension, in `check_series`' words.
     given = _float64(lams, "lams") if lams is not None else None
     if given is not None and given.ndim == 1:
         given = given[:, None]
-    lam = lam_of(given, (len(xs), columns), "lams")
-    if not xs:
+    lam = lam_of(given, (count, columns), "lams")
+    if count == 0:
         return [], [], lam
-    c, used = _native.fit_smoothing(xs, ys, [_aligned(w, "ws") for w in ws],
-                                    _aligned(lam, "lams"))
-    ends = np.cumsum([len(x) + 2 for x in xs])
+    y, _ = _end_to_end(ys, "ys")
+    c, used = _native.fit_smoothing(x, y, _aligned(w, "ws"), offsets, _aligned(lam, "lams"))
+    ends = np.diff(offsets).cumsum() + 2 * np.arange(1, count + 1)
     return [knots(x) for x in xs], np.split(c, ends[:-1]), used

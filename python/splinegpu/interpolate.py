@@ -229,6 +229,11 @@ class BSplines(_Batch):
         for i, c in enumerate(cs2):
             if not np.all(np.isfinite(c)):
                 raise ValueError(f"cs[{i}]: the coefficients must be finite")
+        self._build(ts_given, cs_given, ts, cs2, k, trailing, extrapolate, context)
+
+    def _build(self, ts_given, cs_given, ts, cs2, k, trailing, extrapolate, context) -> None:
+        """The pieces of checked splines: `ts_given`/`cs_given` as the extension takes them (a
+        2-D / 3-D array, or lists), `ts`/`cs2` as lists of each spline's arrays."""
         self._native = _tables([], [], "cs") if not ts else None
         if k == 3 and ts:
             try:
@@ -287,12 +292,18 @@ def make_interp_splines(xs, ys, bc_type=None, context: Context | None = None) ->
 
 def _fitted_batch(xs, ys, fit, context) -> BSplines:
     """A BSplines batch of cubic-or-lower fits: `fit(xs, ys2, m)` gives each series' knots,
-    (rows, m) coefficients and degree from the checked arrays."""
+    (rows, m) coefficients and degree from the checked arrays (valid splines, not checked
+    again; their arrays stacked for the extension where they share a shape)."""
     batch = BSplines.__new__(BSplines)
     xs, ys2, trailing = batch._arrays(xs, ys)
     m = int(np.prod(trailing, dtype=np.int64))
-    ts, cs, k = fit(list(xs), ys2, m)
-    return BSplines(ts, [c.reshape((len(c), *trailing)) for c in cs], k, context=context)
+    ts, cs, k = fit(xs if isinstance(xs, np.ndarray) else list(xs), ys2, m)
+    cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
+    even = len({len(t) for t in ts}) == 1
+    ts_given = _aligned(np.stack(ts), "ts") if ts and even else [_aligned(t, "ts") for t in ts]
+    cs_given = _aligned(np.stack(cs), "cs") if cs and even else cs
+    batch._build(ts_given, cs_given, list(ts), cs, k, trailing, True, context)
+    return batch
 
 
 def make_smoothing_splines(xs, ys, ws=None, lams=None,

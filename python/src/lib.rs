@@ -1585,36 +1585,48 @@ type Lams<'py> = Bound<'py, PyArray2<f64>>;
 /// A series' smoothing spline: its coefficients and its columns' lams.
 type Smoothed = Result<(Vec<f64>, Vec<f64>), smoothing::Failure>;
 
-/// Each series' (x, y, w): the batch's arrays checked against each other (y's rows and w's
-/// length are x's; every y has m columns).
-fn series<'a>(
-    xs: &'a Stack1<'_>,
-    ys: &'a Stack2<'_>,
-    ws: &'a Stack1<'_>,
-) -> PyResult<(Vec<Series<'a>>, usize)> {
-    let (xs, ys, ws) = (xs.items()?, ys.items()?, ws.items()?);
-    let m = ys.first().map_or(1, |&(m, _)| m);
-    if ys.len() != xs.len() || ws.len() != xs.len() {
-        return Err(value_error(format!(
-            "{} series of x, {} of y and {} of w",
-            xs.len(),
-            ys.len(),
-            ws.len()
-        )));
-    }
-    let mut out = Vec::with_capacity(xs.len());
-    for (i, ((x, (dim, y)), w)) in xs.into_iter().zip(ys).zip(ws).enumerate() {
-        if dim != m || y.len() != x.len() * m || w.len() != x.len() {
+/// A batch's series laid end to end: one array each (ragged lists handed over as thousands
+/// of arrays cost a borrow check apiece, which grows with the borrows held), series i at
+/// rows offsets[i]..offsets[i + 1].
+fn ragged<'a>(values: &'a [f64], per: usize, offsets: &[i64], name: &str) -> PyResult<Vec<&'a [f64]>> {
+    let rows = values.len() / per.max(1);
+    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
+    for (i, pair) in offsets.windows(2).enumerate() {
+        let (Ok(start), Ok(end)) = (usize::try_from(pair[0]), usize::try_from(pair[1])) else {
+            return Err(value_error(format!("{name}: offset {i} is negative")));
+        };
+        if start > end || end > rows {
             return Err(value_error(format!(
-                "series {i}: {} x, {} rows of {dim} y and {} w (every series {m} columns)",
-                x.len(),
-                y.len() / dim.max(1),
-                w.len()
+                "{name}: series {i} spans rows {start}..{end} of {rows}"
             )));
         }
-        out.push((x, y, w));
+        out.push(&values[start * per..end * per]);
     }
-    Ok((out, m))
+    Ok(out)
+}
+
+/// Each series' (x, y, w) from the flat arrays (x (N,), y (N, m), w (N,), offsets (S + 1,)).
+fn series<'a>(
+    x: &'a PyReadonlyArray1<'_, f64>,
+    y: &'a PyReadonlyArray2<'_, f64>,
+    w: &'a PyReadonlyArray1<'_, f64>,
+    offsets: &PyReadonlyArray1<'_, i64>,
+) -> PyResult<(Vec<Series<'a>>, usize)> {
+    let m = y.shape()[1];
+    let offsets = offsets.as_slice()?;
+    let (x, w) = (x.as_slice()?, w.as_slice()?);
+    if y.shape()[0] != x.len() || w.len() != x.len() {
+        return Err(value_error(format!(
+            "{} x, {} rows of y and {} w",
+            x.len(),
+            y.shape()[0],
+            w.len()
+        )));
+    }
+    let xs = ragged(x, 1, offsets, "xs")?;
+    let ys = ragged(y.as_slice()?, m, offsets, "ys")?;
+    let ws = ragged(w, 1, offsets, "ws")?;
+    Ok((xs.into_iter().zip(ys).zip(ws).map(|((x, y), w)| (x, y, w)).collect(), m))
 }
 
 /// A least-squares series' data checked, as SciPy checks it (the message's "{i}" stands
@@ -1672,17 +1684,20 @@ fn stacked(py: Python<'_>, blocks: Vec<Vec<f64>>, m: usize) -> PyResult<Bound<'_
 /// coefficients stacked ((sum of len(t_i) - k - 1), m), each series' weighted residual sum of
 /// squares, and the series whose knots no data supports (Schoenberg-Whitney), if any.
 #[pyfunction]
+#[expect(clippy::too_many_arguments, reason = "the flat arrays of a batch, one each")]
 fn fit_lsq<'py>(
     py: Python<'py>,
-    xs: Stack1<'py>,
-    ys: Stack2<'py>,
-    ws: Stack1<'py>,
-    ts: Stack1<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray2<'py, f64>,
+    w: PyReadonlyArray1<'py, f64>,
+    offsets: PyReadonlyArray1<'py, i64>,
+    t: PyReadonlyArray1<'py, f64>,
+    t_offsets: PyReadonlyArray1<'py, i64>,
     k: usize,
 ) -> PyResult<LsqFits<'py>> {
     use rayon::prelude::*;
-    let (data, m) = series(&xs, &ys, &ws)?;
-    let ts = ts.items()?;
+    let (data, m) = series(&x, &y, &w, &offsets)?;
+    let ts = ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "ts")?;
     if ts.len() != data.len() || ts.iter().any(|t| t.len() < 2 * k + 2) {
         return Err(value_error(format!(
             "fit_lsq: {} knot vectors for {} series, each at least {} knots",
@@ -1781,13 +1796,14 @@ fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed>
 #[pyfunction]
 fn fit_smoothing<'py>(
     py: Python<'py>,
-    xs: Stack1<'py>,
-    ys: Stack2<'py>,
-    ws: Stack1<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray2<'py, f64>,
+    w: PyReadonlyArray1<'py, f64>,
+    offsets: PyReadonlyArray1<'py, i64>,
     lams: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Lams<'py>)> {
     use rayon::prelude::*;
-    let (data, m) = series(&xs, &ys, &ws)?;
+    let (data, m) = series(&x, &y, &w, &offsets)?;
     let given = lams.as_slice()?;
     if lams.shape() != [data.len(), m] {
         return Err(value_error(format!(
@@ -1858,7 +1874,7 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str>
 /// most `nest` of them (None: FITPACK's default). The knots stacked with their offsets, the
 /// coefficients stacked ((sum of len(t_i) - k - 1), d), and each root finder's ier.
 #[pyfunction]
-#[pyo3(signature = (xs, ys, ws, xb, xe, k, s, ts = None, nest = None))]
+#[pyo3(signature = (x, y, w, offsets, xb, xe, k, s, t = None, nest = None))]
 #[expect(
     clippy::too_many_arguments,
     clippy::needless_pass_by_value,
@@ -1866,19 +1882,23 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str>
 )]
 fn fit_splrep<'py>(
     py: Python<'py>,
-    xs: Stack1<'py>,
-    ys: Stack2<'py>,
-    ws: Stack1<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray2<'py, f64>,
+    w: PyReadonlyArray1<'py, f64>,
+    offsets: PyReadonlyArray1<'py, i64>,
     xb: Vec<f64>,
     xe: Vec<f64>,
     k: usize,
     s: Vec<f64>,
-    ts: Option<Stack1<'py>>,
+    t: Option<(PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, i64>)>,
     nest: Option<usize>,
 ) -> PyResult<FitpackFits<'py>> {
     use rayon::prelude::*;
-    let (data, d) = series(&xs, &ys, &ws)?;
-    let given = ts.as_ref().map(Stack1::items).transpose()?;
+    let (data, d) = series(&x, &y, &w, &offsets)?;
+    let given = match &t {
+        Some((t, t_offsets)) => Some(ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "t")?),
+        None => None,
+    };
     if xb.len() != data.len() || xe.len() != data.len() || s.len() != data.len() {
         return Err(value_error("fit_splrep: one xb, xe and s per series"));
     }
