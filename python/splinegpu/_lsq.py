@@ -25,35 +25,35 @@ def _finite(a, name: str, check_finite: bool) -> np.ndarray:
 
 
 def check(x: np.ndarray, y_rows: int, t: np.ndarray, k: int, w: np.ndarray,
-          strict: bool, i: int | None = None) -> None:
-    """SciPy's checks of one series, in its order and words (`i` the series of a batch,
-    named as "xs[i]: ..."); x must also be finite here (SciPy's check_finite=False lets NaN
-    through into NaN coefficients)."""
-    xs, ts, ws = ("", "", "w: ") if i is None else (f"xs[{i}]: ", f"ts[{i}]: ", f"ws[{i}]: ")
+          strict: bool) -> None:
+    """SciPy's checks of a single fit that name what its messages name, in its order and
+    words; the rest (x non-decreasing, every x inside the base interval, t sorted, w >= 0,
+    finite values) the extension makes on the way in, naming them too (`_native_words`)."""
     if x.ndim != 1:
-        raise ValueError(f"{xs}Expect x to be a 1-D sequence.")
+        raise ValueError("Expect x to be a 1-D sequence.")
     if x.shape[0] < k + 1:
-        raise ValueError(f"{xs}Need more x points.")
+        raise ValueError("Need more x points.")
     if k < 0:
         raise ValueError("Expect non-negative k.")
-    if t.ndim != 1 or np.any(t[1:] - t[:-1] < 0) or not np.all(np.isfinite(t)):
-        raise ValueError(f"{ts}Expect t to be a 1D strictly increasing sequence.")
-    if len(t) < 2 * k + 2:
-        raise ValueError(f"{ts}Need at least {2 * k + 2} knots for degree {k}, got {len(t)}")
+    if t.ndim != 1 or len(t) < 2 * k + 2:
+        raise ValueError(f"Expect t to be a 1D strictly increasing sequence of at least "
+                         f"{2 * k + 2} knots for degree {k}, got shape {t.shape}")
     if x.size != y_rows:
-        raise ValueError(f"{xs}Shapes of x {x.shape} and y ({y_rows}, ...) are incompatible")
-    if not np.all(np.isfinite(x)) or (k > 0 and np.any((x < t[k]) | (x > t[-k]))):
-        raise ValueError(f"{xs}Out of bounds w/ x = {x}.")
-    if k == 0 and np.any((x < t[0]) | (x > t[-1])):
-        raise ValueError(f"{xs}Out of bounds w/ x = {x}.")
+        raise ValueError(f"Shapes of x {x.shape} and y ({y_rows}, ...) are incompatible")
     if x.size != w.size:
-        raise ValueError(f"{ws}Shapes of x {x.shape} and w {w.shape} are incompatible")
-    if not np.all(w >= 0) or not np.all(np.isfinite(w)):
-        raise ValueError(f"{ws}weights must be finite and >= 0")
+        raise ValueError(f"w: Shapes of x {x.shape} and w {w.shape} are incompatible")
     if strict and np.any(x[1:] - x[:-1] <= 0):
-        raise ValueError(f"{xs}Expect x to be a 1D strictly increasing sequence.")
-    if np.any(x[1:] - x[:-1] < 0):
-        raise ValueError(f"{xs}Expect x to be a 1D non-decreasing sequence.")
+        raise ValueError("Expect x to be a 1D strictly increasing sequence.")
+
+
+def _native_words(error: ValueError) -> ValueError:
+    """The extension's message of a batch of one, as a single call words it (no series
+    index; w and y named as arguments)."""
+    text = str(error)
+    for batch, single in (("xs[0]: ", ""), ("ts[0]: ", ""), ("ws[0]: ", "w: "),
+                          ("ys[0]: ", "y: ")):
+        text = text.replace(batch, single)
+    return ValueError(text)
 
 
 def singular(i: int | None) -> ValueError:
@@ -82,10 +82,11 @@ def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bo
     if y.ndim == 0:
         raise ValueError("y: must be at least 1-D, got a 0-d array")
     axis = _axis(axis, y.ndim, "y")
-    y = np.moveaxis(y, axis, 0)
+    if axis:
+        y = np.moveaxis(y, axis, 0)
     if method not in ("qr", "norm-eq"):
         raise ValueError(f"Unknown method = {method!r}.")
-    check(x, y.shape[0], t, k, w.ravel() if w.ndim else w, method == "norm-eq")
+    check(x, y.shape[0], t, k, w, method == "norm-eq")
     trailing = y.shape[1:]
     columns = y.reshape(len(x), -1)
     if np.iscomplexobj(columns):
@@ -95,8 +96,12 @@ def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bo
         c = np.zeros((nc, 0))
     else:
         one = np.array([0, len(x)], dtype=np.int64)
-        c, _, bad = _native.fit_lsq(_aligned(x, "x"), _aligned(columns, "y"), _aligned(w, "w"),
-                                    one, _aligned(t, "t"), np.array([0, len(t)], np.int64), k)
+        try:
+            c, _, bad = _native.fit_lsq(_aligned(x, "x"), _aligned(columns, "y"),
+                                        _aligned(w, "w"), one, _aligned(t, "t"),
+                                        np.array([0, len(t)], np.int64), k)
+        except ValueError as e:
+            raise _native_words(e) from None
         if bad is not None:
             raise singular(None)
     if np.iscomplexobj(y):

@@ -25,8 +25,10 @@ results allocated.
 - nurbs: w1's curves as clamped NURBS with weights (w1-nurbs) against w1 in the same run, and
   100 of them against geomdl's NURBS curves on the same parameters (`pip install geomdl`).
 - gridded data (`_bench_gridded`): RegularGridInterpolator, NdBSpline and their batches.
+- fitting noisy data (`_bench_fitting`): smoothing (GCV), FITPACK and least-squares fits and
+  their batches.
 With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4; with
---gridded: the gridded rows alone.
+--gridded or --fitting: those rows alone.
 """
 
 from __future__ import annotations
@@ -69,16 +71,21 @@ def faster(ours, theirs, goal=None):
 
 def main(argv):
     ctx = splinegpu.Context("cpu")
-    rows = [] if "--gridded" in argv else curves_and_1d(ctx)
+    alone = "--gridded" in argv or "--fitting" in argv
+    rows = [] if alone else curves_and_1d(ctx)
     if "--workers" in argv:
         rows.extend(workers())
+    from ._bench_fitting import rows as fitting
     from ._bench_gridded import rows as gridded
 
-    try:
-        gpu = splinegpu.Context("gpu")
-    except RuntimeError:
-        gpu = None
-    rows.extend(gridded(gpu))
+    if "--fitting" not in argv:
+        try:
+            gpu = splinegpu.Context("gpu")
+        except RuntimeError:
+            gpu = None
+        rows.extend(gridded(gpu))
+    if "--gridded" not in argv:
+        rows.extend(fitting())
     print(f"splinegpu.bench on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
     print(f"| {'ours':<38} | {'seconds':>10} | {'against':<26} | {'seconds':>10} | ratio |")
     print(f"|{'-' * 40}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")

@@ -1,0 +1,89 @@
+"""The fitting rows of `python -m splinegpu.bench` (`--fitting` runs them alone): each the
+whole fit as a caller makes it (the batch's splines ready to evaluate), against SciPy's loop
+in the same run on the same data. SciPy's loops that would take minutes or hours run on a
+sample of the series and are scaled up (the row says so).
+
+- GCV smoothing: make_smoothing_splines on 8,192 ragged series of 1,900 to 2,200 points (each
+  x a jittered grid: sorted uniform draws put points 1e-6 apart, where the criterion itself
+  carries rounding), against make_smoothing_spline in a loop over 8 series scaled by 1,024
+  (SciPy's GCV costs about a second a series); and one series of 2,048 points;
+- make_splpreps on 10,000 noisy 3-D point sequences of 200 points (s given), against
+  make_splprep in a loop over 1,000 scaled by 10; make_splreps likewise on 10,000 series;
+- make_lsq_splines on 10,000 series of 100 points on one knot vector, against
+  make_lsq_spline in a loop; and one call of each.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .bench import best, faster
+
+
+def _loop(fit, items, sample: int) -> float:
+    """SciPy's loop over the first `sample` items, scaled to all of them (one run)."""
+    start = time.perf_counter()
+    for item in items[:sample]:
+        fit(item)
+    return (time.perf_counter() - start) * len(items) / sample
+
+
+def rows() -> list:
+    import warnings
+
+    import scipy.interpolate as scipy
+
+    import splinegpu.interpolate as si
+
+    from ._bench_gridded import _Rows
+
+    rng = np.random.default_rng(32)
+    out = _Rows()
+
+    lengths = rng.integers(1900, 2201, 8192)
+    xs = [np.linspace(0, 10, n) + rng.uniform(-0.3, 0.3, n) * 10 / n for n in lengths]
+    ys = [np.sin(x) + rng.normal(scale=0.2, size=len(x)) for x in xs]
+    a = best(lambda: si.make_smoothing_splines(xs, ys), repeats=1)
+    b = _loop(lambda i: scipy.make_smoothing_spline(xs[i], ys[i]), list(range(8192)), 8)
+    out.append(("make_smoothing_splines GCV, 8192 x ~2k", a, "SciPy loop, 8 x 1024", b,
+                faster(a, b, ">= 10x and < 5 s")))
+    x, y = xs[0][:2048], ys[0][:2048]
+    a = best(lambda: si.make_smoothing_spline(x, y))
+    b = best(lambda: scipy.make_smoothing_spline(x, y), repeats=1)
+    out.append(("make_smoothing_spline GCV, 2,048 pts", a, "SciPy (1 run)", b, faster(a, b)))
+
+    u = np.linspace(0, 1, 200)
+    curves = [np.stack([np.cos(6 * u), np.sin(6 * u), u]) + rng.normal(scale=0.01,
+                                                                        size=(3, 200))
+              for _ in range(10_000)]
+    s = 200 * 3 * 0.01**2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        a = best(lambda: si.make_splpreps(curves, s=s), repeats=3)
+        b = _loop(lambda c: scipy.make_splprep(c, s=s), curves, 1000)
+    out.append(("make_splpreps, 10,000 3-D x 200, s", a, "SciPy loop, 1,000 x 10", b,
+                faster(a, b, ">= 10x")))
+    series = [np.sort(rng.uniform(0, 10, 200)) for _ in range(10_000)]
+    values = [np.sin(x) + rng.normal(scale=0.1, size=200) for x in series]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        a = best(lambda: si.make_splreps(series, values, s=2.0), repeats=3)
+        b = _loop(lambda i: scipy.make_splrep(series[i], values[i], s=2.0),
+                  list(range(10_000)), 1000)
+    out.append(("make_splreps, 10,000 x 200, s", a, "SciPy loop, 1,000 x 10", b,
+                faster(a, b)))
+
+    t = np.r_[[0.0] * 4, np.linspace(0, 10, 8)[1:-1], [10.0] * 4]
+    series = [np.r_[0.0, np.sort(rng.uniform(0, 10, 98)), 10.0] for _ in range(10_000)]
+    values = [np.sin(x) + rng.normal(scale=0.1, size=100) for x in series]
+    a = best(lambda: si.make_lsq_splines(series, values, t), repeats=3)
+    b = _loop(lambda i: scipy.make_lsq_spline(series[i], values[i], t), list(range(10_000)),
+              10_000)
+    out.append(("make_lsq_splines, 10,000 x 100", a, "SciPy loop (1 run)", b,
+                faster(a, b, ">= 10x")))
+    a = best(lambda: si.make_lsq_spline(series[0], values[0], t), calls=100)
+    b = best(lambda: scipy.make_lsq_spline(series[0], values[0], t), calls=100)
+    out.append(("make_lsq_spline, 100 pts", a, "SciPy", b, faster(a, b)))
+    return out
