@@ -144,5 +144,8 @@ def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
                                 t_offsets, k)
     if bad is not None:
         raise singular(bad)
-    ends = np.diff(t_offsets).cumsum() - (k + 1) * np.arange(1, count + 1)
-    return ts, np.split(c, ends[:-1])
+    rows = np.diff(t_offsets) - (k + 1)
+    if np.all(rows == rows[0]):
+        # One row count for all (one knot vector): the (S, n, m) array, not S pieces.
+        return ts, c.reshape(count, int(rows[0]), c.shape[1])
+    return ts, np.split(c, rows.cumsum()[:-1])

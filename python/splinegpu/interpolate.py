@@ -298,10 +298,17 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     xs, ys2, trailing = batch._arrays(xs, ys)
     m = int(np.prod(trailing, dtype=np.int64))
     ts, cs, k = fit(xs if isinstance(xs, np.ndarray) else list(xs), ys2, m)
-    cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
+    if isinstance(cs, np.ndarray):
+        # Every spline's coefficients in one (S, n, m) array.
+        cs_given = _aligned(cs, "cs")
+        cs = list(cs_given)
+    else:
+        cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
+        cs_given = None
     even = len({len(t) for t in ts}) == 1
     ts_given = _aligned(np.stack(ts), "ts") if ts and even else [_aligned(t, "ts") for t in ts]
-    cs_given = _aligned(np.stack(cs), "cs") if cs and even else cs
+    if cs_given is None:
+        cs_given = _aligned(np.stack(cs), "cs") if cs and even else cs
     batch._build(ts_given, cs_given, list(ts), cs, k, trailing, True, context)
     return batch
 

@@ -69,11 +69,19 @@ fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
     (out, total)
 }
 
-/// The least-squares fit on t: its coefficients, residuals and their sum.
+/// The least-squares fit on t: its coefficients, residuals and their sum; by the normal
+/// equations where they are positive definite (`lsq::normal_fit`: the knot search reads only
+/// the residuals), by Givens rotations otherwise.
 fn least_squares(data: &Data<'_>, t: &[f64], k: usize) -> Result<(Vec<f64>, Vec<f64>, f64), Failure> {
     let rows = BasisRows::new(data.x, t, k);
-    let (tri, _) = lsq::triangle(&rows, data.y, data.d, data.w, t.len() - k - 1, k + 1);
-    let c = tri.back_substitute().ok_or(Failure::Singular)?;
+    let columns = t.len() - k - 1;
+    let c = match lsq::normal_fit(&rows, data.y, data.d, data.w, columns) {
+        Some(c) => c,
+        None => {
+            let (tri, _) = lsq::triangle(&rows, data.y, data.d, data.w, columns, k + 1);
+            tri.back_substitute().ok_or(Failure::Singular)?
+        }
+    };
     let (each, total) = residuals(data, &rows, &c);
     if total.is_nan() {
         return Err(Failure::Singular);
@@ -228,8 +236,9 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
     let nc = t.len() - k - 1;
     let d = data.d;
     if t.len() == 2 * (k + 1) {
-        let (c, _, _) = least_squares(data, t, k)?;
-        return Ok(Spline { t: t.to_vec(), c, ier: 0 });
+        // The returned coefficients by rotations, as SciPy's.
+        let fit = lsq::fit(data.x, data.y, d, data.w, t, k).ok_or(Failure::Singular)?;
+        return Ok(Spline { t: t.to_vec(), c: fit.c, ier: 0 });
     }
     let rows = BasisRows::new(data.x, t, k);
     let (base, _) = lsq::triangle(&rows, data.y, d, data.w, nc, k + 2);
