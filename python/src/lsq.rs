@@ -243,7 +243,7 @@ pub(crate) fn triangle(
 /// take both for each of the row's k + 1 entries. Their condition is the basis' squared
 /// (B-splines are well conditioned: about 1e-13 relative here, against the rotations'
 /// 1e-15); for the fits whose coefficients are only read for their residuals (FITPACK's knot
-/// search). None where the matrix is not positive definite.
+/// search). None where the matrix is not positive definite or not well conditioned.
 pub(crate) fn normal_fit(rows: &BasisRows, y: &[f64], m: usize, w: &[f64], columns: usize) -> Option<Vec<f64>> {
     let width = rows.k + 1;
     // a[row * width + d] = N[row, row + d].
@@ -293,6 +293,17 @@ pub(crate) fn normal_fit(rows: &BasisRows, y: &[f64], m: usize, w: &[f64], colum
                 a[row * width + d] = v / a[row * width];
             }
         }
+    }
+    // Only where N is well conditioned: cond(N) >= (max U_ii / min U_ii)^2, which far-apart
+    // weights or knots with little data drive up; beyond 1e6 (1e-10 in the residuals) the
+    // caller rotates instead.
+    let (mut low, mut high) = (f64::INFINITY, 0.0_f64);
+    for row in 0..columns {
+        low = low.min(a[row * width]);
+        high = high.max(a[row * width]);
+    }
+    if high > 1e3 * low {
+        return None;
     }
     // U^T z = b, then U c = z.
     for row in 0..columns {

@@ -374,3 +374,15 @@ def test_univariate_splines_match_scipy():
     close(ours.get_coeffs(), reference.c, 1e-10)
     close(ours.derivatives(4.0), reference(4.0, nu=[0, 1, 2, 3]) if False else np.array(
         [reference(4.0, nu) for nu in range(4)]), 1e-10)
+
+
+def test_far_apart_weights_keep_scipys_knots():
+    """Weights 1e12 against 1e2 square to 1e24 in the normal equations the knot search uses
+    where they are well conditioned; here it must rotate, and finds SciPy's knots."""
+    x = np.linspace(-1, 1, 13)
+    y = 0.35 + 0.65 * x**2 + 0.01 * np.sin(9 * x)
+    w = np.r_[1e12, np.full(11, 500.0), 1e12]
+    for s in (5.0, 13.0):
+        ours, theirs = G.make_splrep(x, y, w=w, s=s), S.make_splrep(x, y, w=w, s=s)
+        np.testing.assert_array_equal(ours.t, theirs.t)
+        close(ours(x), theirs(x), 1e-8)
