@@ -43,6 +43,9 @@ class BSpline:
     axis: int
     extrapolate: bool | str
     context: Context | None
+    # The lam a smoothing spline was fitted with (make_smoothing_spline's; other splines have
+    # none): a number, or an array of y's trailing shape.
+    lam: Any
     # The polynomial pieces, made at the first call (or handed over by make_interp_spline).
     _pp: Any
 

@@ -5,6 +5,8 @@ any axis. The spline kinds are this package's `make_interp_spline` evaluated thr
 
 from __future__ import annotations
 
+from typing import Any, Literal
+
 import numpy as np
 
 from ._bsplines import BSpline, make_interp_spline
@@ -33,6 +35,13 @@ class interp1d:
     bounds_error=None, fill_value=nan, assume_sorted=False)`, with SciPy's results, errors
     and attributes (x, y, axis, bounds_error, fill_value, copy). `context` evaluates the
     spline kinds (zero to any degree) on a GPU context; the rest run in NumPy."""
+
+    # The spline kinds' B-spline; the neighbour kinds' boundaries and search side.
+    _spline: Any
+    _bounds: np.ndarray
+    _shift: np.ndarray
+    _side: Literal["left", "right"]
+    _ind: int
 
     def __init__(self, x, y, kind="linear", axis: int = -1, copy: bool = True,
                  bounds_error=None, fill_value=np.nan, assume_sorted: bool = False,

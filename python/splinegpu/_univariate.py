@@ -33,6 +33,9 @@ class UnivariateSpline:
     ext=0, check_finite=False)`: the smoothing spline with sum (w_i (y_i - f(x_i)))^2 <= s
     (s = len(w) by default), FITPACK's knots. `context` evaluates it on a GPU context."""
 
+    # The data it was fitted to (x, y, w, bbox, k); None for a derived spline.
+    _data: tuple | None
+
     def __init__(self, x, y, w=None, bbox=(None, None), k: int = 3, s=None, ext=0,
                  check_finite: bool = False, context: Context | None = None):
         x, y, w, bbox, self.ext = self.validate_input(x, y, w, bbox, k, s, ext, check_finite)

@@ -205,6 +205,8 @@ class BSplines(_Batch):
     a `BSpline`."""
 
     k: int
+    # The lams a smoothing batch used (make_smoothing_splines), (S,) + y's trailing shape.
+    lam: np.ndarray
     # Where the splines' t and c come from: ("given", ts, cs, trailing shape), or ("fitted",
     # the knots, bc_type, trailing shape) for make_interp_splines.
     _source: tuple
@@ -298,6 +300,7 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     xs, ys2, trailing = batch._arrays(xs, ys)
     m = int(np.prod(trailing, dtype=np.int64))
     ts, cs, k = fit(xs if isinstance(xs, np.ndarray) else list(xs), ys2, m)
+    cs_given: Any
     if isinstance(cs, np.ndarray):
         # Every spline's coefficients in one (S, n, m) array.
         cs_given = _aligned(cs, "cs")
@@ -377,6 +380,7 @@ def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None,
     if s is None:
         raise ValueError("s: give the smoothing (> 0) of every curve; s = 0 interpolates: "
                          "make_interp_splines")
+    rows: Any
     if isinstance(points, np.ndarray) and points.ndim == 3:
         rows = np.ascontiguousarray(np.swapaxes(_float64(points, "points"), 1, 2))
     else:

@@ -386,3 +386,25 @@ def test_far_apart_weights_keep_scipys_knots():
         ours, theirs = G.make_splrep(x, y, w=w, s=s), S.make_splrep(x, y, w=w, s=s)
         np.testing.assert_array_equal(ours.t, theirs.t)
         close(ours(x), theirs(x), 1e-8)
+
+
+def test_fitted_curves_tessellate_as_nurbs():
+    """A make_splpreps batch's curves go to the curve machinery as they are: their knots and
+    control points are a "nurbs" curve's (unit weights), sampled per segment, at given t and
+    by arc length on the CPU context."""
+    import splinegpu
+
+    rng = np.random.default_rng(6)
+    u = np.linspace(0, 1, 60)
+    curves = [np.stack([np.cos(5 * u), np.sin(5 * u), u]) + rng.normal(scale=0.01,
+                                                                        size=(3, 60))
+              for _ in range(3)]
+    batch, _ = G.make_splpreps(curves, s=60 * 3e-4)
+    ctx = splinegpu.Context("cpu")
+    knots = [batch[i].t for i in range(3)]
+    points = [np.asarray(batch[i].c) for i in range(3)]
+    for sampling in ({"per_segment": 5}, {"arc_length": 40}):
+        made = ctx.tessellate(points, kind="nurbs", knots=knots, **sampling)
+        for i in range(3):
+            rows = slice(made.curve_offsets[i], made.curve_offsets[i + 1])
+            close(made.points[rows], batch[i](made.t[rows]), 1e-12)
