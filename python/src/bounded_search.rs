@@ -164,7 +164,11 @@ impl Search {
 
 /// The minimum of f on (a, b), searched to the end.
 #[cfg(test)]
-pub(crate) fn minimum(f: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, crate::smoothing::Failure> {
+pub(crate) fn minimum(
+    f: impl Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+) -> Result<f64, crate::smoothing::Failure> {
     let (mut search, mut x) = Search::new(a, b);
     loop {
         match search.tell(f(x)) {

@@ -58,7 +58,11 @@ fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
         let (first, h) = rows.row(i);
         let mut sum = 0.0;
         for col in 0..d {
-            let value: f64 = h.iter().enumerate().map(|(r, b)| b * c[(first + r) * d + col]).sum();
+            let value: f64 = h
+                .iter()
+                .enumerate()
+                .map(|(r, b)| b * c[(first + r) * d + col])
+                .sum();
             let delta = data.y[i * d + col] - value;
             sum += delta * delta;
         }
@@ -72,7 +76,11 @@ fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
 /// The least-squares fit on t: its coefficients, residuals and their sum; by the normal
 /// equations where they are positive definite (`lsq::normal_fit`: the knot search reads only
 /// the residuals), by Givens rotations otherwise.
-fn least_squares(data: &Data<'_>, t: &[f64], k: usize) -> Result<(Vec<f64>, Vec<f64>, f64), Failure> {
+fn least_squares(
+    data: &Data<'_>,
+    t: &[f64],
+    k: usize,
+) -> Result<(Vec<f64>, Vec<f64>, f64), Failure> {
     let rows = BasisRows::new(data.x, t, k);
     let columns = t.len() - k - 1;
     let c = match lsq::normal_fit(&rows, data.y, data.d, data.w, columns) {
@@ -140,7 +148,9 @@ fn not_a_knot(x: &[f64], k: usize) -> Vec<f64> {
         x[cut..m - cut].to_vec()
     } else {
         let cut = k / 2;
-        (cut..m - 1 - cut).map(|i| (x[i] + x[i + 1]) / 2.0).collect()
+        (cut..m - 1 - cut)
+            .map(|i| (x[i] + x[i + 1]) / 2.0)
+            .collect()
     };
     let mut t = vec![x[0]; k + 1];
     t.extend(inner);
@@ -238,7 +248,11 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
     if t.len() == 2 * (k + 1) {
         // The returned coefficients by rotations, as SciPy's.
         let fit = lsq::fit(data.x, data.y, d, data.w, t, k).ok_or(Failure::Singular)?;
-        return Ok(Spline { t: t.to_vec(), c: fit.c, ier: 0 });
+        return Ok(Spline {
+            t: t.to_vec(),
+            c: fit.c,
+            ier: 0,
+        });
     }
     let rows = BasisRows::new(data.x, t, k);
     let (base, _) = lsq::triangle(&rows, data.y, d, data.w, nc, k + 2);
@@ -264,9 +278,19 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
         last = Some(c);
         Ok(fp - s)
     };
-    let ier = root_rati(&mut f, nc as f64 / diagonal_sum, (0.0, fp0), (f64::INFINITY, fpinf), s * TOLERANCE)?;
+    let ier = root_rati(
+        &mut f,
+        nc as f64 / diagonal_sum,
+        (0.0, fp0),
+        (f64::INFINITY, fpinf),
+        s * TOLERANCE,
+    )?;
     let c = last.ok_or(Failure::Singular)?;
-    Ok(Spline { t: t.to_vec(), c, ier })
+    Ok(Spline {
+        t: t.to_vec(),
+        c,
+        ier,
+    })
 }
 
 /// FITPACK's search for the root of f (decreasing in p) from p0 within the bracket
@@ -372,7 +396,13 @@ mod tests {
     #[test]
     fn not_a_knot_drops_points_next_to_the_ends() {
         let x = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
-        assert_eq!(not_a_knot(&x, 3), vec![0.0, 0.0, 0.0, 0.0, 2.0, 3.0, 5.0, 5.0, 5.0, 5.0]);
-        assert_eq!(not_a_knot(&x, 2), vec![0.0, 0.0, 0.0, 1.5, 2.5, 3.5, 5.0, 5.0, 5.0]);
+        assert_eq!(
+            not_a_knot(&x, 3),
+            vec![0.0, 0.0, 0.0, 0.0, 2.0, 3.0, 5.0, 5.0, 5.0, 5.0]
+        );
+        assert_eq!(
+            not_a_knot(&x, 2),
+            vec![0.0, 0.0, 0.0, 1.5, 2.5, 3.5, 5.0, 5.0, 5.0]
+        );
     }
 }

@@ -1577,7 +1577,12 @@ type Series<'a> = (&'a [f64], &'a [f64], &'a [f64]);
 type LsqFits<'py> = (Bound<'py, PyArray2<f64>>, Vec<f64>, Option<usize>);
 
 /// FITPACK fits: the knots stacked, their offsets, the coefficients stacked, each ier.
-type FitpackFits<'py> = (Bound<'py, PyArray1<f64>>, Vec<i64>, Bound<'py, PyArray2<f64>>, Vec<u8>);
+type FitpackFits<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Vec<i64>,
+    Bound<'py, PyArray2<f64>>,
+    Vec<u8>,
+);
 
 /// Each series' columns' lams (S, m).
 type Lams<'py> = Bound<'py, PyArray2<f64>>;
@@ -1588,7 +1593,12 @@ type Smoothed = Result<(Vec<f64>, Vec<f64>), smoothing::Failure>;
 /// A batch's series laid end to end: one array each (ragged lists handed over as thousands
 /// of arrays cost a borrow check apiece, which grows with the borrows held), series i at
 /// rows offsets[i]..offsets[i + 1].
-fn ragged<'a>(values: &'a [f64], per: usize, offsets: &[i64], name: &str) -> PyResult<Vec<&'a [f64]>> {
+fn ragged<'a>(
+    values: &'a [f64],
+    per: usize,
+    offsets: &[i64],
+    name: &str,
+) -> PyResult<Vec<&'a [f64]>> {
     let rows = values.len() / per.max(1);
     let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
     for (i, pair) in offsets.windows(2).enumerate() {
@@ -1626,7 +1636,14 @@ fn series<'a>(
     let xs = ragged(x, 1, offsets, "xs")?;
     let ys = ragged(y.as_slice()?, m, offsets, "ys")?;
     let ws = ragged(w, 1, offsets, "ws")?;
-    Ok((xs.into_iter().zip(ys).zip(ws).map(|((x, y), w)| (x, y, w)).collect(), m))
+    Ok((
+        xs.into_iter()
+            .zip(ys)
+            .zip(ws)
+            .map(|((x, y), w)| (x, y, w))
+            .collect(),
+        m,
+    ))
 }
 
 /// A least-squares series' data checked, as SciPy checks it (the message's "{i}" stands
@@ -1642,7 +1659,11 @@ fn lsq_input(x: &[f64], y: &[f64], w: &[f64], t: &[f64], k: usize) -> Result<(),
     if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] < p[0]) {
         return Err("xs[{i}]: Expect x to be a 1D non-decreasing sequence.");
     }
-    let (lo, hi) = if k == 0 { (t[0], t[t.len() - 1]) } else { (t[k], t[n]) };
+    let (lo, hi) = if k == 0 {
+        (t[0], t[t.len() - 1])
+    } else {
+        (t[k], t[n])
+    };
     if x.first().is_some_and(|&v| v < lo) || x.last().is_some_and(|&v| v > hi) {
         return Err("xs[{i}]: Out of bounds: x outside the base interval [t[k], t[-k-1]]");
     }
@@ -1684,7 +1705,10 @@ fn stacked(py: Python<'_>, blocks: Vec<Vec<f64>>, m: usize) -> PyResult<Bound<'_
 /// coefficients stacked ((sum of len(t_i) - k - 1), m), each series' weighted residual sum of
 /// squares, and the series whose knots no data supports (Schoenberg-Whitney), if any.
 #[pyfunction]
-#[expect(clippy::too_many_arguments, reason = "the flat arrays of a batch, one each")]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the flat arrays of a batch, one each"
+)]
 fn fit_lsq<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
@@ -1716,7 +1740,10 @@ fn fit_lsq<'py>(
             })
             .collect()
     });
-    let fits = fits.into_iter().collect::<Result<Vec<_>, String>>().map_err(value_error)?;
+    let fits = fits
+        .into_iter()
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(value_error)?;
     let singular = fits.iter().position(Option::is_none);
     let (blocks, residuals): (Vec<Vec<f64>>, Vec<f64>) = fits
         .into_iter()
@@ -1735,7 +1762,10 @@ fn fit_lsq<'py>(
 fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed> {
     use rayon::prelude::*;
     use smoothing::{Column, Scratch, System};
-    let systems: Vec<System> = data.par_iter().map(|&(x, _, w)| System::new(x, w)).collect();
+    let systems: Vec<System> = data
+        .par_iter()
+        .map(|&(x, _, w)| System::new(x, w))
+        .collect();
     let column = |i: usize, col: usize| Column {
         values: data[i].1,
         stride: m,
@@ -1746,7 +1776,10 @@ fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed>
         .filter(|&(i, col)| given[i * m + col].is_nan())
         .collect();
     // Groups small enough to keep every thread busy, large enough to keep four lanes full.
-    let group = searched.len().div_ceil(splinegpu::available_threads() * 8).max(8);
+    let group = searched
+        .len()
+        .div_ceil(splinegpu::available_threads() * 8)
+        .max(8);
     let found: Vec<Result<f64, smoothing::Failure>> = searched
         .par_chunks(group)
         .flat_map_iter(|chunk| {
@@ -1780,7 +1813,8 @@ fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed>
             let n = data[i].0.len();
             let mut c = vec![0.0; (n + 2) * m];
             for col in 0..m {
-                let values = system.coefficients(lams[i * m + col], column(i, col), &mut scratch)?;
+                let values =
+                    system.coefficients(lams[i * m + col], column(i, col), &mut scratch)?;
                 for (j, v) in values.into_iter().enumerate() {
                     c[j * m + col] = v;
                 }
@@ -1927,7 +1961,10 @@ fn fit_splrep<'py>(
             })
             .collect()
     });
-    let fitted = fitted.into_iter().collect::<Result<Vec<_>, String>>().map_err(value_error)?;
+    let fitted = fitted
+        .into_iter()
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(value_error)?;
     let mut offsets = vec![0_i64];
     let (mut knots, mut blocks, mut iers) = (Vec::new(), Vec::new(), Vec::new());
     for spline in fitted {
@@ -1936,7 +1973,12 @@ fn fit_splrep<'py>(
         blocks.push(spline.c);
         iers.push(spline.ier);
     }
-    Ok((PyArray1::from_vec(py, knots), offsets, stacked(py, blocks, d)?, iers))
+    Ok((
+        PyArray1::from_vec(py, knots),
+        offsets,
+        stacked(py, blocks, d)?,
+        iers,
+    ))
 }
 
 /// GCV(lam) of one series (x, y, w) at each lam: the criterion `fit_smoothing` minimises,
@@ -1951,7 +1993,9 @@ fn smoothing_gcv(
     let (x, y, w) = (x.as_slice()?, y.as_slice()?, w.as_slice()?);
     smoothing_input(x, y, w).map_err(|e| value_error(e.replace("{i}", "0")))?;
     if y.len() != x.len() || w.len() != x.len() {
-        return Err(value_error("smoothing_gcv: x, y and w must have one length"));
+        return Err(value_error(
+            "smoothing_gcv: x, y and w must have one length",
+        ));
     }
     let system = smoothing::System::new(x, w);
     let mut scratch = system.scratch();

@@ -244,7 +244,13 @@ pub(crate) fn triangle(
 /// (B-splines are well conditioned: about 1e-13 relative here, against the rotations'
 /// 1e-15); for the fits whose coefficients are only read for their residuals (FITPACK's knot
 /// search). None where the matrix is not positive definite or not well conditioned.
-pub(crate) fn normal_fit(rows: &BasisRows, y: &[f64], m: usize, w: &[f64], columns: usize) -> Option<Vec<f64>> {
+pub(crate) fn normal_fit(
+    rows: &BasisRows,
+    y: &[f64],
+    m: usize,
+    w: &[f64],
+    columns: usize,
+) -> Option<Vec<f64>> {
     let width = rows.k + 1;
     // a[row * width + d] = N[row, row + d].
     let mut a = vec![0.0; columns * width];
@@ -352,7 +358,10 @@ fn accumulate<const W: usize>(
             for (d, target) in band.iter_mut().enumerate() {
                 *target += scaled * values[r + d];
             }
-            for (target, &yv) in b[row * m..(row + 1) * m].iter_mut().zip(&y[i * m..(i + 1) * m]) {
+            for (target, &yv) in b[row * m..(row + 1) * m]
+                .iter_mut()
+                .zip(&y[i * m..(i + 1) * m])
+            {
                 *target += scaled * yv;
             }
         }

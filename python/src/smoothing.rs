@@ -131,8 +131,18 @@ impl System {
         set(&mut design, 2, 1, xb(2, 2));
         let last = n - 1;
         set(&mut design, last - 2, last - 1, xb(last - 2, last));
-        set(&mut design, last - 1, last, (x[last] - x[last - 2]) * xb(last - 1, last + 1));
-        set(&mut design, last - 1, last - 1, xb(last - 1, last) + xb(last - 1, last + 1));
+        set(
+            &mut design,
+            last - 1,
+            last,
+            (x[last] - x[last - 2]) * xb(last - 1, last + 1),
+        );
+        set(
+            &mut design,
+            last - 1,
+            last - 1,
+            xb(last - 1, last) + xb(last - 1, last + 1),
+        );
         set(
             &mut design,
             last,
@@ -167,7 +177,9 @@ impl System {
                 .collect()
         };
         let by_row = |bands: [Vec<f64>; 4]| -> Vec<[f64; 4]> {
-            (0..n).map(|i| std::array::from_fn(|d| bands[d][i])).collect()
+            (0..n)
+                .map(|i| std::array::from_fn(|d| bands[d][i]))
+                .collect()
         };
         Self {
             n,
@@ -269,7 +281,11 @@ struct Solve {
 impl Solve {
     #[inline(always)]
     fn start(system: &System, lam: f64, y: Column<'_>) -> Self {
-        let (a, b, c) = (system.fresh(lam, y, 0), system.fresh(lam, y, 1), system.fresh(lam, y, 2));
+        let (a, b, c) = (
+            system.fresh(lam, y, 0),
+            system.fresh(lam, y, 1),
+            system.fresh(lam, y, 2),
+        );
         Self {
             rows: [a.0, b.0, c.0],
             rhs: [a.1, b.1, c.1],
@@ -327,8 +343,8 @@ impl Solve {
 #[inline(always)]
 fn back_substitute(after: &mut [f64; 4], i: usize, s: &mut Scratch) {
     let u = &s.lu[i];
-    let v = (s.c[i + 2] - u[0] * after[0] - u[1] * after[1] - u[2] * after[2] - u[3] * after[3])
-        * u[4];
+    let v =
+        (s.c[i + 2] - u[0] * after[0] - u[1] * after[1] - u[2] * after[2] - u[3] * after[3]) * u[4];
     s.c[i + 2] = v;
     *after = [v, after[0], after[1], after[2]];
 }
@@ -338,7 +354,10 @@ fn back_substitute(after: &mut [f64; 4], i: usize, s: &mut Scratch) {
 fn residual_squared(system: &System, lam: f64, i: usize, s: &Scratch) -> f64 {
     let (p, window) = (&system.penalty[i], &s.c[i..i + 5]);
     let r = lam
-        * (p[0] * window[0] + p[1] * window[1] + p[2] * window[2] + p[3] * window[3]
+        * (p[0] * window[0]
+            + p[1] * window[1]
+            + p[2] * window[2]
+            + p[3] * window[3]
             + p[4] * window[4]);
     r * r
 }
@@ -440,7 +459,8 @@ pub(crate) fn gcv<const L: usize>(lanes: &mut [Lane<'_>; L]) -> [Result<f64, Fai
             let lane = &mut lanes[l];
             if i < n[l] && failed[l].is_none() {
                 numerator[l] += residual_squared(lane.system, lane.lam, i, lane.scratch);
-                if let Err(e) = cholesky_step(lane.system, lane.lam, &mut above[l], i, lane.scratch) {
+                if let Err(e) = cholesky_step(lane.system, lane.lam, &mut above[l], i, lane.scratch)
+                {
                     failed[l] = Some(e);
                 }
             }
@@ -452,7 +472,8 @@ pub(crate) fn gcv<const L: usize>(lanes: &mut [Lane<'_>; L]) -> [Result<f64, Fai
         for l in 0..L {
             if step < n[l] && failed[l].is_none() {
                 let lane = &lanes[l];
-                trace[l] += inverse_step(lane.system, &mut carried[l], n[l] - 1 - step, lane.scratch);
+                trace[l] +=
+                    inverse_step(lane.system, &mut carried[l], n[l] - 1 - step, lane.scratch);
             }
         }
     }
@@ -521,7 +542,10 @@ pub(crate) fn gcv_lambdas<const L: usize>(
             }
         }
     }
-    results.into_iter().map(|r| r.expect("every column searched")).collect()
+    results
+        .into_iter()
+        .map(|r| r.expect("every column searched"))
+        .collect()
 }
 
 /// The upper bands (i, i + d), d = 0..=3, of X^T W Y for 5-banded X and Y (symmetric by
@@ -571,12 +595,20 @@ mod tests {
         let w = [1.0, 2.0, 0.5, 1.0, 3.0, 1.0];
         let system = System::new(&x, &w);
         let mut s = system.scratch();
-        let t: Vec<f64> = [0.0; 3].iter().chain(&x).chain(&[7.0; 3]).copied().collect();
+        let t: Vec<f64> = [0.0; 3]
+            .iter()
+            .chain(&x)
+            .chain(&[7.0; 3])
+            .copied()
+            .collect();
         for lam in [0.0, 0.1, 1e3] {
             let c = system.coefficients(lam, column(&y), &mut s).unwrap();
             for (j, cj) in c.iter().enumerate() {
                 let greville = (t[j + 1] + t[j + 2] + t[j + 3]) / 3.0;
-                assert!((cj - (2.0 * greville - 1.0)).abs() < 1e-11, "{lam} {j}: {cj}");
+                assert!(
+                    (cj - (2.0 * greville - 1.0)).abs() < 1e-11,
+                    "{lam} {j}: {cj}"
+                );
             }
         }
     }
@@ -587,7 +619,9 @@ mod tests {
         let x = [0.0, 0.5, 1.5, 2.0, 3.5, 4.0];
         let y: Vec<f64> = x.iter().map(|v: &f64| v.sin()).collect();
         let system = System::new(&x, &[1.0; 6]);
-        let c = system.coefficients(0.0, column(&y), &mut system.scratch()).unwrap();
+        let c = system
+            .coefficients(0.0, column(&y), &mut system.scratch())
+            .unwrap();
         assert!((c[0] - y[0]).abs() < 1e-14 && (c[7] - y[5]).abs() < 1e-14);
     }
 }
