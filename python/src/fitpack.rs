@@ -255,9 +255,11 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
         });
     }
     let rows = BasisRows::new(data.x, t, k);
-    let (base, _) = lsq::triangle(&rows, data.y, d, data.w, nc, k + 2);
+    // The data's triangle and what its rotations left over: fp of any c on these knots is
+    // that plus base.misfit(c), without evaluating the spline at the data.
+    let (base, left_over) = lsq::triangle(&rows, data.y, d, data.w, nc, k + 2);
     let diagonal_sum: f64 = (0..nc).map(|i| base.r[i * (k + 2)]).sum();
-    let fpinf = least_squares(data, t, k)?.2 - s;
+    let fpinf = left_over - s;
     let polynomial: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
         .chain(std::iter::repeat_n(data.xe, k + 1))
         .collect();
@@ -274,7 +276,7 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
             tri.rotate_in(row, &h, &mut rhs);
         }
         let c = tri.back_substitute().ok_or(Failure::Singular)?;
-        let (_, fp) = residuals(data, &rows, &c);
+        let fp = left_over + base.misfit(&c);
         last = Some(c);
         Ok(fp - s)
     };

@@ -110,6 +110,25 @@ impl Triangle {
         }
     }
 
+    /// |Z - R c|^2 over every row and column: with the rotated-out residual of the rows
+    /// that made R, the weighted residual sum of squares of any coefficients c on these
+    /// knots (|W (y - B c)|^2 = |Q^T W y - R c|^2, Q orthogonal), in O(rows k m).
+    pub(crate) fn misfit(&self, c: &[f64]) -> f64 {
+        let (width, m) = (self.width, self.m);
+        let rows = self.r.len() / width;
+        let mut total = 0.0;
+        for row in 0..rows {
+            for col in 0..m {
+                let mut v = self.z[row * m + col];
+                for d in 0..width.min(rows - row) {
+                    v -= self.r[row * width + d] * c[(row + d) * m + col];
+                }
+                total += v * v;
+            }
+        }
+        total
+    }
+
     /// R c = Z solved (rows x m), or None where R's diagonal has a zero or c is not finite.
     pub(crate) fn back_substitute(&self) -> Option<Vec<f64>> {
         let (width, m) = (self.width, self.m);
@@ -169,6 +188,10 @@ impl BasisRows {
         let (mut left, mut right) = (vec![0.0; k + 1], vec![0.0; k + 1]);
         let mut first = Vec::with_capacity(x.len());
         let mut values = vec![0.0; x.len() * (k + 1)];
+        // The recurrence divides by right_r + left_{j-r} = t[l+1+r] - t[l-j+r], which x
+        // cancels from: each span's reciprocals, made when x enters the span.
+        let mut inverse = vec![0.0; k * (k + 1) / 2];
+        let mut span_of_inverse = usize::MAX;
         let mut l = k;
         for (i, &xi) in x.iter().enumerate() {
             // x is sorted for every fit: walk the span forward, search only when it falls back.
@@ -180,13 +203,21 @@ impl BasisRows {
             }
             let row = &mut values[i * (k + 1)..(i + 1) * (k + 1)];
             if t[l + 1] > t[l] {
+                if span_of_inverse != l {
+                    for j in 0..k {
+                        for r in 0..=j {
+                            inverse[j * (j + 1) / 2 + r] = 1.0 / (t[l + 1 + r] - t[l + r - j]);
+                        }
+                    }
+                    span_of_inverse = l;
+                }
                 row[0] = 1.0;
                 for j in 0..k {
                     left[j] = xi - t[l - j];
                     right[j] = t[l + 1 + j] - xi;
                     let mut saved = 0.0;
                     for r in 0..=j {
-                        let term = row[r] / (right[r] + left[j - r]);
+                        let term = row[r] * inverse[j * (j + 1) / 2 + r];
                         row[r] = saved + right[r] * term;
                         saved = left[j - r] * term;
                     }
