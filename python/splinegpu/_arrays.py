@@ -193,3 +193,16 @@ def _end_to_end(arrays, name: str) -> tuple:
         offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
         flat = np.concatenate(arrays) if arrays else np.zeros(0)
     return _aligned(flat, name), offsets
+
+
+def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
+    """A batch's x (a list of 1-D arrays or a 2-D array) and weights (None for ones, or one
+    array per series) laid end to end: (x, w, offsets), as `_end_to_end` lays them."""
+    x, offsets = _end_to_end(xs, xname)
+    if ws is None:
+        return x, np.ones(len(x)), offsets
+    ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
+    if len(ws) != len(offsets) - 1:
+        raise ValueError(f"ws: {len(ws)} weight arrays for {len(offsets) - 1} series")
+    w, _ = _end_to_end(ws, "ws")
+    return x, w, offsets

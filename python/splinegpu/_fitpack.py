@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _end_to_end, _float64
+from ._arrays import _aligned, _end_to_end, _float64, _xs_and_weights
 from ._bsplines import BSpline, make_interp_spline
 from ._context import Context
 
@@ -192,14 +192,7 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest) -> tuple:
         raise ValueError(f"k: FITPACK fits degrees 1 to 5, got {k}")
     if nest is not None and operator.index(nest) < 2 * (k + 1):
         raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
-    x, offsets = _end_to_end(us, "us")
-    if ws is None:
-        w = np.ones(len(x))
-    else:
-        ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
-        if len(ws) != count:
-            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
-        w, _ = _end_to_end(ws, "ws")
+    x, w, offsets = _xs_and_weights(us, ws, "us")
     if ends is None:
         # Each series' first and last u (an empty series is refused in the extension).
         last = max(len(x) - 1, 0)

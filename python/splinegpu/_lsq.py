@@ -9,7 +9,7 @@ import operator
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _end_to_end, _float64
+from ._arrays import _aligned, _axis, _end_to_end, _float64, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -128,14 +128,7 @@ def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
         if len(ts) != count:
             raise ValueError(f"ts: {len(ts)} knot vectors for {count} series")
         t_flat, t_offsets = _end_to_end(ts, "ts") if ts else (np.zeros(0), np.zeros(1, np.int64))
-    x, offsets = _end_to_end(xs, "xs")
-    if ws is None:
-        w = np.ones(len(x))
-    else:
-        ws = list(ws)
-        if len(ws) != count:
-            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
-        w, _ = _end_to_end([_float64(w, f"ws[{i}]") for i, w in enumerate(ws)], "ws")
+    x, w, offsets = _xs_and_weights(xs, ws)
     if count == 0:
         return [], []
     # Each series checked in the extension, as `check` does, naming it.

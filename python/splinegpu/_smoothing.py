@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _end_to_end, _float64
+from ._arrays import _aligned, _axis, _end_to_end, _float64, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -88,14 +88,7 @@ def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     """Many series' smoothing splines (`xs` checked 1-D arrays, `ys` their (n_i, m) arrays or
     one (S, n, m) array): their knots, coefficients (a list of (n_i + 2, m)) and lams (S, m)."""
     count = len(xs)
-    x, offsets = _end_to_end(xs, "xs")
-    if ws is None:
-        w = np.ones(len(x))
-    else:
-        ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
-        if len(ws) != count:
-            raise ValueError(f"ws: {len(ws)} weight arrays for {count} series")
-        w, _ = _end_to_end(ws, "ws")
+    x, w, offsets = _xs_and_weights(xs, ws)
     # Each series' x, y and w are checked in the extension, in `check_series`' words.
     given = _float64(lams, "lams") if lams is not None else None
     if given is not None and given.ndim == 1:

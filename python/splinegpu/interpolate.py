@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from . import _bspline, _fitpack, _lsq, _native, _smoothing
-from ._arrays import _aligned, _flat, _float64, _natural, _order, _stacked
+from ._arrays import _aligned, _end_to_end, _flat, _float64, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
 from ._fitpack import make_splprep, make_splrep
@@ -309,9 +309,10 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
         cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
         cs_given = None
     even = len({len(t) for t in ts}) == 1
-    ts_given = _aligned(np.stack(ts), "ts") if ts and even else [_aligned(t, "ts") for t in ts]
+    # Ragged knots and coefficients go laid end to end with their offsets (two borrows).
+    ts_given = _aligned(np.stack(ts), "ts") if ts and even else _end_to_end(ts, "ts")
     if cs_given is None:
-        cs_given = _aligned(np.stack(cs), "cs") if cs and even else cs
+        cs_given = _aligned(np.stack(cs), "cs") if cs and even else _end_to_end(cs, "cs")
     batch._build(ts_given, cs_given, list(ts), cs, k, trailing, True, context)
     return batch
 
@@ -381,20 +382,29 @@ def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None,
         raise ValueError("s: give the smoothing (> 0) of every curve; s = 0 interpolates: "
                          "make_interp_splines")
     rows: Any
+    points = _stacked(points, points)
     if isinstance(points, np.ndarray) and points.ndim == 3:
+        # Curves of one shape: one (S, m, d) array, their chord lengths all at once.
         rows = np.ascontiguousarray(np.swapaxes(_float64(points, "points"), 1, 2))
+        if us is None:
+            steps = np.sqrt(np.sum(np.diff(rows, axis=1) ** 2, axis=2))
+            lengths = np.cumsum(steps, axis=1)
+            us = np.concatenate([np.zeros((len(rows), 1)), lengths / lengths[:, -1:]], axis=1)
     else:
         rows = [np.ascontiguousarray(_float64(p, f"points[{i}]").T)
                 for i, p in enumerate(points)]
-    if us is None:
-        us = [_fitpack.chord_lengths(r) for r in rows]
-    us = [np.ascontiguousarray(_float64(u, f"us[{i}]")) for i, u in enumerate(us)]
+        if us is None:
+            us = [_fitpack.chord_lengths(r) for r in rows]
+    if isinstance(us, np.ndarray) and us.ndim == 2:
+        us = _aligned(us, "us")
+    else:
+        us = [np.ascontiguousarray(_float64(u, f"us[{i}]")) for i, u in enumerate(us)]
 
     def fit(xs, ys2, m):
         ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, None, nest)
         return ts, cs, k
 
-    return _fitted_batch(us, rows, fit, context), us
+    return _fitted_batch(us, rows, fit, context), list(us)
 
 
 class PPolys(_Batch):

@@ -46,11 +46,13 @@ fn runtime_error(e: impl std::fmt::Display) -> PyErr {
     PyRuntimeError::new_err(e.to_string())
 }
 
-/// A batch of (n, D) arrays: one C-contiguous (C, n, D) array, or a list of (n_i, D) arrays.
+/// A batch of (n, D) arrays: one C-contiguous (C, n, D) array, a list of (n_i, D) arrays, or
+/// (the rows laid end to end (N, D), offsets (C + 1,)): two borrows for any number of arrays.
 #[derive(FromPyObject)]
 enum Stack2<'py> {
     Dense(PyReadonlyArray3<'py, f64>),
     Ragged(Vec<PyReadonlyArray2<'py, f64>>),
+    Flat(PyReadonlyArray2<'py, f64>, PyReadonlyArray1<'py, i64>),
 }
 
 impl Stack2<'_> {
@@ -69,15 +71,26 @@ impl Stack2<'_> {
                 .iter()
                 .map(|a| Ok((a.shape()[1], a.as_slice()?)))
                 .collect(),
+            Stack2::Flat(values, offsets) => {
+                let dim = values.shape()[1];
+                Ok(
+                    ragged(values.as_slice()?, dim, offsets.as_slice()?, "rows")?
+                        .into_iter()
+                        .map(|rows| (dim, rows))
+                        .collect(),
+                )
+            }
         }
     }
 }
 
-/// A batch of 1-D arrays: one C-contiguous (C, k) array, or a list of 1-D arrays.
+/// A batch of 1-D arrays: one C-contiguous (C, k) array, a list of 1-D arrays, or (the
+/// arrays laid end to end, offsets (C + 1,)).
 #[derive(FromPyObject)]
 enum Stack1<'py> {
     Dense(PyReadonlyArray2<'py, f64>),
     Ragged(Vec<PyReadonlyArray1<'py, f64>>),
+    Flat(PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, i64>),
 }
 
 impl Stack1<'_> {
@@ -85,6 +98,9 @@ impl Stack1<'_> {
         match self {
             Stack1::Dense(a) => rows(a),
             Stack1::Ragged(list) => list.iter().map(|a| Ok(a.as_slice()?)).collect(),
+            Stack1::Flat(values, offsets) => {
+                ragged(values.as_slice()?, 1, offsets.as_slice()?, "values")
+            }
         }
     }
 }
