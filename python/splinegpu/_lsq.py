@@ -14,14 +14,13 @@ from ._bsplines import BSpline
 from ._context import Context
 
 
-def _finite(a, name: str, check_finite: bool) -> np.ndarray:
+def _numbers(a, name: str) -> np.ndarray:
+    """`a` as float64 (complex128 if complex). Finiteness is checked in the extension's one
+    pass over the data, whatever `check_finite` says (NaN would only make NaN coefficients)."""
     a = np.asarray(a)
     if a.dtype.kind not in "biufc":
         raise TypeError(f"{name}: must be numbers, got an array of {a.dtype}")
-    a = a.astype(np.complex128 if a.dtype.kind == "c" else np.float64, copy=False)
-    if check_finite and not np.all(np.isfinite(a)):
-        raise ValueError("array must not contain infs or NaNs")
-    return a
+    return a.astype(np.complex128 if a.dtype.kind == "c" else np.float64, copy=False)
 
 
 def check(x: np.ndarray, y_rows: int, t: np.ndarray, k: int, w: np.ndarray,
@@ -69,12 +68,13 @@ def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bo
     method="qr")`: the B-spline on knots t minimising sum (w_i (y_i - f(x_i)))^2, any k,
     complex y as its parts. Both methods solve by Givens rotations (the normal equations
     "norm-eq" would square the condition; it keeps its stricter check of x). Knots that no
-    data supports (Schoenberg-Whitney) raise ValueError where SciPy's "qr" returns NaN."""
-    x = _finite(x, "x", check_finite)
+    data supports (Schoenberg-Whitney) raise ValueError where SciPy's "qr" returns NaN, and
+    `check_finite` is always on (NaN or infinity anywhere is refused, naming the argument)."""
+    x = _numbers(x, "x")
     if np.iscomplexobj(x):
         raise ValueError("x: complex values are not supported")
-    y = _finite(y, "y", check_finite)
-    t = _finite(t, "t", check_finite)
+    y = _numbers(y, "y")
+    t = _numbers(t, "t")
     if np.iscomplexobj(t):
         raise ValueError("t: complex values are not supported")
     w = np.ones_like(x) if w is None else _float64(w, "w")
