@@ -256,10 +256,22 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
     }
     let rows = BasisRows::new(data.x, t, k);
     // The data's triangle and what its rotations left over: fp of any c on these knots is
-    // that plus base.misfit(c), without evaluating the spline at the data.
+    // that plus base.misfit(c), without evaluating the spline at the data (but see below).
     let (base, left_over) = lsq::triangle(&rows, data.y, d, data.w, nc, k + 2);
+    // Where the weights span more than 1e3, z and R c carry the heavy points' scale and their
+    // difference cancels: there fp is summed at the data, as SciPy sums it.
+    let (mut lightest, mut heaviest) = (f64::INFINITY, 0.0_f64);
+    for &w in data.w.iter().filter(|&&w| w > 0.0) {
+        lightest = lightest.min(w);
+        heaviest = heaviest.max(w);
+    }
+    let balanced = heaviest <= 1e3 * lightest;
+    let fpinf = if balanced {
+        left_over
+    } else {
+        least_squares(data, t, k)?.2
+    } - s;
     let diagonal_sum: f64 = (0..nc).map(|i| base.r[i * (k + 2)]).sum();
-    let fpinf = left_over - s;
     let polynomial: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
         .chain(std::iter::repeat_n(data.xe, k + 1))
         .collect();
@@ -276,7 +288,11 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
             tri.rotate_in(row, &h, &mut rhs);
         }
         let c = tri.back_substitute().ok_or(Failure::Singular)?;
-        let fp = left_over + base.misfit(&c);
+        let fp = if balanced {
+            left_over + base.misfit(&c)
+        } else {
+            residuals(data, &rows, &c).1
+        };
         last = Some(c);
         Ok(fp - s)
     };

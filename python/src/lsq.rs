@@ -188,10 +188,6 @@ impl BasisRows {
         let (mut left, mut right) = (vec![0.0; k + 1], vec![0.0; k + 1]);
         let mut first = Vec::with_capacity(x.len());
         let mut values = vec![0.0; x.len() * (k + 1)];
-        // The recurrence divides by right_r + left_{j-r} = t[l+1+r] - t[l-j+r], which x
-        // cancels from: each span's reciprocals, made when x enters the span.
-        let mut inverse = vec![0.0; k * (k + 1) / 2];
-        let mut span_of_inverse = usize::MAX;
         let mut l = k;
         for (i, &xi) in x.iter().enumerate() {
             // x is sorted for every fit: walk the span forward, search only when it falls back.
@@ -203,21 +199,16 @@ impl BasisRows {
             }
             let row = &mut values[i * (k + 1)..(i + 1) * (k + 1)];
             if t[l + 1] > t[l] {
-                if span_of_inverse != l {
-                    for j in 0..k {
-                        for r in 0..=j {
-                            inverse[j * (j + 1) / 2 + r] = 1.0 / (t[l + 1 + r] - t[l + r - j]);
-                        }
-                    }
-                    span_of_inverse = l;
-                }
                 row[0] = 1.0;
                 for j in 0..k {
                     left[j] = xi - t[l - j];
                     right[j] = t[l + 1 + j] - xi;
                     let mut saved = 0.0;
                     for r in 0..=j {
-                        let term = row[r] * inverse[j * (j + 1) / 2 + r];
+                        // A division, as FITPACK's fpbspl: where weights span many
+                        // decades the knot search's residuals at the heavy points are this
+                        // recurrence's rounding, and SciPy's knots follow it.
+                        let term = row[r] / (right[r] + left[j - r]);
                         row[r] = saved + right[r] * term;
                         saved = left[j - r] * term;
                     }

@@ -377,11 +377,15 @@ def test_univariate_splines_match_scipy():
 
 
 def test_far_apart_weights_keep_scipys_knots():
-    """Weights 1e12 against 1e2 square to 1e24 in the normal equations the knot search uses
-    where they are well conditioned; here it must rotate, and finds SciPy's knots."""
-    x = np.linspace(-1, 1, 13)
-    y = 0.35 + 0.65 * x**2 + 0.01 * np.sin(9 * x)
-    w = np.r_[1e12, np.full(11, 500.0), 1e12]
+    """Weights 1e12 against 1e2 to 1e3 (SciPy's gh-1375 data): they square to 1e24 in the
+    normal equations, so the knot search rotates; the heavy points' residuals are then the
+    basis recurrence's rounding, which FITPACK's divisions fix, and fp is summed at the data."""
+    x = np.array([-1.0, -0.65016502, -0.58856235, -0.26903553, -0.17370892, -0.10011001, 0.0,
+                  0.10011001, 0.17370892, 0.26903553, 0.58856235, 0.65016502, 1.0])
+    y = np.array([1.0, 0.62928599, 0.5797223, 0.39965815, 0.36322694, 0.3508061, 0.35214793,
+                  0.3508061, 0.36322694, 0.39965815, 0.5797223, 0.62928599, 1.0])
+    w = np.array([1e12, 688.875973, 489.314737, 426.864807, 607.74677, 451.341444,
+                  317.48021, 451.341444, 607.74677, 426.864807, 489.314737, 688.875973, 1e12])
     for s in (5.0, 13.0):
         ours, theirs = G.make_splrep(x, y, w=w, s=s), S.make_splrep(x, y, w=w, s=s)
         np.testing.assert_array_equal(ours.t, theirs.t)
