@@ -21,7 +21,8 @@ def knots(x: np.ndarray) -> np.ndarray:
 
 def check_series(x: np.ndarray, w: np.ndarray) -> None:
     """SciPy's checks of one series' x and w, in its order and words."""
-    if x.ndim != 1 or np.any(x[1:] - x[:-1] <= 0) or not np.all(np.isfinite(x)):
+    # make_smoothing_spline checks ascending x first, where SciPy does; NaN is caught here.
+    if not np.all(np.isfinite(x)):
         raise ValueError("``x`` should be an ascending array")
     if w.shape != x.shape:
         raise ValueError(f"w: one weight per x ({x.shape}), got shape {w.shape}")
@@ -68,9 +69,7 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
         raise ValueError("y: must be finite (NaN or infinity found)")
     trailing = y.shape[1:]
     columns = y.reshape(len(x), -1)
-    lams = lam_of(lam, (1, columns.shape[1]) if lam is None or np.ndim(lam) == 0 else
-                  (1, *trailing))
-    lams = lams.reshape(1, -1)
+    lams = lam_of(lam, (1, *trailing)).reshape(1, -1)
     if columns.shape[1] == 0:
         c, used = np.zeros((len(x) + 2, 0)), lams
     else:
