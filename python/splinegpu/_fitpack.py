@@ -1,8 +1,8 @@
 """Smoothing splines with FITPACK's knot placement (SciPy's `make_splrep` and `make_splprep`),
 one or a batch: SciPy's checks and messages here, the fit in the extension
-(`python/src/fitpack.rs`: the knot search, the discontinuity rows and the rational root
-finder of Dierckx's curfit, step for step as SciPy's `_fitpack_repro`), every series on its
-own thread. Non-periodic only: bc_type "periodic" raises NotImplementedError."""
+(`python/src/fitpack.rs`, and `periodic.rs` for bc_type "periodic": the knot search, the
+discontinuity rows and the rational root finder of Dierckx's curfit and percur, step for
+step as SciPy's `_fitpack_repro`), every series on its own thread."""
 
 from __future__ import annotations
 
@@ -29,23 +29,26 @@ _STOPPED = {
 }
 
 
-def _bc(bc_type) -> None:
+def _periodic(bc_type) -> bool:
+    """Whether bc_type asks for a periodic fit (SciPy's `_validate_bc_type`)."""
     if bc_type is None or (isinstance(bc_type, str) and bc_type == "not-a-knot"):
-        return
+        return False
     if isinstance(bc_type, str) and bc_type == "periodic":
-        raise NotImplementedError("bc_type: periodic smoothing splines are not implemented "
-                                  "here (scipy.interpolate.make_splrep has them)")
-    raise ValueError(f"Only 'not-a-knot' and 'periodic' boundary conditions are recognised, "
-                     f"found {bc_type}")
+        return True
+    raise ValueError(f"bc_type: Only 'not-a-knot' and 'periodic' boundary conditions are "
+                     f"recognised, found {bc_type}")
 
 
-def fpcheck(x: np.ndarray, t: np.ndarray, k: int) -> None:
-    """FITPACK's checks of given knots t against x (fpchec), in SciPy's words."""
+def fpcheck(x: np.ndarray, t: np.ndarray, k: int, periodic: bool = False) -> None:
+    """FITPACK's checks of given knots t against x (fpchec, or fpchep for a periodic fit),
+    in SciPy's words."""
     if x.ndim != 1 or t.ndim != 1:
         raise ValueError(f"Expect `x` and `t` be 1D sequences. Got x = {x} and t = {t}")
     m, n = len(x), len(t)
     nk1 = n - k - 1
-    if not k + 1 <= nk1 <= m:
+    if periodic and not k + 1 <= nk1 <= m + k - 1:
+        raise ValueError(f"Need k+1 <= n-k-1 <= m+k-1. Got m = {m}, n = {n}, k = {k}")
+    if not periodic and not k + 1 <= nk1 <= m:
         raise ValueError(f"Need k+1 <= n-k-1 <= m. Got m = {m}, n = {n} and k = {k}.")
     if np.any(t[:k + 1] > t[1:k + 2]):
         raise ValueError(f"First k knots must be ordered; got t = {t}.")
@@ -56,6 +59,10 @@ def fpcheck(x: np.ndarray, t: np.ndarray, k: int) -> None:
     if x[0] < t[k] or x[-1] > t[n - k - 1]:
         raise ValueError(f"Out of bounds: x = {x} and t = {t}.")
     message = f"Schoenberg-Whitney condition is violated with t = {t} and x = {x}."
+    if periodic:
+        if not _periodic_schoenberg_whitney(x, t, k):
+            raise ValueError(message)
+        return
     if x[0] >= t[k + 1] or x[-1] <= t[n - k - 2]:
         raise ValueError(message)
     # Each inner B-spline j (1 <= j <= n - k - 3) needs a data point strictly inside
@@ -66,7 +73,23 @@ def fpcheck(x: np.ndarray, t: np.ndarray, k: int) -> None:
             raise ValueError(message)
 
 
-def _validated(x, y, w, k, s, xb, xe, parametric: bool):
+def _periodic_schoenberg_whitney(x: np.ndarray, t: np.ndarray, k: int) -> bool:
+    """fpchep's condition: for some cyclic shift of the data (the points before the shift
+    moved a period on), every B-spline j = k .. n-k-2 holds a point strictly inside its
+    support (t_j, t_{j+k+1})."""
+    n = len(t)
+    per = t[n - k - 1] - t[k]
+    lower, upper = t[k:n - k - 1], t[2 * k + 1:n]
+    for shift in range(1, len(x)):
+        points = np.sort(np.concatenate([x[shift:], x[:shift] + per]))
+        inside = (np.searchsorted(points, upper, "left")
+                  - np.searchsorted(points, lower, "right"))
+        if np.all(inside > 0):
+            return True
+    return False
+
+
+def _validated(x, y, w, k, s, xb, xe, parametric: bool, periodic: bool = False):
     """SciPy's `_validate_inputs`: float64 arrays (y 2-D), the weights, k, s and [xb, xe]."""
     x = np.ascontiguousarray(_float64(x, "x"))
     y = np.ascontiguousarray(_float64(y, "y"))
@@ -95,16 +118,19 @@ def _validated(x, y, w, k, s, xb, xe, parametric: bool):
     if x.ndim != 1 or (x[1:] < x[:-1]).any():
         raise ValueError("Expect `x` to be an ordered 1D sequence.")
     k = operator.index(k)
-    if not 1 <= k <= 5:
-        raise ValueError(f"k: FITPACK fits degrees 1 to 5, got {k}")
+    if not 1 <= k <= 6:
+        raise ValueError(f"k: degrees 1 to 6 are fitted here, got {k}")
     if not np.isfinite(s) or s < 0:
         raise ValueError(f"`s` must be non-negative. Got s = {s}")
     xb = float(np.min(x)) if xb is None else float(xb)
     xe = float(np.max(x)) if xe is None else float(xe)
+    if periodic and not np.allclose(y[0], y[-1], atol=1e-15):
+        raise ValueError("First and last points does not match which is required for "
+                         "`bc_type='periodic'`.")
     return x, y, w, k, float(s), xb, xe
 
 
-def _fit(x, y, w, xb, xe, k, s, t, nest):
+def _fit(x, y, w, xb, xe, k, s, t, nest, periodic: bool):
     """One FITPACK fit in the extension: (t, c (rows, d))."""
     m = len(x)
     if nest is not None:
@@ -116,14 +142,16 @@ def _fit(x, y, w, xb, xe, k, s, t, nest):
     knots = None
     if t is not None:
         t = np.ascontiguousarray(_float64(t, "t"))
-        fpcheck(x, t, k)
+        fpcheck(x, t, k, periodic)
         knots = (_aligned(t, "t"), np.array([0, len(t)], np.int64))
-    if m <= k:
+    if periodic and m < 2:
+        raise ValueError(f"x: a periodic fit needs m >= 2 points, got {m}")
+    if not periodic and m <= k:
         raise ValueError(f"x: m > k must hold, got m = {m} points for k = {k}")
     one = np.array([0, len(x)], np.int64)
     made, offsets, c, iers = _native.fit_splrep(_aligned(x, "x"), _aligned(y, "y"),
                                                 _aligned(w, "w"), one, [xb], [xe], k, [s],
-                                                knots, nest)
+                                                knots, nest, periodic)
     _warn(iers)
     return np.array(made[offsets[0]:offsets[1]]), c
 
@@ -138,14 +166,15 @@ def make_splrep(x, y, *, w=None, xb=None, xe=None, k: int = 3, s: float = 0, t=N
     """`scipy.interpolate.make_splrep(x, y, w=None, xb=None, xe=None, k=3, s=0, t=None,
     nest=None, bc_type=None)`: the spline with fp = sum (w_i (y_i - f(x_i)))^2 <= s and
     FITPACK's knots (the same knots and coefficients as SciPy's for the same s), or the
-    interpolating spline for s = 0. Periodic smoothing is refused (NotImplementedError)."""
+    interpolating spline for s = 0. bc_type "periodic": the periodic spline of period
+    xe - xb (y's first and last values must match; the last point is not fitted)."""
     if s == 0:
         if t is not None or w is not None or nest is not None:
             raise ValueError("s==0 is for interpolation only")
         return make_interp_spline(x, y, k=k, bc_type=bc_type, context=context)
-    _bc(bc_type)
-    x, y, w, k, s, xb, xe = _validated(x, y, w, k, s, xb, xe, parametric=False)
-    knots, c = _fit(x, y, w, xb, xe, k, s, t, nest)
+    periodic = _periodic(bc_type)
+    x, y, w, k, s, xb, xe = _validated(x, y, w, k, s, xb, xe, False, periodic)
+    knots, c = _fit(x, y, w, xb, xe, k, s, t, nest, periodic)
     return BSpline.construct_fast(knots, np.ascontiguousarray(c[:, 0]), k, context=context)
 
 
@@ -168,28 +197,30 @@ def make_splprep(x, *, w=None, u=None, ub=None, ue=None, k: int = 3, s: float = 
                          f"{np.ndim(x)} dimensions")
     if u is None:
         u = chord_lengths(points)
+    periodic = _periodic(bc_type)
     if s == 0:
+        # SciPy's: the interpolating curve, not-a-knot even for bc_type "periodic".
         if t is not None or w is not None or nest is not None:
             raise ValueError("s==0 is for interpolation only")
         return make_interp_spline(u, points.T, k=k, axis=1, context=context), u
-    _bc(bc_type)
-    u, points, w, k, s, ub, ue = _validated(u, points, w, k, s, ub, ue, parametric=True)
-    knots, c = _fit(u, points, w, ub, ue, k, s, t, nest)
+    u, points, w, k, s, ub, ue = _validated(u, points, w, k, s, ub, ue, True, periodic)
+    knots, c = _fit(u, points, w, ub, ue, k, s, t, nest, periodic)
     return BSpline(knots, np.ascontiguousarray(c.T), k, axis=1, context=context), u
 
 
-def fit_many(us: list, points, ws, s, k: int, ends, nest) -> tuple:
+def fit_many(us: list, points, ws, s, k: int, ends, nest, periodic: bool = False) -> tuple:
     """Many FITPACK fits (`us` checked 1-D arrays, `points` their (m_i, d) arrays or one
     (S, m, d) array): their knots, coefficients ((n_i, d) each) and the root finders' iers.
-    `s` one value or one per series; `ends` (xb, xe) arrays or None (each series' own)."""
+    `s` one value or one per series; `ends` (xb, xe) arrays or None (each series' own);
+    `periodic` for percur's periodic fits."""
     count = len(us)
     k = operator.index(k)
     s = np.broadcast_to(_float64(s, "s"), (count,)).astype(np.float64)
     if np.any(~(s > 0)) or not np.all(np.isfinite(s)):
         raise ValueError("s: every series' s must be > 0 and finite (s = 0 interpolates: "
                          "make_interp_splines)")
-    if not 1 <= k <= 5:
-        raise ValueError(f"k: FITPACK fits degrees 1 to 5, got {k}")
+    if not 1 <= k <= 6:
+        raise ValueError(f"k: degrees 1 to 6 are fitted here, got {k}")
     if nest is not None and operator.index(nest) < 2 * (k + 1):
         raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
     x, w, offsets = _xs_and_weights(us, ws, "us")
@@ -207,7 +238,7 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest) -> tuple:
         return [], [], []
     y, _ = _end_to_end(points, "points")
     knots, offsets, c, iers = _native.fit_splrep(x, y, _aligned(w, "ws"), offsets, xb, xe, k,
-                                                 list(s), None, nest)
+                                                 list(s), None, nest, periodic)
     _warn(iers)
     ts = [knots[offsets[i]:offsets[i + 1]] for i in range(count)]
     ends_c = np.cumsum([len(t) - k - 1 for t in ts])

@@ -3,18 +3,22 @@
 padded with zeros to len(t), as SciPy's; a parametric one holds a list of coordinate
 arrays). A BSpline given in place of a tck is answered with a BSpline, as SciPy does.
 
-Differences, refused by name: `task` other than 0 and `per` (periodic) raise
-NotImplementedError. Smoothing (s > 0) places knots as SciPy's `make_splrep` does, which is
-FITPACK's rule re-derived; SciPy's Fortran curfit can place some knots elsewhere for the same
-s (both meet fp <= s)."""
+`per=1` fits periodic splines as FITPACK's percur and clocur do: the period x[-1] - x[0],
+the last point standing for the first (its value is not fitted; splprep sets it to the
+first). Differences, refused by name: `task` other than 0, and given knots with `per=1`,
+raise NotImplementedError. Smoothing (s > 0) places knots as SciPy's `make_splrep` does,
+which is FITPACK's rule re-derived; SciPy's Fortran curfit and percur can place some knots
+elsewhere for the same s (both meet fp <= s)."""
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from . import _bspline
+from . import _bspline, _interp
 from ._bsplines import BSpline, make_interp_spline
-from ._fitpack import make_splprep, make_splrep
+from ._fitpack import chord_lengths, make_splprep, make_splrep
 from ._lsq import make_lsq_spline
 from ._ppoly import PPoly
 
@@ -63,8 +67,6 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
     of (x, y). full_output adds (fp, ier, msg)."""
     if task != 0:
         raise NotImplementedError(f"task: only task=0 is implemented, got {task}")
-    if per:
-        raise NotImplementedError("per: periodic splrep is not implemented here")
     x = _check_finite_input(x, "x")
     y = _check_finite_input(y, "y")
     if y.ndim != 1:
@@ -73,6 +75,18 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         raise TypeError(f"m > k must hold: {len(x)} points for k = {k}")
     if s is None:
         s = _default_s(len(x), w)
+    if per:
+        if t is not None:
+            raise NotImplementedError("t: periodic splrep with given knots (per=1 and t) "
+                                      "is not implemented here")
+        # percur: the last point stands for the first (its y is not fitted).
+        y = np.concatenate([y[:-1], y[:1]])
+        columns = _periodic(x, y[:, None], w, k, s)
+        spline = BSpline.construct_fast(columns.t, columns.c[:, 0], k)
+        result = (spline.t, _padded(spline.t, spline.c), spline.k)
+        if full_output:
+            return result, _fp(x[:-1], y[:-1], w, spline), 0, ""
+        return result
     if t is not None:
         xb = x[0] if xb is None else xb
         xe = x[-1] if xe is None else xe
@@ -85,11 +99,31 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         spline = make_splrep(x, y, w=w, xb=xb, xe=xe, k=k, s=s)
     result = (spline.t, _padded(spline.t, spline.c), spline.k)
     if full_output:
-        fit = spline(x)
-        weights = np.ones_like(x) if w is None else np.asarray(w, dtype=np.float64)
-        fp = float(np.sum((weights * (y - fit)) ** 2))
-        return result, fp, 0, ""
+        return result, _fp(x, y, w, spline), 0, ""
     return result
+
+
+def _fp(x: np.ndarray, y: np.ndarray, w, spline: BSpline) -> float:
+    """FITPACK's fp: sum (w_i (y_i - s(x_i)))^2 over the points given (w's first len(x))."""
+    weights = np.ones_like(x) if w is None else np.asarray(w, dtype=np.float64)[:len(x)]
+    return float(np.sum((weights * (y - spline(x))) ** 2))
+
+
+def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None) -> BSpline:
+    """FITPACK's periodic fit of y ((m, d), y[-1] = y[0]) over x, period x[-1] - x[0]: the
+    interpolating spline on the periodic knots for s = 0, the smoothing spline otherwise;
+    c (n - k - 1, d)."""
+    if s == 0:
+        t = _interp.periodic(x, k)
+        if k == 1:
+            # percur's k = 1: the coefficients are the values.
+            return BSpline.construct_fast(t, y, 1)
+        return make_interp_spline(x, y, k=k, bc_type="periodic")
+    if y.shape[1] == 1:
+        spline = make_splrep(x, y[:, 0], w=w, k=k, s=s, bc_type="periodic")
+        return BSpline.construct_fast(spline.t, spline.c[:, None], k)
+    spline, _ = make_splprep(list(y.T), w=w, u=x, k=k, s=s, nest=nest, bc_type="periodic")
+    return BSpline.construct_fast(spline.t, np.asarray(spline.c), k)
 
 
 def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=None, t=None,
@@ -98,14 +132,18 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
     through (s = 0) or near (s > 0) the points x (a list of d coordinate arrays)."""
     if task != 0:
         raise NotImplementedError(f"task: only task=0 is implemented, got {task}")
-    if per:
-        raise NotImplementedError("per: periodic splprep is not implemented here")
     if t is not None:
         raise NotImplementedError("t: splprep with given knots is not implemented here")
-    x = np.asarray(x, dtype=np.float64)
+    x = np.array(x, dtype=np.float64)
     if x.ndim != 2:
         raise ValueError(f"too many values to unpack: x must be a list of coordinate arrays "
                          f"or a 2-D array, got {x.ndim} dimensions")
+    if per:
+        # clocur closes the curve: its last point is set to the first (on a copy).
+        if not quiet and np.any(x[:, -1] != x[:, 0]):
+            warnings.warn(RuntimeWarning(f"Setting x[:, {x.shape[1] - 1}] = x[:, 0]"),
+                          stacklevel=2)
+        x[:, -1] = x[:, 0]
     points = [_check_finite_input(v, "x") for v in x]
     m = len(points[0])
     if m <= k:
@@ -120,7 +158,10 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
                              "twice in a row)")
     elif np.any(np.diff(np.asarray(u, dtype=np.float64)) <= 0):
         raise ValueError("Invalid inputs: u must be strictly increasing")
-    if s == 0:
+    if per:
+        u = chord_lengths(x.T) if u is None else np.asarray(u, dtype=np.float64)
+        spline = _periodic(u, x.T.copy(), w, k, s, nest)
+    elif s == 0:
         spline, u = make_splprep(points, u=u, k=k, s=0)
     else:
         spline, u = make_splprep(points, w=w, u=u, ub=ub, ue=ue, k=k, s=s, nest=nest)

@@ -348,12 +348,15 @@ def make_lsq_splines(xs, ys, ts, k: int = 3, ws=None, context: Context | None = 
 
 
 def make_splreps(xs, ys, ws=None, s=None, k: int = 3, xb=None, xe=None, nest=None,
-                 context: Context | None = None) -> BSplines:
-    """Many `make_splrep(x, y, w=w, s=s, k=k, xb=xb, xe=xe, nest=nest)`s in one call, each
-    series its own x (a list of 1-D arrays or a 2-D array), y, weights (`ws`, None for ones)
-    and s (one value > 0 for all, or one per series), degree k <= 3, FITPACK's knots found
-    for each on every thread. `xb`/`xe`: None (each series' first and last x), or one value
-    or one per series. `batch[i]` is series i's spline, SciPy's knots and coefficients."""
+                 bc_type=None, context: Context | None = None) -> BSplines:
+    """Many `make_splrep(x, y, w=w, s=s, k=k, xb=xb, xe=xe, nest=nest, bc_type=bc_type)`s in
+    one call, each series its own x (a list of 1-D arrays or a 2-D array), y, weights (`ws`,
+    None for ones) and s (one value > 0 for all, or one per series), degree k <= 3,
+    FITPACK's knots found for each on every thread. `xb`/`xe`: None (each series' first and
+    last x), or one value or one per series. bc_type "periodic": every series periodic (its
+    first and last y equal). `batch[i]` is series i's spline, SciPy's knots and
+    coefficients."""
+    periodic = _fitpack._periodic(bc_type)
     if s is None:
         raise ValueError("s: give the smoothing (> 0) of every series; s = 0 interpolates: "
                          "make_interp_splines")
@@ -364,20 +367,22 @@ def make_splreps(xs, ys, ws=None, s=None, k: int = 3, xb=None, xe=None, nest=Non
             raise ValueError(f"ys: one value per x (make_splpreps fits curves), got {m}")
         if ends is not None and (ends[0] is None or ends[1] is None):
             raise ValueError("xb, xe: give both or neither")
-        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, ends, nest)
+        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, ends, nest, periodic)
         return ts, [c[:, 0] for c in cs], k
 
     return _fitted_batch(xs, ys, fit, context)
 
 
-def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None,
+def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None, bc_type=None,
                   context: Context | None = None):
-    """Many `make_splprep(x, w=w, u=u, s=s, k=k, nest=nest)`s in one call: `points` a list of
-    (d, m_i) coordinate arrays (each as make_splprep's x) or one (S, d, m) array, `us` their
-    parameters (None: each curve's normalised chord lengths), `s` one value > 0 for all or
-    one per curve, degree k <= 3, fitted on every thread. Returns (batch, us): the batch's
+    """Many `make_splprep(x, w=w, u=u, s=s, k=k, nest=nest, bc_type=bc_type)`s in one call:
+    `points` a list of (d, m_i) coordinate arrays (each as make_splprep's x) or one (S, d, m)
+    array, `us` their parameters (None: each curve's normalised chord lengths), `s` one value
+    > 0 for all or one per curve, degree k <= 3, fitted on every thread; bc_type "periodic"
+    for closed curves (each one's last point its first). Returns (batch, us): the batch's
     curves evaluate to (N, d) rows (`batch[i]` has c of shape (n_i, d), axis 0, where
     make_splprep's BSpline has axis 1: `batch[i](u).T` is its value)."""
+    periodic = _fitpack._periodic(bc_type)
     if s is None:
         raise ValueError("s: give the smoothing (> 0) of every curve; s = 0 interpolates: "
                          "make_interp_splines")
@@ -401,7 +406,7 @@ def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None,
         us = [np.ascontiguousarray(_float64(u, f"us[{i}]")) for i, u in enumerate(us)]
 
     def fit(xs, ys2, m):
-        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, None, nest)
+        ts, cs, _ = _fitpack.fit_many(xs, ys2, ws, s, k, None, nest, periodic)
         return ts, cs, k
 
     return _fitted_batch(us, rows, fit, context), list(us)

@@ -20,7 +20,7 @@
 use crate::lsq::{self, BasisRows, Triangle};
 
 /// FITPACK's tolerance on fp (relative to s) and its most root-finding iterations.
-const TOLERANCE: f64 = 0.001;
+pub(crate) const TOLERANCE: f64 = 0.001;
 const MAX_ITERATIONS: usize = 20;
 
 /// One curve's data: x increasing, y (m rows of d), w >= 0, the interval [xb, xe].
@@ -50,7 +50,7 @@ pub(crate) struct Spline {
 
 /// Each point's w_i^2 |y_i - s(x_i)|^2 and their sum, for the spline with coefficients c
 /// (rows of d) on the knots of `rows`.
-fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
+pub(crate) fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
     let d = data.d;
     let mut out = Vec::with_capacity(data.x.len());
     let mut total = 0.0;
@@ -103,7 +103,7 @@ fn least_squares(
 /// outside the data);
 /// of the intervals holding more than one data index, the first with the largest share; its
 /// middle data point (rounded up) is the knot, inserted in order.
-fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -> Vec<f64> {
+pub(crate) fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -> Vec<f64> {
     let bounds = &t[k..t.len() - k];
     // Each knot's first data index (the last point's at most, where xe lies past the data).
     let last = x.len() - 1;
@@ -208,7 +208,7 @@ pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Ve
 /// FITPACK's discontinuity rows (fpdisc): row j (an inner knot t_{j+k+1}) holds, for the
 /// k + 2 B-splines from j on, the jump of their k-th derivative there, scaled by
 /// ((t_{n-k-1} - t_k) / nrint)^k.
-fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 8]> {
+pub(crate) fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 8]> {
     let n = t.len();
     let intervals = n - 2 * k - 1;
     let scale = ((t[n - k - 1] - t[k]) / intervals as f64).powi(k as i32);
@@ -315,7 +315,7 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
 /// (p1, f1), (p3, f3), to |f| < acc: rational interpolation once both sides are found,
 /// steps of 25x out until then (SciPy's `root_rati`). Its ier: 0, or 2 (f not monotone) or 3
 /// (20 iterations), when the last p stands.
-fn root_rati(
+pub(crate) fn root_rati(
     f: &mut dyn FnMut(f64) -> Result<f64, Failure>,
     p0: f64,
     (mut p1, mut f1): (f64, f64),

@@ -22,6 +22,7 @@ mod de_boor;
 mod fitpack;
 mod grid;
 mod lsq;
+mod periodic;
 mod pieces;
 mod roots;
 mod smoothing;
@@ -1896,12 +1897,15 @@ fn fit_smoothing<'py>(
 }
 
 /// A FITPACK series' data checked (the message's "{i}" stands for the series' index).
-fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str> {
+fn fitpack_input(data: &fitpack::Data<'_>, k: usize, periodic: bool) -> Result<(), &'static str> {
     let x = data.x;
     if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] < p[0]) {
         return Err("xs[{i}]: Expect `x` to be an ordered 1D sequence.");
     }
-    if x.len() <= k {
+    if periodic && x.len() < 2 {
+        return Err("xs[{i}]: a periodic fit needs at least 2 points (the last repeats the first)");
+    }
+    if !periodic && x.len() <= k {
         return Err("xs[{i}]: m > k must hold (more points than the degree)");
     }
     if data.w.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
@@ -1912,6 +1916,18 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str>
     }
     if data.y.iter().any(|v| !v.is_finite()) {
         return Err("ys[{i}]: must be finite (NaN or infinity found)");
+    }
+    // NumPy's allclose(y[0], y[-1], atol=1e-15), as SciPy checks a periodic series.
+    let (first, last) = (&data.y[..data.d], &data.y[data.y.len() - data.d..]);
+    if periodic
+        && first
+            .iter()
+            .zip(last)
+            .any(|(a, b)| (a - b).abs() > 1e-15 + 1e-5 * b.abs())
+    {
+        return Err(
+            "ys[{i}]: First and last points does not match which is required for `bc_type='periodic'`.",
+        );
     }
     if !(data.xb <= x[0] && data.xe >= x[x.len() - 1] && data.xb < data.xe) {
         return Err("xb, xe[{i}]: must satisfy xb <= x[0] < x[-1] <= xe");
@@ -1924,7 +1940,7 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize) -> Result<(), &'static str>
 /// most `nest` of them (None: FITPACK's default). The knots stacked with their offsets, the
 /// coefficients stacked ((sum of len(t_i) - k - 1), d), and each root finder's ier.
 #[pyfunction]
-#[pyo3(signature = (x, y, w, offsets, xb, xe, k, s, t = None, nest = None))]
+#[pyo3(signature = (x, y, w, offsets, xb, xe, k, s, t = None, nest = None, periodic = false))]
 #[expect(
     clippy::too_many_arguments,
     clippy::needless_pass_by_value,
@@ -1942,6 +1958,7 @@ fn fit_splrep<'py>(
     s: Vec<f64>,
     t: Option<(PyReadonlyArray1<'py, f64>, PyReadonlyArray1<'py, i64>)>,
     nest: Option<usize>,
+    periodic: bool,
 ) -> PyResult<FitpackFits<'py>> {
     use rayon::prelude::*;
     let (data, d) = series(&x, &y, &w, &offsets)?;
@@ -1952,8 +1969,8 @@ fn fit_splrep<'py>(
     if xb.len() != data.len() || xe.len() != data.len() || s.len() != data.len() {
         return Err(value_error("fit_splrep: one xb, xe and s per series"));
     }
-    if !(1..=5).contains(&k) {
-        return Err(value_error(format!("k: must be 1 to 5, got {k}")));
+    if !(1..=6).contains(&k) {
+        return Err(value_error(format!("k: must be 1 to 6, got {k}")));
     }
     let fitted: Vec<Result<fitpack::Spline, String>> = py.detach(|| {
         data.par_iter()
@@ -1968,10 +1985,16 @@ fn fit_splrep<'py>(
                     xe: xe[i],
                 };
                 let named = |e: &str| e.replace("{i}", &i.to_string());
-                fitpack_input(&one, k).map_err(named)?;
-                let most = nest.unwrap_or((x.len() + k + 1).max(2 * k + 3));
+                fitpack_input(&one, k, periodic).map_err(named)?;
                 let t = given.as_ref().map(|g| g[i]);
-                fitpack::fit(&one, k, s[i], t, most).map_err(|_| {
+                let fitted = if periodic {
+                    let most = nest.unwrap_or((x.len() + 2 * k).max(2 * k + 3));
+                    periodic::fit(&one, k, s[i], t, most)
+                } else {
+                    let most = nest.unwrap_or((x.len() + k + 1).max(2 * k + 3));
+                    fitpack::fit(&one, k, s[i], t, most)
+                };
+                fitted.map_err(|_| {
                     named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
                 })
             })

@@ -70,7 +70,7 @@ impl Triangle {
                     band[j] = cos * old + sin * incoming;
                     window[j] = cos * incoming - sin * old;
                 }
-                rotate_rhs(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
+                rotate_rows(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
             }
             let mut rest = false;
             for j in 1..W {
@@ -100,7 +100,7 @@ impl Triangle {
                     *target = cos * old + sin * incoming;
                     *v = cos * incoming - sin * old;
                 }
-                rotate_rhs(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
+                rotate_rows(&mut self.z[row * m..(row + 1) * m], rhs, cos, sin);
             }
             window.rotate_left(1);
             window[width - 1] = 0.0;
@@ -152,20 +152,29 @@ impl Triangle {
 }
 
 /// FITPACK's fpgivs: the rotation (cos, sin) that zeroes `pivot` against the band row's
-/// diagonal, which becomes their root sum of squares (unscaled: the rows are weights times
-/// B-splines, far from overflow; one division).
+/// diagonal, which becomes their root sum of squares: unscaled where the squares' sum is a
+/// normal number (the rows are weights times B-splines; one division), scaled by the larger
+/// where it under- or overflows (a leftover of 1e-163 meeting an untouched row's zero).
 #[inline(always)]
-fn givens(pivot: f64, band: &mut [f64]) -> (f64, f64) {
-    let root = (pivot * pivot + band[0] * band[0]).sqrt();
+pub(crate) fn givens(pivot: f64, band: &mut [f64]) -> (f64, f64) {
+    let sum = pivot * pivot + band[0] * band[0];
+    let root = if (f64::MIN_POSITIVE..=f64::MAX).contains(&sum) {
+        sum.sqrt()
+    } else {
+        let scale = pivot.abs().max(band[0].abs());
+        let (p, q) = (pivot / scale, band[0] / scale);
+        scale * (p * p + q * q).sqrt()
+    };
     let inverse = 1.0 / root;
     let rotation = (band[0] * inverse, pivot * inverse);
     band[0] = root;
     rotation
 }
 
-/// FITPACK's fprota on the right-hand sides: Z's row and the incoming row's.
+/// FITPACK's fprota on two rows (a triangle's and the incoming row's, or their right-hand
+/// sides), entry by entry.
 #[inline(always)]
-fn rotate_rhs(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
+pub(crate) fn rotate_rows(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
     for (target, v) in z.iter_mut().zip(rhs.iter_mut()) {
         let (old, incoming) = (*target, *v);
         *target = cos * old + sin * incoming;

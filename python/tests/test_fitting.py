@@ -283,6 +283,93 @@ def test_make_splprep_matches_scipy_and_batches_equal_singles():
         np.testing.assert_array_equal(batch[i].c, single.c)
 
 
+def periodic_data(rng, n: int):
+    """n points on [0, 2 pi] (ends included, the rest uniform draws) and a noisy periodic
+    function on them, its last value its first."""
+    x = np.r_[0.0, np.sort(rng.uniform(0, 2 * np.pi, n - 2)), 2 * np.pi]
+    y = np.sin(x) + np.cos(2 * x) + rng.normal(scale=0.1, size=n)
+    y[-1] = y[0]
+    return x, y
+
+
+@pytest.mark.parametrize("k", [1, 2, 3, 4, 5])
+def test_periodic_make_splrep_matches_scipy(k):
+    """FITPACK's periodic knots bit for bit and the coefficients within 1e-10 of the largest,
+    from near-interpolation (hundreds of knots: the rotations meet leftovers of 1e-163
+    against untouched rows) to the constant, with weights and given knots."""
+    rng = np.random.default_rng(30 + k)
+    for n, s in ((11, 1e-2), (51, 0.3), (100, 1.0), (300, 1e-2), (40, 1e3)):
+        x, y = periodic_data(rng, n)
+        w = rng.uniform(0.5, 2.0, n)
+        for kw in ({}, {"w": w}):
+            ours = G.make_splrep(x, y, k=k, s=s, bc_type="periodic", **kw)
+            theirs = S.make_splrep(x, y, k=k, s=s, bc_type="periodic", **kw)
+            np.testing.assert_array_equal(ours.t, theirs.t)
+            close(ours.c, theirs.c, 1e-10)
+    t = S.make_splrep(x, y, k=k, s=20.0, bc_type="periodic").t
+    close(G.make_splrep(x, y, k=k, s=30.0, t=t, bc_type="periodic").c,
+          S.make_splrep(x, y, k=k, s=30.0, t=t, bc_type="periodic").c, 1e-10)
+
+
+def test_periodic_fits_are_periodic_and_meet_s():
+    """Independently of SciPy: the fitted spline and its first k - 1 derivatives agree at the
+    period's two ends, and fp over the first m - 1 points is s within FITPACK's tolerance
+    (s / 1000)."""
+    rng = np.random.default_rng(41)
+    x, y = periodic_data(rng, 60)
+    for k in (2, 3, 5):
+        s = 0.4
+        spline = G.make_splrep(x, y, k=k, s=s, bc_type="periodic")
+        for nu in range(k):
+            ends = spline([x[0], x[-1]], nu=nu)
+            close(ends[0], ends[1], 1e-9)
+        fp = np.sum((y[:-1] - spline(x[:-1])) ** 2)
+        assert abs(fp - s) < s * 1e-3
+
+
+def test_periodic_curves_and_legacy_doors_match_scipy():
+    """Closed curves (make_splprep and a batch of them) and the tck doors with per=1: SciPy's
+    knots, and coefficients within 1e-10; splrep(per=1) on data that is not periodic (percur
+    leaves the last value out): SciPy's Fortran percur's interpolation, and make_splrep's
+    smoothing (SciPy's re-derivation of percur, whose knots the Fortran can place elsewhere
+    for the same s) meeting s."""
+    rng = np.random.default_rng(44)
+    u = np.linspace(0, 2 * np.pi, 70)
+    curves = []
+    for _ in range(3):
+        points = np.stack([np.cos(u), np.sin(2 * u)]) + rng.normal(scale=0.02, size=(2, 70))
+        points[:, -1] = points[:, 0]
+        curves.append(points)
+    batch, us = G.make_splpreps(curves, s=0.05, bc_type="periodic")
+    for i, points in enumerate(curves):
+        ours, u_ours = G.make_splprep(points, s=0.05, bc_type="periodic")
+        theirs, _ = S.make_splprep(points, s=0.05, bc_type="periodic")
+        np.testing.assert_array_equal(ours.t, theirs.t)
+        close(ours.c, theirs.c, 1e-10)
+        np.testing.assert_array_equal(batch[i].t, ours.t)
+        np.testing.assert_array_equal(batch[i].c, ours.c)
+        np.testing.assert_array_equal(us[i], u_ours)
+        # splprep(per=1) is make_splprep's fit (SciPy's Fortran clocur may place knots
+        # elsewhere for the same s).
+        tck, u_legacy = G.splprep(points, s=0.05, per=1)
+        np.testing.assert_array_equal(u_legacy, u_ours)
+        np.testing.assert_array_equal(tck[0], ours.t)
+        close(np.asarray(G.splev(u_ours, tck)), ours(u_ours), 1e-12)
+    x = np.linspace(0, 2 * np.pi, 25)
+    y = np.exp(x / 3)
+    closed = np.r_[y[:-1], y[0]]
+    for k in (1, 2, 3, 5):
+        ours, theirs = G.splrep(x, y, k=k, s=0, per=1), S.splrep(x, y, k=k, s=0, per=1)
+        close(ours[0], theirs[0], 1e-15)  # the knots past the ends: an ulp apart
+        close(ours[1], theirs[1], 1e-9)
+        for s in (0.5, 3.0):
+            (t, c, _), fp, _, _ = G.splrep(x, y, k=k, s=s, per=1, full_output=1)
+            theirs = S.make_splrep(x, closed, k=k, s=s, bc_type="periodic")
+            np.testing.assert_array_equal(t, theirs.t)
+            close(c[:len(theirs.c)], theirs.c, 1e-10)
+            assert abs(fp - s) < s * 1e-3
+
+
 def test_fitpack_bad_input_is_refused_by_name():
     x = np.linspace(0, 1, 20)
     y = np.sin(x)
@@ -296,8 +383,17 @@ def test_fitpack_bad_input_is_refused_by_name():
         G.make_splrep(x[::-1], y, s=1.0)
     with pytest.raises(ValueError, match="Schoenberg-Whitney"):
         G.make_splrep(x, y, s=1.0, t=np.r_[[0.0] * 4, 0.01, 0.02, 0.03, [1.0] * 4])
-    with pytest.raises(NotImplementedError, match="periodic"):
-        G.make_splrep(x, np.r_[y[:-1], y[0]], s=1.0, bc_type="periodic")
+    with pytest.raises(ValueError, match="First and last points does not match"):
+        G.make_splrep(x, y, s=1.0, bc_type="periodic")
+    with pytest.raises(ValueError, match=r"ys\[1\]: First and last points does not match"):
+        G.make_splreps([x, x], [np.r_[y[:-1], y[0]], y], s=1.0, bc_type="periodic")
+    with pytest.raises(ValueError, match="Schoenberg-Whitney"):
+        # Five inner knots between two points: one B-spline's support holds no point.
+        G.make_splrep(x, np.r_[y[:-1], y[0]], s=1.0, bc_type="periodic",
+                      t=np.r_[-0.014, -0.013, -0.012, 0.0, 0.01, 0.011, 0.012, 0.013, 0.014,
+                              1.0, 1.01, 1.011, 1.012])
+    with pytest.raises(ValueError, match="bc_type"):
+        G.make_splrep(x, y, s=1.0, bc_type="natural")
     with pytest.raises(ValueError, match=r"xs\[1\]: Expect `x` to be an ordered"):
         G.make_splreps([x, x[::-1]], [y, y], s=1.0)
     with pytest.raises(ValueError, match=r"ws\[0\]: Weights must be non-negative"):
