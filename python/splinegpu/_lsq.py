@@ -139,6 +139,7 @@ def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
         raise singular(bad)
     rows = np.diff(t_offsets) - (k + 1)
     if np.all(rows == rows[0]):
-        # One row count for all (one knot vector): the (S, n, m) array, not S pieces.
-        return ts, c.reshape(count, int(rows[0]), c.shape[1])
+        # One row count for all (one knot vector): the (S, n, m) array, not S pieces, and
+        # the knots (S, len(t)).
+        return t_flat.reshape(count, -1), c.reshape(count, int(rows[0]), c.shape[1])
     return ts, np.split(c, rows.cumsum()[:-1])

@@ -308,9 +308,13 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     else:
         cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
         cs_given = None
-    even = len({len(t) for t in ts}) == 1
-    # Ragged knots and coefficients go laid end to end with their offsets (two borrows).
-    ts_given = _aligned(np.stack(ts), "ts") if ts and even else _end_to_end(ts, "ts")
+    if isinstance(ts, np.ndarray):
+        # One knot vector for all, a row each.
+        even, ts_given = True, _aligned(ts, "ts")
+    else:
+        even = len({len(t) for t in ts}) == 1
+        # Ragged knots and coefficients go laid end to end with their offsets (two borrows).
+        ts_given = _aligned(np.stack(ts), "ts") if ts and even else _end_to_end(ts, "ts")
     if cs_given is None:
         cs_given = _aligned(np.stack(cs), "cs") if cs and even else _end_to_end(cs, "cs")
     batch._build(ts_given, cs_given, list(ts), cs, k, trailing, True, context)

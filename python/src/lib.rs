@@ -1632,17 +1632,35 @@ fn ragged<'a>(
     Ok(out)
 }
 
-/// Each series' (x, y, w) from the flat arrays (x (N,), y (N, m), w (N,), offsets (S + 1,)).
+/// The unit weights of a batch given none (`w` empty): one run of ones as long as its
+/// longest series, which every series' w is a slice of (not a second array of N ones).
+fn unit_weights(w: &PyReadonlyArray1<'_, f64>, offsets: &PyReadonlyArray1<'_, i64>) -> Vec<f64> {
+    if w.len() > 0 {
+        return Vec::new();
+    }
+    let offsets = offsets.as_slice().unwrap_or(&[]);
+    let longest = offsets
+        .windows(2)
+        .map(|p| usize::try_from(p[1] - p[0]).unwrap_or(0))
+        .max()
+        .unwrap_or(0);
+    vec![1.0; longest]
+}
+
+/// Each series' (x, y, w) from the flat arrays (x (N,), y (N, m), w (N,) or empty for unit
+/// weights, `ones` then from `unit_weights`, offsets (S + 1,)).
 fn series<'a>(
     x: &'a PyReadonlyArray1<'_, f64>,
     y: &'a PyReadonlyArray2<'_, f64>,
     w: &'a PyReadonlyArray1<'_, f64>,
     offsets: &PyReadonlyArray1<'_, i64>,
+    ones: &'a [f64],
 ) -> PyResult<(Vec<Series<'a>>, usize)> {
     let m = y.shape()[1];
     let offsets = offsets.as_slice()?;
     let (x, w) = (x.as_slice()?, w.as_slice()?);
-    if y.shape()[0] != x.len() || w.len() != x.len() {
+    let unit = w.is_empty() && !x.is_empty();
+    if y.shape()[0] != x.len() || (!unit && w.len() != x.len()) {
         return Err(value_error(format!(
             "{} x, {} rows of y and {} w",
             x.len(),
@@ -1652,7 +1670,16 @@ fn series<'a>(
     }
     let xs = ragged(x, 1, offsets, "xs")?;
     let ys = ragged(y.as_slice()?, m, offsets, "ys")?;
-    let ws = ragged(w, 1, offsets, "ws")?;
+    let ws = if unit {
+        xs.iter()
+            .map(|x| {
+                ones.get(..x.len())
+                    .ok_or_else(|| value_error("ws: unit weights too short"))
+            })
+            .collect::<PyResult<Vec<_>>>()?
+    } else {
+        ragged(w, 1, offsets, "ws")?
+    };
     Ok((
         xs.into_iter()
             .zip(ys)
@@ -1737,7 +1764,8 @@ fn fit_lsq<'py>(
     k: usize,
 ) -> PyResult<LsqFits<'py>> {
     use rayon::prelude::*;
-    let (data, m) = series(&x, &y, &w, &offsets)?;
+    let ones = unit_weights(&w, &offsets);
+    let (data, m) = series(&x, &y, &w, &offsets, &ones)?;
     let ts = ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "ts")?;
     if ts.len() != data.len() || ts.iter().any(|t| t.len() < 2 * k + 2) {
         return Err(value_error(format!(
@@ -1854,7 +1882,8 @@ fn fit_smoothing<'py>(
     lams: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Lams<'py>)> {
     use rayon::prelude::*;
-    let (data, m) = series(&x, &y, &w, &offsets)?;
+    let ones = unit_weights(&w, &offsets);
+    let (data, m) = series(&x, &y, &w, &offsets, &ones)?;
     let given = lams.as_slice()?;
     if lams.shape() != [data.len(), m] {
         return Err(value_error(format!(
@@ -1961,7 +1990,8 @@ fn fit_splrep<'py>(
     periodic: bool,
 ) -> PyResult<FitpackFits<'py>> {
     use rayon::prelude::*;
-    let (data, d) = series(&x, &y, &w, &offsets)?;
+    let ones = unit_weights(&w, &offsets);
+    let (data, d) = series(&x, &y, &w, &offsets, &ones)?;
     let given = match &t {
         Some((t, t_offsets)) => Some(ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "t")?),
         None => None,
