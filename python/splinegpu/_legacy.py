@@ -5,8 +5,8 @@ arrays). A BSpline given in place of a tck is answered with a BSpline, as SciPy 
 
 `per=1` fits periodic splines as FITPACK's percur and clocur do: the period x[-1] - x[0],
 the last point standing for the first (its value is not fitted; splprep sets it to the
-first). Differences, refused by name: `task` other than 0, and given knots with `per=1`,
-raise NotImplementedError. Smoothing (s > 0) places knots as SciPy's `make_splrep` does,
+first). task=-1 fits least squares on given knots. Differences, refused by name: task=1
+(FITPACK's continued search), and given knots with `per=1`, raise NotImplementedError. Smoothing (s > 0) places knots as SciPy's `make_splrep` does,
 which is FITPACK's rule re-derived; SciPy's Fortran curfit and percur can place some knots
 elsewhere for the same s (both meet fp <= s)."""
 
@@ -65,8 +65,11 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
     """`scipy.interpolate.splrep`: the tck of the interpolating (s = 0), smoothing (s > 0,
     FITPACK's knots as make_splrep places them) or least-squares (interior knots t) spline
     of (x, y). full_output adds (fp, ier, msg)."""
-    if task != 0:
-        raise NotImplementedError(f"task: only task=0 is implemented, got {task}")
+    if task == -1 and t is None:
+        raise TypeError("Knots must be given for task=-1")
+    if task not in (0, -1):
+        raise NotImplementedError(f"task: only task=0 and task=-1 (given knots t) are "
+                                  f"implemented, got {task}")
     x = _check_finite_input(x, "x")
     y = _check_finite_input(y, "y")
     if y.ndim != 1:
@@ -129,11 +132,19 @@ def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None) -> B
 def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=None, t=None,
             full_output: int = 0, nest=None, per: int = 0, quiet: int = 1):
     """`scipy.interpolate.splprep`: ([t, [c_1, ..., c_d], k], u) of the parametric spline
-    through (s = 0) or near (s > 0) the points x (a list of d coordinate arrays)."""
-    if task != 0:
-        raise NotImplementedError(f"task: only task=0 is implemented, got {task}")
-    if t is not None:
-        raise NotImplementedError("t: splprep with given knots is not implemented here")
+    through (s = 0) or near (s > 0) the points x (a list of d coordinate arrays); task=-1:
+    the least-squares curve on the knots t (its inner knots; the ends are [ub, ue]), as
+    FITPACK's parcur. t is ignored for task=0, as SciPy's."""
+    if task not in (0, -1):
+        raise NotImplementedError(f"task: only task=0 and task=-1 are implemented, got {task}")
+    if task == -1:
+        if t is None:
+            raise TypeError("Knots must be given for task=-1")
+        if len(np.atleast_1d(t)) < 2 * k + 2:
+            raise TypeError("There must be at least 2*k+2 knots for task=-1")
+        if per:
+            raise NotImplementedError("per: periodic splprep with given knots (task=-1) is "
+                                      "not implemented here")
     x = np.array(x, dtype=np.float64)
     if x.ndim != 2:
         raise ValueError(f"too many values to unpack: x must be a list of coordinate arrays "
@@ -158,7 +169,13 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
                              "twice in a row)")
     elif np.any(np.diff(np.asarray(u, dtype=np.float64)) <= 0):
         raise ValueError("Invalid inputs: u must be strictly increasing")
-    if per:
+    if task == -1:
+        u = chord_lengths(x.T) if u is None else np.asarray(u, dtype=np.float64)
+        inner = np.asarray(t, dtype=np.float64)[k + 1:len(t) - k - 1]
+        knots = np.concatenate([[u[0] if ub is None else ub] * (k + 1), inner,
+                                [u[-1] if ue is None else ue] * (k + 1)])
+        spline = make_lsq_spline(u, x.T, knots, k, w=w)
+    elif per:
         u = chord_lengths(x.T) if u is None else np.asarray(u, dtype=np.float64)
         spline = _periodic(u, x.T.copy(), w, k, s, nest)
     elif s == 0:

@@ -446,6 +446,12 @@ def test_legacy_doors_match_scipy():
     np.testing.assert_array_equal(tck[0], tck2[0])
     close(np.asarray(tck[1]), np.asarray(tck2[1]), 1e-10)
     close(np.asarray(G.splev(u, tck)), np.asarray(S.splev(u2, tck2)), 1e-10)
+    # Least squares on given knots (task=-1: t's inner knots, the ends [ub, ue]).
+    knots = np.r_[[0.0] * 4, 0.3, 0.6, [1.0] * 4]
+    (tck, u), (tck2, u2) = (G.splprep([np.cos(x), np.sin(x)], task=-1, t=knots),
+                            S.splprep([np.cos(x), np.sin(x)], task=-1, t=knots))
+    np.testing.assert_array_equal(tck[0], tck2[0])
+    close(np.asarray(tck[1]), np.asarray(tck2[1]), 1e-10)
 
 
 def test_univariate_splines_match_scipy():
