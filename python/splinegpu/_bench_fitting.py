@@ -9,6 +9,8 @@ sample of the series and are scaled up (the row says so).
   (SciPy's GCV costs about a second a series); and one series of 2,048 points;
 - make_splpreps on 10,000 noisy 3-D point sequences of 200 points (s given), against
   make_splprep in a loop over 1,000 scaled by 10; make_splreps likewise on 10,000 series;
+- make_splpreps with bc_type "periodic" on 2,000 noisy closed 2-D outlines of 200 points,
+  against make_splprep's periodic fit in a loop over 100 scaled by 20;
 - make_lsq_splines on 10,000 series of 100 points on one knot vector, against
   make_lsq_spline in a loop; and one call of each.
 """
@@ -65,6 +67,22 @@ def rows() -> list:
         b = _loop(lambda c: scipy.make_splprep(c, s=s), curves, 1000)
     out.append(("make_splpreps, 10,000 3-D x 200, s", a, "SciPy loop, 1,000 x 10", b,
                 faster(a, b, ">= 10x")))
+    angle = np.linspace(0, 2 * np.pi, 200)
+    outlines = []
+    for _ in range(2_000):
+        outline = np.stack([np.cos(angle) * (1 + 0.2 * np.cos(3 * angle)), np.sin(angle)])
+        outline += rng.normal(scale=0.01, size=outline.shape)
+        outline[:, -1] = outline[:, 0]
+        outlines.append(outline)
+    s_closed = 200 * 2 * 0.01**2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        a = best(lambda: si.make_splpreps(outlines, s=s_closed, bc_type="periodic"),
+                 repeats=3)
+        b = _loop(lambda c: scipy.make_splprep(c, s=s_closed, bc_type="periodic"), outlines,
+                  100)
+    out.append(("make_splpreps periodic, 2,000 closed 2-D x 200", a, "SciPy loop, 100 x 20",
+                b, faster(a, b)))
     series = [np.sort(rng.uniform(0, 10, 200)) for _ in range(10_000)]
     values = [np.sin(x) + rng.normal(scale=0.1, size=200) for x in series]
     with warnings.catch_warnings():
