@@ -6,9 +6,10 @@ arrays). A BSpline given in place of a tck is answered with a BSpline, as SciPy 
 `per=1` fits periodic splines as FITPACK's percur and clocur do: the period x[-1] - x[0],
 the last point standing for the first (its value is not fitted; splprep sets it to the
 first). task=-1 fits least squares on given knots. Differences, refused by name: task=1
-(FITPACK's continued search), and given knots with `per=1`, raise NotImplementedError. Smoothing (s > 0) places knots as SciPy's `make_splrep` does,
-which is FITPACK's rule re-derived; SciPy's Fortran curfit and percur can place some knots
-elsewhere for the same s (both meet fp <= s)."""
+(FITPACK's continued search), and given knots with `per=1`, raise NotImplementedError.
+Smoothing (s > 0) places knots as SciPy's `make_splrep` does, which is FITPACK's rule
+re-derived; SciPy's Fortran curfit and percur can place some knots elsewhere for the same s
+(both meet fp <= s)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """SciPy's object-oriented FITPACK curves: `UnivariateSpline` (smoothing, FITPACK's knots as
-`make_splrep` places them), `InterpolatedUnivariateSpline` (s = 0) and `LSQUnivariateSpline`
-(given interior knots), with their methods, answered by this package's B-splines.
-`set_smoothing_factor` (FITPACK's continued knot search) raises NotImplementedError."""
+`make_splrep` places them; `set_smoothing_factor` goes on with FITPACK's knot search from
+where it stopped), `InterpolatedUnivariateSpline` (s = 0) and `LSQUnivariateSpline` (given
+interior knots), with their methods, answered by this package's B-splines."""
 
 from __future__ import annotations
 
@@ -9,9 +9,10 @@ import warnings
 
 import numpy as np
 
+from . import _fitpack, _native
+from ._arrays import _aligned
 from ._bsplines import BSpline
 from ._context import Context
-from ._fitpack import make_splrep
 from ._legacy import splint, sproot
 from ._lsq import make_lsq_spline
 
@@ -35,6 +36,9 @@ class UnivariateSpline:
 
     # The data it was fitted to (x, y, w, bbox, k); None for a derived spline.
     _data: tuple | None
+    # Where FITPACK's knot search stopped, (t, fpold, nplus), for set_smoothing_factor; None
+    # where it has not searched (s = 0, given knots, a derived spline).
+    _search: tuple | None = None
 
     def __init__(self, x, y, w=None, bbox=(None, None), k: int = 3, s=None, ext=0,
                  check_finite: bool = False, context: Context | None = None):
@@ -46,13 +50,26 @@ class UnivariateSpline:
         if s == 0:
             self._spline = _interpolating(x, y, w, bbox, k, context)
         else:
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always", RuntimeWarning)
-                self._spline = make_splrep(x, y, w=w, xb=bbox[0], xe=bbox[1], k=k, s=s,
-                                           context=context)
-            # FITPACK's stop short of fp = s, as SciPy's class warns it (a UserWarning).
-            for warning in caught:
-                warnings.warn(str(warning.message), UserWarning, stacklevel=2)
+            self._smooth(s, None)
+
+    def _smooth(self, s: float, search) -> None:
+        """The smoothing spline for s, FITPACK's knot search from the polynomial (search None)
+        or on from an earlier search's (t, fpold, nplus); FITPACK's stop short of fp = s
+        warns as SciPy's class warns it (a UserWarning)."""
+        assert self._data is not None
+        x, y, w, bbox, k = self._data
+        x, y, w, k, s, xb, xe = _fitpack._validated(x, y, w, k, s, bbox[0], bbox[1], False)
+        if len(x) <= k:
+            raise ValueError(f"x: m > k must hold, got m = {len(x)} points for k = {k}")
+        try:
+            t, c, ier, self._search = _native.fit_splrep_from(
+                _aligned(x, "x"), _aligned(np.ascontiguousarray(y[:, 0]), "y"),
+                _aligned(w, "w"), xb, xe, k, s, search)
+        except ValueError as e:
+            raise ValueError(str(e)) from None
+        if ier:
+            warnings.warn(_fitpack._STOPPED[ier], UserWarning, stacklevel=3)
+        self._spline = BSpline.construct_fast(t, c, k, context=self.context)
 
     @staticmethod
     def validate_input(x, y, w, bbox, k, s, ext, check_finite):
@@ -148,9 +165,18 @@ class UnivariateSpline:
                                              self.context)
 
     def set_smoothing_factor(self, s) -> None:
-        """FITPACK's continued knot search with a new s: not implemented here."""
-        raise NotImplementedError("set_smoothing_factor: FITPACK's continued knot search is "
-                                  "not implemented; make a new UnivariateSpline with s")
+        """The spline for a new s, in place, as FITPACK's curfit with iopt = 1: its knot
+        search goes on from the knots it stopped at (knots are only added: a larger s keeps
+        them and smooths on them), or starts again from the polynomial where that meets s."""
+        if self._data is None:
+            raise ValueError("set_smoothing_factor: a derived spline has no data to fit")
+        if self._search is None and isinstance(self, LSQUnivariateSpline):
+            warnings.warn("smoothing factor unchanged forLSQ spline with fixed knots",
+                          stacklevel=2)
+            return
+        if not s > 0:
+            raise ValueError(f"s: set_smoothing_factor takes s > 0, got {s}")
+        self._smooth(float(s), self._search)
 
 
 def _interpolating(x, y, w, bbox, k, context) -> BSpline:

@@ -158,15 +158,45 @@ fn not_a_knot(x: &[f64], k: usize) -> Vec<f64> {
     t
 }
 
+/// Where FITPACK's knot search stopped: its knots, the fp of the set before them and the
+/// number of knots it added last (curfit's fpint(n - 1) and nrdata(n)), from which a search
+/// for another s goes on (`knots_from`, UnivariateSpline's set_smoothing_factor).
+#[derive(Clone, Debug)]
+pub(crate) struct Search {
+    pub t: Vec<f64>,
+    pub fpold: f64,
+    pub nplus: usize,
+}
+
 /// The knots of FITPACK's search for fp <= s (step 1 of the module's description).
 pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
+    Ok(knots_from(data, k, s, nest, None)?.t)
+}
+
+/// The search from the polynomial (`from` None), or, as curfit's iopt = 1, on from where an
+/// earlier search stopped: from its knots, fpold and nplus, unless those are the
+/// polynomial's or the polynomial already meets s (then from the polynomial). Knots are only
+/// ever added. Returns where this search stopped.
+pub(crate) fn knots_from(
+    data: &Data<'_>,
+    k: usize,
+    s: f64,
+    nest: usize,
+    from: Option<&Search>,
+) -> Result<Search, Failure> {
     let acc = s * TOLERANCE;
     let m = data.x.len();
     let (nmin, nmax) = (2 * (k + 1), m + k + 1);
-    let mut t: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
+    let polynomial: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
         .chain(std::iter::repeat_n(data.xe, k + 1))
         .collect();
-    let (mut fp, mut nplus) = (0.0_f64, 1_usize);
+    let (mut t, mut fp, mut nplus) = (polynomial.clone(), 0.0_f64, 1_usize);
+    if let Some(earlier) = from
+        && earlier.t.len() > nmin
+        && least_squares(data, &polynomial, k)?.2 > s
+    {
+        (t, fp, nplus) = (earlier.t.clone(), earlier.fpold, earlier.nplus);
+    }
     let mut chosen = t.clone();
     for _ in 0..m {
         chosen.clone_from(&t);
@@ -175,7 +205,7 @@ pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Ve
         fp = total;
         let fpms = fp - s;
         if fpms.abs() < acc || fpms < 0.0 {
-            return Ok(t);
+            return Ok(Search { t, fpold, nplus });
         }
         if t.len() == nmin {
             nplus = 1;
@@ -192,17 +222,30 @@ pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Ve
         for j in 0..nplus {
             t = with_new_knot(data.x, &t, k, &each);
             if t.len() >= nmax {
-                return Ok(not_a_knot(data.x, k));
+                let t = not_a_knot(data.x, k);
+                return Ok(Search {
+                    t,
+                    fpold: fp,
+                    nplus,
+                });
             }
             if t.len() >= nest {
-                return Ok(t);
+                return Ok(Search {
+                    t,
+                    fpold: fp,
+                    nplus,
+                });
             }
             if j + 1 < nplus {
                 each = least_squares(data, &t, k)?.1;
             }
         }
     }
-    Ok(chosen)
+    Ok(Search {
+        t: chosen,
+        fpold: fp,
+        nplus,
+    })
 }
 
 /// FITPACK's discontinuity rows (fpdisc): row j (an inner knot t_{j+k+1}) holds, for the

@@ -1594,6 +1594,14 @@ type Series<'a> = (&'a [f64], &'a [f64], &'a [f64]);
 type LsqFits<'py> = (Bound<'py, PyArray2<f64>>, Vec<f64>, Option<usize>);
 
 /// FITPACK fits: the knots stacked, their offsets, the coefficients stacked, each ier.
+/// `fit_splrep_from`'s answer: knots, coefficients, ier and where the search stopped.
+type SearchedFit<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    u8,
+    (Vec<f64>, f64, usize),
+);
+
 type FitpackFits<'py> = (
     Bound<'py, PyArray1<f64>>,
     Vec<i64>,
@@ -2050,6 +2058,65 @@ fn fit_splrep<'py>(
     ))
 }
 
+/// UnivariateSpline's fit, one series, with where its knot search stopped: from the
+/// polynomial, or (`from` = (t, fpold, nplus) of an earlier fit of these data)
+/// on from there, as curfit's iopt = 1 (`fitpack::knots_from`). Returns (t, c (rows, d),
+/// ier, (t, fpold, nplus)).
+#[pyfunction]
+#[pyo3(signature = (x, y, w, xb, xe, k, s, from = None))]
+#[expect(
+    clippy::too_many_arguments,
+    clippy::needless_pass_by_value,
+    reason = "curfit's arguments, one each; PyO3 extracts the state's knots as a Vec"
+)]
+fn fit_splrep_from<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    w: PyReadonlyArray1<'py, f64>,
+    xb: f64,
+    xe: f64,
+    k: usize,
+    s: f64,
+    from: Option<(Vec<f64>, f64, usize)>,
+) -> PyResult<SearchedFit<'py>> {
+    let (x, y, w) = (x.as_slice()?, y.as_slice()?, w.as_slice()?);
+    if y.len() != x.len() || w.len() != x.len() {
+        return Err(value_error(
+            "fit_splrep_from: x, y and w must have one length",
+        ));
+    }
+    if !((1..=6).contains(&k) && s > 0.0 && s.is_finite()) {
+        return Err(value_error(format!(
+            "fit_splrep_from: k 1 to 6 and s > 0, got k = {k}, s = {s}"
+        )));
+    }
+    let data = fitpack::Data {
+        x,
+        y,
+        d: 1,
+        w,
+        xb,
+        xe,
+    };
+    fitpack_input(&data, k, false).map_err(|e| value_error(e.replace("{i}", "0")))?;
+    let from = from.map(|(t, fpold, nplus)| fitpack::Search { t, fpold, nplus });
+    let nest = (x.len() + k + 1).max(2 * k + 3);
+    let fitted = py.detach(|| {
+        let search = fitpack::knots_from(&data, k, s, nest, from.as_ref())?;
+        fitpack::smooth(&data, &search.t, k, s).map(|spline| (spline, search))
+    });
+    let (spline, search) = fitted.map_err(|_| {
+        value_error("x: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
+    })?;
+    Ok((
+        PyArray1::from_vec(py, spline.t),
+        PyArray1::from_vec(py, spline.c),
+        spline.ier,
+        (search.t, search.fpold, search.nplus),
+    ))
+}
+
 /// GCV(lam) of one series (x, y, w) at each lam: the criterion `fit_smoothing` minimises,
 /// for the tests to hold against SciPy's.
 #[pyfunction]
@@ -2471,6 +2538,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_lsq, m)?)?;
     m.add_function(wrap_pyfunction!(fit_smoothing, m)?)?;
     m.add_function(wrap_pyfunction!(fit_splrep, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_splrep_from, m)?)?;
     m.add_function(wrap_pyfunction!(smoothing_gcv, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_pieces, m)?)?;

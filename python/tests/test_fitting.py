@@ -478,6 +478,38 @@ def test_univariate_splines_match_scipy():
         [reference(4.0, nu) for nu in range(4)]), 1e-10)
 
 
+def test_set_smoothing_factor_goes_on_from_the_knots_found():
+    """FITPACK's curfit with iopt = 1: a larger s keeps the knots and smooths on them (SciPy's
+    Fortran answer, within 1e-10, wherever the first fits' knots agree); a smaller s only
+    adds knots, to fp = s within FITPACK's tolerance; an s the polynomial meets gives the
+    polynomial; given knots stay, with SciPy's warning."""
+    rng = np.random.default_rng(7)
+    compared = 0
+    for _ in range(12):
+        n = int(rng.integers(20, 200))
+        x = np.sort(rng.uniform(0, 10, n))
+        y = np.sin(x) + rng.normal(scale=0.2, size=n)
+        s1 = rng.uniform(1.0, 2.0) * n * 0.04
+        ours, theirs = G.UnivariateSpline(x, y, s=s1), S.UnivariateSpline(x, y, s=s1)
+        knots = ours.get_knots()
+        if len(knots) == len(theirs.get_knots()) and np.allclose(knots, theirs.get_knots()):
+            ours.set_smoothing_factor(2 * s1)
+            theirs.set_smoothing_factor(2 * s1)
+            np.testing.assert_array_equal(ours.get_knots(), knots)
+            close(ours.get_coeffs(), theirs.get_coeffs(), 1e-10)
+            compared += 1
+        ours.set_smoothing_factor(s1 / 4)
+        assert set(knots) <= set(ours.get_knots())
+        assert abs(ours.get_residual() - s1 / 4) <= s1 / 4 * 1e-3
+        ours.set_smoothing_factor(1e6)
+        assert len(ours.get_knots()) == 2
+    assert compared >= 5
+    x = np.linspace(0, 1, 30)
+    lsq = G.LSQUnivariateSpline(x, np.sin(x), [0.5])
+    with pytest.warns(UserWarning, match="smoothing factor unchanged"):
+        lsq.set_smoothing_factor(1.0)
+
+
 def test_far_apart_weights_keep_scipys_knots():
     """Weights 1e12 against 1e2 to 1e3 (SciPy's gh-1375 data): they square to 1e24 in the
     normal equations, so the knot search rotates; the heavy points' residuals are then the
