@@ -132,8 +132,8 @@ impl Bordered {
     /// it wraps), its border entries summed.
     fn rotate_row(&mut self, first: usize, columns: &[(usize, f64)], rhs: &mut [f64]) {
         let nb = self.band_rows();
-        let mut window = vec![0.0; self.width];
-        let mut edge = vec![0.0; self.border];
+        // On the stack: a band of k + 2 <= 8 entries and a border of k + 1 <= 7 (k <= 6).
+        let (mut window, mut edge) = ([0.0; 8], [0.0; 8]);
         for &(col, v) in columns {
             if col >= nb {
                 edge[col - nb] += v;
@@ -141,7 +141,8 @@ impl Bordered {
                 window[col - first] = v;
             }
         }
-        self.rotate_in(first, &mut window, &mut edge, rhs);
+        let (width, border) = (self.width, self.border);
+        self.rotate_in(first, &mut window[..width], &mut edge[..border], rhs);
     }
 
     /// The diagonal's sum (FITPACK's start for p: n over it), border rows up, then the band.
