@@ -308,6 +308,7 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     else:
         cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
         cs_given = None
+    ts_given: Any
     if isinstance(ts, np.ndarray):
         # One knot vector for all, a row each.
         even, ts_given = True, _aligned(ts, "ts")
