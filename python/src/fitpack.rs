@@ -184,7 +184,6 @@ pub(crate) fn knots_from(
     nest: usize,
     from: Option<&Search>,
 ) -> Result<Search, Failure> {
-    let acc = s * TOLERANCE;
     let m = data.x.len();
     let (nmin, nmax) = (2 * (k + 1), m + k + 1);
     let polynomial: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
@@ -197,39 +196,101 @@ pub(crate) fn knots_from(
     {
         (t, fp, nplus) = (earlier.t.clone(), earlier.fpold, earlier.nplus);
     }
+    let rules = Rules {
+        s,
+        nest,
+        nmax,
+        least_squares: &|t| least_squares(data, t, k).map(|(_, each, fp)| (each, fp)),
+        ends: &|_| {},
+        interpolation: &|| not_a_knot(data.x, k),
+    };
+    search(
+        data.x,
+        k,
+        &rules,
+        Search {
+            t,
+            fpold: fp,
+            nplus,
+        },
+    )
+}
+
+/// A least-squares fit on knots t: each point's residual and their sum, fp.
+pub(crate) type LeastSquares<'a> = dyn Fn(&[f64]) -> Result<(Vec<f64>, f64), Failure> + 'a;
+
+/// What differs between curfit's knot search and percur's (`search`): the least-squares
+/// fit on t (each point's residual and fp), the knots outside [xb, xe] set before each fit
+/// (percur's periodic ends), and the knots of interpolation; s, nest and nmax.
+pub(crate) struct Rules<'a> {
+    pub s: f64,
+    pub nest: usize,
+    pub nmax: usize,
+    pub least_squares: &'a LeastSquares<'a>,
+    pub ends: &'a dyn Fn(&mut [f64]),
+    pub interpolation: &'a dyn Fn() -> Vec<f64>,
+}
+
+/// FITPACK's count of knots to add next, from the count added last (nplus), how far fp is
+/// above s (fpms) and how far the last knots brought it down (delta): in proportion where fp
+/// fell by more than the tolerance acc, else twice as many; at most twice, at least half
+/// the last count and 1.
+fn knots_to_add(nplus: usize, fpms: f64, delta: f64, acc: f64) -> usize {
+    let npl1 = if delta > acc {
+        // Python's int(): toward zero (fpms / delta > 0 here); saturating.
+        (nplus as f64 * fpms / delta) as usize
+    } else {
+        nplus * 2
+    };
+    (nplus * 2).min(npl1.max(nplus / 2).max(1))
+}
+
+/// FITPACK's knot search (fpcurf's and fpperi's part 1) from `start` (its knots; the fp
+/// before them and the count of knots added last, as `Search` keeps them): fit, stop where
+/// fp is within s's tolerance or below it, else add `knots_to_add` knots one at a time
+/// (`with_new_knot`, each on the last fit's residuals), until the knots would interpolate
+/// (then interpolation's) or reach nest; at most len(x) rounds.
+pub(crate) fn search(
+    x: &[f64],
+    k: usize,
+    rules: &Rules<'_>,
+    start: Search,
+) -> Result<Search, Failure> {
+    let acc = rules.s * TOLERANCE;
+    let nmin = 2 * (k + 1);
+    let Search {
+        mut t,
+        fpold: mut fp,
+        mut nplus,
+    } = start;
     let mut chosen = t.clone();
-    for _ in 0..m {
+    for _ in 0..x.len() {
+        (rules.ends)(&mut t);
         chosen.clone_from(&t);
         let fpold = fp;
-        let (_, mut each, total) = least_squares(data, &t, k)?;
+        let (mut each, total) = (rules.least_squares)(&t)?;
         fp = total;
-        let fpms = fp - s;
+        let fpms = fp - rules.s;
         if fpms.abs() < acc || fpms < 0.0 {
             return Ok(Search { t, fpold, nplus });
         }
-        if t.len() == nmin {
-            nplus = 1;
+        nplus = if t.len() == nmin {
+            1
         } else {
-            let delta = fpold - fp;
-            let npl1 = if delta > acc {
-                // Python's int(): toward zero (fpms / delta > 0 here); saturating.
-                (nplus as f64 * fpms / delta) as usize
-            } else {
-                nplus * 2
-            };
-            nplus = (nplus * 2).min(npl1.max(nplus / 2).max(1));
-        }
+            knots_to_add(nplus, fpms, fpold - fp, acc)
+        };
         for j in 0..nplus {
-            t = with_new_knot(data.x, &t, k, &each);
-            if t.len() >= nmax {
-                let t = not_a_knot(data.x, k);
+            // The ends are set at the round's top only, as SciPy's.
+            t = with_new_knot(x, &t, k, &each);
+            if t.len() >= rules.nmax {
+                let t = (rules.interpolation)();
                 return Ok(Search {
                     t,
                     fpold: fp,
                     nplus,
                 });
             }
-            if t.len() >= nest {
+            if t.len() >= rules.nest {
                 return Ok(Search {
                     t,
                     fpold: fp,
@@ -237,7 +298,7 @@ pub(crate) fn knots_from(
                 });
             }
             if j + 1 < nplus {
-                each = least_squares(data, &t, k)?.1;
+                each = (rules.least_squares)(&t)?.0;
             }
         }
     }
@@ -412,19 +473,27 @@ pub(crate) fn root_rati(
     Ok(3)
 }
 
-/// The whole fit: knots by the search (or the given t), then the smoothing spline.
+/// The whole fit: knots by the search (or the given t), then the smoothing spline; curfit's,
+/// or percur's where `periodic` (`crate::periodic`).
 pub(crate) fn fit(
     data: &Data<'_>,
     k: usize,
     s: f64,
     t: Option<&[f64]>,
     nest: usize,
+    periodic: bool,
 ) -> Result<Spline, Failure> {
+    use crate::periodic;
     let t = match t {
         Some(t) => t.to_vec(),
+        None if periodic => periodic::knots(data, k, s, nest)?,
         None => knots(data, k, s, nest)?,
     };
-    smooth(data, &t, k, s)
+    if periodic {
+        periodic::smooth(data, &t, k, s)
+    } else {
+        smooth(data, &t, k, s)
+    }
 }
 
 #[cfg(test)]
@@ -445,7 +514,7 @@ mod tests {
             xb: 0.0,
             xe: 19.0,
         };
-        let spline = fit(&data, 3, 0.1, None, 24).unwrap();
+        let spline = fit(&data, 3, 0.1, None, 24, false).unwrap();
         assert_eq!(spline.t.len(), 8);
         // The line's B-spline coefficients on [0]*4 + [19]*4: its values at 0, 19/3, 38/3, 19.
         for (j, c) in spline.c.iter().enumerate() {

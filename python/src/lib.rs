@@ -2025,14 +2025,10 @@ fn fit_splrep<'py>(
                 let named = |e: &str| e.replace("{i}", &i.to_string());
                 fitpack_input(&one, k, periodic).map_err(named)?;
                 let t = given.as_ref().map(|g| g[i]);
-                let fitted = if periodic {
-                    let most = nest.unwrap_or((x.len() + 2 * k).max(2 * k + 3));
-                    periodic::fit(&one, k, s[i], t, most)
-                } else {
-                    let most = nest.unwrap_or((x.len() + k + 1).max(2 * k + 3));
-                    fitpack::fit(&one, k, s[i], t, most)
-                };
-                fitted.map_err(|_| {
+                // FITPACK's default room for knots: interpolation's, at least 2k + 3.
+                let interpolation = if periodic { x.len() + 2 * k } else { x.len() + k + 1 };
+                let most = nest.unwrap_or(interpolation.max(2 * k + 3));
+                fitpack::fit(&one, k, s[i], t, most, periodic).map_err(|_| {
                     named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
                 })
             })

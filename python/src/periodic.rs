@@ -285,63 +285,46 @@ fn interpolation_knots(x: &[f64], k: usize) -> Vec<f64> {
 }
 
 /// The knots of FITPACK's periodic search for fp <= s (fpperi's part 1).
-fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
+pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
     let acc = s * TOLERANCE;
     let m = data.x.len();
     let (nmin, nmax) = (2 * (k + 1), m + 2 * k);
     let per = data.xe - data.xb;
     let constant = constant_knots(data, k);
-    let mut fp = least_squares(data, &constant, k)?.2;
+    let fp = least_squares(data, &constant, k)?.2;
     if fp - s < acc || nmax == nmin {
         return Ok(constant);
     }
     // One inner knot, at the middle data point.
     let mut t = vec![0.0; 2 * k + 3];
     t[k + 1] = data.x[m.div_ceil(2) - 1];
-    let mut nplus = 1_usize;
-    let mut chosen = t.clone();
-    for _ in 0..m {
-        let n = t.len();
-        t[k] = data.xb;
-        t[n - k - 1] = data.xe;
-        for j in 1..=k {
-            t[k - j] = t[n - k - j - 1] - per;
-            t[n - k + j - 1] = t[k + j] + per;
-        }
-        chosen.clone_from(&t);
-        let fpold = fp;
-        let (_, mut each, total) = least_squares(data, &t, k)?;
-        fp = total;
-        let fpms = fp - s;
-        if fpms.abs() < acc || fpms < 0.0 {
-            return Ok(t);
-        }
-        let delta = fpold - fp;
-        let npl1 = if delta > acc {
-            (nplus as f64 * fpms / delta) as usize
-        } else {
-            nplus * 2
-        };
-        nplus = (nplus * 2).min(npl1.max(nplus / 2).max(1));
-        for j in 0..nplus {
-            // The ends past [xb, xe] are reset at the loop's top only, as SciPy's.
-            t = fitpack::with_new_knot(data.x, &t, k, &each);
-            if t.len() >= nmax {
-                return Ok(interpolation_knots(data.x, k));
+    let rules = fitpack::Rules {
+        s,
+        nest,
+        nmax,
+        least_squares: &|t| least_squares(data, t, k).map(|(_, each, fp)| (each, fp)),
+        // [xb, xe] and the period's shift of the knots inside it past each end.
+        ends: &|t| {
+            let n = t.len();
+            t[k] = data.xb;
+            t[n - k - 1] = data.xe;
+            for j in 1..=k {
+                t[k - j] = t[n - k - j - 1] - per;
+                t[n - k + j - 1] = t[k + j] + per;
             }
-            if t.len() >= nest {
-                return Ok(t);
-            }
-            if j + 1 < nplus {
-                each = least_squares(data, &t, k)?.1;
-            }
-        }
-    }
-    Ok(chosen)
+        },
+        interpolation: &|| interpolation_knots(data.x, k),
+    };
+    let start = fitpack::Search {
+        t,
+        fpold: fp,
+        nplus: 1,
+    };
+    Ok(fitpack::search(data.x, k, &rules, start)?.t)
 }
 
 /// The periodic smoothing spline on the knots t with fp = s (fpperi's part 2).
-fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
+pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
     let d = data.d;
     if t.len() == 2 * (k + 1) {
         let c = least_squares(data, t, k)?.0;
@@ -399,24 +382,10 @@ fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failur
     })
 }
 
-/// The whole periodic fit: knots by the search (or the given t), then the smoothing spline.
-pub(crate) fn fit(
-    data: &Data<'_>,
-    k: usize,
-    s: f64,
-    t: Option<&[f64]>,
-    nest: usize,
-) -> Result<Spline, Failure> {
-    let t = match t {
-        Some(t) => t.to_vec(),
-        None => knots(data, k, s, nest)?,
-    };
-    smooth(data, &t, k, s)
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{Bordered, Data, fit};
+    use super::{Bordered, Data};
+    use crate::fitpack::fit;
 
     /// Rows rotated into the bordered triangle keep the normal matrix: R^T R = A^T A (and
     /// R^T z = A^T y), for rows that do not wrap and rows that do, and the solve gives the
@@ -490,7 +459,7 @@ mod tests {
             xb: 0.0,
             xe: 11.0,
         };
-        let spline = fit(&data, 3, 0.1, None, 18).unwrap();
+        let spline = fit(&data, 3, 0.1, None, 18, true).unwrap();
         assert_eq!(spline.t.len(), 8);
         for c in &spline.c {
             assert!((c - 2.5).abs() < 1e-12, "{c}");
