@@ -253,6 +253,18 @@ pub(crate) struct BasisRows {
 
 impl BasisRows {
     pub(crate) fn new(x: &[f64], t: &[f64], k: usize) -> Self {
+        // The common degrees with k a constant in `build` (its loops unrolled; the same
+        // arithmetic, bit for bit).
+        match k {
+            1 => Self::build(x, t, 1),
+            2 => Self::build(x, t, 2),
+            3 => Self::build(x, t, 3),
+            _ => Self::build(x, t, k),
+        }
+    }
+
+    #[inline(always)]
+    fn build(x: &[f64], t: &[f64], k: usize) -> Self {
         let n = t.len() - k - 1;
         let (mut left, mut right) = (vec![0.0; k + 1], vec![0.0; k + 1]);
         let mut first = Vec::with_capacity(x.len());
