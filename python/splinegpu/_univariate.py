@@ -61,12 +61,9 @@ class UnivariateSpline:
         x, y, w, k, s, xb, xe = _fitpack._validated(x, y, w, k, s, bbox[0], bbox[1], False)
         if len(x) <= k:
             raise ValueError(f"x: m > k must hold, got m = {len(x)} points for k = {k}")
-        try:
-            t, c, ier, self._search = _native.fit_splrep_from(
-                _aligned(x, "x"), _aligned(np.ascontiguousarray(y[:, 0]), "y"),
-                _aligned(w, "w"), xb, xe, k, s, search)
-        except ValueError as e:
-            raise ValueError(str(e)) from None
+        t, c, ier, self._search = _native.fit_splrep_from(
+            _aligned(x, "x"), _aligned(np.ascontiguousarray(y[:, 0]), "y"), _aligned(w, "w"),
+            xb, xe, k, s, search)
         if ier:
             warnings.warn(_fitpack._STOPPED[ier], UserWarning, stacklevel=3)
         self._spline = BSpline.construct_fast(t, c, k, context=self.context)

@@ -473,6 +473,13 @@ pub(crate) fn root_rati(
     Ok(3)
 }
 
+/// FITPACK's default room for knots: interpolation's count (m + 2k periodic, m + k + 1 not),
+/// at least 2k + 3.
+pub(crate) fn default_nest(m: usize, k: usize, periodic: bool) -> usize {
+    let interpolation = if periodic { m + 2 * k } else { m + k + 1 };
+    interpolation.max(2 * k + 3)
+}
+
 /// The whole fit: knots by the search (or the given t), then the smoothing spline; curfit's,
 /// or percur's where `periodic` (`crate::periodic`).
 pub(crate) fn fit(

@@ -2025,9 +2025,7 @@ fn fit_splrep<'py>(
                 let named = |e: &str| e.replace("{i}", &i.to_string());
                 fitpack_input(&one, k, periodic).map_err(named)?;
                 let t = given.as_ref().map(|g| g[i]);
-                // FITPACK's default room for knots: interpolation's, at least 2k + 3.
-                let interpolation = if periodic { x.len() + 2 * k } else { x.len() + k + 1 };
-                let most = nest.unwrap_or(interpolation.max(2 * k + 3));
+                let most = nest.unwrap_or(fitpack::default_nest(x.len(), k, periodic));
                 fitpack::fit(&one, k, s[i], t, most, periodic).map_err(|_| {
                     named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
                 })
@@ -2097,7 +2095,7 @@ fn fit_splrep_from<'py>(
     };
     fitpack_input(&data, k, false).map_err(|e| value_error(e.replace("{i}", "0")))?;
     let from = from.map(|(t, fpold, nplus)| fitpack::Search { t, fpold, nplus });
-    let nest = (x.len() + k + 1).max(2 * k + 3);
+    let nest = fitpack::default_nest(x.len(), k, false);
     let fitted = py.detach(|| {
         let search = fitpack::knots_from(&data, k, s, nest, from.as_ref())?;
         fitpack::smooth(&data, &search.t, k, s).map(|spline| (spline, search))

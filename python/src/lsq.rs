@@ -110,6 +110,29 @@ impl Triangle {
         }
     }
 
+    /// Data row i (its basis values and y, y len(w) rows of m, times w_i) rotated in, `h`
+    /// (k + 1) and `rhs` (m) the scratch for it; returns its residual squared.
+    fn rotate_data_row(
+        &mut self,
+        rows: &BasisRows,
+        i: usize,
+        y: &[f64],
+        w: &[f64],
+        h: &mut [f64],
+        rhs: &mut [f64],
+    ) -> f64 {
+        let m = self.m;
+        let (first, values) = rows.row(i);
+        for (target, v) in h.iter_mut().zip(values) {
+            *target = w[i] * v;
+        }
+        for (target, &v) in rhs.iter_mut().zip(&y[i * m..(i + 1) * m]) {
+            *target = w[i] * v;
+        }
+        self.rotate_in(first, h, rhs);
+        rhs.iter().map(|v| v * v).sum()
+    }
+
     /// A block of p rows that share their first column (`columns`: the block column by
     /// column, p values each, width of them; `rhs`: m columns of p) taken into R and Z by
     /// one Householder reflection a column: for column j (R's row `first` + j), with
@@ -324,20 +347,10 @@ pub(crate) fn triangle(
     width: usize,
 ) -> (Triangle, f64) {
     let mut tri = Triangle::new(columns, width, m);
-    let mut h = vec![0.0; rows.k + 1];
-    let mut rhs = vec![0.0; m];
-    let mut residual = 0.0;
-    for (i, &wi) in w.iter().enumerate() {
-        let (first, values) = rows.row(i);
-        for (target, v) in h.iter_mut().zip(values) {
-            *target = wi * v;
-        }
-        for (target, &v) in rhs.iter_mut().zip(&y[i * m..(i + 1) * m]) {
-            *target = wi * v;
-        }
-        tri.rotate_in(first, &h, &mut rhs);
-        residual += rhs.iter().map(|v| v * v).sum::<f64>();
-    }
+    let (mut h, mut rhs) = (vec![0.0; rows.k + 1], vec![0.0; m]);
+    let residual = (0..w.len())
+        .map(|i| tri.rotate_data_row(rows, i, y, w, &mut h, &mut rhs))
+        .sum();
     (tri, residual)
 }
 
@@ -492,7 +505,7 @@ pub(crate) fn fit(x: &[f64], y: &[f64], m: usize, w: &[f64], t: &[f64], k: usize
     let width = k + 1;
     let mut tri = Triangle::new(t.len() - k - 1, width, m);
     let (mut columns, mut rhs) = (Vec::new(), Vec::new());
-    let mut h = vec![0.0; width];
+    let (mut h, mut row_rhs) = (vec![0.0; width], vec![0.0; m]);
     let mut residual = 0.0;
     let mut start = 0;
     while start < x.len() {
@@ -501,13 +514,7 @@ pub(crate) fn fit(x: &[f64], y: &[f64], m: usize, w: &[f64], t: &[f64], k: usize
         let p = end - start;
         if p < BLOCK {
             for i in start..end {
-                for (target, v) in h.iter_mut().zip(rows.row(i).1) {
-                    *target = w[i] * v;
-                }
-                rhs.clear();
-                rhs.extend(y[i * m..(i + 1) * m].iter().map(|v| w[i] * v));
-                tri.rotate_in(first, &h, &mut rhs);
-                residual += rhs.iter().map(|v| v * v).sum::<f64>();
+                residual += tri.rotate_data_row(&rows, i, y, w, &mut h, &mut row_rhs);
             }
             start = end;
             continue;
