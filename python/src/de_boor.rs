@@ -31,9 +31,24 @@ pub(crate) fn basis(
         .partition_point(|&v| v <= x)
         .saturating_sub(1)
         .clamp(k, n - 1);
+    basis_in(t, k, x, l, nu, values, scratch);
+    l
+}
+
+/// `basis` in the span l that x is known to fall in (t_l <= x < t_{l+1}, or x at the last
+/// span's end).
+pub(crate) fn basis_in(
+    t: &[f64],
+    k: usize,
+    x: f64,
+    l: usize,
+    nu: usize,
+    values: &mut [f64],
+    scratch: &mut [f64],
+) {
     values.fill(0.0);
     if nu > k {
-        return l;
+        return;
     }
     values[0] = 1.0;
     for p in 1..=k {
@@ -59,7 +74,6 @@ pub(crate) fn basis(
         }
         values[..=p].copy_from_slice(&scratch[..=p]);
     }
-    l
 }
 
 /// The spline's Taylor coefficients f^(d)(at) / d! (d = 0..=k, m values each, row-major)

@@ -21,6 +21,7 @@ mod bounded_search;
 mod de_boor;
 mod fitpack;
 mod grid;
+mod lanes;
 mod lsq;
 mod periodic;
 mod pieces;
@@ -1810,69 +1811,55 @@ fn fit_lsq<'py>(
 }
 
 /// Each series' smoothing spline (coefficients (n + 2) x m, row-major) and its columns'
-/// lams: the systems made on every thread, the GCV searches of the columns without a lam in
-/// groups (four interleaved on a thread, `smoothing::gcv_lambdas`), then every column solved.
+/// lams: every (series, column) one job of `smoothing::fit`, the jobs in chunks on every
+/// thread.
 fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed> {
     use rayon::prelude::*;
-    use smoothing::{Column, Scratch, System};
-    let systems: Vec<System> = data
-        .par_iter()
-        .map(|&(x, _, w)| System::new(x, w))
+    use smoothing::{Column, Job};
+    let jobs: Vec<Job<'_>> = data
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &(x, y, w))| {
+            (0..m).map(move |col| Job {
+                x,
+                w,
+                y: Column {
+                    values: y,
+                    stride: m,
+                    offset: col,
+                },
+                lam: Some(given[i * m + col]).filter(|lam| !lam.is_nan()),
+            })
+        })
         .collect();
-    let column = |i: usize, col: usize| Column {
-        values: data[i].1,
-        stride: m,
-        offset: col,
-    };
-    let searched: Vec<(usize, usize)> = (0..data.len())
-        .flat_map(|i| (0..m).map(move |col| (i, col)))
-        .filter(|&(i, col)| given[i * m + col].is_nan())
-        .collect();
-    // Groups small enough to keep every thread busy, large enough to keep four lanes full.
-    let group = searched
+    // Chunks small enough to keep every thread busy, large enough to keep the lanes full.
+    let chunk = jobs
         .len()
         .div_ceil(splinegpu::available_threads() * 8)
         .max(8);
-    let found: Vec<Result<f64, smoothing::Failure>> = searched
-        .par_chunks(group)
-        .flat_map_iter(|chunk| {
-            let columns: Vec<(&System, Column<'_>)> = chunk
-                .iter()
-                .map(|&(i, col)| (&systems[i], column(i, col)))
-                .collect();
-            // Two searches interleaved a thread: 1.35x the throughput of one here; four
-            // spill the lanes' working sets (about 0.4 MB each at 2,048 points) out of L2.
-            let mut scratch: [Scratch; 2] = Default::default();
-            smoothing::gcv_lambdas(&columns, &mut scratch)
-        })
+    let fitted: Vec<Result<smoothing::Fit, smoothing::Failure>> = jobs
+        .par_chunks(chunk)
+        .flat_map_iter(smoothing::fit)
         .collect();
-    let mut lams = given.to_vec();
-    let mut failures = vec![None; data.len()];
-    for (&(i, col), lam) in searched.iter().zip(found) {
-        match lam {
-            Ok(lam) => lams[i * m + col] = lam,
-            Err(e) => failures[i] = failures[i].take().or(Some(e)),
-        }
-    }
-    systems
-        .par_iter()
-        .zip(failures)
-        .enumerate()
-        .map(|(i, (system, failure))| {
-            if let Some(e) = failure {
-                return Err(e);
-            }
-            let mut scratch = system.scratch();
-            let n = data[i].0.len();
+    let mut fitted = fitted.into_iter();
+    data.iter()
+        .map(|&(x, _, _)| {
+            let n = x.len();
             let mut c = vec![0.0; (n + 2) * m];
+            let mut lams = Vec::with_capacity(m);
+            let mut failure = None;
             for col in 0..m {
-                let values =
-                    system.coefficients(lams[i * m + col], column(i, col), &mut scratch)?;
-                for (j, v) in values.into_iter().enumerate() {
-                    c[j * m + col] = v;
+                match fitted.next().expect("a fit a job") {
+                    Ok(fit) => {
+                        for (j, v) in fit.c.into_iter().enumerate() {
+                            c[j * m + col] = v;
+                        }
+                        lams.push(fit.lam);
+                    }
+                    Err(e) => failure = failure.or(Some(e)),
                 }
             }
-            Ok((c, lams[i * m..(i + 1) * m].to_vec()))
+            failure.map_or(Ok((c, lams)), Err)
         })
         .collect()
 }
@@ -2127,24 +2114,14 @@ fn smoothing_gcv(
             "smoothing_gcv: x, y and w must have one length",
         ));
     }
-    let system = smoothing::System::new(x, w);
-    let mut scratch = system.scratch();
     let column = smoothing::Column {
         values: y,
         stride: 1,
         offset: 0,
     };
-    lams.iter()
-        .map(|&lam| {
-            let mut lanes = [smoothing::Lane {
-                system: &system,
-                y: column,
-                lam,
-                scratch: &mut scratch,
-            }];
-            let [value] = smoothing::gcv(&mut lanes);
-            value.map_err(|e| value_error(format!("{e:?}")))
-        })
+    smoothing::criterion(x, w, column, &lams)
+        .into_iter()
+        .map(|value| value.map_err(|e| value_error(format!("{e:?}"))))
         .collect()
 }
 

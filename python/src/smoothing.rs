@@ -24,45 +24,23 @@
 //!
 //! Everything is O(n) a lam; a series' matrices are made once for every lam and column.
 
-/// LAPACK's banded layout of an n x n matrix with two bands each side: `band[r][j]` =
-/// A[j + r - 2, j] (r = 2 the diagonal).
-type Bands5 = [Vec<f64>; 5];
+mod group;
 
-/// One series' matrices, made once for any lam and any column of y.
-pub(crate) struct System {
-    n: usize,
-    /// x, for the conversion to B-spline coefficients.
-    x: Vec<f64>,
-    /// The rows of X and W^-1 E (6 E): `[i][s]` = A[i, i + s - 2], zero outside the matrix.
-    design: Vec<[f64; 5]>,
-    penalty: Vec<[f64; 5]>,
-    /// The upper bands of X^T W X and X^T E by rows: `[i][d]` = (i, i + d), d = 0..=3.
-    xtwx: Vec<[f64; 4]>,
-    xte: Vec<[f64; 4]>,
-}
+use crate::bounded_search::{Search, Step};
+use crate::lanes::{Isa, Lanes, Vector, WIDTH};
+use group::{Evaluation, Group};
 
-/// Working vectors reused across lam and series.
-#[derive(Default)]
-pub(crate) struct Scratch {
-    /// The LU's upper rows: row i's columns i + 1 .. i + 4 (the band and the fill of
-    /// pivoting), then 1 / U_ii.
-    lu: Vec<[f64; 5]>,
-    /// The solution, c_i at [i + 2], with two zeros before and four after.
-    c: Vec<f64>,
-    /// The Cholesky factor's rows divided by their diagonals, the diagonal's place holding
-    /// D_i = 1 / U_ii^2.
-    unit: Vec<[f64; 4]>,
-}
-
-impl Scratch {
-    /// Room for a system of n rows.
-    pub(crate) fn fit(&mut self, n: usize) {
-        if self.lu.len() < n {
-            self.lu.resize(n, [0.0; 5]);
-            self.c.resize(n + 6, 0.0);
-            self.unit.resize(n, [0.0; 4]);
-        }
-    }
+/// Row i of one series' matrices (zero outside the matrix), made once for any lam and any
+/// column of y.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct SeriesRow {
+    /// X[i, i - 1 ..= i + 1]: at its own x only three B-splines are not zero.
+    design: [f64; 3],
+    /// (W^-1 E)[i, i - 2 ..= i + 2] (6 E).
+    penalty: [f64; 5],
+    /// (X^T W X)[i, i ..= i + 3] and (X^T E)[i, i ..= i + 3]: the upper bands.
+    gram: [f64; 4],
+    rough: [f64; 4],
 }
 
 /// Why a smoothing spline could not be made.
@@ -89,166 +67,119 @@ fn divided_difference(x: &[f64]) -> [f64; 5] {
     out
 }
 
-impl System {
-    /// The matrices of x (n >= 5, strictly increasing) and positive weights w;
-    /// `basis(x_i)` gives the cubic B-splines of the knots [x_0] * 3 + x + [x_last] * 3 at
-    /// x_i as (first index, 4 values).
-    pub(crate) fn new(x: &[f64], w: &[f64]) -> Self {
-        let n = x.len();
-        let t: Vec<f64> = [x[0]; 3]
-            .iter()
-            .chain(x)
-            .chain(&[x[n - 1]; 3])
-            .copied()
-            .collect();
-        // B_j(x_i), read as SciPy's design matrix entries Xb[i, j].
-        let mut rows = vec![(0_usize, [0.0_f64; 4]); n];
-        let (mut values, mut scratch) = ([0.0; 4], [0.0; 4]);
-        for (i, &xi) in x.iter().enumerate() {
-            let l = crate::de_boor::basis(&t, 3, xi, 0, &mut values, &mut scratch);
-            rows[i] = (l - 3, values);
-        }
-        let xb = |i: usize, j: usize| {
-            let (first, v) = rows[i];
-            if j >= first && j < first + 4 {
-                v[j - first]
-            } else {
-                0.0
-            }
-        };
-        let mut design: Bands5 = std::array::from_fn(|_| vec![0.0; n]);
-        // A[i, j] into band 2 + i - j of column j.
-        let set = |bands: &mut Bands5, i: usize, j: usize, v: f64| bands[2 + i - j][j] = v;
-        for j in 2..n - 2 {
-            for i in j - 1..=j + 1 {
-                set(&mut design, i, j, xb(i, j + 1));
-            }
-        }
-        set(&mut design, 0, 0, (x[2] + x[1] - 2.0 * x[0]) * xb(0, 0));
-        set(&mut design, 1, 0, (x[2] - x[0]) * xb(1, 1));
-        set(&mut design, 0, 1, xb(0, 0));
-        set(&mut design, 1, 1, xb(1, 1) + xb(1, 2));
-        set(&mut design, 2, 1, xb(2, 2));
-        let last = n - 1;
-        set(&mut design, last - 2, last - 1, xb(last - 2, last));
-        set(
-            &mut design,
-            last - 1,
-            last,
-            (x[last] - x[last - 2]) * xb(last - 1, last + 1),
-        );
-        set(
-            &mut design,
-            last - 1,
-            last - 1,
-            xb(last - 1, last) + xb(last - 1, last + 1),
-        );
-        set(
-            &mut design,
-            last,
-            last,
-            (2.0 * x[last] - x[last - 1] - x[last - 2]) * xb(last, last + 2),
-        );
-        set(&mut design, last, last - 1, xb(last, last + 2));
-        let mut penalty: Bands5 = std::array::from_fn(|_| vec![0.0; n]);
-        let mut column = |j: usize, rows: std::ops::Range<usize>, scale: f64| {
-            let dd = divided_difference(&x[rows.clone()]);
-            for (r, i) in rows.enumerate() {
-                set(&mut penalty, i, j, 6.0 * scale * dd[r] / w[i]);
-            }
-        };
-        column(0, 0..3, 1.0);
-        column(1, 0..4, 1.0);
-        for j in 2..n - 2 {
-            column(j, j - 2..j + 3, x[j + 2] - x[j - 2]);
-        }
-        column(last - 1, n - 4..n, -1.0);
-        column(last, n - 3..n, 1.0);
-        let xtwx = symmetric_product(&design, w, &design);
-        let xte = symmetric_product(&design, w, &penalty);
-        let rows = |bands: &Bands5| -> Vec<[f64; 5]> {
-            (0..n)
-                .map(|i| {
-                    std::array::from_fn(|s| match (i + s).checked_sub(2) {
-                        Some(j) if j < n => bands[4 - s][j],
-                        _ => 0.0,
-                    })
-                })
-                .collect()
-        };
-        let by_row = |bands: [Vec<f64>; 4]| -> Vec<[f64; 4]> {
-            (0..n)
-                .map(|i| std::array::from_fn(|d| bands[d][i]))
-                .collect()
-        };
-        Self {
-            n,
-            x: x.to_vec(),
-            design: rows(&design),
-            penalty: rows(&penalty),
-            xtwx: by_row(xtwx),
-            xte: by_row(xte),
-        }
-    }
-
-    /// Working vectors for this system's size.
-    pub(crate) fn scratch(&self) -> Scratch {
-        let mut s = Scratch::default();
-        s.fit(self.n);
-        s
-    }
-
-    /// Row i of X + lam W^-1 E in a 7-slot window (slot q: column i + q - 2) and y_i; zeros
-    /// past the last row.
-    #[inline(always)]
-    fn fresh(&self, lam: f64, y: Column<'_>, i: usize) -> ([f64; 7], f64) {
-        if i >= self.n {
-            return ([0.0; 7], 0.0);
-        }
-        let (d, p) = (&self.design[i], &self.penalty[i]);
-        let mut row = [0.0; 7];
-        for q in 0..5 {
-            row[q] = d[q] + lam * p[q];
-        }
-        (row, y.get(i))
-    }
-
-    /// (X + lam W^-1 E) c = y into `s.c` (see `Solve`).
-    fn solve(&self, lam: f64, y: Column<'_>, s: &mut Scratch) -> Result<(), Failure> {
-        let mut lane = Solve::start(self, lam, y);
-        for j in 0..self.n {
-            lane.eliminate(self, lam, y, j, s)?;
-        }
-        let mut back = [0.0; 4];
-        for i in (0..self.n).rev() {
-            back_substitute(&mut back, i, s);
-        }
-        Ok(())
-    }
-
-    /// The smoothing spline of column y for lam, as its n + 2 B-spline coefficients on the
-    /// knots t = [x_0] * 3 + x + [x_last] * 3: the natural basis' c taken back (SciPy's
-    /// (2.2.10)): the first two from c_0 and c_1, the last two from c_{n-1} and c_{n-2}.
-    pub(crate) fn coefficients(
-        &self,
-        lam: f64,
-        y: Column<'_>,
-        s: &mut Scratch,
-    ) -> Result<Vec<f64>, Failure> {
-        self.solve(lam, y, s)?;
-        let (x, n) = (&self.x, self.n);
-        let c = &s.c[2..n + 2];
-        let mut out = Vec::with_capacity(n + 2);
-        out.push(c[0] * (x[2] + x[1] - 2.0 * x[0]) + c[1]);
-        out.push(c[0] * (x[2] - x[0]) + c[1]);
-        out.extend_from_slice(&c[1..n - 1]);
-        out.push(c[n - 1] * (x[n - 1] - x[n - 3]) + c[n - 2]);
-        out.push(c[n - 1] * (2.0 * x[n - 1] - x[n - 2] - x[n - 3]) + c[n - 2]);
-        if out.iter().all(|v| v.is_finite()) {
-            Ok(out)
+/// The rows of the matrices of x (n >= 5, strictly increasing) and positive weights w, into
+/// `rows` (resized to n); `basis(x_i)` gives the cubic B-splines of the knots
+/// [x_0] * 3 + x + [x_last] * 3 at x_i as (first index, 4 values).
+fn series_rows(x: &[f64], w: &[f64], rows: &mut Vec<SeriesRow>) {
+    let n = x.len();
+    rows.clear();
+    rows.resize(n, SeriesRow::default());
+    let t: Vec<f64> = [x[0]; 3]
+        .iter()
+        .chain(x)
+        .chain(&[x[n - 1]; 3])
+        .copied()
+        .collect();
+    // B_j(x_i), read as SciPy's design matrix entries Xb[i, j]: x_i = t_{i+3} starts span
+    // i + 3, and the last x ends span n + 1.
+    let (mut values, mut scratch) = ([0.0; 4], [0.0; 4]);
+    let splines: Vec<(usize, [f64; 4])> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &xi)| {
+            let l = (i + 3).min(n + 1);
+            crate::de_boor::basis_in(&t, 3, xi, l, 0, &mut values, &mut scratch);
+            (l - 3, values)
+        })
+        .collect();
+    let xb = |i: usize, j: usize| {
+        let (first, v) = splines[i];
+        if j >= first && j < first + 4 {
+            v[j - first]
         } else {
-            Err(Failure::IllPosed)
+            0.0
         }
+    };
+    // X[i, j], |i - j| <= 1: the natural basis is B_{j+1} inside, combinations at the ends.
+    let set = |rows: &mut Vec<SeriesRow>, i: usize, j: usize, v: f64| {
+        rows[i].design[j + 1 - i] = v;
+    };
+    for (i, row) in rows.iter_mut().enumerate() {
+        for (s, slot) in row.design.iter_mut().enumerate() {
+            match (i + s).checked_sub(1) {
+                Some(j) if (2..n - 2).contains(&j) => *slot = xb(i, j + 1),
+                _ => {}
+            }
+        }
+    }
+    set(rows, 0, 0, (x[2] + x[1] - 2.0 * x[0]) * xb(0, 0));
+    set(rows, 1, 0, (x[2] - x[0]) * xb(1, 1));
+    set(rows, 0, 1, xb(0, 0));
+    set(rows, 1, 1, xb(1, 1) + xb(1, 2));
+    set(rows, 2, 1, xb(2, 2));
+    let last = n - 1;
+    set(rows, last - 2, last - 1, xb(last - 2, last));
+    set(
+        rows,
+        last - 1,
+        last,
+        (x[last] - x[last - 2]) * xb(last - 1, last + 1),
+    );
+    set(
+        rows,
+        last - 1,
+        last - 1,
+        xb(last - 1, last) + xb(last - 1, last + 1),
+    );
+    set(
+        rows,
+        last,
+        last,
+        (2.0 * x[last] - x[last - 1] - x[last - 2]) * xb(last, last + 2),
+    );
+    set(rows, last, last - 1, xb(last, last + 2));
+    // Column j of W^-1 E: 6 scale w_i^-1 times the divided difference's coefficients on rows.
+    let mut column = |j: usize, on: std::ops::Range<usize>, scale: f64| {
+        let dd = divided_difference(&x[on.clone()]);
+        for (r, i) in on.enumerate() {
+            rows[i].penalty[j + 2 - i] = 6.0 * scale * dd[r] / w[i];
+        }
+    };
+    column(0, 0..3, 1.0);
+    column(1, 0..4, 1.0);
+    for j in 2..n - 2 {
+        column(j, j - 2..j + 3, x[j + 2] - x[j - 2]);
+    }
+    column(last - 1, n - 4..n, -1.0);
+    column(last, n - 3..n, 1.0);
+    // (X^T W Y)[i, j] = sum over the rows r both columns touch of X[r, i] w_r Y[r, j]
+    // (X[r, i] is zero unless |r - i| <= 1, Y[r, j] unless |r - j| <= 1 or 2).
+    let bands: Vec<([f64; 4], [f64; 4])> = (0..n)
+        .map(|i| {
+            let mut gram = [0.0; 4];
+            let mut rough = [0.0; 4];
+            for d in 0..4 {
+                let j = i + d;
+                if j >= n {
+                    break;
+                }
+                let (mut g, mut e) = (0.0, 0.0);
+                for r in j.saturating_sub(2).max(i.saturating_sub(1))..(i + 2).min(n) {
+                    let xw = rows[r].design[i + 1 - r] * w[r];
+                    if j + 1 >= r && j <= r + 1 {
+                        g += xw * rows[r].design[j + 1 - r];
+                    }
+                    e += xw * rows[r].penalty[j + 2 - r];
+                }
+                gram[d] = g;
+                rough[d] = e;
+            }
+            (gram, rough)
+        })
+        .collect();
+    for (row, (gram, rough)) in rows.iter_mut().zip(bands) {
+        row.gram = gram;
+        row.rough = rough;
     }
 }
 
@@ -261,328 +192,223 @@ pub(crate) struct Column<'a> {
 }
 
 impl Column<'_> {
-    #[inline(always)]
     fn get(&self, i: usize) -> f64 {
         self.values[i * self.stride + self.offset]
     }
 }
 
-/// The forward elimination of (X + lam W^-1 E) c = y, one column a step: Gaussian elimination
-/// with partial pivoting in the band (the largest of the pivot's own row and the two below
-/// it, the first on ties, the multipliers by the pivot's reciprocal, as LAPACK's gbtf2; a swap
-/// widens a row to four columns right of its diagonal). The three rows in play are kept here
-/// (in registers), row r's slot q holding column r + q - 2; each finished row is stored once
-/// in the scratch (its columns r + 1 .. r + 4, then 1 / U_rr) with its right-hand side.
-struct Solve {
-    rows: [[f64; 7]; 3],
-    rhs: [f64; 3],
-}
-
-impl Solve {
-    #[inline(always)]
-    fn start(system: &System, lam: f64, y: Column<'_>) -> Self {
-        let (a, b, c) = (
-            system.fresh(lam, y, 0),
-            system.fresh(lam, y, 1),
-            system.fresh(lam, y, 2),
-        );
-        Self {
-            rows: [a.0, b.0, c.0],
-            rhs: [a.1, b.1, c.1],
-        }
-    }
-
-    #[inline(always)]
-    fn eliminate(
-        &mut self,
-        system: &System,
-        lam: f64,
-        y: Column<'_>,
-        j: usize,
-        s: &mut Scratch,
-    ) -> Result<(), Failure> {
-        let [r0, r1, r2] = &mut self.rows;
-        let [c0, c1, c2] = &mut self.rhs;
-        let (a0, a1, a2) = (r0[2].abs(), r1[1].abs(), r2[0].abs());
-        let largest = a0.max(a1).max(a2);
-        if !(largest > 0.0 && largest.is_finite()) {
-            return Err(Failure::IllPosed);
-        }
-        if a1 > a0 && a1 >= a2 {
-            // Columns j .. j + 4: slot q + 2 of row j, q + 1 of row j + 1.
-            for q in 0..5 {
-                std::mem::swap(&mut r0[q + 2], &mut r1[q + 1]);
-            }
-            std::mem::swap(c0, c1);
-        } else if a2 > a0 && a2 > a1 {
-            for q in 0..5 {
-                std::mem::swap(&mut r0[q + 2], &mut r2[q]);
-            }
-            std::mem::swap(c0, c2);
-        }
-        let inverse = 1.0 / r0[2];
-        let (f1, f2) = (r1[1] * inverse, r2[0] * inverse);
-        r1[1] = 0.0;
-        r2[0] = 0.0;
-        for q in 1..5 {
-            r1[1 + q] -= f1 * r0[2 + q];
-            r2[q] -= f2 * r0[2 + q];
-        }
-        *c1 -= f1 * *c0;
-        *c2 -= f2 * *c0;
-        s.lu[j] = [r0[3], r0[4], r0[5], r0[6], inverse];
-        s.c[j + 2] = *c0;
-        let (next, value) = system.fresh(lam, y, j + 3);
-        self.rows = [self.rows[1], self.rows[2], next];
-        self.rhs = [self.rhs[1], self.rhs[2], value];
-        Ok(())
-    }
-}
-
-/// Back substitution's step for row i (from the last up), the four values after it carried.
-#[inline(always)]
-fn back_substitute(after: &mut [f64; 4], i: usize, s: &mut Scratch) {
-    let u = &s.lu[i];
-    let v =
-        (s.c[i + 2] - u[0] * after[0] - u[1] * after[1] - u[2] * after[2] - u[3] * after[3]) * u[4];
-    s.c[i + 2] = v;
-    *after = [v, after[0], after[1], after[2]];
-}
-
-/// (lam (W^-1 E c)_i)^2: row i of W^-1 E touches c_{i-2} .. c_{i+2}.
-#[inline(always)]
-fn residual_squared(system: &System, lam: f64, i: usize, s: &Scratch) -> f64 {
-    let (p, window) = (&system.penalty[i], &s.c[i..i + 5]);
-    let r = lam
-        * (p[0] * window[0]
-            + p[1] * window[1]
-            + p[2] * window[2]
-            + p[3] * window[3]
-            + p[4] * window[4]);
-    r * r
-}
-
-/// Row i's step of X^T W X + lam X^T E = U^T U (upper, bandwidth 3), computed as Ũ^T P Ũ
-/// with Ũ = U's rows over their diagonals and P_i = U_ii^2 (no square roots, one division a
-/// row), the three rows above carried as [P_k, Ũ_{k,k+1..k+3}]; row i stored in the scratch
-/// as [1 / P_i, Ũ_{i,i+1..i+3}].
-#[inline(always)]
-fn cholesky_step(
-    system: &System,
-    lam: f64,
-    above: &mut [[f64; 4]; 3],
-    i: usize,
-    s: &mut Scratch,
-) -> Result<(), Failure> {
-    let (g, e) = (&system.xtwx[i], &system.xte[i]);
-    let a: [f64; 4] = std::array::from_fn(|d| g[d] + lam * e[d]);
-    let [p1, p2, p3] = &*above;
-    // U_{k,i} U_{k,l} = P_k Ũ_{k,i} Ũ_{k,l}.
-    let (s1, s2, s3) = (p1[0] * p1[1], p2[0] * p2[2], p3[0] * p3[3]);
-    let diagonal = a[0] - s1 * p1[1] - s2 * p2[2] - s3 * p3[3];
-    if !(diagonal > 0.0 && diagonal.is_finite()) {
-        return Err(Failure::IllPosed);
-    }
-    let inverse = 1.0 / diagonal;
-    let row = [
-        diagonal,
-        (a[1] - s1 * p1[2] - s2 * p2[3]) * inverse,
-        (a[2] - s1 * p1[3]) * inverse,
-        a[3] * inverse,
-    ];
-    s.unit[i] = [inverse, row[1], row[2], row[3]];
-    *above = [row, above[0], above[1]];
-    Ok(())
-}
-
-/// Row i's step (from the last up) of B = (U^T U)^-1's bands by Hutchinson and de Hoog's
-/// recurrence, carrying [B_{i+1,i+1..i+3}, B_{i+2,i+2..i+3}, B_{i+3,i+3}] (zero past the
-/// matrix, as U is); returns row i's part of tr(B X^T W X), which leaves out B's third band
-/// as SciPy's does.
-#[inline(always)]
-fn inverse_step(system: &System, carried: &mut [f64; 6], i: usize, s: &Scratch) -> f64 {
-    let (u, g) = (&s.unit[i], &system.xtwx[i]);
-    let [b11, b12, b13, b22, b23, b33] = *carried;
-    let b03 = -(u[1] * b13 + u[2] * b23 + u[3] * b33);
-    let b02 = -(u[1] * b12 + u[2] * b22 + u[3] * b23);
-    let b01 = -(u[1] * b11 + u[2] * b12 + u[3] * b13);
-    let b00 = u[0] - (u[1] * b01 + u[2] * b02 + u[3] * b03);
-    *carried = [b00, b01, b02, b11, b12, b22];
-    b00 * g[0] + 2.0 * (b01 * g[1] + b02 * g[2])
-}
-
-/// One GCV evaluation in flight: a series' system, its column, the lam and the scratch.
-pub(crate) struct Lane<'a> {
-    pub system: &'a System,
+/// One smoothing spline to make: a series (x strictly increasing, n >= 5; w positive), one
+/// column of its y, and its lam (None: the lam of least GCV).
+#[derive(Clone, Copy)]
+pub(crate) struct Job<'a> {
+    pub x: &'a [f64],
+    pub w: &'a [f64],
     pub y: Column<'a>,
+    pub lam: Option<f64>,
+}
+
+/// A smoothing spline: its n + 2 B-spline coefficients on the knots
+/// t = [x_0] * 3 + x + [x_last] * 3, and its lam.
+pub(crate) struct Fit {
+    pub c: Vec<f64>,
     pub lam: f64,
-    pub scratch: &'a mut Scratch,
 }
 
-/// GCV(lam) of every lane,
-///     GCV(lam) = (|lam W^-1 E c|^2 / n) / (1 - tr(A) / n)^2,
-/// with the lanes' steps interleaved row by row: each lane's elimination, factorisation and
-/// recurrence is one chain of dependent divisions, and independent chains in one loop let the
-/// processor overlap them (while the lanes' rows stay in cache).
-pub(crate) fn gcv<const L: usize>(lanes: &mut [Lane<'_>; L]) -> [Result<f64, Failure>; L] {
-    let n: [usize; L] = std::array::from_fn(|l| lanes[l].system.n);
-    for lane in lanes.iter_mut() {
-        lane.scratch.fit(lane.system.n);
+/// Every job's spline, on this thread, the jobs evaluated side by side (`Group`: four lanes,
+/// compiled for the widest vectors this CPU has). GCV's lam is searched on (0, n) by the
+/// bounded Brent method of SciPy's `minimize_scalar(bounds=(0, n), method="bounded")`, each
+/// job's search on its own; a finished job's lane goes to the next. The jobs are taken
+/// shortest first, so that lanes side by side have about one length.
+pub(crate) fn fit(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
+    // The unsafe calls of the extension: a function compiled for an instruction set may only
+    // be called where the CPU has it.
+    #[allow(
+        unsafe_code,
+        reason = "a function compiled for an instruction set is called only where the CPU has it"
+    )]
+    match Isa::widest() {
+        Isa::Baseline => fit_side_by_side::<Lanes>(jobs),
+        // SAFETY: `Isa::widest` names AVX2 only where the CPU has it.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { fit_avx2(jobs) },
+        // SAFETY: and AVX-512 (F and VL) only where it has those.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { fit_avx512(jobs) },
     }
-    let longest = n.iter().copied().max().unwrap_or(0);
-    let mut failed: [Option<Failure>; L] = std::array::from_fn(|_| None);
-    let mut solve: [Solve; L] =
-        std::array::from_fn(|l| Solve::start(lanes[l].system, lanes[l].lam, lanes[l].y));
-    for j in 0..longest {
-        for l in 0..L {
-            let lane = &mut lanes[l];
-            if j < n[l]
-                && failed[l].is_none()
-                && let Err(e) = solve[l].eliminate(lane.system, lane.lam, lane.y, j, lane.scratch)
-            {
-                failed[l] = Some(e);
-            }
-        }
-    }
-    let mut back = [[0.0; 4]; L];
-    for step in 0..longest {
-        for l in 0..L {
-            if step < n[l] && failed[l].is_none() {
-                back_substitute(&mut back[l], n[l] - 1 - step, lanes[l].scratch);
-            }
-        }
-    }
-    let mut numerator = [0.0; L];
-    let mut above = [[[0.0; 4]; 3]; L];
-    for i in 0..longest {
-        for l in 0..L {
-            let lane = &mut lanes[l];
-            if i < n[l] && failed[l].is_none() {
-                numerator[l] += residual_squared(lane.system, lane.lam, i, lane.scratch);
-                if let Err(e) = cholesky_step(lane.system, lane.lam, &mut above[l], i, lane.scratch)
-                {
-                    failed[l] = Some(e);
-                }
-            }
-        }
-    }
-    let mut carried = [[0.0; 6]; L];
-    let mut trace = [0.0; L];
-    for step in 0..longest {
-        for l in 0..L {
-            if step < n[l] && failed[l].is_none() {
-                let lane = &lanes[l];
-                trace[l] +=
-                    inverse_step(lane.system, &mut carried[l], n[l] - 1 - step, lane.scratch);
-            }
-        }
-    }
-    std::array::from_fn(|l| match failed[l].take() {
-        Some(e) => Err(e),
-        None => {
-            let size = n[l] as f64;
-            let denominator = 1.0 - trace[l] / size;
-            Ok(numerator[l] / size / (denominator * denominator))
-        }
-    })
 }
 
-/// Each column's lam of least GCV on (0, n), as SciPy's `minimize_scalar(bounds=(0, n),
-/// method="bounded")` finds it, L searches at a time (`gcv`'s lanes): each search steps on
-/// its own and a finished one gives its lane to the next column.
-pub(crate) fn gcv_lambdas<const L: usize>(
-    columns: &[(&System, Column<'_>)],
-    scratch: &mut [Scratch; L],
-) -> Vec<Result<f64, Failure>> {
-    use crate::bounded_search::{Search, Step};
-    let mut results: Vec<Option<Result<f64, Failure>>> = columns.iter().map(|_| None).collect();
-    // Each lane: (column index, its search, the lam to evaluate next).
-    let mut slots: [Option<(usize, Search, f64)>; L] = std::array::from_fn(|_| None);
-    let mut next = 0;
+/// `fit` with AVX2 enabled; the evaluation is inlined into it, so all of it is compiled with
+/// the wider vectors.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn fit_avx2(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
+    fit_side_by_side::<crate::lanes::Avx2>(jobs)
+}
+
+/// `fit_avx2` with AVX-512's 32 vector registers (the same four-lane vectors): an
+/// evaluation's row holds about 30 vectors at once, which 16 registers spill to the stack
+/// (0.63x the time of `fit_avx2` here).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+fn fit_avx512(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
+    fit_side_by_side::<crate::lanes::Avx2>(jobs)
+}
+
+/// Where a job in a lane stands.
+enum Phase {
+    /// GCV's search, which asks for this lam next.
+    Search(Search, f64),
+    /// The coefficients at the lam chosen.
+    Solve(f64),
+}
+
+#[inline(always)]
+fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
+    let capacity = jobs.iter().map(|j| j.x.len()).max().unwrap_or(0);
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&i| jobs[i].x.len());
+    let mut queue = order.into_iter();
+    let mut results: Vec<Option<Result<Fit, Failure>>> = jobs.iter().map(|_| None).collect();
+    let mut group = Group::new(capacity);
+    let mut rows = Vec::with_capacity(capacity);
+    let mut lanes: [Option<(usize, Phase)>; WIDTH] = std::array::from_fn(|_| None);
     loop {
-        for slot in &mut slots {
-            if slot.is_none() && next < columns.len() {
-                let (search, x) = Search::new(0.0, columns[next].0.n as f64);
-                *slot = Some((next, search, x));
-                next += 1;
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            if lane.is_some() {
+                continue;
+            }
+            if let Some(i) = queue.next() {
+                let job = jobs[i];
+                series_rows(job.x, job.w, &mut rows);
+                group.load(l, &rows, |r| job.y.get(r));
+                let phase = match job.lam {
+                    Some(lam) => Phase::Solve(lam),
+                    None => {
+                        let (search, lam) = Search::new(0.0, job.x.len() as f64);
+                        Phase::Search(search, lam)
+                    }
+                };
+                *lane = Some((i, phase));
+            } else if group.lengths()[l] > 0 {
+                group.clear(l);
             }
         }
-        if slots.iter().all(Option::is_none) {
+        if lanes.iter().all(Option::is_none) {
             break;
         }
-        // Idle lanes evaluate the first busy lane's column again (their result unread).
-        let busy = slots.iter().flatten().next().map_or(0, |s| s.0);
-        let mut lanes: [Lane<'_>; L] = {
-            let mut it = scratch.iter_mut();
-            std::array::from_fn(|l| {
-                let (column, lam) = slots[l].as_ref().map_or((busy, 1.0), |s| (s.0, s.2));
-                Lane {
-                    system: columns[column].0,
-                    y: columns[column].1,
-                    lam,
-                    scratch: it.next().expect("a scratch a lane"),
-                }
-            })
-        };
-        let values = gcv(&mut lanes);
-        for (slot, value) in slots.iter_mut().zip(values) {
-            let Some((column, search, x)) = slot else {
+        let lam = Lanes(std::array::from_fn(|l| match &lanes[l] {
+            Some((_, Phase::Search(_, lam) | Phase::Solve(lam))) => *lam,
+            None => 1.0,
+        }));
+        let evaluation = group.evaluate::<V>(lam);
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            let Some((i, phase)) = lane else {
                 continue;
             };
-            let step = match value {
-                Ok(fx) => search.tell(fx),
-                Err(e) => Step::Done(Err(e)),
+            let done = match phase {
+                Phase::Search(search, lam) => match gcv(&evaluation, l, group.lengths()[l]) {
+                    Err(e) => Some(Err(e)),
+                    Ok(value) => match search.tell(value) {
+                        Step::Evaluate(next) => {
+                            *lam = next;
+                            None
+                        }
+                        Step::Done(Ok(chosen)) => {
+                            *phase = Phase::Solve(chosen);
+                            None
+                        }
+                        Step::Done(Err(e)) => Some(Err(e)),
+                    },
+                },
+                Phase::Solve(lam) => Some(if evaluation.solved[l] {
+                    bspline_coefficients(jobs[*i].x, &group.solution(l))
+                        .map(|c| Fit { c, lam: *lam })
+                } else {
+                    Err(Failure::IllPosed)
+                }),
             };
-            match step {
-                Step::Evaluate(lam) => *x = lam,
-                Step::Done(result) => {
-                    results[*column] = Some(result);
-                    *slot = None;
-                }
+            if let Some(result) = done {
+                results[*i] = Some(result);
+                *lane = None;
             }
         }
     }
     results
         .into_iter()
-        .map(|r| r.expect("every column searched"))
+        .map(|r| r.expect("every job fitted"))
         .collect()
 }
 
-/// The upper bands (i, i + d), d = 0..=3, of X^T W Y for 5-banded X and Y (symmetric by
-/// construction): sum over the rows r both columns touch of X_ri w_r Y_r,i+d.
-fn symmetric_product(a: &Bands5, w: &[f64], b: &Bands5) -> [Vec<f64>; 4] {
-    let n = w.len();
-    let entry = |m: &Bands5, r: usize, j: usize| {
-        if r + 2 >= j && r <= j + 2 {
-            m[2 + r - j][j]
-        } else {
-            0.0
-        }
-    };
-    std::array::from_fn(|d| {
-        (0..n)
-            .map(|i| {
-                let j = i + d;
-                if j >= n {
-                    return 0.0;
-                }
-                (j.saturating_sub(2)..(i + 3).min(n))
-                    .map(|r| entry(a, r, i) * w[r] * entry(b, r, j))
-                    .sum()
-            })
-            .collect()
-    })
+/// Lane l's GCV(lam) = (|lam W^-1 E c|^2 / n) / (1 - tr(A) / n)^2.
+fn gcv(e: &Evaluation, l: usize, n: usize) -> Result<f64, Failure> {
+    if !(e.solved[l] && e.factored[l]) || e.residual[l].is_nan() || e.trace[l].is_nan() {
+        // A NaN pivot passes the pivots' check and reaches the sums.
+        return Err(Failure::IllPosed);
+    }
+    let size = n as f64;
+    let denominator = 1.0 - e.trace[l] / size;
+    Ok(e.residual[l] / size / (denominator * denominator))
+}
+
+/// GCV(lam) of one series at each lam: the criterion `fit` minimises (each lane the series at
+/// its own lam).
+pub(crate) fn criterion(
+    x: &[f64],
+    w: &[f64],
+    y: Column<'_>,
+    lams: &[f64],
+) -> Vec<Result<f64, Failure>> {
+    let mut group = Group::new(x.len());
+    let mut rows = Vec::new();
+    series_rows(x, w, &mut rows);
+    for l in 0..WIDTH {
+        group.load(l, &rows, |r| y.get(r));
+    }
+    lams.chunks(WIDTH)
+        .flat_map(|chunk| {
+            let lam = Lanes(std::array::from_fn(|l| {
+                chunk.get(l).copied().unwrap_or(1.0)
+            }));
+            let evaluation = group.evaluate::<Lanes>(lam);
+            (0..chunk.len())
+                .map(|l| gcv(&evaluation, l, x.len()))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// The natural basis' c as the spline's n + 2 B-spline coefficients on the knots
+/// t = [x_0] * 3 + x + [x_last] * 3 (SciPy's (2.2.10)): the first two from c_0 and c_1, the
+/// last two from c_{n-1} and c_{n-2}.
+fn bspline_coefficients(x: &[f64], c: &[f64]) -> Result<Vec<f64>, Failure> {
+    let n = x.len();
+    let mut out = Vec::with_capacity(n + 2);
+    out.push(c[0] * (x[2] + x[1] - 2.0 * x[0]) + c[1]);
+    out.push(c[0] * (x[2] - x[0]) + c[1]);
+    out.extend_from_slice(&c[1..n - 1]);
+    out.push(c[n - 1] * (x[n - 1] - x[n - 3]) + c[n - 2]);
+    out.push(c[n - 1] * (2.0 * x[n - 1] - x[n - 2] - x[n - 3]) + c[n - 2]);
+    if out.iter().all(|v| v.is_finite()) {
+        Ok(out)
+    } else {
+        Err(Failure::IllPosed)
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{Column, System};
+    use super::{Column, Job, fit};
 
-    fn column(values: &[f64]) -> Column<'_> {
-        Column {
-            values,
-            stride: 1,
-            offset: 0,
+    fn job<'a>(x: &'a [f64], w: &'a [f64], y: &'a [f64], lam: f64) -> Job<'a> {
+        Job {
+            x,
+            w,
+            y: Column {
+                values: y,
+                stride: 1,
+                offset: 0,
+            },
+            lam: Some(lam),
         }
     }
 
@@ -593,17 +419,15 @@ mod tests {
         let x = [0.0, 1.0, 1.5, 3.0, 4.0, 7.0];
         let y: Vec<f64> = x.iter().map(|v| 2.0 * v - 1.0).collect();
         let w = [1.0, 2.0, 0.5, 1.0, 3.0, 1.0];
-        let system = System::new(&x, &w);
-        let mut s = system.scratch();
         let t: Vec<f64> = [0.0; 3]
             .iter()
             .chain(&x)
             .chain(&[7.0; 3])
             .copied()
             .collect();
-        for lam in [0.0, 0.1, 1e3] {
-            let c = system.coefficients(lam, column(&y), &mut s).unwrap();
-            for (j, cj) in c.iter().enumerate() {
+        let jobs: Vec<Job<'_>> = [0.0, 0.1, 1e3].map(|lam| job(&x, &w, &y, lam)).to_vec();
+        for (fitted, lam) in fit(&jobs).into_iter().zip([0.0, 0.1, 1e3]) {
+            for (j, cj) in fitted.unwrap().c.iter().enumerate() {
                 let greville = (t[j + 1] + t[j + 2] + t[j + 3]) / 3.0;
                 assert!(
                     (cj - (2.0 * greville - 1.0)).abs() < 1e-11,
@@ -613,15 +437,22 @@ mod tests {
         }
     }
 
-    /// With lam = 0 the spline interpolates: its end coefficients are the end values.
+    /// With lam = 0 the spline interpolates: its end coefficients are the end values. A
+    /// shorter series beside it in the lanes (its rows padded) gives what it gives alone.
     #[test]
     fn lam_zero_interpolates() {
-        let x = [0.0, 0.5, 1.5, 2.0, 3.5, 4.0];
+        let x = [0.0, 0.5, 1.5, 2.0, 3.5, 4.0, 4.5, 6.0];
         let y: Vec<f64> = x.iter().map(|v: &f64| v.sin()).collect();
-        let system = System::new(&x, &[1.0; 6]);
-        let c = system
-            .coefficients(0.0, column(&y), &mut system.scratch())
-            .unwrap();
-        assert!((c[0] - y[0]).abs() < 1e-14 && (c[7] - y[5]).abs() < 1e-14);
+        let w = [1.0; 8];
+        let fitted = fit(&[job(&x, &w, &y, 0.0)]);
+        let c = &fitted[0].as_ref().unwrap().c;
+        assert!((c[0] - y[0]).abs() < 1e-14 && (c[9] - y[7]).abs() < 1e-14);
+        let together = fit(&[job(&x, &w, &y, 0.0), job(&x[..6], &w[..6], &y[..6], 0.3)]);
+        let alone = fit(&[job(&x[..6], &w[..6], &y[..6], 0.3)]);
+        assert_eq!(together[0].as_ref().unwrap().c, *c);
+        assert_eq!(
+            together[1].as_ref().unwrap().c,
+            alone[0].as_ref().unwrap().c
+        );
     }
 }
