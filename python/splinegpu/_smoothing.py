@@ -1,6 +1,7 @@
 """Cubic smoothing splines (SciPy's `make_smoothing_spline`), one or a batch: the checks and
-the shapes here, the fit in the extension (`python/src/smoothing.rs`: Reinsch's O(n) system,
-GCV's lam by SciPy's bounded search), every series on its own thread."""
+the shapes here, the fit in the extension (`python/src/smoothing.rs`: SciPy's banded O(n)
+system, GCV's lam by SciPy's bounded search), four series side by side in vector lanes on
+every thread."""
 
 from __future__ import annotations
 
