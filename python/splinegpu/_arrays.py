@@ -4,6 +4,8 @@ argument."""
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 
@@ -196,6 +198,18 @@ def _end_to_end(arrays, name: str) -> tuple:
         offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
         flat = np.concatenate(arrays) if arrays else np.zeros(0)
     return _aligned(flat, name), offsets
+
+
+class _Laid(NamedTuple):
+    """A batch's arrays already laid end to end, as `_end_to_end` lays them (`flat`, and the
+    (S + 1,) `offsets` where each starts): what the extension takes, without a copy."""
+
+    flat: np.ndarray
+    offsets: np.ndarray
+
+    def parts(self) -> list:
+        """Each series' array, a view of `flat`."""
+        return np.split(self.flat, self.offsets[1:-1])
 
 
 def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _end_to_end, _float64, _xs_and_weights
+from ._arrays import _aligned, _axis, _end_to_end, _float64, _Laid, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -74,9 +74,9 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
     if columns.shape[1] == 0:
         c, used = np.zeros((len(x) + 2, 0)), lams
     else:
-        c, used = _native.fit_smoothing(_aligned(x, "x"), _aligned(columns, "y"),
-                                        _aligned(w, "w"), np.array([0, len(x)], np.int64),
-                                        _aligned(lams, "lam"))
+        _, c, used = _native.fit_smoothing(_aligned(x, "x"), _aligned(columns, "y"),
+                                           _aligned(w, "w"), np.array([0, len(x)], np.int64),
+                                           _aligned(lams, "lam"))
     c = c.reshape((len(x) + 2, *trailing))
     spline = BSpline.construct_fast(knots(x), np.ascontiguousarray(c), 3, axis=axis,
                                     context=context)
@@ -86,7 +86,8 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
 
 def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     """Many series' smoothing splines (`xs` checked 1-D arrays, `ys` their (n_i, m) arrays or
-    one (S, n, m) array): their knots, coefficients (a list of (n_i + 2, m)) and lams (S, m)."""
+    one (S, n, m) array): their knots and coefficients laid end to end (`_Laid`: knots
+    (sum n_i + 6), coefficients (sum n_i + 2, m)) and lams (S, m)."""
     count = len(xs)
     x, w, offsets = _xs_and_weights(xs, ws)
     # Each series' x, y and w are checked in the extension, in `check_series`' words.
@@ -97,6 +98,6 @@ def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     if count == 0:
         return [], [], lam
     y, _ = _end_to_end(ys, "ys")
-    c, used = _native.fit_smoothing(x, y, _aligned(w, "ws"), offsets, _aligned(lam, "lams"))
-    ends = np.diff(offsets).cumsum() + 2 * np.arange(1, count + 1)
-    return [knots(x) for x in xs], np.split(c, ends[:-1]), used
+    t, c, used = _native.fit_smoothing(x, y, _aligned(w, "ws"), offsets, _aligned(lam, "lams"))
+    series = np.arange(count + 1, dtype=np.int64)
+    return _Laid(t, offsets + 6 * series), _Laid(c, offsets + 2 * series), used

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from . import _bspline, _fitpack, _lsq, _native, _smoothing
-from ._arrays import _aligned, _end_to_end, _flat, _float64, _natural, _order, _stacked
+from ._arrays import _aligned, _end_to_end, _flat, _float64, _Laid, _natural, _order, _stacked
 from ._bsplines import BSpline, _interp_bc, _interp_coefficients, make_interp_spline
 from ._context import Context, _default_context
 from ._fitpack import make_splprep, make_splrep
@@ -301,6 +301,12 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     m = int(np.prod(trailing, dtype=np.int64))
     ts, cs, k = fit(xs if isinstance(xs, np.ndarray) else list(xs), ys2, m)
     cs_given: Any
+    ts_given: Any
+    if isinstance(ts, _Laid) and isinstance(cs, _Laid):
+        # Laid end to end by the fit: handed over as they are, the lists their views.
+        batch._build((ts.flat, ts.offsets), (cs.flat, cs.offsets), ts.parts(), cs.parts(), k,
+                     trailing, True, context)
+        return batch
     if isinstance(cs, np.ndarray):
         # Every spline's coefficients in one (S, n, m) array.
         cs_given = _aligned(cs, "cs")
@@ -308,7 +314,6 @@ def _fitted_batch(xs, ys, fit, context) -> BSplines:
     else:
         cs = [np.ascontiguousarray(c).reshape(len(c), m) for c in cs]
         cs_given = None
-    ts_given: Any
     if isinstance(ts, np.ndarray):
         # One knot vector for all, a row each.
         even, ts_given = True, _aligned(ts, "ts")

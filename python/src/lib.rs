@@ -1613,6 +1613,13 @@ type FitpackFits<'py> = (
 /// Each series' columns' lams (S, m).
 type Lams<'py> = Bound<'py, PyArray2<f64>>;
 
+/// Smoothing splines' knots laid end to end, their coefficients stacked, and their lams.
+type SmoothingFits<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Lams<'py>,
+);
+
 /// A series' smoothing spline: its coefficients and its columns' lams.
 type Smoothed = Result<(Vec<f64>, Vec<f64>), smoothing::Failure>;
 
@@ -1865,8 +1872,9 @@ fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed>
 }
 
 /// Cubic smoothing splines, one per series, on every thread (`smoothing`): lams (S, m) holds
-/// each column's lam, NaN where GCV chooses it. The B-spline coefficients on each series'
-/// knots [x_0] * 3 + x + [x_last] * 3, stacked ((sum of n_i + 2), m), and the lams used.
+/// each column's lam, NaN where GCV chooses it. Each series' knots [x_0] * 3 + x + [x_last] * 3
+/// laid end to end (sum of n_i + 6), the B-spline coefficients on them stacked
+/// ((sum of n_i + 2), m), and the lams used.
 #[pyfunction]
 fn fit_smoothing<'py>(
     py: Python<'py>,
@@ -1875,7 +1883,7 @@ fn fit_smoothing<'py>(
     w: PyReadonlyArray1<'py, f64>,
     offsets: PyReadonlyArray1<'py, i64>,
     lams: PyReadonlyArray2<'py, f64>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Lams<'py>)> {
+) -> PyResult<SmoothingFits<'py>> {
     use rayon::prelude::*;
     let ones = unit_weights(&w, &offsets);
     let (data, m) = series(&x, &y, &w, &offsets, &ones)?;
@@ -1917,7 +1925,14 @@ fn fit_smoothing<'py>(
         }
     }
     let lams = PyArray1::from_vec(py, used).reshape([blocks.len(), m])?;
-    Ok((stacked(py, blocks, m)?, lams))
+    let mut knots = Vec::with_capacity(x.len() + 6 * data.len());
+    for &(x, _, _) in &data {
+        let (first, last) = (x[0], x[x.len() - 1]);
+        knots.extend_from_slice(&[first; 3]);
+        knots.extend_from_slice(x);
+        knots.extend_from_slice(&[last; 3]);
+    }
+    Ok((PyArray1::from_vec(py, knots), stacked(py, blocks, m)?, lams))
 }
 
 /// A FITPACK series' data checked (the message's "{i}" stands for the series' index).
