@@ -1620,8 +1620,8 @@ type SmoothingFits<'py> = (
     Lams<'py>,
 );
 
-/// A series' smoothing spline: its coefficients and its columns' lams.
-type Smoothed = Result<(Vec<f64>, Vec<f64>), smoothing::Failure>;
+/// One column's smoothing spline.
+type Smoothed = Result<smoothing::Fit, smoothing::Failure>;
 
 /// A batch's series laid end to end: one array each (ragged lists handed over as thousands
 /// of arrays cost a borrow check apiece, which grows with the borrows held), series i at
@@ -1817,9 +1817,8 @@ fn fit_lsq<'py>(
     Ok((stacked(py, blocks, m)?, residuals, singular))
 }
 
-/// Each series' smoothing spline (coefficients (n + 2) x m, row-major) and its columns'
-/// lams: every (series, column) one job of `smoothing::fit`, the jobs in chunks on every
-/// thread.
+/// The smoothing splines of every (series, column), each one job of `smoothing::fit`, the
+/// jobs in chunks on every thread; in job order (series by series, their columns in turn).
 fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed> {
     use rayon::prelude::*;
     use smoothing::{Column, Job};
@@ -1844,31 +1843,32 @@ fn smoothing_fits(data: &[Series<'_>], m: usize, given: &[f64]) -> Vec<Smoothed>
         .len()
         .div_ceil(splinegpu::available_threads() * 8)
         .max(8);
-    let fitted: Vec<Result<smoothing::Fit, smoothing::Failure>> = jobs
-        .par_chunks(chunk)
+    jobs.par_chunks(chunk)
         .flat_map_iter(smoothing::fit)
-        .collect();
-    let mut fitted = fitted.into_iter();
-    data.iter()
-        .map(|&(x, _, _)| {
-            let n = x.len();
-            let mut c = vec![0.0; (n + 2) * m];
-            let mut lams = Vec::with_capacity(m);
-            let mut failure = None;
-            for col in 0..m {
-                match fitted.next().expect("a fit a job") {
-                    Ok(fit) => {
-                        for (j, v) in fit.c.into_iter().enumerate() {
-                            c[j * m + col] = v;
-                        }
-                        lams.push(fit.lam);
-                    }
-                    Err(e) => failure = failure.or(Some(e)),
-                }
-            }
-            failure.map_or(Ok((c, lams)), Err)
-        })
         .collect()
+}
+
+/// `parts` laid end to end on every thread: one output, part i at its offset (each part's
+/// pages first touched by the thread that writes it).
+fn laid_end_to_end(
+    lengths: impl Iterator<Item = usize>,
+    fill: impl Fn(usize, &mut [f64]) + Sync,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    let lengths: Vec<usize> = lengths.collect();
+    let mut out = vec![0.0; lengths.iter().sum()];
+    let mut parts = Vec::with_capacity(lengths.len());
+    let mut rest = out.as_mut_slice();
+    for &length in &lengths {
+        let (part, tail) = rest.split_at_mut(length);
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(i, part)| fill(i, part));
+    out
 }
 
 /// Cubic smoothing splines, one per series, on every thread (`smoothing`): lams (S, m) holds
@@ -1904,35 +1904,47 @@ fn fit_smoothing<'py>(
         return Err(value_error(e.replace("{i}", &i.to_string())));
     }
     let fitted = py.detach(|| smoothing_fits(&data, m, given));
-    let mut blocks = Vec::with_capacity(data.len());
-    let mut used = Vec::with_capacity(data.len() * m);
-    for (i, f) in fitted.into_iter().enumerate() {
-        match f {
-            Ok((c, lam)) => {
-                blocks.push(c);
-                used.extend(lam);
+    if let Some((job, e)) = fitted
+        .iter()
+        .enumerate()
+        .find_map(|(job, f)| f.as_ref().err().map(|e| (job, e)))
+    {
+        let i = job / m;
+        return Err(value_error(match e {
+            smoothing::Failure::IllPosed => {
+                format!("series {i}: Seems like the problem is ill-posed")
             }
-            Err(smoothing::Failure::IllPosed) => {
-                return Err(value_error(format!(
-                    "series {i}: Seems like the problem is ill-posed"
-                )));
+            smoothing::Failure::NoMinimum(why) => {
+                format!("series {i}: Unable to find minimum of the GCV function: {why}")
             }
-            Err(smoothing::Failure::NoMinimum(why)) => {
-                return Err(value_error(format!(
-                    "series {i}: Unable to find minimum of the GCV function: {why}"
-                )));
-            }
-        }
+        }));
     }
-    let lams = PyArray1::from_vec(py, used).reshape([blocks.len(), m])?;
-    let mut knots = Vec::with_capacity(x.len() + 6 * data.len());
-    for &(x, _, _) in &data {
-        let (first, last) = (x[0], x[x.len() - 1]);
-        knots.extend_from_slice(&[first; 3]);
-        knots.extend_from_slice(x);
-        knots.extend_from_slice(&[last; 3]);
-    }
-    Ok((PyArray1::from_vec(py, knots), stacked(py, blocks, m)?, lams))
+    let fits: Vec<&smoothing::Fit> = fitted.iter().flatten().collect();
+    let (knots, c) = py.detach(|| {
+        let knots = laid_end_to_end(data.iter().map(|d| d.0.len() + 6), |i, part| {
+            let x = data[i].0;
+            let n = x.len();
+            part[..3].fill(x[0]);
+            part[3..n + 3].copy_from_slice(x);
+            part[n + 3..].fill(x[n - 1]);
+        });
+        let c = laid_end_to_end(data.iter().map(|d| (d.0.len() + 2) * m), |i, part| {
+            for col in 0..m {
+                for (j, v) in fits[i * m + col].c.iter().enumerate() {
+                    part[j * m + col] = *v;
+                }
+            }
+        });
+        (knots, c)
+    });
+    let used: Vec<f64> = fits.iter().map(|f| f.lam).collect();
+    let lams = PyArray1::from_vec(py, used).reshape([data.len(), m])?;
+    let rows = c.len() / m.max(1);
+    Ok((
+        PyArray1::from_vec(py, knots),
+        PyArray1::from_vec(py, c).reshape([rows, m])?,
+        lams,
+    ))
 }
 
 /// A FITPACK series' data checked (the message's "{i}" stands for the series' index).
