@@ -83,13 +83,14 @@ fn series_rows(x: &[f64], w: &[f64], rows: &mut Vec<SeriesRow>) {
     // B_j(x_i), read as SciPy's design matrix entries Xb[i, j]: x_i = t_{i+3} starts span
     // i + 3, and the last x ends span n + 1.
     let (mut values, mut scratch) = ([0.0; 4], [0.0; 4]);
-    let splines: Vec<(usize, [f64; 4])> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &xi)| {
-            let l = (i + 3).min(n + 1);
-            crate::de_boor::basis_in(&t, 3, xi, l, 0, &mut values, &mut scratch);
-            (l - 3, values)
+    let splines: Vec<(usize, [f64; 4])> = (0..n)
+        .map(|i| {
+            if i + 1 < n {
+                (i, crate::de_boor::cubic_at_knot(&t, i + 3))
+            } else {
+                crate::de_boor::basis_in(&t, 3, x[i], n + 1, 0, &mut values, &mut scratch);
+                (n - 2, values)
+            }
         })
         .collect();
     let xb = |i: usize, j: usize| {
