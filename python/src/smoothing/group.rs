@@ -62,23 +62,13 @@ struct Row {
     rough: [Lanes; 4],
 }
 
-/// A lane's row past its series' end.
-const PADDING: RowOf = RowOf {
+/// A lane's row past its series' end (its y is zero).
+const PADDING: SeriesRow = SeriesRow {
     design: [0.0, 1.0, 0.0],
     penalty: [0.0; 5],
-    y: 0.0,
     gram: [0.0; 4],
     rough: [1.0, 0.0, 0.0, 0.0],
 };
-
-/// One lane's share of a `Row`.
-struct RowOf {
-    design: [f64; 3],
-    penalty: [f64; 5],
-    y: f64,
-    gram: [f64; 4],
-    rough: [f64; 4],
-}
 
 /// Row i of the factors one evaluation makes, read back on its way up.
 #[derive(Clone, Copy)]
@@ -149,7 +139,7 @@ impl Group {
     }
 
     #[inline(always)]
-    fn set(&mut self, lane: usize, i: usize, row: &RowOf) {
+    fn set(&mut self, lane: usize, i: usize, row: &SeriesRow, y: f64) {
         let r = &mut self.rows[i];
         for (q, v) in row.design.iter().enumerate() {
             r.design[q].0[lane] = *v;
@@ -157,7 +147,7 @@ impl Group {
         for (q, v) in row.penalty.iter().enumerate() {
             r.penalty[q].0[lane] = *v;
         }
-        r.y.0[lane] = row.y;
+        r.y.0[lane] = y;
         for d in 0..4 {
             r.gram[d].0[lane] = row.gram[d];
             r.rough[d].0[lane] = row.rough[d];
@@ -168,18 +158,11 @@ impl Group {
     pub(crate) fn load(&mut self, lane: usize, rows: &[SeriesRow], y: impl Fn(usize) -> f64) {
         let previous = self.n[lane];
         let n = rows.len();
-        for (i, r) in rows.iter().enumerate() {
-            let row = RowOf {
-                design: r.design,
-                penalty: r.penalty,
-                y: y(i),
-                gram: r.gram,
-                rough: r.rough,
-            };
-            self.set(lane, i, &row);
+        for (i, row) in rows.iter().enumerate() {
+            self.set(lane, i, row, y(i));
         }
         for i in n..previous.max(n) {
-            self.set(lane, i, &PADDING);
+            self.set(lane, i, &PADDING, 0.0);
         }
         self.n[lane] = n;
     }
@@ -187,7 +170,7 @@ impl Group {
     /// Lane `lane` idle: padding throughout.
     pub(crate) fn clear(&mut self, lane: usize) {
         for i in 0..self.n[lane] + 3 {
-            self.set(lane, i, &PADDING);
+            self.set(lane, i, &PADDING, 0.0);
         }
         self.n[lane] = 0;
     }
