@@ -68,8 +68,8 @@ fn divided_difference(x: &[f64]) -> [f64; 5] {
 }
 
 /// The rows of the matrices of x (n >= 5, strictly increasing) and positive weights w, into
-/// `rows` (resized to n); `basis(x_i)` gives the cubic B-splines of the knots
-/// [x_0] * 3 + x + [x_last] * 3 at x_i as (first index, 4 values).
+/// `rows` (resized to n), from the cubic B-splines of the knots [x_0] * 3 + x + [x_last] * 3
+/// at each x_i.
 fn series_rows(x: &[f64], w: &[f64], rows: &mut Vec<SeriesRow>) {
     let n = x.len();
     rows.clear();
@@ -398,7 +398,8 @@ fn bspline_coefficients(x: &[f64], c: &[f64]) -> Result<Vec<f64>, Failure> {
 
 #[cfg(test)]
 mod tests {
-    use super::{Column, Job, fit};
+    use super::{Column, Fit, Job, fit, fit_side_by_side};
+    use crate::lanes::Lanes;
 
     fn job<'a>(x: &'a [f64], w: &'a [f64], y: &'a [f64], lam: f64) -> Job<'a> {
         Job {
@@ -434,6 +435,52 @@ mod tests {
                     (cj - (2.0 * greville - 1.0)).abs() < 1e-11,
                     "{lam} {j}: {cj}"
                 );
+            }
+        }
+    }
+
+    fn same(a: &Result<Fit, super::Failure>, b: &Result<Fit, super::Failure>) {
+        let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
+        assert_eq!(a.lam.to_bits(), b.lam.to_bits());
+        assert_eq!(a.c, b.c);
+    }
+
+    /// GCV searches side by side: the portable lanes and the AVX ones give the same lams and
+    /// coefficients bit for bit, and a series searched beside others of other lengths gives
+    /// what it gives alone.
+    #[test]
+    fn lanes_agree_with_each_other_and_with_a_series_alone() {
+        let series: Vec<(Vec<f64>, Vec<f64>)> = (0..6)
+            .map(|s| {
+                let n = 20 + 7 * s;
+                let x: Vec<f64> = (0..n)
+                    .map(|i| i as f64 + 0.3 * ((i * 7 + s) as f64).sin())
+                    .collect();
+                let y = x.iter().map(|v| v.sin() + 0.2 * (v * 13.0).cos()).collect();
+                (x, y)
+            })
+            .collect();
+        let w = [1.0; 60];
+        let jobs: Vec<Job<'_>> = series
+            .iter()
+            .map(|(x, y)| Job {
+                x,
+                w: &w[..x.len()],
+                y: Column {
+                    values: y,
+                    stride: 1,
+                    offset: 0,
+                },
+                lam: None,
+            })
+            .collect();
+        let portable = fit_side_by_side::<Lanes>(&jobs);
+        same(&portable[3], &fit_side_by_side::<Lanes>(&jobs[3..4])[0]);
+        #[cfg(target_arch = "x86_64")]
+        if crate::lanes::Isa::widest() != crate::lanes::Isa::Baseline {
+            let vectors = fit_side_by_side::<crate::lanes::Avx2>(&jobs);
+            for (a, b) in portable.iter().zip(&vectors) {
+                same(a, b);
             }
         }
     }
