@@ -154,34 +154,68 @@ fn series_rows(x: &[f64], w: &[f64], rows: &mut Vec<SeriesRow>) {
     column(last - 1, n - 4..n, -1.0);
     column(last, n - 3..n, 1.0);
     // (X^T W Y)[i, j] = sum over the rows r both columns touch of X[r, i] w_r Y[r, j]
-    // (X[r, i] is zero unless |r - i| <= 1, Y[r, j] unless |r - j| <= 1 or 2).
-    let bands: Vec<([f64; 4], [f64; 4])> = (0..n)
-        .map(|i| {
-            let mut gram = [0.0; 4];
-            let mut rough = [0.0; 4];
-            for d in 0..4 {
-                let j = i + d;
-                if j >= n {
-                    break;
-                }
-                let (mut g, mut e) = (0.0, 0.0);
-                for r in j.saturating_sub(2).max(i.saturating_sub(1))..(i + 2).min(n) {
-                    let xw = rows[r].design[i + 1 - r] * w[r];
-                    if j + 1 >= r && j <= r + 1 {
-                        g += xw * rows[r].design[j + 1 - r];
-                    }
-                    e += xw * rows[r].penalty[j + 2 - r];
-                }
-                gram[d] = g;
-                rough[d] = e;
-            }
-            (gram, rough)
-        })
-        .collect();
-    for (row, (gram, rough)) in rows.iter_mut().zip(bands) {
-        row.gram = gram;
-        row.rough = rough;
+    // (X[r, i] is zero unless |r - i| <= 1, Y[r, j] unless |r - j| <= 1 or 2), r upwards.
+    for i in 0..n {
+        let (gram, rough) = if i >= 1 && i + 4 <= n {
+            inner_bands(rows, w, i)
+        } else {
+            edge_bands(rows, w, i)
+        };
+        rows[i].gram = gram;
+        rows[i].rough = rough;
     }
+}
+
+/// Row i's upper bands of X^T W X and X^T E where every row r = i - 1 ..= i + 1 and column
+/// up to i + 3 is in the matrix: `edge_bands`' sums with their terms written out (the same
+/// terms in the same order).
+#[inline(always)]
+fn inner_bands(rows: &[SeriesRow], w: &[f64], i: usize) -> ([f64; 4], [f64; 4]) {
+    let (above, row, below) = (&rows[i - 1], &rows[i], &rows[i + 1]);
+    // X[r, i] w_r for r = i - 1, i, i + 1.
+    let (xa, xr, xb) = (
+        above.design[2] * w[i - 1],
+        row.design[1] * w[i],
+        below.design[0] * w[i + 1],
+    );
+    let gram = [
+        0.0 + xa * above.design[2] + xr * row.design[1] + xb * below.design[0],
+        0.0 + xr * row.design[2] + xb * below.design[1],
+        0.0 + xb * below.design[2],
+        0.0,
+    ];
+    let rough = [
+        0.0 + xa * above.penalty[3] + xr * row.penalty[2] + xb * below.penalty[1],
+        0.0 + xa * above.penalty[4] + xr * row.penalty[3] + xb * below.penalty[2],
+        0.0 + xr * row.penalty[4] + xb * below.penalty[3],
+        0.0 + xb * below.penalty[4],
+    ];
+    (gram, rough)
+}
+
+/// Row i's upper bands of X^T W X and X^T E, (i, i + d) for d = 0..=3, by the sums over the
+/// rows r in the matrix.
+fn edge_bands(rows: &[SeriesRow], w: &[f64], i: usize) -> ([f64; 4], [f64; 4]) {
+    let n = rows.len();
+    let mut gram = [0.0; 4];
+    let mut rough = [0.0; 4];
+    for d in 0..4 {
+        let j = i + d;
+        if j >= n {
+            break;
+        }
+        let (mut g, mut e) = (0.0, 0.0);
+        for r in j.saturating_sub(2).max(i.saturating_sub(1))..(i + 2).min(n) {
+            let xw = rows[r].design[i + 1 - r] * w[r];
+            if j + 1 >= r && j <= r + 1 {
+                g += xw * rows[r].design[j + 1 - r];
+            }
+            e += xw * rows[r].penalty[j + 2 - r];
+        }
+        gram[d] = g;
+        rough[d] = e;
+    }
+    (gram, rough)
 }
 
 /// One column of y: y_i = values[i * stride + offset].
@@ -482,6 +516,25 @@ mod tests {
             for (a, b) in portable.iter().zip(&vectors) {
                 same(a, b);
             }
+        }
+    }
+
+    /// The bands' written-out sums are the general sums bit for bit, on uneven x and weights.
+    #[test]
+    fn inner_bands_are_the_sums() {
+        let x: Vec<f64> = (0..30)
+            .map(|i| i as f64 + 0.45 * (i as f64 * 2.7).sin())
+            .collect();
+        let w: Vec<f64> = (0..30).map(|i| 1.0 + 0.5 * (i as f64).cos()).collect();
+        let mut rows = Vec::new();
+        super::series_rows(&x, &w, &mut rows);
+        for i in 1..x.len() - 3 {
+            let (a, b) = (
+                super::inner_bands(&rows, &w, i),
+                super::edge_bands(&rows, &w, i),
+            );
+            assert_eq!(a.0.map(f64::to_bits), b.0.map(f64::to_bits), "gram {i}");
+            assert_eq!(a.1.map(f64::to_bits), b.1.map(f64::to_bits), "rough {i}");
         }
     }
 
