@@ -139,6 +139,11 @@ pub(crate) use avx2::Avx2;
 /// `smoothing::fit_avx2` and `fit_avx512`, compiled for AVX2 and called only where
 /// `Isa::widest` found it (and the tests, under the same check); every operation here is
 /// inlined into them.
+///
+/// Speed: code on these vectors must reach them without a closure between (`bool::then(||
+/// ..)`, `map(|..| ..)` over a sweep): a closure is a function of its own, not compiled for
+/// the caller's instructions unless inlined, and then every operation is a call (an
+/// evaluation 20x slower, as measured).
 #[cfg(target_arch = "x86_64")]
 #[allow(
     unsafe_code,
