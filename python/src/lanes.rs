@@ -140,10 +140,10 @@ pub(crate) use avx2::Avx2;
 /// `Isa::widest` found it (and the tests, under the same check); every operation here is
 /// inlined into them.
 ///
-/// Speed: code on these vectors must reach them without a closure between (`bool::then(||
-/// ..)`, `map(|..| ..)` over a sweep): a closure is a function of its own, not compiled for
-/// the caller's instructions unless inlined, and then every operation is a call (an
-/// evaluation 20x slower, as measured).
+/// Speed: a closure is a function of its own, compiled for the caller's instructions only
+/// where it is inlined. Small ones are (`lu.map(V::store)`); one that holds a whole sweep
+/// need not be (`bool::then(|| group.evaluate::<V>(..))` was not, and every operation in it
+/// became a call: an evaluation 20x slower, as measured). Call the sweeps directly.
 #[cfg(target_arch = "x86_64")]
 #[allow(
     unsafe_code,
