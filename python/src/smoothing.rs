@@ -22,7 +22,8 @@
 //! - The minimum is searched on (0, n) by the bounded Brent method of SciPy's
 //!   `minimize_scalar(method="bounded")`, step for step.
 //!
-//! Everything is O(n) a lam; a series' matrices are made once for every lam and column.
+//! Everything is O(n) a lam; a column's matrices are made once for all its lams, and four
+//! columns (of one series or of many) go side by side, one per vector lane (`group`).
 
 mod group;
 
