@@ -12,7 +12,8 @@
 //! ```
 //!
 //! and the segment's A, B, C, D are the sums of the u³, u², u, 1 coefficients times the points.
-//! Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n].
+//! Without weights the same cubic comes cheaper from its derivatives at the span's start
+//! (`Taylor`). Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n].
 //!
 //! With weights the span is rational, Σ w_j N_j P_j / Σ w_j N_j, written as
 //! [`rational`](crate::rational) holds it: with ω_j = w_j / (the smallest of the span's four
@@ -136,7 +137,8 @@ pub(crate) fn fit_into(
     }
 }
 
-/// The polynomial B-spline's segments into `out`.
+/// The polynomial B-spline's segments into `out`, each from its Taylor expansion at the
+/// span's start (see [`Taylor`]).
 fn fit_polynomial(knots: &[f64], points: &[f64], dim: usize, extent: f64, out: &mut SegmentTable) {
     let n = points.len() / dim;
     let spans: Vec<usize> = spans(knots, n).collect();
@@ -146,17 +148,81 @@ fn fit_polynomial(knots: &[f64], points: &[f64], dim: usize, extent: f64, out: &
     table_knots.push(knots[spans[spans.len() - 1] + 1]);
     coeffs.resize(4 * dim * spans.len(), 0.0);
     for (&i, c) in spans.iter().zip(coeffs.chunks_exact_mut(4 * dim)) {
-        let basis = span_basis(knots, i);
-        c.fill(0.0);
-        for (offset, poly) in basis.iter().enumerate() {
-            let p = &points[(i - 3 + offset) * dim..][..dim];
-            // A, B, C, D (rows 0..4 of the segment) are the u³, u², u and 1 coefficients.
-            for row in 0..4 {
-                for k in 0..dim {
-                    c[row * dim + k] += poly[3 - row] * p[k];
-                }
+        let taylor = Taylor::new(knots, i);
+        let p = &points[(i - 3) * dim..][..4 * dim];
+        for k in 0..dim {
+            let segment = taylor.segment([p[k], p[dim + k], p[2 * dim + k], p[3 * dim + k]]);
+            for (row, v) in segment.into_iter().enumerate() {
+                c[row * dim + k] = v;
             }
         }
+    }
+}
+
+/// Span i's factors for a polynomial segment from its four points P_0..P_3 (= P_{i−3..i}),
+/// by the derivative's B-spline form (de Boor): f' = Σ Q_j N_{j,2} with
+/// Q_j = 3 (P_j − P_{j−1}) / (k_{j+3} − k_j), f'' = Σ R_j N_{j,1} with
+/// R_j = 2 (Q_j − Q_{j−1}) / (k_{j+2} − k_j), f''' = (R_i − R_{i−1}) / Δ on the span. At
+/// u = 0 only N_{i−3..i−1,3}, N_{i−2..i−1,2} and N_{i−1,1} (= 1) are not zero:
+///
+/// ```text
+/// f   = P_1 + α (P_0 − P_1) + β (P_2 − P_1),
+///       α = Δ² / ((k_{i+1} − k_{i−2}) (k_{i+1} − k_{i−1})),
+///       β = (k_i − k_{i−1})² / ((k_{i+2} − k_{i−1}) (k_{i+1} − k_{i−1}))
+/// f'  = (Δ Q_{i−2} + (k_i − k_{i−1}) Q_{i−1}) / (k_{i+1} − k_{i−1})
+/// f'' = R_{i−1}
+/// ```
+///
+/// and the segment is D = f, C = Δ f', B = Δ² f'' / 2, A = Δ³ f''' / 6. Every denominator
+/// spans [k_i, k_{i+1}], so none is below Δ > 0 (repeated knots need no special case), and
+/// the Δ powers undo the divisions' scale: each coefficient's rounding stays within a few
+/// ulps of the points' spread. A fraction of the Cox–de Boor recursion's arithmetic, which
+/// the rational spans still use (`span_basis`).
+struct Taylor {
+    /// 3 / (k_{j+3} − k_j) for j = i−2, i−1, i.
+    first: [f64; 3],
+    /// 2 Δ² / (k_{j+2} − k_j) for j = i−1, i: R's factor with B's and A's Δ² in it.
+    second: [f64; 2],
+    /// α and β.
+    value: [f64; 2],
+    /// Δ² / (k_{i+1} − k_{i−1}) and Δ (k_i − k_{i−1}) / (k_{i+1} − k_{i−1}): C from Q.
+    slope: [f64; 2],
+}
+
+impl Taylor {
+    #[inline(always)]
+    fn new(knots: &[f64], i: usize) -> Self {
+        let k = |m: usize| knots[i + m - 2];
+        // k(2) is k_i.
+        let delta = k(3) - k(2);
+        let before = k(2) - k(1);
+        let (wide0, wide1, wide2) = (k(3) - k(0), k(4) - k(1), k(5) - k(2));
+        let (near0, near1) = (k(3) - k(1), k(4) - k(2));
+        let square = delta * delta;
+        Self {
+            first: [3.0 / wide0, 3.0 / wide1, 3.0 / wide2],
+            second: [2.0 * square / near0, 2.0 * square / near1],
+            value: [square / (wide0 * near0), before * before / (wide1 * near0)],
+            slope: [square / near0, delta * before / near0],
+        }
+    }
+
+    /// A, B, C, D (the u³, u², u, 1 coefficients) of one coordinate.
+    #[inline(always)]
+    fn segment(&self, p: [f64; 4]) -> [f64; 4] {
+        let q = [
+            (p[1] - p[0]) * self.first[0],
+            (p[2] - p[1]) * self.first[1],
+            (p[3] - p[2]) * self.first[2],
+        ];
+        // Δ² R_{i−1} and Δ² R_i.
+        let r = [
+            (q[1] - q[0]) * self.second[0],
+            (q[2] - q[1]) * self.second[1],
+        ];
+        let f = p[1] + self.value[0] * (p[0] - p[1]) + self.value[1] * (p[2] - p[1]);
+        let slope = self.slope[0] * q[0] + self.slope[1] * q[1];
+        [(r[1] - r[0]) / 6.0, r[0] / 2.0, slope, f]
     }
 }
 

@@ -241,42 +241,53 @@ fn ts_of(rng: &mut Rng, knots: &[f64], n: usize) -> Vec<f64> {
     ts
 }
 
+/// The curve (its knots and the weights of its rational basis sum, ones where it has none)
+/// against that sum at a few parameters a span, on the CPU within its bound (`cpu_bound`); the
+/// parameters go into `job` for the GPU. Returns the worst error's share of its bound.
+fn assert_basis_sum(
+    rng: &mut Rng,
+    (knots, weights, curve): &(Vec<f64>, Vec<f64>, Curve),
+    job: &mut EvalJob,
+) -> f64 {
+    let n = weights.len();
+    let dim = curve.points().dim();
+    let ts = ts_of(rng, knots, n);
+    let samples = cpu_at(curve, &ts);
+    let got = samples.curve(0);
+    let table = curve.fit();
+    let mut worst = 0.0f64;
+    for (i, &t) in ts.iter().enumerate() {
+        let want = rational_at(knots, weights, curve.points().coords(), dim, t);
+        let s = (table.knots().partition_point(|&k| k <= t).max(1) - 1).min(table.len() - 1);
+        let segment = table.segment(s);
+        let planes = [got.points, got.d1.unwrap(), got.d2.unwrap()];
+        for (order, plane) in planes.iter().enumerate() {
+            for k in 0..dim {
+                let bound = splinegpu::accuracy::cpu_bound(&segment, table.extent(), order, k);
+                let error = (plane[i * dim + k] - want[order][k]).abs();
+                assert!(
+                    error <= bound,
+                    "knots {knots:?}, t {t}, order {order}: {} vs {} ({error:e} > {bound:e})",
+                    plane[i * dim + k],
+                    want[order][k]
+                );
+                worst = worst.max(error / bound);
+            }
+        }
+    }
+    job.push(curve, &Sampling::At(ts)).unwrap();
+    job.push(curve, &Sampling::PerSegment(9)).unwrap();
+    worst
+}
+
 #[test]
 fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
     let mut rng = Rng(41);
     let mut job = EvalJob::new(Derivatives::Second);
     let mut worst = 0.0f64;
     for offset in [0.0, 1e6] {
-        for (knots, weights, curve) in weighted_curves(&mut rng, offset) {
-            let n = weights.len();
-            let dim = curve.points().dim();
-            let ts = ts_of(&mut rng, &knots, n);
-            let samples = cpu_at(&curve, &ts);
-            let got = samples.curve(0);
-            let table = curve.fit();
-            for (i, &t) in ts.iter().enumerate() {
-                let want = rational_at(&knots, &weights, curve.points().coords(), dim, t);
-                let s =
-                    (table.knots().partition_point(|&k| k <= t).max(1) - 1).min(table.len() - 1);
-                let segment = table.segment(s);
-                let planes = [got.points, got.d1.unwrap(), got.d2.unwrap()];
-                for (order, plane) in planes.iter().enumerate() {
-                    for k in 0..dim {
-                        let bound =
-                            splinegpu::accuracy::cpu_bound(&segment, table.extent(), order, k);
-                        let error = (plane[i * dim + k] - want[order][k]).abs();
-                        assert!(
-                            error <= bound,
-                            "offset {offset}, knots {knots:?}, t {t}, order {order}: {} vs {} ({error:e} > {bound:e})",
-                            plane[i * dim + k],
-                            want[order][k]
-                        );
-                        worst = worst.max(error / bound);
-                    }
-                }
-            }
-            job.push(&curve, &Sampling::At(ts)).unwrap();
-            job.push(&curve, &Sampling::PerSegment(9)).unwrap();
+        for curve in weighted_curves(&mut rng, offset) {
+            worst = worst.max(assert_basis_sum(&mut rng, &curve, &mut job));
         }
     }
     println!("worst CPU error against the rational basis sum: {worst:.2e} of the bound");
@@ -285,6 +296,30 @@ fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
             "worst GPU error: {:.3} of the promise ({:?})",
             gpu.ratio, gpu.per_order
         );
+    }
+}
+
+/// The same knot vectors without weights (the polynomial spans' own construction, from the
+/// derivatives at each span's start), against the basis sum with unit weights.
+#[test]
+fn unweighted_nurbs_is_the_basis_sum_on_both_backends() {
+    let mut rng = Rng(43);
+    let mut job = EvalJob::new(Derivatives::Second);
+    let mut worst = 0.0f64;
+    for offset in [0.0, 1e6] {
+        for (knots, weights, curve) in weighted_curves(&mut rng, offset) {
+            let kind = CurveKind::Nurbs {
+                knots: knots.clone(),
+                weights: None,
+            };
+            let plain = Curve::new(kind, curve.points().clone()).unwrap();
+            let ones = vec![1.0; weights.len()];
+            worst = worst.max(assert_basis_sum(&mut rng, &(knots, ones, plain), &mut job));
+        }
+    }
+    println!("worst CPU error against the basis sum: {worst:.2e} of the bound");
+    if let Some(gpu) = assert_gpu_matches_cpu(&job) {
+        println!("worst GPU error: {:.3} of the promise", gpu.ratio);
     }
 }
 
