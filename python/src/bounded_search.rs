@@ -63,6 +63,11 @@ impl Search {
         (search, start)
     }
 
+    /// The best x so far (the x `Done` gives when the search ends there).
+    pub(crate) fn best(&self) -> f64 {
+        self.xf
+    }
+
     fn tolerance(&self) -> f64 {
         2.2e-16_f64.sqrt() * self.xf.abs() + XATOL / 3.0
     }

@@ -294,7 +294,7 @@ fn fit_avx512(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
 enum Phase {
     /// GCV's search, which asks for this lam next.
     Search(Search, f64),
-    /// The coefficients at the lam chosen.
+    /// The coefficients at a lam given.
     Solve(f64),
 }
 
@@ -308,6 +308,9 @@ fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
     let mut group = Group::new(capacity);
     let mut rows = Vec::with_capacity(capacity);
     let mut lanes: [Option<(usize, Phase)>; WIDTH] = std::array::from_fn(|_| None);
+    // Each searching lane's c at its best lam so far: where the search ends, its spline
+    // without another evaluation.
+    let mut best: [Vec<f64>; WIDTH] = std::array::from_fn(|_| Vec::with_capacity(capacity));
     loop {
         for (l, lane) in lanes.iter_mut().enumerate() {
             if lane.is_some() {
@@ -341,24 +344,31 @@ fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
             let Some((i, phase)) = lane else {
                 continue;
             };
+            let x = jobs[*i].x;
             let done = match phase {
                 Phase::Search(search, lam) => match gcv(&evaluation, l, group.lengths()[l]) {
                     Err(e) => Some(Err(e)),
-                    Ok(value) => match search.tell(value) {
-                        Step::Evaluate(next) => {
-                            *lam = next;
-                            None
+                    Ok(value) => {
+                        let step = search.tell(value);
+                        if search.best().to_bits() == lam.to_bits() {
+                            group.solution_into(l, &mut best[l]);
                         }
-                        Step::Done(Ok(chosen)) => {
-                            *phase = Phase::Solve(chosen);
-                            None
+                        match step {
+                            Step::Evaluate(next) => {
+                                *lam = next;
+                                None
+                            }
+                            // The best lam's c was kept when it was evaluated.
+                            Step::Done(Ok(chosen)) => Some(
+                                bspline_coefficients(x, &best[l]).map(|c| Fit { c, lam: chosen }),
+                            ),
+                            Step::Done(Err(e)) => Some(Err(e)),
                         }
-                        Step::Done(Err(e)) => Some(Err(e)),
-                    },
+                    }
                 },
                 Phase::Solve(lam) => Some(if evaluation.solved[l] {
-                    bspline_coefficients(jobs[*i].x, &group.solution(l))
-                        .map(|c| Fit { c, lam: *lam })
+                    group.solution_into(l, &mut best[l]);
+                    bspline_coefficients(x, &best[l]).map(|c| Fit { c, lam: *lam })
                 } else {
                     Err(Failure::IllPosed)
                 }),

@@ -175,12 +175,10 @@ impl Group {
         self.n[lane] = 0;
     }
 
-    /// Lane `lane`'s solution c (natural basis) of the last evaluation.
-    pub(crate) fn solution(&self, lane: usize) -> Vec<f64> {
-        self.factors[..self.n[lane]]
-            .iter()
-            .map(|f| f.c.0[lane])
-            .collect()
+    /// Lane `lane`'s solution c (natural basis) of the last evaluation, into `out`.
+    pub(crate) fn solution_into(&self, lane: usize, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend(self.factors[..self.n[lane]].iter().map(|f| f.c.0[lane]));
     }
 
     /// Row i of X + lam W^-1 E in a 7-slot window (slot q: column i + q - 2) and y_i.
