@@ -308,9 +308,6 @@ fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
     let mut group = Group::new(capacity);
     let mut rows = Vec::with_capacity(capacity);
     let mut lanes: [Option<(usize, Phase)>; WIDTH] = std::array::from_fn(|_| None);
-    // Each searching lane's c at its best lam so far: where the search ends, its spline
-    // without another evaluation.
-    let mut best: [Vec<f64>; WIDTH] = std::array::from_fn(|_| Vec::with_capacity(capacity));
     loop {
         for (l, lane) in lanes.iter_mut().enumerate() {
             if lane.is_some() {
@@ -350,25 +347,27 @@ fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
                     Err(e) => Some(Err(e)),
                     Ok(value) => {
                         let step = search.tell(value);
+                        // Each search keeps the c of its best lam so far: where it ends, its
+                        // spline without another evaluation.
                         if search.best().to_bits() == lam.to_bits() {
-                            group.solution_into(l, &mut best[l]);
+                            group.keep(l);
                         }
                         match step {
                             Step::Evaluate(next) => {
                                 *lam = next;
                                 None
                             }
-                            // The best lam's c was kept when it was evaluated.
                             Step::Done(Ok(chosen)) => Some(
-                                bspline_coefficients(x, &best[l]).map(|c| Fit { c, lam: chosen }),
+                                bspline_coefficients(x, &group.kept(l))
+                                    .map(|c| Fit { c, lam: chosen }),
                             ),
                             Step::Done(Err(e)) => Some(Err(e)),
                         }
                     }
                 },
                 Phase::Solve(lam) => Some(if evaluation.solved[l] {
-                    group.solution_into(l, &mut best[l]);
-                    bspline_coefficients(x, &best[l]).map(|c| Fit { c, lam: *lam })
+                    group.keep(l);
+                    bspline_coefficients(x, &group.kept(l)).map(|c| Fit { c, lam: *lam })
                 } else {
                     Err(Failure::IllPosed)
                 }),

@@ -76,7 +76,7 @@ struct Factors {
     /// The LU's row i: columns i + 1 ..= i + 4 (the band and the fill of pivoting), then
     /// 1 / U_ii.
     lu: [Lanes; 5],
-    /// The right-hand side eliminated; c_i once solved.
+    /// The right-hand side eliminated.
     c: Lanes,
     /// The Cholesky factor's row over its diagonal, [D_i, Ũ_{i,i+1..i+3}] (see `cholesky`).
     unit: [Lanes; 4],
@@ -99,6 +99,13 @@ pub(crate) struct Group {
     /// Room for the longest series, and three rows more (the elimination reads three ahead).
     rows: Vec<Row>,
     factors: Vec<Factors>,
+    /// Evaluations' c, row by row: one for each lane's kept c (`keep`) and one more, which the
+    /// next evaluation writes (`latest`). A lane's c is kept without a copy.
+    solutions: [Vec<Lanes>; WIDTH + 1],
+    /// Where the last evaluation wrote c.
+    latest: usize,
+    /// Where each lane's kept c is.
+    kept: [usize; WIDTH],
     /// Each lane's n (0 for an idle lane).
     n: [usize; WIDTH],
 }
@@ -125,6 +132,9 @@ impl Group {
                 };
                 capacity
             ],
+            solutions: std::array::from_fn(|_| vec![Lanes::ZERO; capacity]),
+            latest: 0,
+            kept: [0; WIDTH],
             n: [capacity; WIDTH],
         };
         for lane in 0..WIDTH {
@@ -175,10 +185,17 @@ impl Group {
         self.n[lane] = 0;
     }
 
-    /// Lane `lane`'s solution c (natural basis) of the last evaluation, into `out`.
-    pub(crate) fn solution_into(&self, lane: usize, out: &mut Vec<f64>) {
-        out.clear();
-        out.extend(self.factors[..self.n[lane]].iter().map(|f| f.c.0[lane]));
+    /// Lane `lane` keeps the last evaluation's c (until it keeps another).
+    pub(crate) fn keep(&mut self, lane: usize) {
+        self.kept[lane] = self.latest;
+    }
+
+    /// Lane `lane`'s kept c (natural basis).
+    pub(crate) fn kept(&self, lane: usize) -> Vec<f64> {
+        self.solutions[self.kept[lane]][..self.n[lane]]
+            .iter()
+            .map(|c| c.0[lane])
+            .collect()
     }
 
     /// Row i of X + lam W^-1 E in a 7-slot window (slot q: column i + q - 2) and y_i.
@@ -199,7 +216,7 @@ impl Group {
         (row, V::load(r.y))
     }
 
-    /// Every lane's residual and trace at its lam (and c, for `solution`): the elimination and
+    /// Every lane's residual and trace at its lam (and c, for `keep`): the elimination and
     /// the factorisation down the rows together, then the back substitution, the residual and
     /// the inverse's recurrence up them together.
     #[inline(always)]
@@ -207,6 +224,10 @@ impl Group {
         let lam = V::load(lam);
         let zero = V::splat(0.0);
         let longest = self.n.iter().copied().max().unwrap_or(0);
+        // c goes where no lane's kept c is (of WIDTH + 1, one is free).
+        self.latest = (0..=WIDTH)
+            .find(|s| !self.kept.contains(s))
+            .unwrap_or_default();
         let (a, b, c) = (self.fresh(lam, 0), self.fresh(lam, 1), self.fresh(lam, 2));
         let mut window = Window {
             rows: [a.0, b.0, c.0],
@@ -228,8 +249,8 @@ impl Group {
         let mut after = [zero; 5];
         let mut carried = [zero; 6];
         let (mut residual, mut trace) = (zero, zero);
-        for i in (0..longest).rev() {
-            let f = &mut self.factors[i];
+        let solution = &mut self.solutions[self.latest][..longest];
+        for (i, (f, out)) in self.factors.iter().zip(solution).enumerate().rev() {
             let u = f.lu.map(V::load);
             let v = (V::load(f.c)
                 - u[0] * after[0]
@@ -237,7 +258,7 @@ impl Group {
                 - u[2] * after[2]
                 - u[3] * after[3])
                 * u[4];
-            f.c = v.store();
+            *out = v.store();
             after = [v, after[0], after[1], after[2], after[3]];
             if i + 2 < longest {
                 residual = residual + residual_squared(&self.rows[i + 2], lam, &after);
