@@ -53,19 +53,19 @@ pub(crate) enum Failure {
     NoMinimum(&'static str),
 }
 
-/// The coefficients 1 / prod_{k != i} (x_i - x_k) of the divided difference on `x`.
-fn divided_difference(x: &[f64]) -> [f64; 5] {
-    let mut out = [0.0; 5];
-    for (i, o) in out.iter_mut().enumerate().take(x.len()) {
+/// The coefficients 1 / prod_{k != i} (x_i - x_k) of the divided difference on the N points
+/// `x` (N a constant: the loops unroll).
+#[inline(always)]
+fn divided_difference<const N: usize>(x: [f64; N]) -> [f64; N] {
+    std::array::from_fn(|i| {
         let mut product = 1.0;
         for (k, &xk) in x.iter().enumerate() {
             if k != i {
                 product *= x[i] - xk;
             }
         }
-        *o = 1.0 / product;
-    }
-    out
+        1.0 / product
+    })
 }
 
 /// The rows of the matrices of x (n >= 5, strictly increasing) and positive weights w, into
@@ -140,20 +140,30 @@ fn series_rows(x: &[f64], w: &[f64], rows: &mut Vec<SeriesRow>) {
         (2.0 * x[last] - x[last - 1] - x[last - 2]) * xb(last, last + 2),
     );
     set(rows, last, last - 1, xb(last, last + 2));
-    // Column j of W^-1 E: 6 scale w_i^-1 times the divided difference's coefficients on rows.
-    let mut column = |j: usize, on: std::ops::Range<usize>, scale: f64| {
-        let dd = divided_difference(&x[on.clone()]);
-        for (r, i) in on.enumerate() {
-            rows[i].penalty[j + 2 - i] = 6.0 * scale * dd[r] / w[i];
+    // Column j of W^-1 E: 6 scale w_i^-1 times the divided difference's coefficients on rows
+    // first.. (the N points from x[first]).
+    fn column<const N: usize>(
+        rows: &mut [SeriesRow],
+        x: &[f64],
+        w: &[f64],
+        j: usize,
+        first: usize,
+        scale: f64,
+    ) {
+        let points: [f64; N] = std::array::from_fn(|r| x[first + r]);
+        for (r, dd) in divided_difference(points).into_iter().enumerate() {
+            let (i, v) = (first + r, 6.0 * scale * dd);
+            // v / 1 is v: unit weights (the usual case) skip a division a term.
+            rows[i].penalty[j + 2 - i] = if w[i] == 1.0 { v } else { v / w[i] };
         }
-    };
-    column(0, 0..3, 1.0);
-    column(1, 0..4, 1.0);
-    for j in 2..n - 2 {
-        column(j, j - 2..j + 3, x[j + 2] - x[j - 2]);
     }
-    column(last - 1, n - 4..n, -1.0);
-    column(last, n - 3..n, 1.0);
+    column::<3>(rows, x, w, 0, 0, 1.0);
+    column::<4>(rows, x, w, 1, 0, 1.0);
+    for j in 2..n - 2 {
+        column::<5>(rows, x, w, j, j - 2, x[j + 2] - x[j - 2]);
+    }
+    column::<4>(rows, x, w, last - 1, n - 4, -1.0);
+    column::<3>(rows, x, w, last, n - 3, 1.0);
     // (X^T W Y)[i, j] = sum over the rows r both columns touch of X[r, i] w_r Y[r, j]
     // (X[r, i] is zero unless |r - i| <= 1, Y[r, j] unless |r - j| <= 1 or 2), r upwards.
     for i in 0..n {
