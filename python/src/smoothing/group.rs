@@ -17,35 +17,35 @@
 use super::SeriesRow;
 use crate::lanes::{Lanes, Vector, WIDTH};
 
-/// The smallest and the largest of each lane's values so far, NaN passed over (it reaches the
-/// results instead): a check kept out of the rows' loops, where a compare and a branch a row
-/// cost more than the check.
+/// Whether each lane's values so far were all positive and finite, NaN passed over (it reaches
+/// the results instead), in one accumulator: the smallest min(v, 1/v), which is > 0 exactly
+/// where every v is (v = 0 gives 0, v = inf gives 1/v = 0, a negative v less than 0; a
+/// subnormal v, whose 1/v overflows, gives v). A check kept out of the rows' loops, where a
+/// compare and a branch a row cost more than the check; one register, not two (a minimum and
+/// a maximum), in loops that spill.
 #[derive(Clone, Copy)]
-struct Extremes<V> {
+struct Positive<V> {
     smallest: V,
-    largest: V,
 }
 
-impl<V: Vector> Extremes<V> {
+impl<V: Vector> Positive<V> {
     #[inline(always)]
     fn new() -> Self {
         Self {
             smallest: V::splat(f64::INFINITY),
-            largest: V::splat(f64::NEG_INFINITY),
         }
     }
 
+    /// Takes v with its reciprocal 1/v, which the factorisations compute anyway.
     #[inline(always)]
-    fn include(&mut self, v: V) {
-        self.smallest = v.min(self.smallest);
-        self.largest = v.max(self.largest);
+    fn include(&mut self, v: V, reciprocal: V) {
+        self.smallest = v.min(reciprocal).min(self.smallest);
     }
 
     /// Lane by lane: every value positive and finite (NaN aside).
     #[inline(always)]
-    fn positive_finite(&self) -> [bool; WIDTH] {
-        let (smallest, largest) = (self.smallest.store().0, self.largest.store().0);
-        std::array::from_fn(|l| smallest[l] > 0.0 && largest[l] < f64::INFINITY)
+    fn all(&self) -> [bool; WIDTH] {
+        self.smallest.store().0.map(|v| v > 0.0)
     }
 }
 
@@ -234,11 +234,12 @@ impl Group {
             rhs: [a.1, b.1, c.1],
         };
         let mut above = [[zero; 4]; 3];
-        let (mut pivots, mut diagonals) = (Extremes::new(), Extremes::new());
+        let (mut pivots, mut diagonals) = (Positive::new(), Positive::new());
         for j in 0..longest {
-            let next = self.fresh(lam, j + 3);
-            let (lu, c) = window.eliminate(next, &mut pivots);
+            let (lu, c) = window.eliminate(&mut pivots);
             let unit = cholesky(&self.rows[j], lam, &mut above, &mut diagonals);
+            // Row j + 3 made last: its vectors live only from here (registers are short).
+            window.push(self.fresh(lam, j + 3));
             self.factors[j] = Factors {
                 lu: lu.map(V::store),
                 c: c.store(),
@@ -273,8 +274,8 @@ impl Group {
         Evaluation {
             residual: residual.store().0,
             trace: trace.store().0,
-            solved: pivots.positive_finite(),
-            factored: diagonals.positive_finite(),
+            solved: pivots.all(),
+            factored: diagonals.all(),
         }
     }
 }
@@ -294,11 +295,11 @@ impl<V: Vector> Window<V> {
     /// then 1 / U_jj) and its right-hand side, and takes row j + 3 in. The pivot's magnitude
     /// goes into `pivots`.
     #[inline(always)]
-    fn eliminate(&mut self, next: ([V; 7], V), pivots: &mut Extremes<V>) -> ([V; 5], V) {
+    fn eliminate(&mut self, pivots: &mut Positive<V>) -> ([V; 5], V) {
         let [r0, r1, r2] = &mut self.rows;
         let [c0, c1, c2] = &mut self.rhs;
         let (a0, a1, a2) = (r0[2].abs(), r1[1].abs(), r2[0].abs());
-        pivots.include(a0.max(a1).max(a2));
+        let largest = a0.max(a1).max(a2);
         let second = V::and(a1.gt(a0), a1.ge(a2));
         let third = V::and_not(second, V::and(a2.gt(a0), a2.gt(a1)));
         for q in 0..5 {
@@ -313,6 +314,8 @@ impl<V: Vector> Window<V> {
         *c2 = V::select(third, top, low);
         let zero = V::splat(0.0);
         let inverse = V::splat(1.0) / r0[2];
+        // The pivot's magnitude is the largest.
+        pivots.include(largest, inverse.abs());
         let (f1, f2) = (r1[1] * inverse, r2[0] * inverse);
         r1[1] = zero;
         r2[0] = zero;
@@ -322,10 +325,14 @@ impl<V: Vector> Window<V> {
         }
         *c1 = *c1 - f1 * *c0;
         *c2 = *c2 - f2 * *c0;
-        let done = ([r0[3], r0[4], r0[5], r0[6], inverse], *c0);
-        self.rows = [self.rows[1], self.rows[2], next.0];
-        self.rhs = [self.rhs[1], self.rhs[2], next.1];
-        done
+        ([r0[3], r0[4], r0[5], r0[6], inverse], *c0)
+    }
+
+    /// The next row in, the finished one out.
+    #[inline(always)]
+    fn push(&mut self, (row, rhs): ([V; 7], V)) {
+        self.rows = [self.rows[1], self.rows[2], row];
+        self.rhs = [self.rhs[1], self.rhs[2], rhs];
     }
 }
 
@@ -338,15 +345,15 @@ fn cholesky<V: Vector>(
     row: &Row,
     lam: V,
     above: &mut [[V; 4]; 3],
-    diagonals: &mut Extremes<V>,
+    diagonals: &mut Positive<V>,
 ) -> [V; 4] {
     let a: [V; 4] = std::array::from_fn(|d| V::load(row.gram[d]) + lam * V::load(row.rough[d]));
     let [p1, p2, p3] = &*above;
     // U_{k,i} U_{k,l} = P_k Ũ_{k,i} Ũ_{k,l}.
     let (s1, s2, s3) = (p1[0] * p1[1], p2[0] * p2[2], p3[0] * p3[3]);
     let diagonal = a[0] - s1 * p1[1] - s2 * p2[2] - s3 * p3[3];
-    diagonals.include(diagonal);
     let inverse = V::splat(1.0) / diagonal;
+    diagonals.include(diagonal, inverse);
     let new = [
         diagonal,
         (a[1] - s1 * p1[2] - s2 * p2[3]) * inverse,
