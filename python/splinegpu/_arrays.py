@@ -212,15 +212,39 @@ class _Laid(NamedTuple):
         return np.split(self.flat, self.offsets[1:-1])
 
 
+def _owner(a: np.ndarray):
+    """The object whose memory `a` views (`a` itself where it owns its data)."""
+    while isinstance(a.base, np.ndarray):
+        a = a.base
+    return a if a.base is None else a.base
+
+
+def _batch(arrays, name: str, ndim: int):
+    """A batch's arrays (a list of `ndim`-D arrays, or one array of one dimension more) as the
+    extension takes them: that one array; the list, each array aligned, where no two view one
+    owner's memory (each borrowed on its own, nothing copied); else laid end to end with their
+    offsets (`_end_to_end`), as NumPy's borrow checks compare every view of one owner with
+    every other (16,000 views of one array: 0.3 s)."""
+    if isinstance(arrays, np.ndarray) and arrays.ndim == ndim + 1:
+        return _aligned(arrays, name)
+    arrays = [_aligned(a, f"{name}[{i}]") for i, a in enumerate(arrays)]
+    for i, a in enumerate(arrays):
+        if a.ndim != ndim:
+            raise ValueError(f"{name}[{i}]: must be {ndim}-D, got shape {a.shape}")
+    if len({id(_owner(a)) for a in arrays}) == len(arrays):
+        return arrays
+    return _end_to_end(arrays, name)
+
+
 def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
-    """A batch's x (a list of 1-D arrays or a 2-D array) and weights (None for ones, or one
-    array per series) laid end to end: (x, w, offsets), as `_end_to_end` lays them; w empty
-    for unit weights (the extension's, not an array of N ones)."""
-    x, offsets = _end_to_end(xs, xname)
+    """A batch's x (a list of 1-D arrays or a 2-D array) and weights (None for unit weights,
+    or one 1-D array per series) as the extension takes them (`_batch`), and the (S + 1,)
+    offsets where each series starts, were they laid end to end."""
+    lengths = [len(x) for x in xs]
+    offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
     if ws is None:
-        return x, np.zeros(0), offsets
+        return _batch(xs, xname, 1), None, offsets
     ws = [_float64(w, f"ws[{i}]") for i, w in enumerate(ws)]
-    if len(ws) != len(offsets) - 1:
-        raise ValueError(f"ws: {len(ws)} weight arrays for {len(offsets) - 1} series")
-    w, _ = _end_to_end(ws, "ws")
-    return x, w, offsets
+    if len(ws) != len(lengths):
+        raise ValueError(f"ws: {len(ws)} weight arrays for {len(lengths)} series")
+    return _batch(xs, xname, 1), _batch(ws, "ws", 1), offsets

@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _end_to_end, _float64, _xs_and_weights
+from ._arrays import _aligned, _batch, _float64, _xs_and_weights
 from ._bsplines import BSpline, make_interp_spline
 from ._context import Context
 
@@ -148,10 +148,9 @@ def _fit(x, y, w, xb, xe, k, s, t, nest, periodic: bool):
         raise ValueError(f"x: a periodic fit needs m >= 2 points, got {m}")
     if not periodic and m <= k:
         raise ValueError(f"x: m > k must hold, got m = {m} points for k = {k}")
-    one = np.array([0, len(x)], np.int64)
-    made, offsets, c, iers = _native.fit_splrep(_aligned(x, "x"), _aligned(y, "y"),
-                                                _aligned(w, "w"), one, [xb], [xe], k, [s],
-                                                knots, nest, periodic)
+    made, offsets, c, iers = _native.fit_splrep([_aligned(x, "x")], [_aligned(y, "y")],
+                                                [_aligned(w, "w")], [xb], [xe], k, [s], knots,
+                                                nest, periodic)
     _warn(iers)
     return np.array(made[offsets[0]:offsets[1]]), c
 
@@ -223,21 +222,17 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest, periodic: bool = False
         raise ValueError(f"k: degrees 1 to 6 are fitted here, got {k}")
     if nest is not None and operator.index(nest) < 2 * (k + 1):
         raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
-    x, w, offsets = _xs_and_weights(us, ws, "us")
     if ends is None:
         # Each series' first and last u (an empty series is refused in the extension).
-        last = max(len(x) - 1, 0)
-        starts = np.minimum(offsets[:-1], last)
-        stops = np.minimum(np.maximum(offsets[1:] - 1, offsets[:-1]), last)
-        xb = list(x[starts]) if len(x) else [0.0] * count
-        xe = list(x[stops]) if len(x) else [0.0] * count
+        xb = [float(u[0]) if len(u) else 0.0 for u in us]
+        xe = [float(u[-1]) if len(u) else 0.0 for u in us]
     else:
         xb, xe = ([float(v) for v in np.broadcast_to(_float64(e, "ends"), (count,))]
                   for e in ends)
     if not count:
         return [], [], []
-    y, _ = _end_to_end(points, "points")
-    knots, offsets, c, iers = _native.fit_splrep(x, y, _aligned(w, "ws"), offsets, xb, xe, k,
+    us, ws, _ = _xs_and_weights(us, ws, "us")
+    knots, offsets, c, iers = _native.fit_splrep(us, _batch(points, "points", 2), ws, xb, xe, k,
                                                  list(s), None, nest, periodic)
     _warn(iers)
     ts = [knots[offsets[i]:offsets[i + 1]] for i in range(count)]

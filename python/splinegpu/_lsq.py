@@ -9,7 +9,7 @@ import operator
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _end_to_end, _float64, _xs_and_weights
+from ._arrays import _aligned, _axis, _batch, _end_to_end, _float64, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -95,10 +95,9 @@ def make_lsq_spline(x, y, t, k: int = 3, w=None, axis: int = 0, check_finite: bo
     if columns.shape[1] == 0:
         c = np.zeros((nc, 0))
     else:
-        one = np.array([0, len(x)], dtype=np.int64)
         try:
-            c, _, bad = _native.fit_lsq(_aligned(x, "x"), _aligned(columns, "y"),
-                                        _aligned(w, "w"), one, _aligned(t, "t"),
+            c, _, bad = _native.fit_lsq([_aligned(x, "x")], [_aligned(columns, "y")],
+                                        [_aligned(w, "w")], _aligned(t, "t"),
                                         np.array([0, len(t)], np.int64), k)
         except ValueError as e:
             raise _native_words(e) from None
@@ -128,13 +127,12 @@ def fit_many(xs: list, ys, ts, k: int, ws) -> tuple:
         if len(ts) != count:
             raise ValueError(f"ts: {len(ts)} knot vectors for {count} series")
         t_flat, t_offsets = _end_to_end(ts, "ts") if ts else (np.zeros(0), np.zeros(1, np.int64))
-    x, w, offsets = _xs_and_weights(xs, ws)
+    xs, ws, _ = _xs_and_weights(xs, ws)
     if count == 0:
         return [], []
     # Each series checked in the extension, as `check` does, naming it.
-    y, _ = _end_to_end(ys, "ys")
-    c, _, bad = _native.fit_lsq(x, y, _aligned(w, "ws"), offsets, _aligned(t_flat, "ts"),
-                                t_offsets, k)
+    c, _, bad = _native.fit_lsq(xs, _batch(ys, "ys", 2), ws, _aligned(t_flat, "ts"), t_offsets,
+                                k)
     if bad is not None:
         raise singular(bad)
     rows = np.diff(t_offsets) - (k + 1)

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _end_to_end, _float64, _Laid, _xs_and_weights
+from ._arrays import _aligned, _axis, _batch, _float64, _Laid, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
 
@@ -74,9 +74,8 @@ def make_smoothing_spline(x, y, w=None, lam=None, *, axis: int = 0,
     if columns.shape[1] == 0:
         c, used = np.zeros((len(x) + 2, 0)), lams
     else:
-        _, c, used = _native.fit_smoothing(_aligned(x, "x"), _aligned(columns, "y"),
-                                           _aligned(w, "w"), np.array([0, len(x)], np.int64),
-                                           _aligned(lams, "lam"))
+        _, c, used = _native.fit_smoothing([_aligned(x, "x")], [_aligned(columns, "y")],
+                                           [_aligned(w, "w")], _aligned(lams, "lam"))
     c = c.reshape((len(x) + 2, *trailing))
     spline = BSpline.construct_fast(knots(x), np.ascontiguousarray(c), 3, axis=axis,
                                     context=context)
@@ -89,7 +88,7 @@ def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     one (S, n, m) array): their knots and coefficients laid end to end (`_Laid`: knots
     (sum n_i + 6), coefficients (sum n_i + 2, m)) and lams (S, m)."""
     count = len(xs)
-    x, w, offsets = _xs_and_weights(xs, ws)
+    xs, ws, offsets = _xs_and_weights(xs, ws)
     # Each series' x, y and w are checked in the extension, in `check_series`' words.
     given = _float64(lams, "lams") if lams is not None else None
     if given is not None and given.ndim == 1:
@@ -97,7 +96,6 @@ def fit_many(xs: list, ys: Any, ws, lams, columns: int) -> tuple:
     lam = lam_of(given, (count, columns), "lams")
     if count == 0:
         return [], [], lam
-    y, _ = _end_to_end(ys, "ys")
-    t, c, used = _native.fit_smoothing(x, y, _aligned(w, "ws"), offsets, _aligned(lam, "lams"))
+    t, c, used = _native.fit_smoothing(xs, _batch(ys, "ys", 2), ws, _aligned(lam, "lams"))
     series = np.arange(count + 1, dtype=np.int64)
     return _Laid(t, offsets + 6 * series), _Laid(c, offsets + 2 * series), used

@@ -1648,62 +1648,59 @@ fn ragged<'a>(
     Ok(out)
 }
 
-/// The unit weights of a batch given none (`w` empty): one run of ones as long as its
-/// longest series, which every series' w is a slice of (not a second array of N ones).
-fn unit_weights(w: &PyReadonlyArray1<'_, f64>, offsets: &PyReadonlyArray1<'_, i64>) -> Vec<f64> {
-    if w.len() > 0 {
-        return Vec::new();
-    }
-    let offsets = offsets.as_slice().unwrap_or(&[]);
-    let longest = offsets
-        .windows(2)
-        .map(|p| usize::try_from(p[1] - p[0]).unwrap_or(0))
-        .max()
-        .unwrap_or(0);
-    vec![1.0; longest]
-}
-
-/// Each series' (x, y, w) from the flat arrays (x (N,), y (N, m), w (N,) or empty for unit
-/// weights, `ones` then from `unit_weights`, offsets (S + 1,)).
+/// Each series' (x, y, w) of a batch: x and y as the batch types hold them (y's rows of m
+/// values, one m for all), w likewise or None for unit weights, which are then slices of
+/// `ones` (one run of ones as long as the longest series, not a second array of N ones).
 fn series<'a>(
-    x: &'a PyReadonlyArray1<'_, f64>,
-    y: &'a PyReadonlyArray2<'_, f64>,
-    w: &'a PyReadonlyArray1<'_, f64>,
-    offsets: &PyReadonlyArray1<'_, i64>,
-    ones: &'a [f64],
+    xs: &'a Stack1<'_>,
+    ys: &'a Stack2<'_>,
+    ws: Option<&'a Stack1<'_>>,
+    ones: &'a mut Vec<f64>,
 ) -> PyResult<(Vec<Series<'a>>, usize)> {
-    let m = y.shape()[1];
-    let offsets = offsets.as_slice()?;
-    let (x, w) = (x.as_slice()?, w.as_slice()?);
-    let unit = w.is_empty() && !x.is_empty();
-    if y.shape()[0] != x.len() || (!unit && w.len() != x.len()) {
+    let (xs, ys) = (xs.items()?, ys.items()?);
+    let ws = ws.map(Stack1::items).transpose()?;
+    if ys.len() != xs.len() || ws.as_ref().is_some_and(|w| w.len() != xs.len()) {
         return Err(value_error(format!(
-            "{} x, {} rows of y and {} w",
-            x.len(),
-            y.shape()[0],
-            w.len()
+            "{} x arrays, {} y arrays and {} w arrays",
+            xs.len(),
+            ys.len(),
+            ws.as_ref().map_or(xs.len(), Vec::len)
         )));
     }
-    let xs = ragged(x, 1, offsets, "xs")?;
-    let ys = ragged(y.as_slice()?, m, offsets, "ys")?;
-    let ws = if unit {
-        xs.iter()
-            .map(|x| {
-                ones.get(..x.len())
-                    .ok_or_else(|| value_error("ws: unit weights too short"))
-            })
-            .collect::<PyResult<Vec<_>>>()?
-    } else {
-        ragged(w, 1, offsets, "ws")?
-    };
-    Ok((
-        xs.into_iter()
-            .zip(ys)
-            .zip(ws)
-            .map(|((x, y), w)| (x, y, w))
-            .collect(),
-        m,
-    ))
+    let m = ys.first().map_or(0, |&(m, _)| m);
+    for (i, (x, &(mi, y))) in xs.iter().zip(&ys).enumerate() {
+        if mi != m || y.len() != x.len() * m {
+            return Err(value_error(format!(
+                "ys[{i}]: {} values in rows of {mi} for {} x (rows of {m})",
+                y.len(),
+                x.len()
+            )));
+        }
+        if let Some(w) = ws.as_ref().map(|w| w[i]).filter(|w| w.len() != x.len()) {
+            return Err(value_error(format!(
+                "ws[{i}]: {} weights for {} x",
+                w.len(),
+                x.len()
+            )));
+        }
+    }
+    if ws.is_none() {
+        ones.resize(xs.iter().map(|x| x.len()).max().unwrap_or(0), 1.0);
+    }
+    let ones: &'a [f64] = ones;
+    let data = xs
+        .into_iter()
+        .zip(ys)
+        .enumerate()
+        .map(|(i, (x, (_, y)))| {
+            let w = match &ws {
+                Some(ws) => ws[i],
+                None => &ones[..x.len()],
+            };
+            (x, y, w)
+        })
+        .collect();
+    Ok((data, m))
 }
 
 /// A least-squares series' data checked, as SciPy checks it (the message's "{i}" stands
@@ -1761,27 +1758,23 @@ fn stacked(py: Python<'_>, blocks: Vec<Vec<f64>>, m: usize) -> PyResult<Bound<'_
     PyArray1::from_vec(py, flat).reshape([rows, m])
 }
 
-/// Least-squares splines of degree k, one per series, on every thread (`lsq::fit`): the
-/// coefficients stacked ((sum of len(t_i) - k - 1), m), each series' weighted residual sum of
+/// Least-squares splines of degree k, one per series, on every thread (`lsq::fit`): xs, ys
+/// (rows of m) and ws (None: unit weights) as the batch types take them, the knots laid end
+/// to end with their offsets. The coefficients stacked ((sum of len(t_i) - k - 1), m), each series' weighted residual sum of
 /// squares, and the series whose knots no data supports (Schoenberg-Whitney), if any.
 #[pyfunction]
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the flat arrays of a batch, one each"
-)]
 fn fit_lsq<'py>(
     py: Python<'py>,
-    x: PyReadonlyArray1<'py, f64>,
-    y: PyReadonlyArray2<'py, f64>,
-    w: PyReadonlyArray1<'py, f64>,
-    offsets: PyReadonlyArray1<'py, i64>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    ws: Option<Stack1<'py>>,
     t: PyReadonlyArray1<'py, f64>,
     t_offsets: PyReadonlyArray1<'py, i64>,
     k: usize,
 ) -> PyResult<LsqFits<'py>> {
     use rayon::prelude::*;
-    let ones = unit_weights(&w, &offsets);
-    let (data, m) = series(&x, &y, &w, &offsets, &ones)?;
+    let mut ones = Vec::new();
+    let (data, m) = series(&xs, &ys, ws.as_ref(), &mut ones)?;
     let ts = ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "ts")?;
     if ts.len() != data.len() || ts.iter().any(|t| t.len() < 2 * k + 2) {
         return Err(value_error(format!(
@@ -1871,22 +1864,22 @@ fn laid_end_to_end(
     out
 }
 
-/// Cubic smoothing splines, one per series, on every thread (`smoothing`): lams (S, m) holds
+/// Cubic smoothing splines, one per series, on every thread (`smoothing`): xs, ys (rows of m)
+/// and ws (None: unit weights) as the batch types take them; lams (S, m) holds
 /// each column's lam, NaN where GCV chooses it. Each series' knots [x_0] * 3 + x + [x_last] * 3
 /// laid end to end (sum of n_i + 6), the B-spline coefficients on them stacked
 /// ((sum of n_i + 2), m), and the lams used.
 #[pyfunction]
 fn fit_smoothing<'py>(
     py: Python<'py>,
-    x: PyReadonlyArray1<'py, f64>,
-    y: PyReadonlyArray2<'py, f64>,
-    w: PyReadonlyArray1<'py, f64>,
-    offsets: PyReadonlyArray1<'py, i64>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    ws: Option<Stack1<'py>>,
     lams: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<SmoothingFits<'py>> {
     use rayon::prelude::*;
-    let ones = unit_weights(&w, &offsets);
-    let (data, m) = series(&x, &y, &w, &offsets, &ones)?;
+    let mut ones = Vec::new();
+    let (data, m) = series(&xs, &ys, ws.as_ref(), &mut ones)?;
     let given = lams.as_slice()?;
     if lams.shape() != [data.len(), m] {
         return Err(value_error(format!(
@@ -1987,11 +1980,11 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize, periodic: bool) -> Result<(
 }
 
 /// FITPACK smoothing splines (`fitpack::fit`), one per series, on every thread: series i's
-/// x, y (rows of d), w, [xb_i, xe_i] and s_i, degree k, knots found (or given in `ts`), at
+/// x, y (rows of d), w (None: unit weights; each as the batch types take them), [xb_i, xe_i] and s_i, degree k, knots found (or given in `ts`), at
 /// most `nest` of them (None: FITPACK's default). The knots stacked with their offsets, the
 /// coefficients stacked ((sum of len(t_i) - k - 1), d), and each root finder's ier.
 #[pyfunction]
-#[pyo3(signature = (x, y, w, offsets, xb, xe, k, s, t = None, nest = None, periodic = false))]
+#[pyo3(signature = (xs, ys, ws, xb, xe, k, s, t = None, nest = None, periodic = false))]
 #[expect(
     clippy::too_many_arguments,
     clippy::needless_pass_by_value,
@@ -1999,10 +1992,9 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize, periodic: bool) -> Result<(
 )]
 fn fit_splrep<'py>(
     py: Python<'py>,
-    x: PyReadonlyArray1<'py, f64>,
-    y: PyReadonlyArray2<'py, f64>,
-    w: PyReadonlyArray1<'py, f64>,
-    offsets: PyReadonlyArray1<'py, i64>,
+    xs: Stack1<'py>,
+    ys: Stack2<'py>,
+    ws: Option<Stack1<'py>>,
     xb: Vec<f64>,
     xe: Vec<f64>,
     k: usize,
@@ -2012,8 +2004,8 @@ fn fit_splrep<'py>(
     periodic: bool,
 ) -> PyResult<FitpackFits<'py>> {
     use rayon::prelude::*;
-    let ones = unit_weights(&w, &offsets);
-    let (data, d) = series(&x, &y, &w, &offsets, &ones)?;
+    let mut ones = Vec::new();
+    let (data, d) = series(&xs, &ys, ws.as_ref(), &mut ones)?;
     let given = match &t {
         Some((t, t_offsets)) => Some(ragged(t.as_slice()?, 1, t_offsets.as_slice()?, "t")?),
         None => None,
