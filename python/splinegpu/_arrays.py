@@ -219,14 +219,24 @@ def _owner(a: np.ndarray):
     return a if a.base is None else a.base
 
 
+# The mean rows an array from which a batch's arrays are borrowed one by one rather than
+# copied end to end: per array, the checks below and a borrow cost about what copying 2,000
+# values does.
+_LONG = 1024
+
+
 def _batch(arrays, name: str, ndim: int):
     """A batch's arrays (a list of `ndim`-D arrays, or one array of one dimension more) as the
-    extension takes them: that one array; the list, each array aligned, where no two view one
-    owner's memory (each borrowed on its own, nothing copied); else laid end to end with their
-    offsets (`_end_to_end`), as NumPy's borrow checks compare every view of one owner with
-    every other (16,000 views of one array: 0.3 s)."""
+    extension takes them: that one array; for long arrays, the list, each aligned, where no two
+    view one owner's memory (each borrowed on its own, nothing copied); else laid end to end
+    with their offsets (`_end_to_end`), as for short arrays copying is cheaper, and as NumPy's
+    borrow checks compare every view of one owner with every other (16,000 views of one
+    array: 0.3 s)."""
     if isinstance(arrays, np.ndarray) and arrays.ndim == ndim + 1:
         return _aligned(arrays, name)
+    arrays = list(arrays)
+    if sum(map(len, arrays)) < _LONG * len(arrays):
+        return _end_to_end(arrays, name)
     arrays = [_aligned(a, f"{name}[{i}]") for i, a in enumerate(arrays)]
     for i, a in enumerate(arrays):
         if a.ndim != ndim:

@@ -187,18 +187,21 @@ def test_lsq_batch_equals_single_fits():
 
 def test_batches_read_each_series_as_given():
     """Each series' arrays are its own: weights of the wrong length for their series are
-    refused by name even where the lengths add up, and series that are views of one array
-    (laid end to end on their way in) give what separate arrays give, bit for bit."""
+    refused by name even where the lengths add up (short series, copied end to end on their
+    way in, and long ones, borrowed one by one), and long series that are views of one array
+    (copied end to end) give what separate arrays (borrowed) give, bit for bit."""
     rng = np.random.default_rng(4)
-    xs = [np.sort(rng.uniform(0, 1, n)) for n in (12, 10)]
-    ys = [np.sin(6 * x) + rng.normal(scale=0.1, size=len(x)) for x in xs]
-    for fit in (lambda ws: G.make_smoothing_splines(xs, ys, ws),
-                lambda ws: G.make_splreps(xs, ys, ws=ws, s=0.1),
-                lambda ws: G.make_lsq_splines(xs, ys, np.r_[[0.0] * 4, 0.5, [1.0] * 4], ws=ws)):
-        with pytest.raises(ValueError, match=r"ws\[0\]: 10 weights for 12 x"):
-            fit([np.ones(10), np.ones(12)])
+    for n in (12, 1200):
+        xs = [np.sort(rng.uniform(0, 1, m)) for m in (n, n - 2)]
+        ys = [np.sin(6 * x) + rng.normal(scale=0.1, size=len(x)) for x in xs]
+        knots = np.r_[[0.0] * 4, 0.5, [1.0] * 4]
+        for fit, args, options in ((G.make_smoothing_splines, (), {}),
+                                   (G.make_splreps, (), {"s": 0.1}),
+                                   (G.make_lsq_splines, (knots,), {})):
+            with pytest.raises(ValueError, match=rf"ws\[0\]: {n - 2} weights for {n} x"):
+                fit(xs, ys, *args, ws=[np.ones(n - 2), np.ones(n)], **options)
     flat_x, flat_y = np.concatenate(xs), np.concatenate(ys)
-    views = ([flat_x[:12], flat_x[12:]], [flat_y[:12], flat_y[12:]])
+    views = ([flat_x[:n], flat_x[n:]], [flat_y[:n], flat_y[n:]])
     a, b = G.make_smoothing_splines(*views), G.make_smoothing_splines(xs, ys)
     np.testing.assert_array_equal(a.lam, b.lam)
     for i in range(2):
