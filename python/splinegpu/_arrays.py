@@ -250,7 +250,8 @@ def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
     """A batch's x (a list of 1-D arrays or a 2-D array) and weights (None for unit weights,
     or one 1-D array per series) as the extension takes them (`_batch`), and the (S + 1,)
     offsets where each series starts, were they laid end to end."""
-    lengths = [len(x) for x in xs]
+    # A 2-D xs' rows are not made into arrays one by one (10,000 rows: 8 ms).
+    lengths = [xs.shape[1]] * len(xs) if isinstance(xs, np.ndarray) else [len(x) for x in xs]
     offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
     if ws is None:
         return _batch(xs, xname, 1), None, offsets

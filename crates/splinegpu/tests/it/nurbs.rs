@@ -280,17 +280,31 @@ fn assert_basis_sum(
     worst
 }
 
-#[test]
-fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
-    let mut rng = Rng(41);
+/// The weighted test curves (`weighted_curves`, points near 0 and near 1e6), with their
+/// weights or without them (against the basis sum with unit weights), each against the basis
+/// sum on the CPU and the GPU.
+fn basis_sums_on_both_backends(seed: u64, weighted: bool) {
+    let mut rng = Rng(seed);
     let mut job = EvalJob::new(Derivatives::Second);
     let mut worst = 0.0f64;
     for offset in [0.0, 1e6] {
-        for curve in weighted_curves(&mut rng, offset) {
-            worst = worst.max(assert_basis_sum(&mut rng, &curve, &mut job));
+        for (knots, weights, curve) in weighted_curves(&mut rng, offset) {
+            let case = if weighted {
+                (knots, weights, curve)
+            } else {
+                let kind = CurveKind::Nurbs {
+                    knots: knots.clone(),
+                    weights: None,
+                };
+                let plain = Curve::new(kind, curve.points().clone()).unwrap();
+                (knots, vec![1.0; weights.len()], plain)
+            };
+            worst = worst.max(assert_basis_sum(&mut rng, &case, &mut job));
         }
     }
-    println!("worst CPU error against the rational basis sum: {worst:.2e} of the bound");
+    println!(
+        "worst CPU error against the basis sum (weighted: {weighted}): {worst:.2e} of the bound"
+    );
     if let Some(gpu) = assert_gpu_matches_cpu(&job) {
         println!(
             "worst GPU error: {:.3} of the promise ({:?})",
@@ -299,28 +313,16 @@ fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
     }
 }
 
+#[test]
+fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
+    basis_sums_on_both_backends(41, true);
+}
+
 /// The same knot vectors without weights (the polynomial spans' own construction, from the
-/// derivatives at each span's start), against the basis sum with unit weights.
+/// derivatives at each span's start).
 #[test]
 fn unweighted_nurbs_is_the_basis_sum_on_both_backends() {
-    let mut rng = Rng(43);
-    let mut job = EvalJob::new(Derivatives::Second);
-    let mut worst = 0.0f64;
-    for offset in [0.0, 1e6] {
-        for (knots, weights, curve) in weighted_curves(&mut rng, offset) {
-            let kind = CurveKind::Nurbs {
-                knots: knots.clone(),
-                weights: None,
-            };
-            let plain = Curve::new(kind, curve.points().clone()).unwrap();
-            let ones = vec![1.0; weights.len()];
-            worst = worst.max(assert_basis_sum(&mut rng, &(knots, ones, plain), &mut job));
-        }
-    }
-    println!("worst CPU error against the basis sum: {worst:.2e} of the bound");
-    if let Some(gpu) = assert_gpu_matches_cpu(&job) {
-        println!("worst GPU error: {:.3} of the promise", gpu.ratio);
-    }
+    basis_sums_on_both_backends(43, false);
 }
 
 #[test]
