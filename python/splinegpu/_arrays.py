@@ -220,9 +220,8 @@ def _owner(a: np.ndarray):
     return a if a.base is None else a.base
 
 
-# The mean rows an array from which a batch's arrays are borrowed one by one rather than
-# copied end to end: per array, the checks below and a borrow cost about what copying 2,000
-# values does.
+# The mean rows a batch's arrays need to be borrowed one by one rather than copied end to
+# end: per array, the checks below and a borrow cost about what copying 2,000 values does.
 _LONG = 1024
 
 

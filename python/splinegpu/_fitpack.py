@@ -223,9 +223,13 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest, periodic: bool = False
     if nest is not None and operator.index(nest) < 2 * (k + 1):
         raise ValueError(f"`nest` too small: nest = {nest} < 2*(k+1) = {2 * (k + 1)}.")
     if ends is None:
-        # Each series' first and last u (an empty series is refused in the extension).
-        xb = [float(u[0]) if len(u) else 0.0 for u in us]
-        xe = [float(u[-1]) if len(u) else 0.0 for u in us]
+        # Each series' first and last u (an empty series is refused in the extension); a 2-D
+        # us' columns, not its rows one by one.
+        if isinstance(us, np.ndarray) and us.shape[1]:
+            xb, xe = us[:, 0].tolist(), us[:, -1].tolist()
+        else:
+            xb = [float(u[0]) if len(u) else 0.0 for u in us]
+            xe = [float(u[-1]) if len(u) else 0.0 for u in us]
     else:
         xb, xe = ([float(v) for v in np.broadcast_to(_float64(e, "ends"), (count,))]
                   for e in ends)

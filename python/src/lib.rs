@@ -1760,8 +1760,9 @@ fn stacked(py: Python<'_>, blocks: Vec<Vec<f64>>, m: usize) -> PyResult<Bound<'_
 
 /// Least-squares splines of degree k, one per series, on every thread (`lsq::fit`): xs, ys
 /// (rows of m) and ws (None: unit weights) as the batch types take them, the knots laid end
-/// to end with their offsets. The coefficients stacked ((sum of len(t_i) - k - 1), m), each series' weighted residual sum of
-/// squares, and the series whose knots no data supports (Schoenberg-Whitney), if any.
+/// to end with their offsets. The coefficients stacked ((sum of len(t_i) - k - 1), m), each
+/// series' weighted residual sum of squares, and the series whose knots no data supports
+/// (Schoenberg-Whitney), if any.
 #[pyfunction]
 fn fit_lsq<'py>(
     py: Python<'py>,
@@ -1980,8 +1981,9 @@ fn fitpack_input(data: &fitpack::Data<'_>, k: usize, periodic: bool) -> Result<(
 }
 
 /// FITPACK smoothing splines (`fitpack::fit`), one per series, on every thread: series i's
-/// x, y (rows of d), w (None: unit weights; each as the batch types take them), [xb_i, xe_i] and s_i, degree k, knots found (or given in `ts`), at
-/// most `nest` of them (None: FITPACK's default). The knots stacked with their offsets, the
+/// x, y (rows of d), w (None: unit weights; each as the batch types take them), [xb_i, xe_i]
+/// and s_i, degree k, knots found (or given in `ts`), at most `nest` of them (None: FITPACK's
+/// default). The knots stacked with their offsets, the
 /// coefficients stacked ((sum of len(t_i) - k - 1), d), and each root finder's ier.
 #[pyfunction]
 #[pyo3(signature = (xs, ys, ws, xb, xe, k, s, t = None, nest = None, periodic = false))]

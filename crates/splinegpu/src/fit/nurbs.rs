@@ -12,8 +12,8 @@
 //! ```
 //!
 //! and the segment's A, B, C, D are the sums of the u³, u², u, 1 coefficients times the points.
-//! Without weights the same cubic comes cheaper from its derivatives at the span's start
-//! (`Taylor`). Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n].
+//! Without weights this is `scipy.interpolate.BSpline(knots, points, 3)` on [k_3, k_n], and the
+//! same cubic comes cheaper from its derivatives at the span's start (`Taylor`).
 //!
 //! With weights the span is rational, Σ w_j N_j P_j / Σ w_j N_j, written as
 //! [`rational`](crate::rational) holds it: with ω_j = w_j / (the smallest of the span's four
@@ -292,8 +292,8 @@ fn span_basis(knots: &[f64], i: usize) -> [[f64; 4]; 4] {
     let mut level = [[0.0; 4]; 5];
     level[3][0] = 1.0;
     // One function per degree, so that its loops have constant bounds and the levels stay
-    // in registers: the batch build (`fit_bspline`) in 0.6x the time of one loop over the
-    // degrees, the same arithmetic bit for bit.
+    // in registers (0.6x the time of one loop over the degrees, the same arithmetic bit for
+    // bit).
     let level = raise::<1>(knots, i, dt, &level);
     let level = raise::<2>(knots, i, dt, &level);
     let level = raise::<3>(knots, i, dt, &level);
