@@ -28,8 +28,6 @@ cargo build --quiet --profile test --bin splinegpu
 "$venv/bin/ruff" check python/
 "$venv/bin/python" -m mypy.stubtest splinegpu --ignore-missing-stub \
     --mypy-config-file python/mypy-stubtest.ini
-# The extension's own Rust unit tests (the root finder's), outside the default members.
-cargo test --quiet -p splinegpu-python --lib
 # From the repository root, so that `import splinegpu` finds the installed package, not the
 # source folder python/splinegpu (which has no compiled extension).
 "$venv/bin/pytest" -q python/tests

@@ -16,19 +16,9 @@ use numpy::{
 };
 use std::sync::Arc;
 
-mod banded;
-mod bounded_search;
-mod de_boor;
-mod fitpack;
-mod grid;
-mod lanes;
-mod lsq;
-mod periodic;
-mod pieces;
-mod roots;
-mod smoothing;
 mod surfaces;
-mod tensor_values;
+
+use bsplines::{banded, de_boor, fitpack, grid, lsq, pieces, roots, smoothing};
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -1703,52 +1693,19 @@ fn series<'a>(
     Ok((data, m))
 }
 
-/// A least-squares series' data checked, as SciPy checks it (the message's "{i}" stands
-/// for the series' index).
-fn lsq_input(x: &[f64], y: &[f64], w: &[f64], t: &[f64], k: usize) -> Result<(), &'static str> {
-    let n = t.len() - k - 1;
-    if t.iter().any(|v| !v.is_finite()) || t.windows(2).any(|p| p[1] < p[0]) {
-        return Err("ts[{i}]: Expect t to be a 1D strictly increasing sequence.");
+/// A bad series of a batch as the batch doors name it: "xs[3]: <SciPy's words> (at index 17)"
+/// for the per-series arrays, `InputError`'s own words for the rest.
+fn series_error(e: &bsplines::InputError) -> String {
+    let at = e
+        .position
+        .map(|p| format!(" (at index {p})"))
+        .unwrap_or_default();
+    match e.series {
+        Some(i) if matches!(e.argument, "x" | "y" | "w" | "t") => {
+            format!("{}s[{i}]: {}{at}", e.argument, e.message)
+        }
+        _ => e.to_string(),
     }
-    if x.len() < k + 1 {
-        return Err("xs[{i}]: Need more x points.");
-    }
-    if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] < p[0]) {
-        return Err("xs[{i}]: Expect x to be a 1D non-decreasing sequence.");
-    }
-    let (lo, hi) = if k == 0 {
-        (t[0], t[t.len() - 1])
-    } else {
-        (t[k], t[n])
-    };
-    if x.first().is_some_and(|&v| v < lo) || x.last().is_some_and(|&v| v > hi) {
-        return Err("xs[{i}]: Out of bounds: x outside the base interval [t[k], t[-k-1]]");
-    }
-    if w.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-        return Err("ws[{i}]: weights must be finite and >= 0");
-    }
-    if y.iter().any(|v| !v.is_finite()) {
-        return Err("ys[{i}]: must be finite (NaN or infinity found)");
-    }
-    Ok(())
-}
-
-/// A smoothing series' data checked, as SciPy checks it (the message's "{i}" stands for the
-/// series' index).
-fn smoothing_input(x: &[f64], y: &[f64], w: &[f64]) -> Result<(), &'static str> {
-    if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] <= p[0]) {
-        return Err("xs[{i}]: ``x`` should be an ascending array");
-    }
-    if w.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err("ws[{i}]: Invalid vector of weights");
-    }
-    if x.len() < 5 {
-        return Err("xs[{i}]: ``x`` and ``y`` length must be at least 5");
-    }
-    if y.iter().any(|v| !v.is_finite()) {
-        return Err("ys[{i}]: must be finite (NaN or infinity found)");
-    }
-    Ok(())
 }
 
 /// Per-series row blocks stacked into one (rows, m) array.
@@ -1790,7 +1747,7 @@ fn fit_lsq<'py>(
             .zip(&ts)
             .enumerate()
             .map(|(i, (&(x, y, w), t))| {
-                lsq_input(x, y, w, t, k).map_err(|e| e.replace("{i}", &i.to_string()))?;
+                lsq::check(x, y, w, t, k).map_err(|e| series_error(&e.in_series(i)))?;
                 Ok(lsq::fit(x, y, m, w, t, k))
             })
             .collect()
@@ -1889,14 +1846,12 @@ fn fit_smoothing<'py>(
             data.len()
         )));
     }
-    let checked: Vec<Result<(), &str>> = py.detach(|| {
+    let checked: Result<(), bsplines::InputError> = py.detach(|| {
         data.par_iter()
-            .map(|&(x, y, w)| smoothing_input(x, y, w))
-            .collect()
+            .enumerate()
+            .try_for_each(|(i, &(x, y, w))| smoothing::check(x, y, w).map_err(|e| e.in_series(i)))
     });
-    if let Some((i, Err(e))) = checked.iter().enumerate().find(|(_, c)| c.is_err()) {
-        return Err(value_error(e.replace("{i}", &i.to_string())));
-    }
+    checked.map_err(|e| value_error(series_error(&e)))?;
     let fitted = py.detach(|| smoothing_fits(&data, m, given));
     if let Some((job, e)) = fitted
         .iter()
@@ -1939,45 +1894,6 @@ fn fit_smoothing<'py>(
         PyArray1::from_vec(py, c).reshape([rows, m])?,
         lams,
     ))
-}
-
-/// A FITPACK series' data checked (the message's "{i}" stands for the series' index).
-fn fitpack_input(data: &fitpack::Data<'_>, k: usize, periodic: bool) -> Result<(), &'static str> {
-    let x = data.x;
-    if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|p| p[1] < p[0]) {
-        return Err("xs[{i}]: Expect `x` to be an ordered 1D sequence.");
-    }
-    if periodic && x.len() < 2 {
-        return Err("xs[{i}]: a periodic fit needs at least 2 points (the last repeats the first)");
-    }
-    if !periodic && x.len() <= k {
-        return Err("xs[{i}]: m > k must hold (more points than the degree)");
-    }
-    if data.w.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-        return Err("ws[{i}]: Weights must be non-negative");
-    }
-    if data.w.iter().all(|&v| v == 0.0) {
-        return Err("ws[{i}]: All weights are zero.");
-    }
-    if data.y.iter().any(|v| !v.is_finite()) {
-        return Err("ys[{i}]: must be finite (NaN or infinity found)");
-    }
-    // NumPy's allclose(y[0], y[-1], atol=1e-15), as SciPy checks a periodic series.
-    let (first, last) = (&data.y[..data.d], &data.y[data.y.len() - data.d..]);
-    if periodic
-        && first
-            .iter()
-            .zip(last)
-            .any(|(a, b)| (a - b).abs() > 1e-15 + 1e-5 * b.abs())
-    {
-        return Err(
-            "ys[{i}]: First and last points does not match which is required for `bc_type='periodic'`.",
-        );
-    }
-    if !(data.xb <= x[0] && data.xe >= x[x.len() - 1] && data.xb < data.xe) {
-        return Err("xb, xe[{i}]: must satisfy xb <= x[0] < x[-1] <= xe");
-    }
-    Ok(())
 }
 
 /// FITPACK smoothing splines (`fitpack::fit`), one per series, on every thread: series i's
@@ -2031,7 +1947,7 @@ fn fit_splrep<'py>(
                     xe: xe[i],
                 };
                 let named = |e: &str| e.replace("{i}", &i.to_string());
-                fitpack_input(&one, k, periodic).map_err(named)?;
+                fitpack::check(&one, k, periodic).map_err(|e| series_error(&e.in_series(i)))?;
                 let t = given.as_ref().map(|g| g[i]);
                 let most = nest.unwrap_or(fitpack::default_nest(x.len(), k, periodic));
                 fitpack::fit(&one, k, s[i], t, most, periodic).map_err(|_| {
@@ -2101,7 +2017,7 @@ fn fit_splrep_from<'py>(
         xb,
         xe,
     };
-    fitpack_input(&data, k, false).map_err(|e| value_error(e.replace("{i}", "0")))?;
+    fitpack::check(&data, k, false).map_err(|e| value_error(series_error(&e.in_series(0))))?;
     let from = from.map(|(t, fpold, nplus)| fitpack::Search { t, fpold, nplus });
     let nest = fitpack::default_nest(x.len(), k, false);
     let fitted = py.detach(|| {
@@ -2129,7 +2045,7 @@ fn smoothing_gcv(
     lams: Vec<f64>,
 ) -> PyResult<Vec<f64>> {
     let (x, y, w) = (x.as_slice()?, y.as_slice()?, w.as_slice()?);
-    smoothing_input(x, y, w).map_err(|e| value_error(e.replace("{i}", "0")))?;
+    smoothing::check(x, y, w).map_err(|e| value_error(series_error(&e.in_series(0))))?;
     if y.len() != x.len() || w.len() != x.len() {
         return Err(value_error(
             "smoothing_gcv: x, y and w must have one length",

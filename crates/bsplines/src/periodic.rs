@@ -285,7 +285,7 @@ fn interpolation_knots(x: &[f64], k: usize) -> Vec<f64> {
 }
 
 /// The knots of FITPACK's periodic search for fp <= s (fpperi's part 1).
-pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
+pub fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
     let acc = s * TOLERANCE;
     let m = data.x.len();
     let (nmin, nmax) = (2 * (k + 1), m + 2 * k);
@@ -324,7 +324,7 @@ pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Ve
 }
 
 /// The periodic smoothing spline on the knots t with fp = s (fpperi's part 2).
-pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
+pub fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
     let d = data.d;
     if t.len() == 2 * (k + 1) {
         let c = least_squares(data, t, k)?.0;

@@ -18,7 +18,7 @@ fn falling(p: usize, nu: usize) -> f64 {
 }
 
 /// Derivative `nu` at each x into `out` (len(x) rows of m): c is (k, P, m) row-major.
-pub(crate) fn evaluate(
+pub fn evaluate(
     breaks: &[f64],
     c: &[f64],
     k: usize,
@@ -48,15 +48,7 @@ pub(crate) fn evaluate(
 /// The integral from a to b (b < a: its negative) into `out` (m values), the end pieces
 /// continuing past the breakpoints: P_i(v) = sum_j c_j v^(p+1) / (p + 1), the integral of
 /// piece i from its start, at b's piece minus at a's, plus every whole piece between.
-pub(crate) fn integrate(
-    breaks: &[f64],
-    c: &[f64],
-    k: usize,
-    m: usize,
-    a: f64,
-    b: f64,
-    out: &mut [f64],
-) {
+pub fn integrate(breaks: &[f64], c: &[f64], k: usize, m: usize, a: f64, b: f64, out: &mut [f64]) {
     let (lo, hi, sign) = if b < a { (b, a, -1.0) } else { (a, b, 1.0) };
     let pieces = breaks.len() - 1;
     let mut term = vec![0.0; m];
@@ -86,7 +78,7 @@ pub(crate) fn integrate(
 /// each term c_j v^p becomes c_j v^(p+1) / (p + 1), and each piece's new constant is the
 /// integral of the pieces before it (their P_i over their whole width; breakpoints may
 /// decrease, the widths then negative).
-pub(crate) fn antiderivative(breaks: &[f64], c: &[f64], k: usize, m: usize) -> Vec<f64> {
+pub fn antiderivative(breaks: &[f64], c: &[f64], k: usize, m: usize) -> Vec<f64> {
     let pieces = breaks.len() - 1;
     let mut out = vec![0.0; (k + 1) * pieces * m];
     let mut running = vec![0.0; m];

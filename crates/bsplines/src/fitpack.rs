@@ -17,40 +17,53 @@
 //! Every step, tolerance and tie as SciPy's `_fitpack_repro` (SciPy 1.17), so that the same
 //! data and s give the same knots and coefficients.
 
+use crate::InputError;
+use crate::interp::not_a_knot;
 use crate::lsq::{self, BasisRows, Triangle};
 
 /// FITPACK's tolerance on fp (relative to s) and its most root-finding iterations.
-pub(crate) const TOLERANCE: f64 = 0.001;
+pub const TOLERANCE: f64 = 0.001;
 const MAX_ITERATIONS: usize = 20;
 
 /// One curve's data: x increasing, y (m rows of d), w >= 0, the interval [xb, xe].
-pub(crate) struct Data<'a> {
+#[derive(Clone, Copy, Debug)]
+pub struct Data<'a> {
+    /// The abscissae, non-decreasing.
     pub x: &'a [f64],
+    /// The values, len(x) rows of d.
     pub y: &'a [f64],
+    /// Coordinates per point.
     pub d: usize,
+    /// One weight per x (>= 0).
     pub w: &'a [f64],
+    /// The interval's start (<= x_0).
     pub xb: f64,
+    /// The interval's end (>= x_last).
     pub xe: f64,
 }
 
 /// Why a fit failed.
 #[derive(Debug, PartialEq)]
-pub(crate) enum Failure {
+pub enum Failure {
     /// A least-squares system was singular (FITPACK's ier = 1 territory).
     Singular,
 }
 
 /// A fitted spline: knots and coefficients (len(t) - k - 1 rows of d), and FITPACK's ier of
 /// the root finder (0 converged, 2 or 3 stopped; SciPy warns, the spline stands).
-pub(crate) struct Spline {
+#[derive(Clone, Debug)]
+pub struct Spline {
+    /// The knots.
     pub t: Vec<f64>,
+    /// The coefficients, len(t) - k - 1 rows of d.
     pub c: Vec<f64>,
+    /// The root finder's ier.
     pub ier: u8,
 }
 
 /// Each point's w_i^2 |y_i - s(x_i)|^2 and their sum, for the spline with coefficients c
 /// (rows of d) on the knots of `rows`.
-pub(crate) fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
+pub fn residuals(data: &Data<'_>, rows: &BasisRows, c: &[f64]) -> (Vec<f64>, f64) {
     let d = data.d;
     let mut out = Vec::with_capacity(data.x.len());
     let mut total = 0.0;
@@ -103,7 +116,7 @@ fn least_squares(
 /// outside the data);
 /// of the intervals holding more than one data index, the first with the largest share; its
 /// middle data point (rounded up) is the knot, inserted in order.
-pub(crate) fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -> Vec<f64> {
+pub fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -> Vec<f64> {
     let bounds = &t[k..t.len() - k];
     // Each knot's first data index (the last point's at most, where xe lies past the data).
     let last = x.len() - 1;
@@ -139,37 +152,21 @@ pub(crate) fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -
     out
 }
 
-/// SciPy's not-a-knot knots of x for degree k (x itself or its midpoints for even k, less
-/// the first and last (k + 1) / 2 (or k / 2), the ends k + 1 times).
-fn not_a_knot(x: &[f64], k: usize) -> Vec<f64> {
-    let m = x.len();
-    let inner: Vec<f64> = if k % 2 == 1 {
-        let cut = k.div_ceil(2);
-        x[cut..m - cut].to_vec()
-    } else {
-        let cut = k / 2;
-        (cut..m - 1 - cut)
-            .map(|i| (x[i] + x[i + 1]) / 2.0)
-            .collect()
-    };
-    let mut t = vec![x[0]; k + 1];
-    t.extend(inner);
-    t.extend(std::iter::repeat_n(x[m - 1], k + 1));
-    t
-}
-
 /// Where FITPACK's knot search stopped: its knots, the fp of the set before them and the
 /// number of knots it added last (curfit's fpint(n - 1) and nrdata(n)), from which a search
 /// for another s goes on (`knots_from`, UnivariateSpline's set_smoothing_factor).
 #[derive(Clone, Debug)]
-pub(crate) struct Search {
+pub struct Search {
+    /// The knots where the search stopped.
     pub t: Vec<f64>,
+    /// fp of the knot set before `t`.
     pub fpold: f64,
+    /// The knots the search added last.
     pub nplus: usize,
 }
 
 /// The knots of FITPACK's search for fp <= s (step 1 of the module's description).
-pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
+pub fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
     Ok(knots_from(data, k, s, nest, None)?.t)
 }
 
@@ -177,7 +174,7 @@ pub(crate) fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Ve
 /// earlier search stopped: from its knots, fpold and nplus, unless those are the
 /// polynomial's or the polynomial already meets s (then from the polynomial). Knots are only
 /// ever added. Returns where this search stopped.
-pub(crate) fn knots_from(
+pub fn knots_from(
     data: &Data<'_>,
     k: usize,
     s: f64,
@@ -217,17 +214,27 @@ pub(crate) fn knots_from(
 }
 
 /// A least-squares fit on knots t: each point's residual and their sum, fp.
-pub(crate) type LeastSquares<'a> = dyn Fn(&[f64]) -> Result<(Vec<f64>, f64), Failure> + 'a;
+pub type LeastSquares<'a> = dyn Fn(&[f64]) -> Result<(Vec<f64>, f64), Failure> + 'a;
 
 /// What differs between curfit's knot search and percur's (`search`): the least-squares
 /// fit on t (each point's residual and fp), the knots outside [xb, xe] set before each fit
 /// (percur's periodic ends), and the knots of interpolation; s, nest and nmax.
-pub(crate) struct Rules<'a> {
+#[expect(
+    missing_debug_implementations,
+    reason = "it holds the closures of one search"
+)]
+pub struct Rules<'a> {
+    /// The smoothing target.
     pub s: f64,
+    /// The most knots the search may place.
     pub nest: usize,
+    /// The knots of interpolation (the search stops there).
     pub nmax: usize,
+    /// The least-squares fit on given knots: each point's residual and fp.
     pub least_squares: &'a LeastSquares<'a>,
+    /// Sets the knots outside [xb, xe] before each fit.
     pub ends: &'a dyn Fn(&mut [f64]),
+    /// The knots of interpolation.
     pub interpolation: &'a dyn Fn() -> Vec<f64>,
 }
 
@@ -250,12 +257,7 @@ fn knots_to_add(nplus: usize, fpms: f64, delta: f64, acc: f64) -> usize {
 /// fp is within s's tolerance or below it, else add `knots_to_add` knots one at a time
 /// (`with_new_knot`, each on the last fit's residuals), until the knots would interpolate
 /// (then interpolation's) or reach nest; at most len(x) rounds.
-pub(crate) fn search(
-    x: &[f64],
-    k: usize,
-    rules: &Rules<'_>,
-    start: Search,
-) -> Result<Search, Failure> {
+pub fn search(x: &[f64], k: usize, rules: &Rules<'_>, start: Search) -> Result<Search, Failure> {
     let acc = rules.s * TOLERANCE;
     let nmin = 2 * (k + 1);
     let Search {
@@ -312,7 +314,7 @@ pub(crate) fn search(
 /// FITPACK's discontinuity rows (fpdisc): row j (an inner knot t_{j+k+1}) holds, for the
 /// k + 2 B-splines from j on, the jump of their k-th derivative there, scaled by
 /// ((t_{n-k-1} - t_k) / nrint)^k.
-pub(crate) fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 8]> {
+pub fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 8]> {
     let n = t.len();
     let intervals = n - 2 * k - 1;
     let scale = ((t[n - k - 1] - t[k]) / intervals as f64).powi(k as i32);
@@ -346,7 +348,7 @@ fn fprati(p1: f64, f1: f64, p2: f64, f2: f64, p3: f64, f3: f64) -> f64 {
 }
 
 /// The smoothing spline on the knots t with fp = s (step 2 of the module's description).
-pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
+pub fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spline, Failure> {
     let nc = t.len() - k - 1;
     let d = data.d;
     if t.len() == 2 * (k + 1) {
@@ -419,7 +421,7 @@ pub(crate) fn smooth(data: &Data<'_>, t: &[f64], k: usize, s: f64) -> Result<Spl
 /// (p1, f1), (p3, f3), to |f| < acc: rational interpolation once both sides are found,
 /// steps of 25x out until then (SciPy's `root_rati`). Its ier: 0, or 2 (f not monotone) or 3
 /// (20 iterations), when the last p stands.
-pub(crate) fn root_rati(
+pub fn root_rati(
     f: &mut dyn FnMut(f64) -> Result<f64, Failure>,
     p0: f64,
     (mut p1, mut f1): (f64, f64),
@@ -473,16 +475,62 @@ pub(crate) fn root_rati(
     Ok(3)
 }
 
+/// One series' data checked as SciPy's FITPACK doors check it, in SciPy's words: x ordered,
+/// enough points for the degree, weights >= 0 and not all zero, y finite, a periodic series'
+/// ends equal (NumPy's `allclose(y[0], y[-1], atol=1e-15)`), and xb <= x[0] < x[-1] <= xe.
+pub fn check(data: &Data<'_>, k: usize, periodic: bool) -> Result<(), InputError> {
+    let x = data.x;
+    if let Some(i) = lsq::first_unordered(x) {
+        return Err(InputError::new("x", "Expect `x` to be an ordered 1D sequence.").at(i));
+    }
+    if periodic && x.len() < 2 {
+        return Err(InputError::new(
+            "x",
+            "a periodic fit needs at least 2 points (the last repeats the first)",
+        ));
+    }
+    if !periodic && x.len() <= k {
+        return Err(InputError::new(
+            "x",
+            "m > k must hold (more points than the degree)",
+        ));
+    }
+    if let Some(i) = data.w.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(InputError::new("w", "Weights must be non-negative").at(i));
+    }
+    if data.w.iter().all(|&v| v == 0.0) {
+        return Err(InputError::new("w", "All weights are zero."));
+    }
+    if let Some(i) = data.y.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::new("y", "must be finite (NaN or infinity found)").at(i));
+    }
+    let (first, last) = (&data.y[..data.d], &data.y[data.y.len() - data.d..]);
+    let apart = |(a, b): (&f64, &f64)| (a - b).abs() > 1e-15 + 1e-5 * b.abs();
+    if periodic && first.iter().zip(last).any(apart) {
+        return Err(InputError::new(
+            "y",
+            "First and last points does not match which is required for `bc_type='periodic'`.",
+        ));
+    }
+    if !(data.xb <= x[0] && data.xe >= x[x.len() - 1] && data.xb < data.xe) {
+        return Err(InputError::new(
+            "xb",
+            "must satisfy xb <= x[0] < x[-1] <= xe",
+        ));
+    }
+    Ok(())
+}
+
 /// FITPACK's default room for knots: interpolation's count (m + 2k periodic, m + k + 1 not),
 /// at least 2k + 3.
-pub(crate) fn default_nest(m: usize, k: usize, periodic: bool) -> usize {
+pub fn default_nest(m: usize, k: usize, periodic: bool) -> usize {
     let interpolation = if periodic { m + 2 * k } else { m + k + 1 };
     interpolation.max(2 * k + 3)
 }
 
 /// The whole fit: knots by the search (or the given t), then the smoothing spline; curfit's,
 /// or percur's where `periodic` (`crate::periodic`).
-pub(crate) fn fit(
+pub fn fit(
     data: &Data<'_>,
     k: usize,
     s: f64,
@@ -505,7 +553,8 @@ pub(crate) fn fit(
 
 #[cfg(test)]
 mod tests {
-    use super::{Data, fit, not_a_knot};
+    use super::{Data, fit};
+    use crate::interp::not_a_knot;
 
     /// Data on a straight line is fitted by the line with no inner knot (fp = 0 < s at once).
     #[test]

@@ -27,10 +27,15 @@ const CHUNK: usize = 2048;
 
 /// A tensor-product B-spline: per axis its knots and degree; the coefficients (n_0, ..,
 /// n_{d-1}, m) in C order.
-pub(crate) struct Tensor<'a> {
+#[derive(Debug)]
+pub struct Tensor<'a> {
+    /// Each axis' knots.
     pub t: Vec<&'a [f64]>,
+    /// Each axis' degree.
     pub k: Vec<usize>,
+    /// The coefficients, (n_0, .., n_{d-1}, m) in C order.
     pub c: &'a [f64],
+    /// Values per coefficient.
     pub m: usize,
 }
 
@@ -46,7 +51,7 @@ impl Tensor<'_> {
 
     /// Derivative `nu` (one order per axis) at each point of `xi` (rows of d coordinates) into
     /// `out` (a row of m per point).
-    pub(crate) fn evaluate(&self, xi: &[f64], nu: &[usize], extrapolate: bool, out: &mut [f64]) {
+    pub fn evaluate(&self, xi: &[f64], nu: &[usize], extrapolate: bool, out: &mut [f64]) {
         let (d, m) = (self.t.len(), self.m);
         if m == 0 || d == 0 {
             return;
@@ -151,16 +156,20 @@ fn accumulate(
 
 /// Gridded data for the PCHIP fold: the axes (strictly increasing) and the values (n_0, ..,
 /// n_{d-1}, m) in C order.
-pub(crate) struct Grid<'a> {
+#[derive(Debug)]
+pub struct Grid<'a> {
+    /// Each axis' nodes, strictly increasing.
     pub axes: Vec<&'a [f64]>,
+    /// The values, (n_0, .., n_{d-1}, m) in C order.
     pub values: &'a [f64],
+    /// Values per node.
     pub m: usize,
 }
 
 impl Grid<'_> {
     /// SciPy's gridded PCHIP (last axis first, see the module's documentation) at each point of
     /// `xi` into `out` (a row of m per point). Past an axis' ends its end piece continues.
-    pub(crate) fn pchip(&self, xi: &[f64], out: &mut [f64]) {
+    pub fn pchip(&self, xi: &[f64], out: &mut [f64]) {
         let (d, m) = (self.axes.len(), self.m);
         if m == 0 || d == 0 {
             return;
@@ -246,7 +255,7 @@ impl Fold {
             for line in 0..lines {
                 let values = &self.block[line * width * m..(line + 1) * width * m];
                 self.line[..width * m].copy_from_slice(values);
-                splinegpu::pchip_slopes_into(
+                crate::pchip::pchip_slopes_into(
                     nodes,
                     &self.line[..width * m],
                     m,
@@ -276,7 +285,7 @@ impl Fold {
 /// are (pre, n_a, post) blocks, each n_a x post right-hand sides of that axis' system, solved
 /// together as one (n_a, pre · post) system (factored once). Err(a) where axis a's system is
 /// singular.
-pub(crate) fn fit(
+pub fn fit(
     nodes: &[&[f64]],
     knots: &[&[f64]],
     k: &[usize],

@@ -9,13 +9,7 @@
 
 /// A X = B solved in place: `rhs` holds B (n x m, row-major) on entry and X on return; false
 /// when a pivot column is zero (A singular), `rhs` then untouched.
-pub(crate) fn solve(
-    first: &[usize],
-    values: &[f64],
-    width: usize,
-    rhs: &mut [f64],
-    m: usize,
-) -> bool {
+pub fn solve(first: &[usize], values: &[f64], width: usize, rhs: &mut [f64], m: usize) -> bool {
     match Factored::new(first, values, width) {
         Some(factored) => {
             factored.solve(rhs, m);
@@ -28,7 +22,8 @@ pub(crate) fn solve(
 /// A banded matrix factored once (P A = L U, the elimination's multipliers kept where it
 /// zeroed the entries), to solve for any number of right-hand sides after: the elimination's
 /// row swaps and steps replayed on them, then back substitution.
-pub(crate) struct Factored {
+#[derive(Debug)]
+pub struct Factored {
     n: usize,
     kl: usize,
     ku: usize,
@@ -40,7 +35,7 @@ pub(crate) struct Factored {
 
 impl Factored {
     /// The factored matrix, or None where a pivot column is zero or not finite (A singular).
-    pub(crate) fn new(first: &[usize], values: &[f64], width: usize) -> Option<Self> {
+    pub fn new(first: &[usize], values: &[f64], width: usize) -> Option<Self> {
         let n = first.len();
         debug_assert_eq!(values.len(), n * width);
         let kl = (0..n)
@@ -99,7 +94,7 @@ impl Factored {
 
     /// A X = B in place for `rhs` (n x m, row-major), row by row (each step a row of m
     /// values less a multiple of another: contiguous, and vectorised where m is large).
-    pub(crate) fn solve(&self, rhs: &mut [f64], m: usize) {
+    pub fn solve(&self, rhs: &mut [f64], m: usize) {
         let (n, kl, ku) = (self.n, self.kl, self.ku);
         debug_assert_eq!(rhs.len(), n * m);
         let span = 2 * kl + ku + 1;

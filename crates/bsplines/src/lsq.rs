@@ -10,20 +10,26 @@
 //! R's diagonal is zero exactly when a coefficient is touched by no data (Schoenberg and
 //! Whitney's condition fails): that fit is refused.
 
+use crate::InputError;
 use crate::de_boor;
 
 /// An upper triangular band R (`width` entries a row: R[row, row + d] at
 /// `r[row * width + d]`) with its right-hand sides Z (m a row), built by rotating rows in.
-#[derive(Clone)]
-pub(crate) struct Triangle {
+#[derive(Clone, Debug)]
+pub struct Triangle {
+    /// Entries a row of R.
     pub width: usize,
+    /// Right-hand sides a row.
     pub m: usize,
+    /// R, `width` a row.
     pub r: Vec<f64>,
+    /// Z, m a row.
     pub z: Vec<f64>,
 }
 
 impl Triangle {
-    pub(crate) fn new(rows: usize, width: usize, m: usize) -> Self {
+    /// R and Z of `rows` rows, zero.
+    pub fn new(rows: usize, width: usize, m: usize) -> Self {
         Self {
             width,
             m,
@@ -37,7 +43,7 @@ impl Triangle {
     /// `width` columns sliding right one column a step, so that what a rotation brings in
     /// from R's row beyond the row's own entries is rotated on into the rows below. `rhs` is
     /// left with what the rotations did not take: the row's residual.
-    pub(crate) fn rotate_in(&mut self, first: usize, h: &[f64], rhs: &mut [f64]) {
+    pub fn rotate_in(&mut self, first: usize, h: &[f64], rhs: &mut [f64]) {
         // The window in registers for the widths of degrees 0 to 6 (k + 1 and k + 2).
         match self.width {
             1 => self.rotate_fixed::<1>(first, h, rhs),
@@ -143,13 +149,7 @@ impl Triangle {
     /// sides with it. The rows are sorted, so R's rows have nothing past the block's last
     /// column and the reflections fill nothing in. Returns the block's residual: what the
     /// reflections left of its right-hand sides, squared.
-    pub(crate) fn absorb(
-        &mut self,
-        first: usize,
-        columns: &mut [f64],
-        rhs: &mut [f64],
-        p: usize,
-    ) -> f64 {
+    pub fn absorb(&mut self, first: usize, columns: &mut [f64], rhs: &mut [f64], p: usize) -> f64 {
         let (width, m) = (self.width, self.m);
         let rows = self.r.len() / width;
         for j in 0..width.min(rows - first) {
@@ -185,7 +185,7 @@ impl Triangle {
     /// |Z - R c|^2 over every row and column: with the rotated-out residual of the rows
     /// that made R, the weighted residual sum of squares of any coefficients c on these
     /// knots (|W (y - B c)|^2 = |Q^T W y - R c|^2, Q orthogonal), in O(rows k m).
-    pub(crate) fn misfit(&self, c: &[f64]) -> f64 {
+    pub fn misfit(&self, c: &[f64]) -> f64 {
         let (width, m) = (self.width, self.m);
         let rows = self.r.len() / width;
         let mut total = 0.0;
@@ -202,7 +202,7 @@ impl Triangle {
     }
 
     /// R c = Z solved (rows x m), or None where R's diagonal has a zero or c is not finite.
-    pub(crate) fn back_substitute(&self) -> Option<Vec<f64>> {
+    pub fn back_substitute(&self) -> Option<Vec<f64>> {
         let (width, m) = (self.width, self.m);
         let rows = self.r.len() / width;
         let mut c = self.z.clone();
@@ -228,7 +228,7 @@ impl Triangle {
 /// normal number (the rows are weights times B-splines; one division), scaled by the larger
 /// where it under- or overflows (a leftover of 1e-163 meeting an untouched row's zero).
 #[inline(always)]
-pub(crate) fn givens(pivot: f64, band: &mut [f64]) -> (f64, f64) {
+pub fn givens(pivot: f64, band: &mut [f64]) -> (f64, f64) {
     let sum = pivot * pivot + band[0] * band[0];
     let root = if (f64::MIN_POSITIVE..=f64::MAX).contains(&sum) {
         sum.sqrt()
@@ -257,7 +257,7 @@ fn reflect(v0: f64, h: &[f64], scale: f64, entry: &mut f64, target: &mut [f64]) 
 /// FITPACK's fprota on two rows (a triangle's and the incoming row's, or their right-hand
 /// sides), entry by entry.
 #[inline(always)]
-pub(crate) fn rotate_rows(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
+pub fn rotate_rows(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
     for (target, v) in z.iter_mut().zip(rhs.iter_mut()) {
         let (old, incoming) = (*target, *v);
         *target = cos * old + sin * incoming;
@@ -268,14 +268,19 @@ pub(crate) fn rotate_rows(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
 /// The k + 1 B-splines of degree k that do not vanish at each x (FITPACK's fpbspl, de Boor's
 /// BSPLVB recurrence): rows[i] = B_{first_i .. first_i + k}(x_i), first_i = l - k for x's
 /// knot span l = clamp(#{t_j <= x} - 1, k, n - 1).
-pub(crate) struct BasisRows {
+#[derive(Debug)]
+pub struct BasisRows {
+    /// The degree.
     pub k: usize,
+    /// Each row's first column.
     pub first: Vec<usize>,
+    /// The rows' k + 1 values each.
     pub values: Vec<f64>,
 }
 
 impl BasisRows {
-    pub(crate) fn new(x: &[f64], t: &[f64], k: usize) -> Self {
+    /// The rows of the points x on knots t.
+    pub fn new(x: &[f64], t: &[f64], k: usize) -> Self {
         // The common degrees with k a constant in `build` (its loops unrolled; the same
         // arithmetic, bit for bit).
         match k {
@@ -329,7 +334,7 @@ impl BasisRows {
     }
 
     /// Row i: its first column and k + 1 values.
-    pub(crate) fn row(&self, i: usize) -> (usize, &[f64]) {
+    pub fn row(&self, i: usize) -> (usize, &[f64]) {
         let k1 = self.k + 1;
         (self.first[i], &self.values[i * k1..(i + 1) * k1])
     }
@@ -338,7 +343,7 @@ impl BasisRows {
 /// The data rows (basis rows times w_i, right-hand sides w_i y_i, y len(x) rows of m) rotated
 /// into a triangle of `width` >= k + 1 entries a row, for `columns` coefficients; and the
 /// weighted residual sum of squares of the least-squares fit.
-pub(crate) fn triangle(
+pub fn triangle(
     rows: &BasisRows,
     y: &[f64],
     m: usize,
@@ -360,7 +365,7 @@ pub(crate) fn triangle(
 /// (B-splines are well conditioned: about 1e-13 relative here, against the rotations'
 /// 1e-15); for the fits whose coefficients are only read for their residuals (FITPACK's knot
 /// search). None where the matrix is not positive definite or not well conditioned.
-pub(crate) fn normal_fit(
+pub fn normal_fit(
     rows: &BasisRows,
     y: &[f64],
     m: usize,
@@ -484,10 +489,68 @@ fn accumulate<const W: usize>(
     }
 }
 
+/// One series' data checked as SciPy's `make_lsq_spline` checks it, in SciPy's words: t
+/// non-decreasing, at least k + 1 points, x non-decreasing inside the base interval
+/// [t_k, t_n], weights finite and >= 0, y finite.
+pub fn check(x: &[f64], y: &[f64], w: &[f64], t: &[f64], k: usize) -> Result<(), InputError> {
+    if t.len() < 2 * k + 2 {
+        return Err(InputError::new(
+            "t",
+            format!(
+                "needs at least 2k + 2 = {} knots, got {}",
+                2 * k + 2,
+                t.len()
+            ),
+        ));
+    }
+    if let Some(i) = first_unordered(t) {
+        return Err(
+            InputError::new("t", "Expect t to be a 1D strictly increasing sequence.").at(i),
+        );
+    }
+    if x.len() < k + 1 {
+        return Err(InputError::new("x", "Need more x points."));
+    }
+    if let Some(i) = first_unordered(x) {
+        return Err(InputError::new("x", "Expect x to be a 1D non-decreasing sequence.").at(i));
+    }
+    let n = t.len() - k - 1;
+    let (lo, hi) = if k == 0 {
+        (t[0], t[t.len() - 1])
+    } else {
+        (t[k], t[n])
+    };
+    if let Some(i) = x.iter().position(|&v| v < lo || v > hi) {
+        return Err(InputError::new(
+            "x",
+            "Out of bounds: x outside the base interval [t[k], t[-k-1]]",
+        )
+        .at(i));
+    }
+    if let Some(i) = w.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(InputError::new("w", "weights must be finite and >= 0").at(i));
+    }
+    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::new("y", "must be finite (NaN or infinity found)").at(i));
+    }
+    Ok(())
+}
+
+/// The first position where `values` is NaN, infinite or below its predecessor.
+pub(crate) fn first_unordered(values: &[f64]) -> Option<usize> {
+    values
+        .iter()
+        .position(|v| !v.is_finite())
+        .or_else(|| values.windows(2).position(|p| p[1] < p[0]).map(|i| i + 1))
+}
+
 /// A least-squares fit: coefficients (len(t) - k - 1 rows of m) and the weighted residual
 /// sum of squares (all columns together).
-pub(crate) struct Fit {
+#[derive(Debug)]
+pub struct Fit {
+    /// The coefficients, len(t) - k - 1 rows of m.
     pub c: Vec<f64>,
+    /// The weighted residual sum of squares.
     pub residual: f64,
 }
 
@@ -499,7 +562,7 @@ pub(crate) struct Fit {
 /// rotations take both for every entry of every row; the same R up to rounding), one by
 /// one by FITPACK's rotations where fewer (whose rounding SciPy's tests of tiny fits expect
 /// to the last bit).
-pub(crate) fn fit(x: &[f64], y: &[f64], m: usize, w: &[f64], t: &[f64], k: usize) -> Option<Fit> {
+pub fn fit(x: &[f64], y: &[f64], m: usize, w: &[f64], t: &[f64], k: usize) -> Option<Fit> {
     const BLOCK: usize = 8;
     let rows = BasisRows::new(x, t, k);
     let width = k + 1;

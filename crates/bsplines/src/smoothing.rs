@@ -27,6 +27,7 @@
 
 mod group;
 
+use crate::InputError;
 use crate::bounded_search::{Search, Step};
 use crate::lanes::{Isa, Lanes, Vector, WIDTH};
 use group::{Evaluation, Group};
@@ -46,7 +47,7 @@ pub(crate) struct SeriesRow {
 
 /// Why a smoothing spline could not be made.
 #[derive(Debug, PartialEq, Clone)]
-pub(crate) enum Failure {
+pub enum Failure {
     /// A matrix was singular or not positive definite.
     IllPosed,
     /// The search for the GCV minimum gave NaN or ran out of evaluations.
@@ -229,11 +230,39 @@ fn edge_bands(rows: &[SeriesRow], w: &[f64], i: usize) -> ([f64; 4], [f64; 4]) {
     (gram, rough)
 }
 
+/// One series' data checked as SciPy's `make_smoothing_spline` checks it, in SciPy's words: x
+/// strictly increasing, weights finite and > 0, at least 5 points, y finite.
+pub fn check(x: &[f64], y: &[f64], w: &[f64]) -> Result<(), InputError> {
+    let ascending = x
+        .iter()
+        .position(|v| !v.is_finite())
+        .or_else(|| x.windows(2).position(|p| p[1] <= p[0]).map(|i| i + 1));
+    if let Some(i) = ascending {
+        return Err(InputError::new("x", "``x`` should be an ascending array").at(i));
+    }
+    if let Some(i) = w.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(InputError::new("w", "Invalid vector of weights").at(i));
+    }
+    if x.len() < 5 {
+        return Err(InputError::new(
+            "x",
+            "``x`` and ``y`` length must be at least 5",
+        ));
+    }
+    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::new("y", "must be finite (NaN or infinity found)").at(i));
+    }
+    Ok(())
+}
+
 /// One column of y: y_i = values[i * stride + offset].
-#[derive(Clone, Copy)]
-pub(crate) struct Column<'a> {
+#[derive(Clone, Copy, Debug)]
+pub struct Column<'a> {
+    /// The values of every column.
     pub values: &'a [f64],
+    /// Values a row.
     pub stride: usize,
+    /// The column's place in a row.
     pub offset: usize,
 }
 
@@ -245,18 +274,25 @@ impl Column<'_> {
 
 /// One smoothing spline to make: a series (x strictly increasing, n >= 5; w positive), one
 /// column of its y, and its lam (None: the lam of least GCV).
-#[derive(Clone, Copy)]
-pub(crate) struct Job<'a> {
+#[derive(Clone, Copy, Debug)]
+pub struct Job<'a> {
+    /// The abscissae, strictly increasing.
     pub x: &'a [f64],
+    /// One weight per x, > 0.
     pub w: &'a [f64],
+    /// The column of y to smooth.
     pub y: Column<'a>,
+    /// The lam, or None for GCV's.
     pub lam: Option<f64>,
 }
 
 /// A smoothing spline: its n + 2 B-spline coefficients on the knots
 /// t = [x_0] * 3 + x + [x_last] * 3, and its lam.
-pub(crate) struct Fit {
+#[derive(Debug)]
+pub struct Fit {
+    /// The n + 2 B-spline coefficients.
     pub c: Vec<f64>,
+    /// The lam.
     pub lam: f64,
 }
 
@@ -265,7 +301,7 @@ pub(crate) struct Fit {
 /// bounded Brent method of SciPy's `minimize_scalar(bounds=(0, n), method="bounded")`, each
 /// job's search on its own; a finished job's lane goes to the next. The jobs are taken
 /// shortest first, so that lanes side by side have about one length.
-pub(crate) fn fit(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
+pub fn fit(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
     // The unsafe calls of the extension: a function compiled for an instruction set may only
     // be called where the CPU has it.
     #[allow(
@@ -407,12 +443,7 @@ fn gcv(e: &Evaluation, l: usize, n: usize) -> Result<f64, Failure> {
 
 /// GCV(lam) of one series at each lam: the criterion `fit` minimises (each lane the series at
 /// its own lam).
-pub(crate) fn criterion(
-    x: &[f64],
-    w: &[f64],
-    y: Column<'_>,
-    lams: &[f64],
-) -> Vec<Result<f64, Failure>> {
+pub fn criterion(x: &[f64], w: &[f64], y: Column<'_>, lams: &[f64]) -> Vec<Result<f64, Failure>> {
     let mut group = Group::new(x.len());
     let mut rows = Vec::new();
     series_rows(x, w, &mut rows);

@@ -15,7 +15,8 @@
 //! The contraction over the K^d products is unrolled for d = 1, 2, 3.
 
 /// One axis: its knots and span lookup.
-pub(crate) struct Axis<'a> {
+#[derive(Debug)]
+pub struct Axis<'a> {
     t: &'a [f64],
     k: usize,
     /// Coefficients along the axis (len(t) − k − 1).
@@ -28,7 +29,8 @@ pub(crate) struct Axis<'a> {
 }
 
 impl<'a> Axis<'a> {
-    pub(crate) fn new(t: &'a [f64], k: usize) -> Self {
+    /// The axis of knots t, degree k, its span lookup built.
+    pub fn new(t: &'a [f64], k: usize) -> Self {
         let n = t.len() - k - 1;
         let (lo, hi) = (t[k], t[n]);
         let count = 2 * (n - k) + 1;
@@ -110,7 +112,7 @@ impl<'a> Axis<'a> {
 /// point), the coefficients `c` in C order with `strides` (in values) per axis; every axis of
 /// degree K − 1. NaN for a NaN coordinate, and outside an axis' base interval unless
 /// `extrapolate`.
-pub(crate) fn evaluate<const K: usize>(
+pub fn evaluate<const K: usize>(
     axes: &[Axis<'_>],
     c: &[f64],
     strides: &[usize],

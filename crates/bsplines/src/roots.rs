@@ -25,15 +25,18 @@ use rayon::prelude::*;
 
 /// One piece: (c0, c1, c2, c3) as SciPy's rows, and the x it spans.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Piece {
-    pub(crate) c: [f64; 4],
-    pub(crate) start: f64,
-    pub(crate) end: f64,
+pub struct Piece {
+    /// c0..c3, the highest power first.
+    pub c: [f64; 4],
+    /// Where the piece starts (v = x - start).
+    pub start: f64,
+    /// Where it ends.
+    pub end: f64,
 }
 
 /// Where the pieces come from: spline s owns pieces `first(s)..first(s + 1)`, numbered
 /// across all splines (the numbers `undecided` gives and `Solve::decided` takes).
-pub(crate) trait Source: Sync {
+pub trait Source: Sync {
     /// The number of splines.
     fn splines(&self) -> usize;
     /// The number of spline s's first piece (`first(splines())` is the total).
@@ -45,11 +48,15 @@ pub(crate) trait Source: Sync {
 /// Pieces given as arrays (copied, to outlive the call that gave them): `c` holds the rows
 /// c0..c3 (`c[m * P + p]`), spline s owns pieces `offsets[s]..offsets[s + 1]`.
 #[derive(Debug)]
-pub(crate) struct Arrays {
-    pub(crate) c: Vec<f64>,
-    pub(crate) start: Vec<f64>,
-    pub(crate) end: Vec<f64>,
-    pub(crate) offsets: Vec<usize>,
+pub struct Arrays {
+    /// The rows c0..c3 of every piece, `c[m * P + p]`.
+    pub c: Vec<f64>,
+    /// Each piece's start.
+    pub start: Vec<f64>,
+    /// Each piece's end.
+    pub end: Vec<f64>,
+    /// Spline s's pieces are `offsets[s]..offsets[s + 1]`.
+    pub offsets: Vec<usize>,
 }
 
 impl Source for Arrays {
@@ -220,33 +227,36 @@ fn value(c: &[f64; 4], v: f64, d: usize) -> f64 {
 
 /// The options of one solve.
 #[derive(Debug)]
-pub(crate) struct Solve {
-    pub(crate) y: f64,
-    pub(crate) discontinuity: bool,
-    pub(crate) extrapolate: bool,
+pub struct Solve {
+    /// The value whose x are wanted.
+    pub y: f64,
+    /// Whether a jump through y between pieces counts as a root (SciPy's `discontinuity`).
+    pub discontinuity: bool,
+    /// Whether the end pieces continue past the breakpoints.
+    pub extrapolate: bool,
     /// Whether a piece's degree is that of its highest nonzero term (SciPy's rule, for
     /// coefficients given as they are), rather than of its highest term that is not
     /// negligible over the piece (for the package's fits, which carry rounding there).
-    pub(crate) exact: bool,
+    pub exact: bool,
 }
 
 /// A piece the closed forms leave to the companion matrix's eigenvalues: its number and
 /// coefficients.
-pub(crate) type Undecided = (usize, [f64; 4]);
+pub type Undecided = (usize, [f64; 4]);
 
 /// Every spline's roots but those of the splines with [`Undecided`] pieces, which wait for
 /// the pieces' eigenvalues ([`Pending::finish`]).
 #[derive(Debug)]
-pub(crate) struct Pending {
+pub struct Pending {
     per_spline: Vec<Vec<f64>>,
     /// The undecided pieces, ascending.
-    pub(crate) undecided: Vec<Undecided>,
+    pub undecided: Vec<Undecided>,
     waiting: Vec<usize>,
 }
 
 /// Every spline's roots (see the module's rules), in one pass over the pieces; a cubic the
 /// closed form does not decide is left undecided, with its spline.
-pub(crate) fn solve<S: Source + ?Sized>(source: &S, how: &Solve) -> Pending {
+pub fn solve<S: Source + ?Sized>(source: &S, how: &Solve) -> Pending {
     let found: Vec<(Vec<f64>, Vec<Undecided>)> = (0..source.splines())
         .into_par_iter()
         .with_min_len(64)
@@ -271,7 +281,7 @@ impl Pending {
     /// The roots of every spline, the waiting ones found again with `decided`: the real
     /// parts of the undecided pieces' eigenvalues, (piece, root) sorted by piece, each
     /// piece's ascending. Returns (roots, offsets (S + 1)).
-    pub(crate) fn finish<S: Source + ?Sized>(
+    pub fn finish<S: Source + ?Sized>(
         mut self,
         source: &S,
         how: &Solve,

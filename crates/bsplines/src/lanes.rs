@@ -7,32 +7,41 @@
 use std::ops::{Add, Div, Mul, Sub};
 
 /// Values side by side: one per lane.
-pub(crate) const WIDTH: usize = 4;
+pub const WIDTH: usize = 4;
 
 /// Four f64 as they lie in memory (aligned for one vector load).
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C, align(32))]
-pub(crate) struct Lanes(pub [f64; WIDTH]);
+pub struct Lanes(pub [f64; WIDTH]);
 
 impl Lanes {
-    pub(crate) const ZERO: Self = Self([0.0; WIDTH]);
+    /// Every lane 0.
+    pub const ZERO: Self = Self([0.0; WIDTH]);
 }
 
 /// Four f64 in registers and what the solvers do with them; `Mask` is a lane-wise truth.
-pub(crate) trait Vector:
+pub trait Vector:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
+    /// A lane-wise truth.
     type Mask: Copy;
+    /// v in every lane.
     fn splat(v: f64) -> Self;
+    /// The lanes from memory.
     fn load(lanes: Lanes) -> Self;
+    /// The lanes to memory.
     fn store(self) -> Lanes;
+    /// |v| lane by lane.
     fn abs(self) -> Self;
     /// The smaller lane by lane, `other` where either is NaN (as the vector instruction).
     fn min(self, other: Self) -> Self;
     /// The larger lane by lane, `other` where either is NaN.
     fn max(self, other: Self) -> Self;
+    /// self > other lane by lane.
     fn gt(self, other: Self) -> Self::Mask;
+    /// self >= other lane by lane.
     fn ge(self, other: Self) -> Self::Mask;
+    /// a and b.
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// !a and b.
     fn and_not(a: Self::Mask, b: Self::Mask) -> Self::Mask;
@@ -131,7 +140,7 @@ impl Vector for Lanes {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) use avx2::Avx2;
+pub use avx2::Avx2;
 
 /// `Vector` in one AVX register.
 ///
@@ -158,8 +167,9 @@ mod avx2 {
     };
     use std::ops::{Add, Div, Mul, Sub};
 
-    #[derive(Clone, Copy)]
-    pub(crate) struct Avx2(__m256d);
+    /// Four lanes in one AVX register.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Avx2(__m256d);
 
     macro_rules! avx2_op {
         ($trait:ident, $method:ident, $intrinsic:path) => {
@@ -250,8 +260,10 @@ mod avx2 {
 
 /// The vector instructions this CPU runs, for the choice of a `Vector`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Isa {
+pub enum Isa {
+    /// Plain arrays, on any CPU.
     Baseline,
+    /// AVX2's 256-bit vectors.
     #[cfg(target_arch = "x86_64")]
     Avx2,
     /// AVX2 with AVX-512F and VL: the same vectors, and 32 registers to hold them.
@@ -261,7 +273,7 @@ pub(crate) enum Isa {
 
 impl Isa {
     /// The widest this CPU runs.
-    pub(crate) fn widest() -> Self {
+    pub fn widest() -> Self {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             let registers = std::arch::is_x86_feature_detected!("avx512f")

@@ -18,7 +18,7 @@ const CHUNK: usize = 4096;
 
 /// The nu-th derivatives of the B-splines B_{l-k,k} .. B_{l,k} at x into `values` (k + 1),
 /// `scratch` the same length; returns l.
-pub(crate) fn basis(
+pub fn basis(
     t: &[f64],
     k: usize,
     x: f64,
@@ -37,7 +37,7 @@ pub(crate) fn basis(
 
 /// `basis` in the span l that x is known to fall in (t_l <= x < t_{l+1}, or x at the last
 /// span's end).
-pub(crate) fn basis_in(
+pub fn basis_in(
     t: &[f64],
     k: usize,
     x: f64,
@@ -81,7 +81,7 @@ pub(crate) fn basis_in(
 /// value is zero, so only the others are formed, each with `basis_in`'s operations in its
 /// order (7 divisions where it makes 18): its values bit for bit. The widths divided by are
 /// t_{l+1} - t_m for m = l - 2 ..= l and t_{l+2} - t_{l-1}, positive with t_l < t_{l+1}.
-pub(crate) fn cubic_at_knot(t: &[f64], l: usize) -> [f64; 4] {
+pub fn cubic_at_knot(t: &[f64], l: usize) -> [f64; 4] {
     let x = t[l];
     // Degree 1: B_{l-1} (B_l is zero at its first knot).
     let v0 = (t[l + 1] - x) / (t[l + 1] - t[l]);
@@ -123,7 +123,7 @@ fn taylor(t: &[f64], c: &[f64], m: usize, k: usize, at: f64) -> Vec<f64> {
     clippy::too_many_arguments,
     reason = "the spline, the points, the order and the output of one call"
 )]
-pub(crate) fn evaluate(
+pub fn evaluate(
     t: &[f64],
     c: &[f64],
     m: usize,

@@ -6,7 +6,8 @@
 //! evaluator that works on several at once.
 
 /// What a search wants next.
-pub(crate) enum Step {
+#[derive(Debug)]
+pub enum Step {
     /// f at this x.
     Evaluate(f64),
     /// The minimum's x, or why there is none.
@@ -15,7 +16,8 @@ pub(crate) enum Step {
 
 /// One search in progress (SciPy's variable names: xf the best x so far, nfc and fulc the
 /// second and third best, e and rat the last two steps).
-pub(crate) struct Search {
+#[derive(Debug)]
+pub struct Search {
     a: f64,
     b: f64,
     fulc: f64,
@@ -43,7 +45,7 @@ fn direction(v: f64) -> f64 {
 
 impl Search {
     /// A search on (a, b) and the first x it asks for.
-    pub(crate) fn new(a: f64, b: f64) -> (Self, f64) {
+    pub fn new(a: f64, b: f64) -> (Self, f64) {
         let start = a + GOLDEN_MEAN * (b - a);
         let search = Self {
             a,
@@ -64,7 +66,7 @@ impl Search {
     }
 
     /// The best x so far (the x `Done` gives when the search ends there).
-    pub(crate) fn best(&self) -> f64 {
+    pub fn best(&self) -> f64 {
         self.xf
     }
 
@@ -73,7 +75,7 @@ impl Search {
     }
 
     /// f at the x last asked for; what the search wants next.
-    pub(crate) fn tell(&mut self, value: f64) -> Step {
+    pub fn tell(&mut self, value: f64) -> Step {
         match self.asked {
             None => {
                 (self.fx, self.ffulc, self.fnfc) = (value, value, value);
@@ -169,11 +171,7 @@ impl Search {
 
 /// The minimum of f on (a, b), searched to the end.
 #[cfg(test)]
-pub(crate) fn minimum(
-    f: impl Fn(f64) -> f64,
-    a: f64,
-    b: f64,
-) -> Result<f64, crate::smoothing::Failure> {
+pub fn minimum(f: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, crate::smoothing::Failure> {
     let (mut search, mut x) = Search::new(a, b);
     loop {
         match search.tell(f(x)) {
