@@ -209,7 +209,7 @@ pub struct FitpackSpline {
     pub ier: u8,
 }
 
-/// The spline of degree k (1 to 5) with the fewest knots FITPACK's search finds such that
+/// The spline of degree k (1 to 6, as the Python package's `make_splrep` takes) with the fewest knots FITPACK's search finds such that
 /// fp = Σ w_i^2 |y_i − s(x_i)|^2 <= s, then the smoothest on those knots with fp = s (s = 0:
 /// the interpolant).
 pub fn splrep(
@@ -218,8 +218,8 @@ pub fn splrep(
     s: f64,
     options: Splrep<'_>,
 ) -> Result<FitpackSpline, InputError> {
-    if !(1..=5).contains(&k) {
-        return Err(InputError::new("k", format!("must be 1 to 5, got {k}")));
+    if !(1..=6).contains(&k) {
+        return Err(InputError::new("k", format!("must be 1 to 6, got {k}")));
     }
     if !(s >= 0.0 && s.is_finite()) {
         return Err(InputError::new(
