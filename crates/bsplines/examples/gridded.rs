@@ -8,7 +8,9 @@ use bsplines::TensorSpline;
 
 fn main() -> Result<(), bsplines::InputError> {
     let f = |x: f64, y: f64| x.sin() * y.cos();
-    let xs: Vec<f64> = (0..12).map(|i| (f64::from(i) / 11.0).powf(1.3) * 3.0).collect();
+    let xs: Vec<f64> = (0..12)
+        .map(|i| (f64::from(i) / 11.0).powf(1.3) * 3.0)
+        .collect();
     let ys: Vec<f64> = (0..9).map(|j| f64::from(j) * 0.25).collect();
     let values: Vec<f64> = xs
         .iter()

@@ -19,7 +19,11 @@ fn main() -> Result<(), bsplines::InputError> {
         let fit = splrep(&data, 3, s, Splrep::default())?;
         let fitted = fit.spline.evaluate(&x, 0);
         let fp: f64 = fitted.iter().zip(&y).map(|(f, v)| (f - v).powi(2)).sum();
-        println!("{s:>6} {:>6} {fp:>10.4} {:>4}", fit.spline.knots().len(), fit.ier);
+        println!(
+            "{s:>6} {:>6} {fp:>10.4} {:>4}",
+            fit.spline.knots().len(),
+            fit.ier
+        );
     }
     Ok(())
 }

@@ -2,8 +2,8 @@
 //! collocation systems, whose rows hold the k + 1 basis functions that do not vanish at a
 //! point): Gaussian elimination with partial pivoting inside the band, as LAPACK's gbsv.
 //!
-//! Row i of A holds `width` values from column `first[i]`; with kl = max(i - first[i]) and
-//! ku = max(first[i] + width - 1 - i), a row swap can move an entry at most kl columns right
+//! Row i of A holds `width` values from column `first[i]`; with `kl = max(i - first[i])` and
+//! `ku = max(first[i] + width - 1 - i)`, a row swap can move an entry at most kl columns right
 //! of the diagonal, so each row is kept in a window of columns [i - kl, i + kl + ku]. The cost
 //! is O(n kl (kl + ku)) for the matrix and O(n (2 kl + ku) m) for m right-hand sides.
 

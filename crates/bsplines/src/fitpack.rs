@@ -477,7 +477,7 @@ pub fn root_rati(
 
 /// One series' data checked as SciPy's FITPACK doors check it, in SciPy's words: x ordered,
 /// enough points for the degree, weights >= 0 and not all zero, y finite, a periodic series'
-/// ends equal (NumPy's `allclose(y[0], y[-1], atol=1e-15)`), and xb <= x[0] < x[-1] <= xe.
+/// ends equal (NumPy's `allclose(y[0], y[-1], atol=1e-15)`), and `xb <= x[0] < x[-1] <= xe`.
 pub fn check(data: &Data<'_>, k: usize, periodic: bool) -> Result<(), InputError> {
     let x = data.x;
     if let Some(i) = lsq::first_unordered(x) {

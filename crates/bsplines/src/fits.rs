@@ -111,7 +111,7 @@ pub enum Lam {
 /// A cubic smoothing spline and the lam of each coordinate.
 #[derive(Clone, Debug)]
 pub struct SmoothingSpline {
-    /// The spline, on the knots [x_0] * 3 + x + [x_last] * 3.
+    /// The spline, on the knots `[x_0] * 3 + x + [x_last] * 3`.
     pub spline: BSpline,
     /// Each coordinate's lam (GCV chooses one per coordinate).
     pub lams: Vec<f64>,

@@ -152,7 +152,7 @@ pub use avx2::Avx2;
 /// Speed: a closure is a function of its own, compiled for the caller's instructions only
 /// where it is inlined. Small ones are (`lu.map(V::store)`); one that holds a whole sweep
 /// need not be (`bool::then(|| group.evaluate::<V>(..))` was not, and every operation in it
-/// became a call: an evaluation 20x slower, as measured). Call the sweeps directly.
+/// became a call, many times slower: docs/benchmarks.md). Call the sweeps directly.
 #[cfg(target_arch = "x86_64")]
 #[allow(
     unsafe_code,

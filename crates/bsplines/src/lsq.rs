@@ -266,7 +266,7 @@ pub fn rotate_rows(z: &mut [f64], rhs: &mut [f64], cos: f64, sin: f64) {
 }
 
 /// The k + 1 B-splines of degree k that do not vanish at each x (FITPACK's fpbspl, de Boor's
-/// BSPLVB recurrence): rows[i] = B_{first_i .. first_i + k}(x_i), first_i = l - k for x's
+/// BSPLVB recurrence): `rows[i] = B_{first_i .. first_i + k}(x_i)`, first_i = l - k for x's
 /// knot span l = clamp(#{t_j <= x} - 1, k, n - 1).
 #[derive(Debug)]
 pub struct BasisRows {

@@ -2,7 +2,7 @@
 //! any x (the end pieces continue past the breakpoints), for the calls the context's tables
 //! do not take: x outside the knots, nu = 3 and above, `PPoly` of any degree, integrals.
 //!
-//! Piece i (breakpoints increasing) is sum_j c[j][i] (x - x_i)^(k-1-j), the highest power
+//! Piece i (breakpoints increasing) is `sum_j c[j][i] (x - x_i)^(k-1-j)`, the highest power
 //! first, with k = c's rows; x's piece is the number of inner breakpoints at or below it (the
 //! first piece below x_0, the last at and above x_P), as SciPy's PPoly locates it.
 
@@ -74,7 +74,7 @@ pub fn integrate(breaks: &[f64], c: &[f64], k: usize, m: usize, a: f64, b: f64, 
     primitive(first, lo - breaks[first], out, -sign);
 }
 
-/// The antiderivative of c (k, P, m), zero at breaks[0] and continuous, as (k + 1, P, m):
+/// The antiderivative of c (k, P, m), zero at `breaks[0]` and continuous, as (k + 1, P, m):
 /// each term c_j v^p becomes c_j v^(p+1) / (p + 1), and each piece's new constant is the
 /// integral of the pieces before it (their P_i over their whole width; breakpoints may
 /// decrease, the widths then negative).

@@ -11,7 +11,7 @@
 //!   SciPy's are exact zeros;
 //! - degree 1 and 2 in closed form (the quadratic's without cancellation); degree 3 in closed
 //!   form where that decides real against complex as the companion matrix does (see
-//!   [`Depressed`]), otherwise by the companion matrix's eigenvalues, which the caller supplies
+//!   `Depressed`), otherwise by the companion matrix's eigenvalues, which the caller supplies
 //!   (NumPy's LAPACK, as SciPy's) for the pieces [`solve`] leaves undecided
 //!   ([`Pending::finish`]);
 //! - each real root gets one Newton step where the step is smaller than the root, and is kept

@@ -4,7 +4,7 @@
 //! as SciPy re-derived it) so that the same data give the same spline and the same GCV lam:
 //!
 //! - In a basis of natural splines N_j (N_j = B_{j+1} inside, combinations of B_0..B_2 and
-//!   B_{n-1}..B_{n+1} at the ends, on the knots [x_0] * 3 + x + [x_last] * 3), the collocation
+//!   B_{n-1}..B_{n+1} at the ends, on the knots `[x_0] * 3 + x + [x_last] * 3`), the collocation
 //!   matrix X (f(x_i) = (X c)_i) and the penalty E (from the divided differences of five
 //!   neighbouring x, so that integral f''^2 = c^T X^T E c) are both 5-banded, and the
 //!   minimiser solves
@@ -287,7 +287,7 @@ pub struct Job<'a> {
 }
 
 /// A smoothing spline: its n + 2 B-spline coefficients on the knots
-/// t = [x_0] * 3 + x + [x_last] * 3, and its lam.
+/// `t = [x_0] * 3 + x + [x_last] * 3`, and its lam.
 #[derive(Debug)]
 pub struct Fit {
     /// The n + 2 B-spline coefficients.
@@ -329,7 +329,7 @@ fn fit_avx2(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
 
 /// `fit_avx2` with AVX-512's 32 vector registers (the same four-lane vectors): an
 /// evaluation's row holds about 30 vectors at once, which 16 registers spill to the stack
-/// (0.63x the time of `fit_avx2` here).
+/// (the time it saves: docs/benchmarks.md).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,avx512f,avx512vl")]
 fn fit_avx512(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
