@@ -1896,7 +1896,7 @@ fn fit_smoothing<'py>(
     ))
 }
 
-/// FITPACK smoothing splines (`fitpack::fit`), one per series, on every thread: series i's
+/// FITPACK smoothing splines (`fits::fitpack_fit`), one per series, on every thread: series i's
 /// x, y (rows of d), w (None: unit weights; each as the batch types take them), [xb_i, xe_i]
 /// and s_i, degree k, knots found (or given in `ts`), at most `nest` of them (None: FITPACK's
 /// default). The knots stacked with their offsets, the
@@ -1950,7 +1950,7 @@ fn fit_splrep<'py>(
                 fitpack::check(&one, k, periodic).map_err(|e| series_error(&e.in_series(i)))?;
                 let t = given.as_ref().map(|g| g[i]);
                 let most = nest.unwrap_or(fitpack::default_nest(x.len(), k, periodic));
-                fitpack::fit(&one, k, s[i], t, most, periodic).map_err(|_| {
+                bsplines::fits::fitpack_fit(&one, k, s[i], t, most, periodic).map_err(|_| {
                     named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
                 })
             })

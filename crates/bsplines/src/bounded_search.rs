@@ -5,13 +5,17 @@
 //! minimum. It is a state machine (ask for x, tell f(x)) so that many searches can share one
 //! evaluator that works on several at once.
 
+/// Why a search found no minimum, in SciPy's words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NoMinimum(pub &'static str);
+
 /// What a search wants next.
 #[derive(Debug)]
 pub enum Step {
     /// f at this x.
     Evaluate(f64),
     /// The minimum's x, or why there is none.
-    Done(Result<f64, crate::smoothing::Failure>),
+    Done(Result<f64, NoMinimum>),
 }
 
 /// One search in progress (SciPy's variable names: xf the best x so far, nfc and fulc the
@@ -101,7 +105,6 @@ impl Search {
     }
 
     fn finish(&self, exhausted: Option<&'static str>) -> Step {
-        use crate::smoothing::Failure::NoMinimum;
         if self.xf.is_nan() || self.fx.is_nan() || self.fu.is_nan() {
             return Step::Done(Err(NoMinimum("NaN result encountered.")));
         }
@@ -169,21 +172,20 @@ impl Search {
     }
 }
 
-/// The minimum of f on (a, b), searched to the end.
-#[cfg(test)]
-pub fn minimum(f: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, crate::smoothing::Failure> {
-    let (mut search, mut x) = Search::new(a, b);
-    loop {
-        match search.tell(f(x)) {
-            Step::Evaluate(next) => x = next,
-            Step::Done(result) => return result,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::minimum;
+    use super::{NoMinimum, Search, Step};
+
+    /// The minimum of f on (a, b), searched to the end.
+    fn minimum(f: impl Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, NoMinimum> {
+        let (mut search, mut x) = Search::new(a, b);
+        loop {
+            match search.tell(f(x)) {
+                Step::Evaluate(next) => x = next,
+                Step::Done(result) => return result,
+            }
+        }
+    }
 
     /// A parabola's minimum within the tolerance, and a minimum at the lower bound from a
     /// start far from it.

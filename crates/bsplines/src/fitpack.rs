@@ -528,32 +528,9 @@ pub fn default_nest(m: usize, k: usize, periodic: bool) -> usize {
     interpolation.max(2 * k + 3)
 }
 
-/// The whole fit: knots by the search (or the given t), then the smoothing spline; curfit's,
-/// or percur's where `periodic` (`crate::periodic`).
-pub fn fit(
-    data: &Data<'_>,
-    k: usize,
-    s: f64,
-    t: Option<&[f64]>,
-    nest: usize,
-    periodic: bool,
-) -> Result<Spline, Failure> {
-    use crate::periodic;
-    let t = match t {
-        Some(t) => t.to_vec(),
-        None if periodic => periodic::knots(data, k, s, nest)?,
-        None => knots(data, k, s, nest)?,
-    };
-    if periodic {
-        periodic::smooth(data, &t, k, s)
-    } else {
-        smooth(data, &t, k, s)
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{Data, fit};
+    use super::{Data, knots, smooth};
     use crate::interp::not_a_knot;
 
     /// Data on a straight line is fitted by the line with no inner knot (fp = 0 < s at once).
@@ -570,7 +547,7 @@ mod tests {
             xb: 0.0,
             xe: 19.0,
         };
-        let spline = fit(&data, 3, 0.1, None, 24, false).unwrap();
+        let spline = smooth(&data, &knots(&data, 3, 0.1, 24).unwrap(), 3, 0.1).unwrap();
         assert_eq!(spline.t.len(), 8);
         // The line's B-spline coefficients on [0]*4 + [19]*4: its values at 0, 19/3, 38/3, 19.
         for (j, c) in spline.c.iter().enumerate() {

@@ -15,8 +15,9 @@
 
 use rayon::prelude::*;
 
+use crate::fitpack::{self, Data, Failure, Spline};
 use crate::smoothing::{self, Column, Job};
-use crate::{BSpline, InputError, fitpack, lsq};
+use crate::{BSpline, InputError, lsq, periodic};
 
 /// One series of data: x, y as len(x) rows of `dim` values (row-major), and weights (None:
 /// every weight 1).
@@ -235,7 +236,7 @@ pub fn splrep(
             x.last().copied().unwrap_or(0.0),
         )
     });
-    let one = fitpack::Data {
+    let one = Data {
         x,
         y: data.y,
         d: data.dim,
@@ -247,7 +248,7 @@ pub fn splrep(
     let nest = options
         .nest
         .unwrap_or_else(|| fitpack::default_nest(x.len(), k, options.periodic));
-    let fitted = fitpack::fit(&one, k, s, options.knots, nest, options.periodic).map_err(|_| {
+    let fitted = fitpack_fit(&one, k, s, options.knots, nest, options.periodic).map_err(|_| {
         InputError::new(
             "x",
             "a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)",
@@ -257,4 +258,27 @@ pub fn splrep(
         spline: BSpline::new(fitted.t, fitted.c, k, data.dim)?,
         ier: fitted.ier,
     })
+}
+
+/// FITPACK's whole fit, unchecked (`splrep` checks first): knots by the search (or the given
+/// t), then the smoothing spline; curfit's (`fitpack`), or percur's where `periodic`
+/// (`periodic`).
+pub fn fitpack_fit(
+    data: &Data<'_>,
+    k: usize,
+    s: f64,
+    t: Option<&[f64]>,
+    nest: usize,
+    periodic: bool,
+) -> Result<Spline, Failure> {
+    let t = match t {
+        Some(t) => t.to_vec(),
+        None if periodic => periodic::knots(data, k, s, nest)?,
+        None => fitpack::knots(data, k, s, nest)?,
+    };
+    if periodic {
+        periodic::smooth(data, &t, k, s)
+    } else {
+        fitpack::smooth(data, &t, k, s)
+    }
 }

@@ -28,7 +28,7 @@
 mod group;
 
 use crate::InputError;
-use crate::bounded_search::{Search, Step};
+use crate::bounded_search::{NoMinimum, Search, Step};
 use crate::lanes::{Isa, Lanes, Vector, WIDTH};
 use group::{Evaluation, Group};
 
@@ -407,7 +407,7 @@ fn fit_side_by_side<V: Vector>(jobs: &[Job<'_>]) -> Vec<Result<Fit, Failure>> {
                                 bspline_coefficients(x, &group.kept(l))
                                     .map(|c| Fit { c, lam: chosen }),
                             ),
-                            Step::Done(Err(e)) => Some(Err(e)),
+                            Step::Done(Err(NoMinimum(why))) => Some(Err(Failure::NoMinimum(why))),
                         }
                     }
                 },
