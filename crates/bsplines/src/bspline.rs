@@ -44,9 +44,7 @@ impl BSpline {
                 ),
             ));
         }
-        if let Some(i) = c.iter().position(|v| !v.is_finite()) {
-            return Err(InputError::new("c", format!("must be finite, got {}", c[i])).at(i));
-        }
+        crate::check_finite("c", &c)?;
         Ok(Self { t, c, k, dim })
     }
 

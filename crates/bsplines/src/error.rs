@@ -64,17 +64,25 @@ impl fmt::Display for InputError {
 
 impl std::error::Error for InputError {}
 
+/// The first value that is NaN or infinite, as an error about `argument` at its position.
+pub fn check_finite(argument: &'static str, values: &[f64]) -> Result<(), InputError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => {
+            Err(InputError::new(argument, format!("must be finite, got {}", values[i])).at(i))
+        }
+        None => Ok(()),
+    }
+}
+
 /// The first place where `values` is not finite, or fails to increase (strictly, or allowing
-/// ties), as an error about `argument` naming the position and the values. The one ordering
-/// check of the crate; `what` is the message's subject ("x", "the knots").
+/// ties), as an error about `argument` naming the position and the values: the one ordering
+/// check of the crate.
 pub fn check_increasing(
     argument: &'static str,
     values: &[f64],
     strictly: bool,
 ) -> Result<(), InputError> {
-    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::new(argument, format!("must be finite, got {}", values[i])).at(i));
-    }
+    check_finite(argument, values)?;
     let wrong = |p: &[f64]| if strictly { p[1] <= p[0] } else { p[1] < p[0] };
     if let Some(i) = values.windows(2).position(wrong) {
         let order = if strictly {

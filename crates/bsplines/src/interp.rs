@@ -65,9 +65,7 @@ pub fn interpolate(x: &[f64], y: &[f64], dim: usize, k: usize) -> Result<BSpline
             ),
         ));
     }
-    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::new("y", format!("must be finite, got {}", y[i])).at(i));
-    }
+    crate::check_finite("y", y)?;
     let t = interpolation_knots(x, k);
     let width = k + 1;
     let (mut first, mut rows) = (Vec::with_capacity(x.len()), vec![0.0; x.len() * width]);

@@ -52,7 +52,7 @@ pub mod tensor;
 pub mod tensor_values;
 
 pub use bspline::BSpline;
-pub use error::{InputError, check_increasing};
+pub use error::{InputError, check_finite, check_increasing};
 pub use fits::{
     FitpackSpline, Lam, LsqSpline, Series, SmoothingSpline, Splrep, lsq_spline, smoothing_spline,
     smoothing_splines, splrep,

@@ -47,11 +47,7 @@ impl TensorSpline {
                 ),
             ));
         }
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(
-                InputError::new("values", format!("must be finite, got {}", values[i])).at(i),
-            );
-        }
+        crate::check_finite("values", values)?;
         let t: Vec<Vec<f64>> = nodes
             .iter()
             .map(|x| interp::interpolation_knots(x, k))
