@@ -162,9 +162,9 @@ pub fn smoothing_spline(data: &Series<'_>, lam: Lam) -> Result<SmoothingSpline, 
     })
 }
 
-/// Each series' smoothing spline, on every thread (four series side by side in vector
-/// lanes where the CPU has them): the batch form of `smoothing_spline`, the first bad series
-/// named by its index.
+/// Each series' smoothing spline, one series a task on every thread: the batch form of
+/// `smoothing_spline`, the first bad series named by its index. (A series' columns share the
+/// vector lanes; packing four series into them, as the Python batches do, is not done here.)
 pub fn smoothing_splines(
     batch: &[Series<'_>],
     lam: Lam,
