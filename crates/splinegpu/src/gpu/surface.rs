@@ -421,13 +421,11 @@ impl GpuContext {
         timed: bool,
         seconds: &mut f64,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        // Dispatches of at most `budget` floats per plane (the storage-binding limit).
         let limits = self.device.limits();
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let planes = plane_count(derivatives, normals);
-        let budget = ((binding / 4) as usize / planes).clamp(1, 1 << 26);
+        let budget = DispatchBudget::for_binding(binding, plane_count(derivatives, normals));
         evaluate_group_with(
             surfaces,
             derivatives,
@@ -552,6 +550,28 @@ impl GpuContext {
     }
 }
 
+/// What one dispatch may hold so that every binding it makes fits the device's storage-binding
+/// limit: the vertex records (16 bytes each) and each output plane (`floats` values).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct DispatchBudget {
+    /// Floats per output plane.
+    pub floats: usize,
+    /// Vertex records.
+    pub vertices: usize,
+}
+
+impl DispatchBudget {
+    /// The budget under a binding limit of `binding` bytes with `planes` output planes (the
+    /// output buffer holds every plane, so each gets a share of it).
+    pub(crate) fn for_binding(binding: u64, planes: usize) -> Self {
+        let binding = usize::try_from(binding).unwrap_or(usize::MAX);
+        Self {
+            floats: (binding / 4 / planes).clamp(1, 1 << 26),
+            vertices: (binding / std::mem::size_of::<GpuVertex>()).clamp(1, 1 << 26),
+        }
+    }
+}
+
 /// Takes a dispatch's planes.
 pub(crate) type Consume<'a> = &'a mut dyn FnMut(&[f32]);
 
@@ -561,13 +581,13 @@ pub(crate) type Dispatch<'a> = dyn FnMut(&PackedPatches, &[GpuVertex], usize, &m
     + 'a;
 
 /// Packs `surfaces` (whose patches fit one binding), runs their vertices through `dispatch`
-/// in dispatches of at most `budget` floats per plane, and copies each dispatch's planes
+/// in dispatches within `budget` (floats per plane and vertex records), and copies each dispatch's planes
 /// straight into the surfaces' samples (made by [`SurfaceSamples::for_plan`]).
 pub(crate) fn evaluate_group_with(
     surfaces: &[(&PatchTable, &SurfacePlan)],
     derivatives: Derivatives,
     normals: bool,
-    budget: usize,
+    budget: DispatchBudget,
     dispatch: &mut Dispatch<'_>,
 ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
     let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
@@ -609,7 +629,7 @@ pub(crate) fn evaluate_group_with(
     for (s, (table, plan)) in surfaces.iter().enumerate() {
         let (dim, first_patch) = (table.dim(), packed.first_patch[s]);
         for (i, vertex) in plan.vertices.iter().enumerate() {
-            if floats + dim > budget {
+            if floats + dim > budget.floats || chunk.len() == budget.vertices {
                 flush(&mut chunk, &mut pieces, floats, &mut out)?;
                 floats = 0;
             }

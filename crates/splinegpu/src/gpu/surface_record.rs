@@ -52,7 +52,8 @@ impl GpuContext {
     /// their plans and patches uploaded once.
     ///
     /// # Errors
-    /// [`GpuError::TooLarge`] when the patches or the vertex data exceed one storage binding.
+    /// [`GpuError::TooLarge`] when the patches, the vertex data or the vertex records (16
+    /// bytes each) exceed one storage binding.
     ///
     /// # Panics
     /// If `normals` is asked of a surface that is not 3-D.
@@ -97,6 +98,7 @@ impl GpuContext {
         for (table, size) in [
             ("patch coefficients", (packed.coeffs.len() * 4) as u64),
             ("surface vertices", bytes),
+            ("surface vertex records", std::mem::size_of_val(&vertices[..]) as u64),
         ] {
             if size > limit {
                 return Err(GpuError::TooLarge {

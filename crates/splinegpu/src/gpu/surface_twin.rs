@@ -5,7 +5,8 @@
 //! promise without a GPU.
 
 use super::surface::{
-    GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams, evaluate_group_with, plane_count,
+    DispatchBudget, GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams, evaluate_group_with,
+    plane_count,
 };
 use crate::error::GpuError;
 use crate::job::Derivatives;
@@ -14,20 +15,28 @@ use crate::surface::{PatchTable, SurfacePlan, SurfaceSamples};
 /// `DEGENERATE` in the kernel.
 const DEGENERATE: f32 = 1e-5;
 
-/// Evaluates `surfaces` as the kernel does, in dispatches of at most `budget` floats per plane.
+/// Evaluates `surfaces` as the kernel does, in the dispatches that a storage-binding limit of
+/// `binding` bytes allows.
 pub(crate) fn evaluate_surfaces_twin(
     surfaces: &[(&PatchTable, &SurfacePlan)],
     derivatives: Derivatives,
     normals: bool,
-    budget: usize,
+    binding: u64,
 ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
     let planes = plane_count(derivatives, normals);
+    let budget = DispatchBudget::for_binding(binding, planes);
     evaluate_group_with(
         surfaces,
         derivatives,
         normals,
         budget,
         &mut |packed, vertices, floats, consume| {
+            assert!(
+                std::mem::size_of_val(vertices) as u64 <= binding
+                    && (floats * planes * 4) as u64 <= binding,
+                "a dispatch over the binding limit: {} vertices, {floats} floats a plane",
+                vertices.len()
+            );
             let row_width = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE) * SURFACE_WG_SIZE;
             let params = SurfaceParams::new(
                 vertices.len(),
@@ -380,7 +389,7 @@ mod tests {
             .map(|(t, (_, sampling))| SurfacePlan::new(t, sampling).unwrap())
             .collect();
         let jobs: Vec<_> = tables.iter().zip(&plans).collect();
-        let twin = evaluate_surfaces_twin(&jobs, Derivatives::Second, true, 1000).unwrap();
+        let twin = evaluate_surfaces_twin(&jobs, Derivatives::Second, true, 1000 * 4 * 7).unwrap();
         let mut poles = 0;
         for (s, ((table, plan), got)) in jobs.iter().zip(&twin).enumerate() {
             let want = evaluate_surfaces(table, plan, Derivatives::Second, true);
@@ -443,5 +452,26 @@ mod tests {
             }
         }
         assert!(poles >= 7, "the pole's vertices were tested: {poles}");
+    }
+
+    /// Positions of 3-D surfaces under a 4 KiB binding limit: a plane's floats would allow 341
+    /// vertices a dispatch, whose 16-byte records (5,456 bytes) are over the limit; the split
+    /// keeps both bindings within it (the twin asserts so on every dispatch) and changes no
+    /// value.
+    #[test]
+    fn every_binding_of_every_dispatch_fits_the_limit() {
+        let surfaces = surfaces();
+        let tables: Vec<PatchTable> = surfaces.iter().map(|(s, _)| s.fit()).collect();
+        let plans: Vec<SurfacePlan> = tables
+            .iter()
+            .zip(&surfaces)
+            .map(|(t, (_, sampling))| SurfacePlan::new(t, sampling).unwrap())
+            .collect();
+        let jobs: Vec<_> = tables.iter().zip(&plans).collect();
+        let small = evaluate_surfaces_twin(&jobs, Derivatives::None, false, 4096).unwrap();
+        let whole = evaluate_surfaces_twin(&jobs, Derivatives::None, false, 1 << 30).unwrap();
+        for (s, (a, b)) in small.iter().zip(&whole).enumerate() {
+            assert_eq!(a.points, b.points, "surface {s}");
+        }
     }
 }
