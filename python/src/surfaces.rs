@@ -12,12 +12,10 @@ use numpy::{
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use splinegpu::kinds::KindFields;
 use splinegpu::surface::{
-    Net, PatchTable, SURFACE_KINDS, Surface, SurfaceKind, SurfacePlan, SurfacePlanes,
-    SurfaceSampling, evaluate_surfaces_into,
+    Net, Surface, SurfaceJob, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
 };
-use splinegpu::{CurveKind, Derivatives, EndCondition, Ends, InputError, PerPoint};
+use splinegpu::{Derivatives, EndCondition, Ends, InputError};
 
 use crate::{Context, available_memory, runtime_error, value_error};
 
@@ -58,90 +56,57 @@ pub(crate) enum SurfaceSamplingArg<'py> {
     At(Vec<PyReadonlyArray2<'py, f64>>),
 }
 
-/// Surface s's kind from the fields.
+/// Surface s's kind from the fields, through the library's table of surface kinds.
 fn kind_of(name: &str, f: &SurfaceFields<'_>, s: usize) -> Result<SurfaceKind, InputError> {
     let slice = |list: &Option<Vec<PyReadonlyArray1<'_, f64>>>| -> Option<Vec<f64>> {
         list.as_ref()
             .map(|l| l[s].as_slice().map(<[f64]>::to_vec).unwrap_or_default())
     };
-    Ok(match name {
-        "bezier" => match &f.patches {
-            Some(patches) => {
-                let rows = patches[s].as_array();
-                let mut list = Vec::with_capacity(rows.nrows());
-                for (p, row) in rows.outer_iter().enumerate() {
-                    let mut indices = [0usize; 16];
-                    for (j, (&i, slot)) in row.iter().zip(&mut indices).enumerate() {
-                        *slot = usize::try_from(i).map_err(|_| {
-                            InputError::field(
-                                "patches",
-                                format!("patches[{p}][{j}] = {i} is negative"),
-                            )
-                        })?;
-                    }
-                    list.push(indices);
+    let patches = match &f.patches {
+        None => None,
+        Some(patches) => {
+            let rows = patches[s].as_array();
+            let mut list = Vec::with_capacity(rows.nrows());
+            for (p, row) in rows.outer_iter().enumerate() {
+                let mut indices = [0usize; 16];
+                for (j, (&i, slot)) in row.iter().zip(&mut indices).enumerate() {
+                    *slot = usize::try_from(i).map_err(|_| {
+                        InputError::field("patches", format!("patches[{p}][{j}] = {i} is negative"))
+                    })?;
                 }
-                SurfaceKind::BezierPatches { patches: list }
+                list.push(indices);
             }
-            None => SurfaceKind::Bezier,
-        },
-        "interpolating" => {
-            let (cu, cv) = f.conditions.as_ref().ok_or_else(|| {
-                InputError::field("conditions", "is missing (one per direction: [c_u, c_v])")
-            })?;
-            SurfaceKind::Interpolating {
-                conditions: [condition(cu)?, condition(cv)?],
-                u: slice(&f.u),
-                v: slice(&f.v),
-            }
+            Some(list)
         }
-        "nurbs" => {
-            let required = |list: &Option<Vec<PyReadonlyArray1<'_, f64>>>, field: &str| {
-                slice(list).ok_or_else(|| {
-                    InputError::field(
-                        field,
-                        "is missing (a nurbs surface needs n + 4 per direction)",
-                    )
-                })
-            };
-            SurfaceKind::Nurbs {
-                knots_u: required(&f.knots_u, "knots_u")?,
-                knots_v: required(&f.knots_v, "knots_v")?,
-                weights: f
-                    .weights
-                    .as_ref()
-                    .map(|w| w[s].as_slice().map(<[f64]>::to_vec).unwrap_or_default()),
-            }
-        }
-        _ => {
-            let fields = KindFields {
-                tension: f.tension.map(PerPoint::All),
-                bias: f.bias.map(PerPoint::All),
-                matrix: f.matrix,
-                ..KindFields::default()
-            };
-            if !SURFACE_KINDS.contains(&name) {
-                return Err(InputError::field(
-                    "kind",
-                    format!(
-                        "is not a surface kind: \"{name}\" (expected one of {})",
-                        SURFACE_KINDS.join(", ")
-                    ),
-                ));
-            }
-            let CurveKind::Uniform { basis, .. } = CurveKind::named(name, fields)? else {
-                return Err(InputError::field(
-                    "kind",
-                    format!("\"{name}\" has no basis matrix"),
-                ));
-            };
-            let ends = match &f.ends {
-                None => [Ends::Control; 2],
-                Some((u, v)) => [ends(u)?, ends(v)?],
-            };
-            SurfaceKind::Uniform { basis, ends }
-        }
-    })
+    };
+    let fields = splinegpu::surface::SurfaceFields {
+        ends: pair(&f.ends, ends)?,
+        tension: f.tension,
+        bias: f.bias,
+        matrix: f.matrix,
+        patches,
+        conditions: pair(&f.conditions, condition)?,
+        u: slice(&f.u),
+        v: slice(&f.v),
+        knots_u: slice(&f.knots_u),
+        knots_v: slice(&f.knots_v),
+        weights: f
+            .weights
+            .as_ref()
+            .map(|w| w[s].as_slice().map(<[f64]>::to_vec).unwrap_or_default()),
+    };
+    SurfaceKind::named(name, fields)
+}
+
+/// A field given along u and along v, each read by `each`.
+fn pair<T>(
+    given: &Option<(String, String)>,
+    each: fn(&str) -> Result<T, InputError>,
+) -> Result<Option<[T; 2]>, InputError> {
+    given
+        .as_ref()
+        .map(|(u, v)| Ok([each(u)?, each(v)?]))
+        .transpose()
 }
 
 fn ends(name: &str) -> Result<Ends, InputError> {
@@ -200,21 +165,15 @@ fn sampling_of(arg: &SurfaceSamplingArg<'_>, s: usize) -> Result<SurfaceSampling
     })
 }
 
-/// One surface made ready: its table and plan.
-struct Planned {
-    table: PatchTable,
-    plan: SurfacePlan,
-}
-
-/// Fits and plans every surface; errors name the surface.
+/// Fits and plans every surface into one job; errors name the surface.
 fn planned(
     nets: &[PyReadonlyArray3<'_, f64>],
     kind: &str,
     fields: &SurfaceFields<'_>,
     sampling: &SurfaceSamplingArg<'_>,
-    normals: bool,
+    (derivatives, normals): (Derivatives, bool),
     value_bytes: u128,
-) -> PyResult<Vec<Planned>> {
+) -> PyResult<SurfaceJob> {
     let mut fitted = Vec::with_capacity(nets.len());
     for (s, net) in nets.iter().enumerate() {
         let place = |e: InputError| value_error(e.in_surface(s));
@@ -225,17 +184,11 @@ fn planned(
             .map_err(place)?
             .to_vec();
         let net = Net::new(shape[2], shape[0], shape[1], coords).map_err(place)?;
-        if normals && net.dim() != 3 {
-            return Err(place(InputError::field(
-                "normals",
-                format!("need 3-D points, got {} coordinates per point", net.dim()),
-            )));
-        }
         let surface = Surface::new(kind_of(kind, fields, s).map_err(place)?, net).map_err(place)?;
         fitted.push((surface.fit(), sampling_of(sampling, s).map_err(place)?));
     }
     // The counts the samplings give, refused before the plans are made where the plans (40
-    // bytes a vertex) and the arrays would not fit in memory.
+    // bytes a vertex) and the arrays of the whole batch would not fit in memory.
     let mut bytes: u128 = 0;
     for (table, sampling) in &fitted {
         if let Some(vertices) = SurfacePlan::vertex_count(table, sampling) {
@@ -251,15 +204,9 @@ fn planned(
              bytes; this machine has {available} bytes of memory available"
         )));
     }
-    fitted
-        .into_iter()
-        .enumerate()
-        .map(|(s, (table, sampling))| {
-            let plan =
-                SurfacePlan::new(&table, &sampling).map_err(|e| value_error(e.in_surface(s)))?;
-            Ok(Planned { table, plan })
-        })
-        .collect()
+    let mut job = SurfaceJob::new(derivatives, normals);
+    job.push_many(fitted).map_err(value_error)?;
+    Ok(job)
 }
 
 /// Fits, samples and evaluates a batch of surfaces of one kind (see
@@ -288,8 +235,15 @@ pub(crate) fn tessellate_surfaces<'py>(
     let derivatives = Derivatives::from_order(derivatives)
         .ok_or_else(|| value_error(format!("derivatives: must be 0, 1 or 2, got {derivatives}")))?;
     let value_bytes = if context.gpu.is_some() { 4 } else { 8 };
-    let surfaces = planned(&nets, kind, &fields, &sampling, normals, value_bytes)?;
-    let dims: Vec<usize> = surfaces.iter().map(|s| s.table.dim()).collect();
+    let job = planned(
+        &nets,
+        kind,
+        &fields,
+        &sampling,
+        (derivatives, normals),
+        value_bytes,
+    )?;
+    let dims: Vec<usize> = job.surfaces().iter().map(|s| s.table().dim()).collect();
     let dim = dims.first().copied().unwrap_or(0);
     if let Some(s) = dims.iter().position(|&d| d != dim) {
         return Err(value_error(format!(
@@ -298,15 +252,7 @@ pub(crate) fn tessellate_surfaces<'py>(
             dims[s]
         )));
     }
-    let vertices: Vec<usize> = surfaces.iter().map(|s| s.plan.vertices.len()).collect();
-    let triangles: Vec<usize> = surfaces
-        .iter()
-        .map(|s| s.plan.triangles.as_ref().map_or(0, Vec::len))
-        .collect();
-    let (n, m) = (
-        vertices.iter().sum::<usize>(),
-        triangles.iter().sum::<usize>(),
-    );
+    let (n, m) = (job.vertex_count() as usize, job.triangle_count() as usize);
     let orders = derivatives.order();
     let planes = 1 + [0, 2, 5][orders];
     let per_vertex =
@@ -320,34 +266,28 @@ pub(crate) fn tessellate_surfaces<'py>(
              arrays need {bytes} bytes; this machine has {available} bytes of memory available"
         )));
     }
-    let offsets = |counts: &[usize]| {
-        let mut o = vec![0i64; counts.len() + 1];
-        for (i, c) in counts.iter().enumerate() {
-            o[i + 1] = o[i] + *c as i64;
-        }
-        o
-    };
-    let (vertex_offsets, triangle_offsets) = (offsets(&vertices), offsets(&triangles));
+    let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };
+    let (vertex_offsets, triangle_offsets) =
+        (signed(job.vertex_offsets()), signed(job.triangle_offsets()));
     // (u, v), triangles (indexing the whole vertex array) and patches.
     let mut uv = Vec::with_capacity(2 * n);
     let mut tri = Vec::with_capacity(3 * m);
-    let lists = surfaces.iter().any(|s| s.table.patch_indices().is_some());
+    let lists = job.has_patch_lists();
     let mut patch = Vec::with_capacity(if lists { n } else { 0 });
-    for (s, planned) in surfaces.iter().enumerate() {
-        for vertex in &planned.plan.vertices {
+    for (s, surface) in job.surfaces().iter().enumerate() {
+        let plan = surface.plan();
+        for vertex in &plan.vertices {
             uv.extend_from_slice(&vertex.uv);
         }
         if lists {
-            let list = planned.table.patch_indices().is_some();
+            let list = surface.table().patch_indices().is_some();
             patch.extend(
-                planned
-                    .plan
-                    .vertices
+                plan.vertices
                     .iter()
                     .map(|v| if list { i64::from(v.patch) } else { -1 }),
             );
         }
-        for t in planned.plan.triangles.iter().flatten() {
+        for t in plan.triangles.iter().flatten() {
             tri.extend(t.iter().map(|&i| i64::from(i) + vertex_offsets[s]));
         }
     }
@@ -384,8 +324,8 @@ pub(crate) fn tessellate_surfaces<'py>(
                 .iter_mut()
                 .map(|v| v.as_slice_mut())
                 .collect::<Result<_, _>>()?;
-            py.detach(|| {
-                for (s, planned) in surfaces.iter().enumerate() {
+            py.detach(|| -> Result<(), InputError> {
+                for s in 0..job.len() {
                     let (a, b) = (vertex_offsets[s] as usize, vertex_offsets[s + 1] as usize);
                     // The surface's rows of each plane, in the order of `names`.
                     let mut parts = slices.iter_mut().zip(&names).map(|(plane, name)| {
@@ -403,19 +343,19 @@ pub(crate) fn tessellate_surfaces<'py>(
                         dvv: pick(orders >= 2),
                         normals: pick(normals),
                     };
-                    evaluate_surfaces_into(&planned.table, &planned.plan, planes);
+                    job.evaluate_into(s, planes)?;
                 }
-            });
+                Ok(())
+            })
+            .map_err(runtime_error)?;
             drop(views);
             for (name, array) in names.iter().zip(arrays) {
                 result.set_item(*name, array)?;
             }
         }
         Some(gpu) => {
-            let pairs: Vec<(&PatchTable, &SurfacePlan)> =
-                surfaces.iter().map(|s| (&s.table, &s.plan)).collect();
             let samples = py
-                .detach(|| gpu.evaluate_surfaces(&pairs, derivatives, normals))
+                .detach(|| gpu.evaluate_surfaces(&job))
                 .map_err(runtime_error)?;
             for name in &names {
                 let target = array::<f32>(py, out.as_ref(), name, [n, width(name)])?;

@@ -27,7 +27,8 @@ use splinegpu::{Derivatives, EvalJob};
 use splinegpu::{InputError, Location};
 use splinegpu::{SamplePlan, Sampling};
 
-use crate::surfaces::{ReadSurface, SurfaceJob, surface_job};
+use crate::surfaces::{ReadSurface, surface_job};
+use splinegpu::surface::SurfaceJob;
 
 /// The document's top-level keys.
 const DOCUMENT_KEYS: [&str; 5] = ["sampling", "derivatives", "curves", "surfaces", "normals"];

@@ -7,9 +7,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
+use splinegpu::surface::SurfaceJob;
 use splinegpu_cli::output::{self, OutputError};
 use splinegpu_cli::surface_output::{self, SurfaceFormat};
-use splinegpu_cli::surfaces::SurfaceJob;
 use splinegpu_cli::{Document, bench, stream};
 
 /// Evaluate cubic splines in bulk on the GPU (or the f64 CPU reference).
@@ -263,14 +263,11 @@ fn tessellate_surfaces(
     surface_output::check_format(job, format).map_err(Failure::input)?;
     let context = choose_backend(backend)?;
     let result = match &context {
-        None => write_surfaces(
-            job,
-            format,
-            output,
-            &mut |range| Ok(job.evaluate_cpu(range)),
-        ),
+        None => write_surfaces(job, format, output, &mut |range| {
+            Ok(job.evaluate_cpu_group(range))
+        }),
         Some(gpu) => write_surfaces(job, format, output, &mut |range| {
-            Ok(job.evaluate_gpu(gpu, range)?)
+            Ok(gpu.evaluate_surface_group(job, range)?)
         }),
     };
     finish(result, output)

@@ -10,8 +10,7 @@ use std::hint::black_box;
 
 use rayon::prelude::*;
 use splinegpu::surface::{
-    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
-    evaluate_surfaces, evaluate_surfaces_into,
+    Net, Surface, SurfaceJob, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
 };
 use splinegpu::{Basis, Derivatives, Ends, GpuContext, GpuError, SampleFloat};
 
@@ -104,16 +103,16 @@ pub(crate) fn run(
         }
     };
     // The whole call into new memory, every plane the output holds: fit, plan, evaluate.
-    let call = || -> Vec<SurfaceSamples> {
-        surfaces
+    let job = || -> SurfaceJob {
+        let mut job = SurfaceJob::new(Derivatives::None, true);
+        let fitted = surfaces
             .par_iter()
-            .map(|s| {
-                let table = s.fit();
-                let plan = SurfacePlan::new(&table, &sampling).expect("a plan");
-                evaluate_surfaces(&table, &plan, Derivatives::None, true)
-            })
-            .collect()
+            .map(|s| (s.fit(), sampling.clone()))
+            .collect();
+        job.push_many(fitted).expect("the workload's surfaces");
+        job
     };
+    let call = || -> Vec<SurfaceSamples> { job().evaluate_cpu() };
     let first = call();
     let vertices: u64 = first.iter().map(|s| s.len() as u64).sum();
     let bytes = |per_value: u64| vertices * 6 * per_value;
@@ -131,21 +130,17 @@ pub(crate) fn run(
     report(&memset(name, bytes(4) as usize));
     // Fit, plan and evaluate into memory kept from the last call (as a renderer or a repeated
     // job holds it): f32, then f64.
-    let tables: Vec<_> = surfaces.iter().map(Surface::fit).collect();
-    let plans: Vec<_> = tables
-        .iter()
-        .map(|t| SurfacePlan::new(t, &sampling).expect("a plan"))
-        .collect();
-    let mut f32_out: Vec<SurfaceSamples<f32>> = memory(&tables, &plans);
+    let kept = job();
+    let mut f32_out: Vec<SurfaceSamples<f32>> = memory(&kept);
     report(&measure(
         "cpu-all",
-        time(|| reused(&surfaces, &sampling, &mut f32_out)),
+        time(|| reused(&job(), &mut f32_out)),
         4,
     ));
-    let mut f64_out: Vec<SurfaceSamples> = memory(&tables, &plans);
+    let mut f64_out: Vec<SurfaceSamples> = memory(&kept);
     report(&measure(
         "cpu-all",
-        time(|| reused(&surfaces, &sampling, &mut f64_out)),
+        time(|| reused(&job(), &mut f64_out)),
         8,
     ));
     drop(f64_out);
@@ -183,9 +178,9 @@ pub(crate) fn run(
         time(|| {
             surfaces
                 .par_iter()
-                .zip(&plans)
+                .zip(kept.surfaces())
                 .zip(&mut f32_out)
-                .for_each(|((s, plan), out)| plain_loop(s, plan, out));
+                .for_each(|((s, planned), out)| plain_loop(s, &planned.plan(), out));
             black_box(&f32_out);
             None
         }),
@@ -193,19 +188,16 @@ pub(crate) fn run(
     ));
     drop(f32_out);
     if let Some(gpu) = gpu {
-        let jobs: Vec<_> = tables.iter().zip(&plans).collect();
         // The first call compiles the pipeline; the device's own time of the later ones.
-        gpu.evaluate_surfaces(&jobs, Derivatives::None, true)?;
+        gpu.evaluate_surfaces(&kept)?;
         let mut failure = None;
-        let device = time(
-            || match gpu.evaluate_surfaces_timed(&jobs, Derivatives::None, true) {
-                Ok((_, time)) => Some(time.seconds),
-                Err(e) => {
-                    failure = Some(e);
-                    Some(0.0)
-                }
-            },
-        );
+        let device = time(|| match gpu.evaluate_surfaces_timed(&kept) {
+            Ok((_, time)) => Some(time.seconds),
+            Err(e) => {
+                failure = Some(e);
+                Some(0.0)
+            }
+        });
         if let Some(e) = failure {
             return Err(e);
         }
@@ -213,7 +205,7 @@ pub(crate) fn run(
         report(&measure(
             "gpu-end-to-end",
             time(|| {
-                black_box(gpu.evaluate_surfaces(&jobs, Derivatives::None, true).ok());
+                black_box(gpu.evaluate_surfaces(&kept).ok());
                 None
             }),
             4,
@@ -222,25 +214,20 @@ pub(crate) fn run(
     Ok(())
 }
 
-/// Samples for every surface's plan, positions and normals, in `F`.
-fn memory<F: SampleFloat>(tables: &[PatchTable], plans: &[SurfacePlan]) -> Vec<SurfaceSamples<F>> {
-    tables
+/// Samples for every surface of `job`, positions and normals, in `F`.
+fn memory<F: SampleFloat>(job: &SurfaceJob) -> Vec<SurfaceSamples<F>> {
+    job.surfaces()
         .iter()
-        .zip(plans)
-        .map(|(t, p)| SurfaceSamples::for_plan(t, p, Derivatives::None, true))
+        .map(|s| SurfaceSamples::for_plan(s.table(), &s.plan(), Derivatives::None, true))
         .collect()
 }
 
-/// Fits, plans and evaluates every surface into `out`, memory of an earlier call.
-fn reused<F: SampleFloat>(
-    surfaces: &[Surface],
-    sampling: &SurfaceSampling,
-    out: &mut [SurfaceSamples<F>],
-) -> Option<f64> {
-    surfaces.par_iter().zip(out).for_each(|(s, out)| {
-        let table = s.fit();
-        let plan = SurfacePlan::new(&table, sampling).expect("a plan");
-        evaluate_surfaces_into(&table, &plan, out.planes_mut());
+/// Evaluates every surface of `job` (fitted and planned: the call's first half) into `out`,
+/// memory of an earlier call.
+fn reused<F: SampleFloat>(job: &SurfaceJob, out: &mut [SurfaceSamples<F>]) -> Option<f64> {
+    out.par_iter_mut().enumerate().for_each(|(s, out)| {
+        job.evaluate_into(s, out.planes_mut())
+            .expect("memory made for the job's plans");
     });
     None
 }

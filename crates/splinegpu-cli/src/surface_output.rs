@@ -9,12 +9,12 @@ use std::ops::Range;
 
 use gltf::json;
 use gltf::json::validation::{Checked::Valid, USize64};
-use splinegpu::surface::SurfaceSamples;
+use splinegpu::surface::{SurfaceJob, SurfaceSamples};
 use splinegpu::{InputError, SampleFloat};
 
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
-use crate::surfaces::{JobSurface, SurfaceJob};
+use crate::surfaces::group_vertices;
 
 /// The number types samples come in: f64 from the CPU, f32 from the GPU, each printed as the
 /// shortest text that reads back as the same value of its type.
@@ -43,9 +43,9 @@ pub enum SurfaceFormat {
 /// # Errors
 /// The first surface that cannot, naming its field.
 pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), InputError> {
-    let first = job.surfaces[0].table.dim();
-    for (i, surface) in job.surfaces.iter().enumerate() {
-        let table = &surface.table;
+    let first = job.surfaces()[0].table().dim();
+    for (i, surface) in job.surfaces().iter().enumerate() {
+        let table = surface.table();
         match format {
             SurfaceFormat::Obj | SurfaceFormat::Glb => {
                 let name = if format == SurfaceFormat::Obj {
@@ -63,7 +63,7 @@ pub fn check_format(job: &SurfaceJob, format: SurfaceFormat) -> Result<(), Input
                     )
                     .in_surface(i));
                 }
-                if surface.triangles.is_none() {
+                if surface.triangles().is_none() {
                     return Err(InputError::field(
                         "sampling",
                         format!("\"at\" makes no triangles: a .{name} mesh needs per_segment or tolerance"),
@@ -158,14 +158,14 @@ pub fn write<F: Number>(
     out: &mut dyn Write,
     evaluate: &mut Evaluate<'_, F>,
 ) -> Result<(), OutputError> {
-    let groups = job.groups();
+    let groups = job.groups(group_vertices());
     match format {
         SurfaceFormat::Csv => write_csv(job, &groups, evaluate, out),
         SurfaceFormat::Json => write_json(&groups, evaluate, out),
         SurfaceFormat::Npz => write_npz(job, &groups, evaluate, out),
         SurfaceFormat::Obj => write_obj(&groups, evaluate, out),
         SurfaceFormat::Glb => {
-            let mut all = Vec::with_capacity(job.surfaces.len());
+            let mut all = Vec::with_capacity(job.len());
             for group in groups {
                 all.extend(evaluate(group)?);
             }
@@ -177,7 +177,7 @@ pub fn write<F: Number>(
 /// The planes the job's samples hold, with their contract names: positions, du, dv, duu, duv,
 /// dvv as asked, normals when asked.
 fn job_planes(job: &SurfaceJob) -> Vec<&'static str> {
-    let order = job.derivatives.order();
+    let order = job.derivatives().order();
     let mut names = vec!["points"];
     if order >= 1 {
         names.extend(["du", "dv"]);
@@ -185,7 +185,7 @@ fn job_planes(job: &SurfaceJob) -> Vec<&'static str> {
     if order >= 2 {
         names.extend(["duu", "duv", "dvv"]);
     }
-    if job.normals {
+    if job.normals() {
         names.push("normals");
     }
     names
@@ -198,9 +198,9 @@ fn write_csv<F: Number>(
     out: &mut dyn Write,
 ) -> Result<(), OutputError> {
     let dim = job
-        .surfaces
+        .surfaces()
         .iter()
-        .map(|s| s.table.dim())
+        .map(|s| s.table().dim())
         .max()
         .unwrap_or(1);
     let patches = job.has_patch_lists();
@@ -327,13 +327,8 @@ fn write_npz<F: Number>(
     out: &mut dyn Write,
 ) -> Result<(), OutputError> {
     let mut npz = NpzWriter::new(out);
-    let dim = job.surfaces[0].table.dim() as u64;
-    let vertices: u64 = job.surfaces.iter().map(|s| s.vertices as u64).sum();
-    let triangles: u64 = job
-        .surfaces
-        .iter()
-        .map(|s| s.triangles.unwrap_or(0) as u64)
-        .sum();
+    let dim = job.surfaces()[0].table().dim() as u64;
+    let (vertices, triangles) = (job.vertex_count(), job.triangle_count());
     let patches = job.has_patch_lists();
     // Every array after "uv" waits in a file: the planes, the triangles, the patches.
     let names = job_planes(job);
@@ -376,23 +371,13 @@ fn write_npz<F: Number>(
         copy(&mut npz, name, Dtype::of::<F>(), &[vertices, width])?;
     }
     copy(&mut npz, "triangles", Dtype::I64, &[triangles, 3])?;
-    let offsets = |count: &dyn Fn(&JobSurface) -> usize| -> Vec<i64> {
-        let mut at = 0i64;
-        std::iter::once(0)
-            .chain(job.surfaces.iter().map(|s| {
-                at += count(s) as i64;
-                at
-            }))
-            .collect()
-    };
-    let s = job.surfaces.len() as u64 + 1;
+    let s = job.len() as u64 + 1;
+    let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };
     npz.begin("surface_offsets", Dtype::I64, &[s])?;
-    npz.write(bytemuck::cast_slice(&offsets(&|s| s.vertices)))?;
+    npz.write(bytemuck::cast_slice(&signed(job.vertex_offsets())))?;
     npz.end()?;
     npz.begin("triangle_offsets", Dtype::I64, &[s])?;
-    npz.write(bytemuck::cast_slice(&offsets(&|s| {
-        s.triangles.unwrap_or(0)
-    })))?;
+    npz.write(bytemuck::cast_slice(&signed(job.triangle_offsets())))?;
     npz.end()?;
     if patches {
         copy(&mut npz, "patch", Dtype::I64, &[vertices])?;

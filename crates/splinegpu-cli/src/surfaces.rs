@@ -1,157 +1,29 @@
-//! A document's surfaces (contract: "Surfaces"): each surface object's fields read into a
-//! [`Surface`], its sampling into a [`SurfacePlan`], and the whole into a [`SurfaceJob`].
+//! A document's surfaces (contract: "Surfaces"): each surface object's fields read into the
+//! library's [`SurfaceFields`] and [`Surface`], its sampling into a [`SurfaceSampling`], and
+//! the whole into a [`SurfaceJob`].
 //! The JSON walk (duplicate keys, the document's keys) is `document`'s; this is what the
 //! surface objects' values mean.
 
-use std::borrow::Cow;
-use std::ops::Range;
-
 use serde_json::{Map, Value};
 
-use splinegpu::kinds::{KindFields, kind_fields};
 use splinegpu::surface::{
-    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
-    evaluate_surfaces,
+    Net, Surface, SurfaceFields, SurfaceJob, SurfaceKind, SurfaceSampling, not_a_surface_field,
+    not_a_surface_kind, surface_kind_fields,
 };
-use splinegpu::{
-    CurveKind, Derivatives, EndCondition, Ends, GpuContext, GpuError, InputError, MAX_DIM,
-};
+use splinegpu::{Derivatives, EndCondition, Ends, InputError, MAX_DIM};
 
 use crate::document::{describe, number, number_array, parse_ends, parse_matrix};
-use splinegpu::surface::SURFACE_KINDS;
-
-/// The fields surface kind `name` takes besides "kind", "points" and "sampling".
-fn surface_fields(name: &str) -> Option<&'static [&'static str]> {
-    Some(match name {
-        "bspline" | "catmull-rom" => &["ends"],
-        "cardinal" | "tensioned-bspline" => &["ends", "tension"],
-        "beta" => &["ends", "bias", "tension"],
-        "matrix" => &["ends", "matrix"],
-        "bezier" => &["patches"],
-        "interpolating" => &["conditions", "u", "v"],
-        "nurbs" => &["knots_u", "knots_v", "weights"],
-        _ => return None,
-    })
-}
 
 /// Vertices a written document evaluates at a time (whole surfaces, at least one): 1,048,576
-/// as curves' chunks, or `SPLINEGPU_CHUNK_SAMPLES` as for curves. Plans are kept from the job's
-/// checks for its evaluation up to 4 groups' vertices in all (about 256 MiB of plans); the
-/// others are made again when their group is evaluated, so that memory stays bounded however
-/// many surfaces a document holds.
-fn group_vertices() -> usize {
+/// as curves' chunks, or `SPLINEGPU_CHUNK_SAMPLES` as for curves. The job keeps the plans of
+/// up to 4 groups' vertices in all (about 256 MiB of plans); the others are made again when
+/// their group is evaluated, so that memory stays bounded however many surfaces a document
+/// holds.
+pub fn group_vertices() -> usize {
     std::env::var("SPLINEGPU_CHUNK_SAMPLES")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(1 << 20)
-}
-
-/// A document's surfaces, fitted and checked, with what to evaluate.
-#[derive(Debug)]
-pub struct SurfaceJob {
-    /// Each surface, in document order.
-    pub surfaces: Vec<JobSurface>,
-    /// The derivatives asked for.
-    pub derivatives: Derivatives,
-    /// Whether unit normals are asked for (every surface is then 3-D).
-    pub normals: bool,
-}
-
-/// One surface of a job: its patches, its sampling, and its plan's sizes.
-#[derive(Debug)]
-pub struct JobSurface {
-    /// The fitted patches.
-    pub table: PatchTable,
-    /// How it is sampled.
-    pub sampling: SurfaceSampling,
-    /// Its vertices.
-    pub vertices: usize,
-    /// Its triangles; `None` for explicit (u, v).
-    pub triangles: Option<usize>,
-    /// Its plan, when kept (see `group_vertices`).
-    plan: Option<SurfacePlan>,
-}
-
-impl JobSurface {
-    /// Checks `sampling` on `table` by planning it.
-    fn new(table: PatchTable, sampling: SurfaceSampling) -> Result<Self, InputError> {
-        let plan = SurfacePlan::new(&table, &sampling)?;
-        Ok(JobSurface {
-            vertices: plan.vertices.len(),
-            triangles: plan.triangles.as_ref().map(Vec::len),
-            plan: Some(plan),
-            table,
-            sampling,
-        })
-    }
-
-    /// The plan: the kept one, or made again.
-    fn plan(&self) -> Cow<'_, SurfacePlan> {
-        match &self.plan {
-            Some(plan) => Cow::Borrowed(plan),
-            None => Cow::Owned(
-                SurfacePlan::new(&self.table, &self.sampling)
-                    .expect("the same plan was made when the job was read"),
-            ),
-        }
-    }
-}
-
-impl SurfaceJob {
-    /// Consecutive surfaces of at most 2^20 vertices together (`SPLINEGPU_CHUNK_SAMPLES`, as
-    /// for curves; a larger surface alone), in order: the units a written document is evaluated
-    /// in.
-    #[must_use]
-    pub fn groups(&self) -> Vec<Range<usize>> {
-        let limit = group_vertices();
-        let mut groups = Vec::new();
-        let (mut start, mut vertices) = (0, 0);
-        for (i, surface) in self.surfaces.iter().enumerate() {
-            if i > start && vertices + surface.vertices > limit {
-                groups.push(start..i);
-                (start, vertices) = (i, 0);
-            }
-            vertices += surface.vertices;
-        }
-        groups.push(start..self.surfaces.len());
-        groups
-    }
-
-    /// The surfaces of `range` evaluated on the CPU in f64.
-    #[must_use]
-    pub fn evaluate_cpu(&self, range: Range<usize>) -> Vec<SurfaceSamples> {
-        self.surfaces[range]
-            .iter()
-            .map(|s| evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals))
-            .collect()
-    }
-
-    /// The surfaces of `range` evaluated on the GPU in f32, in one call.
-    ///
-    /// # Errors
-    /// The GPU's ([`GpuError`]).
-    pub fn evaluate_gpu(
-        &self,
-        gpu: &GpuContext,
-        range: Range<usize>,
-    ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        let surfaces = &self.surfaces[range];
-        let plans: Vec<_> = surfaces.iter().map(JobSurface::plan).collect();
-        let jobs: Vec<_> = surfaces
-            .iter()
-            .zip(&plans)
-            .map(|(s, p)| (&s.table, p.as_ref()))
-            .collect();
-        gpu.evaluate_surfaces(&jobs, self.derivatives, self.normals)
-    }
-
-    /// Whether any surface is a patch list (the outputs then carry the "patch" column).
-    #[must_use]
-    pub fn has_patch_lists(&self) -> bool {
-        self.surfaces
-            .iter()
-            .any(|s| s.table.patch_indices().is_some())
-    }
 }
 
 /// A surface object as read: its fields (keys in order) and its own sampling's entries.
@@ -176,22 +48,11 @@ pub(crate) fn surface_job(
     if surfaces.is_empty() {
         return Err(InputError::field("surfaces", "must not be empty").in_document());
     }
-    let mut job = SurfaceJob {
-        surfaces: Vec::with_capacity(surfaces.len()),
-        derivatives,
-        normals,
-    };
-    let (keep, mut kept) = (group_vertices().saturating_mul(4), 0);
+    let mut job = SurfaceJob::new(derivatives, normals)
+        .keeping_plans_up_to(group_vertices().saturating_mul(4));
     for (i, read) in surfaces.into_iter().enumerate() {
         let place = |e: InputError| e.in_surface(i);
         let surface = build_surface(&read.fields, &read.keys).map_err(place)?;
-        let dim = surface.net().dim();
-        if normals && dim != 3 {
-            return Err(place(InputError::field(
-                "normals",
-                format!("need 3-D points, got {dim} coordinates per point"),
-            )));
-        }
         let table = surface.fit();
         let entries = read.sampling.as_deref().or(default);
         let sampling = match entries {
@@ -200,46 +61,9 @@ pub(crate) fn surface_job(
                 surface_sampling(entries, table.patch_indices().is_some()).map_err(place)?
             }
         };
-        check_fits(&table, &sampling, derivatives, normals).map_err(place)?;
-        let mut surface = JobSurface::new(table, sampling).map_err(place)?;
-        if kept + surface.vertices <= keep {
-            kept += surface.vertices;
-        } else {
-            surface.plan = None;
-        }
-        job.surfaces.push(surface);
+        job.push(table, sampling).map_err(place)?;
     }
     Ok(job)
-}
-
-/// Refuses, before its plan is made, a surface whose plan (40 bytes a vertex) and f64 values
-/// (a group holds one surface whole) would not fit in the memory available: a count near the
-/// u32 vertex cap would otherwise end in an allocation failure, not exit 2.
-fn check_fits(
-    table: &PatchTable,
-    sampling: &SurfaceSampling,
-    derivatives: Derivatives,
-    normals: bool,
-) -> Result<(), InputError> {
-    let (Some(vertices), Some(available)) = (
-        SurfacePlan::vertex_count(table, sampling),
-        splinegpu::available_memory(),
-    ) else {
-        return Ok(());
-    };
-    let planes = 1 + [0, 2, 5][derivatives.order()];
-    let per_vertex = 40 + 8 * (2 + planes * table.dim() as u128 + 3 * u128::from(normals));
-    let bytes = u128::from(vertices) * per_vertex;
-    if bytes > u128::from(available) {
-        return Err(InputError::field(
-            "sampling",
-            format!(
-                "gives {vertices} vertices, whose plan and values need {bytes} bytes; this \
-                 machine has {available} bytes of memory available"
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// A surface's "sampling" entries: per_segment k or [k_u, k_v]; at pairs (triples on a patch
@@ -348,27 +172,13 @@ fn build_surface(fields: &Map<String, Value>, keys: &[String]) -> Result<Surface
     let name = kind.as_str().ok_or_else(|| {
         InputError::field("kind", format!("must be a string, got {}", describe(kind)))
     })?;
-    let Some(allowed) = surface_fields(name) else {
-        return Err(InputError::field(
-            "kind",
-            format!(
-                "is not a surface kind: \"{name}\" (expected one of {})",
-                SURFACE_KINDS.join(", ")
-            ),
-        ));
+    let Some(allowed) = surface_kind_fields(name) else {
+        return Err(not_a_surface_kind(name));
     };
     if let Some(key) = keys.iter().find(|k| {
         !["kind", "points", "sampling"].contains(&k.as_str()) && !allowed.contains(&k.as_str())
     }) {
-        let mut all = vec!["kind", "points", "sampling"];
-        all.extend_from_slice(allowed);
-        return Err(InputError::field(
-            key.as_str(),
-            format!(
-                "is not a field of a \"{name}\" surface (allowed: {})",
-                all.join(", ")
-            ),
-        ));
+        return Err(not_a_surface_field(name, key));
     }
     let points = fields
         .get("points")
@@ -379,80 +189,46 @@ fn build_surface(fields: &Map<String, Value>, keys: &[String]) -> Result<Surface
             .map(|v| number_array(v, field))
             .transpose()
     };
-    let kind = match name {
-        "bezier" if fields.contains_key("patches") => {
-            let patches = parse_patches(&fields["patches"])?;
-            let net = parse_list(points)?;
-            return Surface::new(SurfaceKind::BezierPatches { patches }, net);
-        }
-        "bezier" => SurfaceKind::Bezier,
-        "interpolating" => {
-            let conditions = fields.get("conditions").ok_or_else(|| {
-                InputError::field("conditions", "is missing (one per direction: [c_u, c_v])")
-            })?;
-            SurfaceKind::Interpolating {
-                conditions: parse_conditions(conditions)?,
-                u: array("u")?,
-                v: array("v")?,
-            }
-        }
-        "nurbs" => {
-            let required = |field: &str| {
-                array(field)?.ok_or_else(|| {
-                    InputError::field(
-                        field,
-                        "is missing (a nurbs surface needs n + 4 per direction)",
-                    )
-                })
-            };
-            let (knots_u, knots_v) = (required("knots_u")?, required("knots_v")?);
-            let net = parse_net(points)?;
-            let weights = fields
-                .get("weights")
-                .map(|w| parse_weights(w, net.shape()))
-                .transpose()?;
-            let kind = SurfaceKind::Nurbs {
-                knots_u,
-                knots_v,
-                weights,
-            };
-            return Surface::new(kind, net);
-        }
-        _ => {
-            // The uniform families: the curve kind's basis, one value per field.
-            let single = |field: &str| {
-                fields
-                    .get(field)
-                    .map(|v| match v {
-                        Value::Array(_) => Err(InputError::field(
-                            field,
-                            format!("must be a number for a surface (one value for both directions), got {}", describe(v)),
-                        )),
-                        _ => number(v, field).map(splinegpu::PerPoint::All),
-                    })
-                    .transpose()
-            };
-            let curve_fields = KindFields {
-                tension: single("tension")?,
-                bias: single("bias")?,
-                matrix: fields.get("matrix").map(parse_matrix).transpose()?,
-                ..KindFields::default()
-            };
-            debug_assert!(kind_fields(name).is_some());
-            let CurveKind::Uniform { basis, .. } = CurveKind::named(name, curve_fields)? else {
-                unreachable!("the uniform surface kinds are uniform curve kinds")
-            };
-            SurfaceKind::Uniform {
-                basis,
-                ends: fields
-                    .get("ends")
-                    .map(parse_surface_ends)
-                    .transpose()?
-                    .unwrap_or([Ends::Control; 2]),
-            }
-        }
+    // The uniform families take one value per field, for both directions.
+    let single = |field: &str| {
+        fields
+            .get(field)
+            .map(|v| match v {
+                Value::Array(_) => Err(InputError::field(
+                    field,
+                    format!(
+                        "must be a number for a surface (one value for both directions), got {}",
+                        describe(v)
+                    ),
+                )),
+                _ => number(v, field),
+            })
+            .transpose()
     };
-    Surface::new(kind, parse_net(points)?)
+    let patches = fields.get("patches").map(parse_patches).transpose()?;
+    // A patch list's points are a list; every other kind's a net.
+    let net = if patches.is_some() {
+        parse_list(points)?
+    } else {
+        parse_net(points)?
+    };
+    let surface_fields = SurfaceFields {
+        ends: fields.get("ends").map(parse_surface_ends).transpose()?,
+        tension: single("tension")?,
+        bias: single("bias")?,
+        matrix: fields.get("matrix").map(parse_matrix).transpose()?,
+        patches,
+        conditions: fields.get("conditions").map(parse_conditions).transpose()?,
+        u: array("u")?,
+        v: array("v")?,
+        knots_u: array("knots_u")?,
+        knots_v: array("knots_v")?,
+        weights: fields
+            .get("weights")
+            .map(|w| parse_weights(w, net.shape()))
+            .transpose()?,
+    };
+    Surface::new(SurfaceKind::named(name, surface_fields)?, net)
 }
 
 /// "ends": one name for both directions, or [ends_u, ends_v].

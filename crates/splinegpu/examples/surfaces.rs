@@ -9,9 +9,7 @@
 use std::error::Error;
 
 use splinegpu::Derivatives;
-use splinegpu::surface::{
-    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling, evaluate_surfaces,
-};
+use splinegpu::surface::{Net, Surface, SurfaceJob, SurfaceKind, SurfaceSamples, SurfaceSampling};
 
 /// The picture's size in pixels, and the supersampling per axis.
 const WIDTH: usize = 960;
@@ -60,9 +58,9 @@ fn tessellate(
     surface: &Surface,
     sampling: &SurfaceSampling,
 ) -> Result<SurfaceSamples, Box<dyn Error>> {
-    let table = surface.fit();
-    let plan = SurfacePlan::new(&table, sampling)?;
-    Ok(evaluate_surfaces(&table, &plan, Derivatives::None, true))
+    let mut job = SurfaceJob::new(Derivatives::None, true);
+    job.push(surface.fit(), sampling.clone())?;
+    Ok(job.evaluate_cpu().remove(0))
 }
 
 /// The teapot of the command line's example document.

@@ -7,9 +7,7 @@ use std::path::Path;
 
 use serde_json::Value;
 use splinegpu::Derivatives;
-use splinegpu::surface::{
-    Net, Surface, SurfaceKind, SurfacePlan, SurfaceSampling, evaluate_surfaces,
-};
+use splinegpu::surface::{Net, Surface, SurfaceJob, SurfaceKind, SurfaceSampling};
 
 fn run(args: &[&str]) -> (i32, String) {
     let out = crate::support::run_cli(args, &[], "");
@@ -62,8 +60,10 @@ fn ring_samples() -> splinegpu::surface::SurfaceSamples {
     let table = Surface::new(kind, Net::new(3, 6, 5, coords).unwrap())
         .unwrap()
         .fit();
-    let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([3, 2])).unwrap();
-    evaluate_surfaces(&table, &plan, Derivatives::Second, true)
+    let mut job = SurfaceJob::new(Derivatives::Second, true);
+    job.push(table, SurfaceSampling::PerSegment([3, 2]))
+        .unwrap();
+    job.evaluate_cpu().remove(0)
 }
 
 fn document() -> String {

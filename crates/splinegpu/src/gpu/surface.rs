@@ -13,7 +13,9 @@ use rayon::prelude::*;
 
 use crate::error::GpuError;
 use crate::job::Derivatives;
-use crate::surface::{PatchTable, SurfacePlan, SurfaceSamples};
+use std::ops::Range;
+
+use crate::surface::{PatchTable, SurfaceJob, SurfacePlan, SurfaceSamples};
 
 use super::GpuContext;
 use super::timing::Timestamps;
@@ -308,25 +310,35 @@ impl GpuContext {
             .get_or_init(|| SurfacePipeline::new(&self.device))
     }
 
-    /// Evaluates every surface's plan on the GPU in f32, in dispatches that fit the device's
-    /// limits: positions, the derivatives asked for (d/du, d/dv in the surface's parameters)
-    /// and unit normals (3-D surfaces). Within the contract's surface promise of the f64
-    /// reference ([`evaluate_surfaces`](crate::surface::evaluate_surfaces)).
+    /// Evaluates every surface of `job` on the GPU in f32, in dispatches that fit the
+    /// device's limits: positions, the derivatives asked for (d/du, d/dv in the surface's
+    /// parameters) and unit normals (3-D surfaces). Within the contract's surface promise of the
+    /// f64 reference ([`SurfaceJob::evaluate_cpu`]).
     ///
     /// # Errors
-    /// [`GpuError`] when the device is lost or a buffer cannot be mapped.
-    ///
-    /// # Panics
-    /// If `normals` is asked of a surface that is not 3-D.
+    /// [`GpuError`] when the device is lost or a buffer cannot be mapped, or
+    /// [`GpuError::TooLarge`] for a surface whose patches alone exceed one storage binding.
     pub fn evaluate_surfaces(
         &self,
-        surfaces: &[(&PatchTable, &SurfacePlan)],
-        derivatives: Derivatives,
-        normals: bool,
+        job: &SurfaceJob,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        Ok(self
-            .surfaces_on_device(surfaces, derivatives, normals, false)?
-            .0)
+        self.evaluate_surface_group(job, 0..job.len())
+    }
+
+    /// [`GpuContext::evaluate_surfaces`] of the surfaces of `range` (a group of
+    /// [`SurfaceJob::groups`], evaluated and written one at a time).
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate_surfaces`].
+    ///
+    /// # Panics
+    /// If `range` is not within the job.
+    pub fn evaluate_surface_group(
+        &self,
+        job: &SurfaceJob,
+        range: Range<usize>,
+    ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
+        Ok(self.surfaces_on_device(job, range, false)?.0)
     }
 
     /// [`GpuContext::evaluate_surfaces`], also measuring how long the dispatches ran on the
@@ -335,17 +347,12 @@ impl GpuContext {
     ///
     /// # Errors
     /// As [`GpuContext::evaluate_surfaces`].
-    ///
-    /// # Panics
-    /// As [`GpuContext::evaluate_surfaces`].
     #[cfg(feature = "profiling")]
     pub fn evaluate_surfaces_timed(
         &self,
-        surfaces: &[(&PatchTable, &SurfacePlan)],
-        derivatives: Derivatives,
-        normals: bool,
+        job: &SurfaceJob,
     ) -> Result<(Vec<SurfaceSamples<f32>>, DeviceTime), GpuError> {
-        let (samples, seconds) = self.surfaces_on_device(surfaces, derivatives, normals, true)?;
+        let (samples, seconds) = self.surfaces_on_device(job, 0..job.len(), true)?;
         let method = if self
             .device
             .features()
@@ -358,18 +365,18 @@ impl GpuContext {
         Ok((samples, DeviceTime { seconds, method }))
     }
 
-    /// [`GpuContext::evaluate_surfaces`], and the dispatches' device seconds when `timed`.
+    /// The surfaces of `range` of `job` on the device, and the dispatches' device seconds
+    /// when `timed`.
     fn surfaces_on_device(
         &self,
-        surfaces: &[(&PatchTable, &SurfacePlan)],
-        derivatives: Derivatives,
-        normals: bool,
+        job: &SurfaceJob,
+        range: Range<usize>,
         timed: bool,
     ) -> Result<(Vec<SurfaceSamples<f32>>, f64), GpuError> {
-        assert!(
-            !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
-            "normals need 3-D points"
-        );
+        let (derivatives, normals) = (job.derivatives(), job.normals());
+        let planned = job.planned(range);
+        let surfaces: Vec<(&PatchTable, &SurfacePlan)> =
+            planned.iter().map(|(t, p)| (*t, p.as_ref())).collect();
         // Groups of surfaces whose packed patches fit one storage binding.
         let limits = self.device.limits();
         let limit = limits
@@ -399,7 +406,7 @@ impl GpuContext {
                 });
             }
             let group = &surfaces[start..end];
-            out.extend(self.evaluate_surface_group(
+            out.extend(self.evaluate_binding_group(
                 group,
                 derivatives,
                 normals,
@@ -413,7 +420,7 @@ impl GpuContext {
 
     /// [`GpuContext::evaluate_surfaces`] of surfaces whose patches fit one binding; when
     /// `timed`, each dispatch's device seconds added to `seconds`.
-    fn evaluate_surface_group(
+    fn evaluate_binding_group(
         &self,
         surfaces: &[(&PatchTable, &SurfacePlan)],
         derivatives: Derivatives,

@@ -8,7 +8,7 @@
 use wgpu::util::DeviceExt;
 
 use crate::error::{GpuError, InputError, TargetError};
-use crate::surface::{PatchTable, SurfacePlan};
+use crate::surface::{PatchTable, SurfaceJob, SurfacePlan};
 
 use super::GpuContext;
 use super::surface::{GpuVertex, PackedPatches, SURFACE_WG_SIZE, SurfaceParams};
@@ -48,24 +48,17 @@ pub struct SurfaceRecording {
 }
 
 impl GpuContext {
-    /// A recording of `surfaces` (positions, and unit normals when `normals`: 3-D surfaces),
-    /// their plans and patches uploaded once.
+    /// A recording of the surfaces of `job` (positions, and unit normals when the job forms
+    /// them; derivatives are not recorded), their plans and patches uploaded once.
     ///
     /// # Errors
     /// [`GpuError::TooLarge`] when the patches, the vertex data or the vertex records (16
     /// bytes each) exceed one storage binding.
-    ///
-    /// # Panics
-    /// If `normals` is asked of a surface that is not 3-D.
-    pub fn surface_recording(
-        &self,
-        surfaces: &[(&PatchTable, &SurfacePlan)],
-        normals: bool,
-    ) -> Result<SurfaceRecording, GpuError> {
-        assert!(
-            !normals || surfaces.iter().all(|(t, _)| t.dim() == 3),
-            "normals need 3-D points"
-        );
+    pub fn surface_recording(&self, job: &SurfaceJob) -> Result<SurfaceRecording, GpuError> {
+        let normals = job.normals();
+        let planned = job.planned(0..job.len());
+        let surfaces: Vec<(&PatchTable, &SurfacePlan)> =
+            planned.iter().map(|(t, p)| (*t, p.as_ref())).collect();
         let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
         let packed = PackedPatches::new(&tables, normals);
         let mut vertices = Vec::new();
@@ -98,7 +91,10 @@ impl GpuContext {
         for (table, size) in [
             ("patch coefficients", (packed.coeffs.len() * 4) as u64),
             ("surface vertices", bytes),
-            ("surface vertex records", std::mem::size_of_val(&vertices[..]) as u64),
+            (
+                "surface vertex records",
+                std::mem::size_of_val(&vertices[..]) as u64,
+            ),
         ] {
             if size > limit {
                 return Err(GpuError::TooLarge {

@@ -310,7 +310,8 @@ mod tests {
     use super::*;
     use crate::accuracy::surface_gpu_bound;
     use crate::fit::interp::EndCondition;
-    use crate::surface::{Net, Surface, SurfaceKind, SurfaceSampling, evaluate_surfaces};
+    use crate::surface::eval::evaluate_surfaces;
+    use crate::surface::{Net, Surface, SurfaceKind, SurfaceSampling};
     use crate::{Basis, Ends};
 
     /// A seeded net of `rows` x `cols` 3-D points within 2 of `center`.

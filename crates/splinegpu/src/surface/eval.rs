@@ -19,9 +19,10 @@ use crate::surface::normal::{BLOCK, NormalBlock, unit_normal};
 use crate::surface::patch::{AlongU, Derivs, Patch, PatchTable};
 
 /// One surface's samples (contract: "Output of a surface document"), flat and vertex-major:
-/// f64 from [`evaluate_surfaces`], f32 from the GPU
-/// ([`GpuContext::evaluate_surfaces`](crate::GpuContext::evaluate_surfaces)), either from
-/// [`evaluate_surfaces_into`] through [`SurfaceSamples::for_plan`]; (u, v) always f64.
+/// f64 from [`SurfaceJob::evaluate_cpu`](super::SurfaceJob::evaluate_cpu), f32 from the GPU
+/// ([`GpuContext::evaluate_surfaces`](crate::GpuContext::evaluate_surfaces)), or any of the
+/// two into [`SurfaceSamples::for_plan`]'s memory through
+/// [`SurfaceJob::evaluate_into`](super::SurfaceJob::evaluate_into); (u, v) always f64.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceSamples<F = f64> {
     /// Coordinates per point.
@@ -65,7 +66,8 @@ impl<F> SurfaceSamples<F> {
 impl<F: SampleFloat> SurfaceSamples<F> {
     /// Samples of `plan` on `table` with the planes `derivatives` and `normals` ask for, every
     /// value zero, (u, v), patches and triangles from the plan: the memory
-    /// [`evaluate_surfaces_into`] fills through [`SurfaceSamples::planes_mut`], again and
+    /// [`SurfaceJob::evaluate_into`](super::SurfaceJob::evaluate_into) fills through
+    /// [`SurfaceSamples::planes_mut`], again and
     /// again for a surface whose plan does not change.
     #[must_use]
     pub fn for_plan(
@@ -111,7 +113,8 @@ impl<F: SampleFloat> SurfaceSamples<F> {
         .collect()
     }
 
-    /// The value planes this holds, for [`evaluate_surfaces_into`].
+    /// The value planes this holds, for
+    /// [`SurfaceJob::evaluate_into`](super::SurfaceJob::evaluate_into).
     pub fn planes_mut(&mut self) -> SurfacePlanes<'_, F> {
         SurfacePlanes {
             points: &mut self.points,
@@ -149,13 +152,10 @@ pub struct SurfacePlanes<'a, F> {
 const CHUNK: usize = 4096;
 
 /// Evaluates `plan` on `table` in f64 into new memory: positions, the derivatives asked for,
-/// and unit normals when `normals` (the table must then be 3-D; callers check it where the
-/// input is read).
-///
-/// # Panics
-/// If `normals` is asked of a table whose dimension is not 3.
+/// and unit normals when `normals` (a [`SurfaceJob`](super::SurfaceJob) has checked that the
+/// table is then 3-D).
 #[must_use]
-pub fn evaluate_surfaces(
+pub(crate) fn evaluate_surfaces(
     table: &PatchTable,
     plan: &SurfacePlan,
     derivatives: Derivatives,
@@ -168,19 +168,16 @@ pub fn evaluate_surfaces(
 
 /// Evaluates `plan` on `table` into a caller's planes on every thread: the planes present are
 /// formed (each value computed in f64, rounded to `F` as it is stored), nothing is allocated
-/// per vertex.
-///
-/// # Panics
-/// If a plane's length is not the plan's vertex count times `dim` (normals: 3), or normals are
-/// asked of a table whose dimension is not 3.
-pub fn evaluate_surfaces_into<F: SampleFloat>(
+/// per vertex. The planes' lengths and the normals' dimension are the job's to check
+/// ([`SurfaceJob::evaluate_into`](super::SurfaceJob::evaluate_into)).
+pub(crate) fn evaluate_surfaces_into<F: SampleFloat>(
     table: &PatchTable,
     plan: &SurfacePlan,
     planes: SurfacePlanes<'_, F>,
 ) {
     let dim = table.dim();
     let n = plan.vertices.len();
-    assert!(
+    debug_assert!(
         planes.normals.is_none() || dim == 3,
         "normals need 3-D points"
     );
@@ -196,7 +193,7 @@ pub fn evaluate_surfaces_into<F: SampleFloat>(
     let widths = [dim, dim, dim, dim, dim, dim, 3];
     for (plane, width) in planes.iter().zip(widths) {
         if let Some(plane) = plane {
-            assert_eq!(plane.len(), width * n, "a plane of {n} vertices");
+            debug_assert_eq!(plane.len(), width * n, "a plane of {n} vertices");
         }
     }
     // The planes to form: S_u and S_v for normals too; the u-stage orders they need.

@@ -13,10 +13,14 @@
 //! - `mesh`: per-segment grids with shared vertices, patch lists welded along their edges,
 //!   explicit (u, v);
 //! - `tolerance`: certified meshes within a distance, watertight across patches;
-//! - `eval`: a plan's vertices evaluated on the CPU.
+//! - `eval`: a plan's vertices evaluated on the CPU;
+//! - `kinds`: the kinds by the contract's names, with their fields;
+//! - `job`: many surfaces, their plans, checks and output layout ([`SurfaceJob`]).
 
 pub(crate) mod direction;
 pub(crate) mod eval;
+pub(crate) mod job;
+pub(crate) mod kinds;
 pub(crate) mod mesh;
 pub(crate) mod normal;
 pub(crate) mod patch;
@@ -29,24 +33,15 @@ use crate::fit::interp::EndCondition;
 use crate::points::MAX_DIM;
 use direction::Direction;
 
-pub use eval::{SurfacePlanes, SurfaceSamples, evaluate_surfaces, evaluate_surfaces_into};
+pub use eval::{SurfacePlanes, SurfaceSamples};
+pub use job::{JobSurface, SurfaceJob};
+pub use kinds::{
+    SURFACE_KINDS, SurfaceFields, not_a_surface_field, not_a_surface_kind, surface_kind_fields,
+};
 pub use mesh::{SurfacePlan, SurfaceSampling, Vertex};
 pub use normal::unit_normal;
 pub use patch::{Derivs, Patch, PatchTable};
 pub use tolerance::MAX_PATCH_VERTICES;
-
-/// The surface kinds by the contract's names, in its order (the uniform families first).
-pub const SURFACE_KINDS: [&str; 9] = [
-    "bspline",
-    "catmull-rom",
-    "cardinal",
-    "tensioned-bspline",
-    "beta",
-    "matrix",
-    "bezier",
-    "interpolating",
-    "nurbs",
-];
 
 /// A net of points: `rows` (n_u) rows of `cols` (n_v) points of `dim` coordinates, u along
 /// the rows' index and v within a row, stored flat (point (i, j) at `(i * cols + j) * dim`).

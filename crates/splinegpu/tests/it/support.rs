@@ -225,3 +225,31 @@ pub(crate) fn local_beta(rng: &mut Rng, ends: splinegpu::Ends, n: usize) -> spli
         tension: PerPoint::Each((0..joints).map(|_| rng.range(0.0, 6.0)).collect()),
     }
 }
+
+/// `table` sampled by `sampling`, evaluated on the CPU in f64 through a one-surface job.
+pub(crate) fn surface_samples(
+    table: &splinegpu::surface::PatchTable,
+    sampling: &splinegpu::surface::SurfaceSampling,
+    derivatives: splinegpu::Derivatives,
+    normals: bool,
+) -> splinegpu::surface::SurfaceSamples {
+    surface_job(&[(table, sampling)], derivatives, normals)
+        .evaluate_cpu()
+        .remove(0)
+}
+
+/// A job of `surfaces`, each pushed as given.
+pub(crate) fn surface_job(
+    surfaces: &[(
+        &splinegpu::surface::PatchTable,
+        &splinegpu::surface::SurfaceSampling,
+    )],
+    derivatives: splinegpu::Derivatives,
+    normals: bool,
+) -> splinegpu::surface::SurfaceJob {
+    let mut job = splinegpu::surface::SurfaceJob::new(derivatives, normals);
+    for (table, sampling) in surfaces {
+        job.push((*table).clone(), (*sampling).clone()).unwrap();
+    }
+    job
+}

@@ -5,10 +5,10 @@
 //! bspline is watertight by construction), patch lists weld along shared edges, normals stay
 //! finite and right at a collapsed edge, and bad input is named.
 
-use crate::support::Rng;
+use crate::support::{Rng, surface_job, surface_samples};
 use splinegpu::surface::{
     Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
-    evaluate_surfaces, evaluate_surfaces_into, unit_normal,
+    unit_normal,
 };
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, EvalJob, Points, Sampling,
@@ -93,8 +93,12 @@ fn through_curves(kind: &SurfaceKind, net: &Net, u: f64, v: f64) -> [Vec<f64>; 6
 
 fn samples_at(surface: &Surface, at: &[[f64; 2]]) -> splinegpu::surface::SurfaceSamples {
     let table = surface.fit();
-    let plan = SurfacePlan::new(&table, &SurfaceSampling::At(at.to_vec())).unwrap();
-    evaluate_surfaces(&table, &plan, Derivatives::Second, false)
+    surface_samples(
+        &table,
+        &SurfaceSampling::At(at.to_vec()),
+        Derivatives::Second,
+        false,
+    )
 }
 
 /// Random (u, v) over a net's range, its corners and an interior knot pair included.
@@ -168,7 +172,8 @@ fn every_evaluator_path_agrees_with_the_patch_and_f32_is_f64_rounded() {
         for sampling in samplings {
             let what = format!("dim {dim}, {:?}", surface.kind());
             let plan = SurfacePlan::new(&table, &sampling).unwrap();
-            let got = evaluate_surfaces(&table, &plan, Derivatives::Second, normals);
+            let job = surface_job(&[(&table, &sampling)], Derivatives::Second, normals);
+            let got = job.evaluate_cpu().remove(0);
             let planes = [
                 Some(&got.points),
                 got.du.as_ref(),
@@ -209,7 +214,7 @@ fn every_evaluator_path_agrees_with_the_patch_and_f32_is_f64_rounded() {
             // f32: the same f64 values, rounded once as they are stored.
             let mut narrow =
                 SurfaceSamples::<f32>::for_plan(&table, &plan, Derivatives::Second, normals);
-            evaluate_surfaces_into(&table, &plan, narrow.planes_mut());
+            job.evaluate_into(0, narrow.planes_mut()).unwrap();
             let rounded = |plane: &[f64]| plane.iter().map(|&x| x as f32).collect::<Vec<_>>();
             assert_eq!(narrow.points, rounded(&got.points), "{what}");
             assert_eq!(narrow.duv, got.duv.as_deref().map(rounded), "{what}");
@@ -389,8 +394,12 @@ fn a_rational_torus_lies_on_the_torus_with_its_normals_near_the_origin_and_at_1e
         let surface = torus_surface(big, small, center);
         let table = surface.fit();
         assert!(table.is_rational());
-        let plan = SurfacePlan::new(&table, &SurfaceSampling::PerSegment([7, 5])).unwrap();
-        let s = evaluate_surfaces(&table, &plan, Derivatives::Second, true);
+        let s = surface_samples(
+            &table,
+            &SurfaceSampling::PerSegment([7, 5]),
+            Derivatives::Second,
+            true,
+        );
         let normals = s.normals.as_ref().unwrap();
         let mut worst = [0.0f64; 2];
         for i in 0..s.len() {
@@ -501,7 +510,12 @@ fn a_patch_list_welds_its_shared_edges_and_equals_its_net() {
     let plan = SurfacePlan::new(&list, &SurfaceSampling::PerSegment([k, k])).unwrap();
     // Welded: the net's (2k + 1)² vertices, no more.
     assert_eq!(plan.vertices.len(), (2 * k as usize + 1).pow(2));
-    let s = evaluate_surfaces(&list, &plan, Derivatives::None, true);
+    let s = surface_samples(
+        &list,
+        &SurfaceSampling::PerSegment([k, k]),
+        Derivatives::None,
+        true,
+    );
     // Every vertex equals the net's surface at its place.
     let whole = Surface::new(SurfaceKind::Bezier, grid).unwrap();
     for (i, vertex) in plan.vertices.iter().enumerate() {
@@ -554,8 +568,12 @@ fn normals_at_a_collapsed_edge_are_the_limit_from_inside() {
         [1e-7, 0.37],
         [0.3, 0.37],
     ];
-    let plan = SurfacePlan::new(&table, &SurfaceSampling::At(at.clone())).unwrap();
-    let s = evaluate_surfaces(&table, &plan, Derivatives::First, true);
+    let s = surface_samples(
+        &table,
+        &SurfaceSampling::At(at.clone()),
+        Derivatives::First,
+        true,
+    );
     let n = s.normals.as_ref().unwrap();
     for i in 0..at.len() {
         let length: f64 = (0..3).map(|k| n[3 * i + k].powi(2)).sum::<f64>().sqrt();

@@ -3,13 +3,12 @@
 //! spacing ratios of 1e3, a rational torus, the teapot's certified mesh with its poles, all
 //! derivatives and normals. Skipped where wgpu finds no adapter (lavapipe in CI).
 
-use crate::support::{Rng, gpu};
+use crate::support::{Rng, gpu, surface_job};
 use crate::surface::torus_surface;
 use crate::surface_tolerance::teapot;
 use splinegpu::accuracy::surface_gpu_bound;
 use splinegpu::surface::{
     Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
-    evaluate_surfaces,
 };
 use splinegpu::{Basis, Derivatives, EndCondition, Ends};
 
@@ -164,15 +163,10 @@ fn gpu_surfaces_of_every_kind_in_one_call_keep_the_promise() {
     let Some(gpu) = gpu() else { return };
     let surfaces = surfaces();
     let tables: Vec<PatchTable> = surfaces.iter().map(|(s, _)| s.fit()).collect();
-    let plans: Vec<SurfacePlan> = tables
-        .iter()
-        .zip(&surfaces)
-        .map(|(t, (_, sampling))| SurfacePlan::new(t, sampling).unwrap())
-        .collect();
-    let jobs: Vec<(&PatchTable, &SurfacePlan)> = tables.iter().zip(&plans).collect();
-    let on_gpu = gpu
-        .evaluate_surfaces(&jobs, Derivatives::Second, true)
-        .unwrap();
+    let pairs: Vec<_> = tables.iter().zip(surfaces.iter().map(|(_, s)| s)).collect();
+    let job = surface_job(&pairs, Derivatives::Second, true);
+    let on_gpu = gpu.evaluate_surfaces(&job).unwrap();
+    let on_cpu = job.evaluate_cpu();
     let mut worst = [0.0f64; 7];
     let names = [
         "bspline closed x closed",
@@ -184,12 +178,11 @@ fn gpu_surfaces_of_every_kind_in_one_call_keep_the_promise() {
         "rational torus at 1e5, tolerance",
         "teapot, tolerance",
     ];
-    for (((table, plan), g), name) in jobs.iter().zip(&on_gpu).zip(names) {
-        let cpu = evaluate_surfaces(table, plan, Derivatives::Second, true);
+    for (((surface, cpu), g), name) in job.surfaces().iter().zip(&on_cpu).zip(&on_gpu).zip(names) {
         assert_eq!(g.uv, cpu.uv);
         assert_eq!(g.triangles, cpu.triangles);
         let mut own = [0.0f64; 7];
-        compare(table, plan, &cpu, g, &mut own);
+        compare(surface.table(), &surface.plan(), cpu, g, &mut own);
         eprintln!(
             "{name}: worst fraction of the bound {:.3?}, normals {:.3} of 1e-3 rad",
             &own[..6],
@@ -212,12 +205,11 @@ fn gpu_surfaces_without_derivatives_give_positions_only() {
     let Some(gpu) = gpu() else { return };
     let (surface, sampling) = surfaces().swap_remove(1);
     let table = surface.fit();
-    let plan = SurfacePlan::new(&table, &sampling).unwrap();
-    let g = &gpu
-        .evaluate_surfaces(&[(&table, &plan)], Derivatives::None, false)
-        .unwrap()[0];
+    let job = surface_job(&[(&table, &sampling)], Derivatives::None, false);
+    let plan = job.surfaces()[0].plan();
+    let g = &gpu.evaluate_surfaces(&job).unwrap()[0];
     assert!(g.du.is_none() && g.normals.is_none());
-    let cpu = evaluate_surfaces(&table, &plan, Derivatives::None, false);
+    let cpu = &job.evaluate_cpu()[0];
     for (i, (c, g)) in cpu.points.iter().zip(&g.points).enumerate() {
         let patch = table.patch(plan.vertices[i / 3].patch as usize);
         assert!(
@@ -264,12 +256,16 @@ fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
     let first = Surface::new(kind.clone(), net(&mut rng, 6, 5, 0.0)).unwrap();
     let teapot = teapot();
     let tables = [first.fit(), teapot.fit()];
-    let plans = [
-        SurfacePlan::new(&tables[0], &SurfaceSampling::PerSegment([4, 4])).unwrap(),
-        SurfacePlan::new(&tables[1], &SurfaceSampling::Tolerance(0.05)).unwrap(),
+    let samplings = [
+        SurfaceSampling::PerSegment([4, 4]),
+        SurfaceSampling::Tolerance(0.05),
     ];
-    let jobs: Vec<_> = tables.iter().zip(&plans).collect();
-    let mut recording = gpu.surface_recording(&jobs, true).unwrap();
+    let job = surface_job(
+        &[(&tables[0], &samplings[0]), (&tables[1], &samplings[1])],
+        Derivatives::None,
+        true,
+    );
+    let mut recording = gpu.surface_recording(&job).unwrap();
     let layout = recording.layout().clone();
     assert_eq!(
         recording.indices().len() as u32,
@@ -297,9 +293,8 @@ fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
                 .record_into(gpu, &mut encoder, &target, offset)
                 .unwrap();
             gpu.queue().submit([encoder.finish()]);
-            let want = gpu
-                .evaluate_surfaces(&[(&moved, &plans[0])], Derivatives::None, true)
-                .unwrap();
+            let moved_job = surface_job(&[(&moved, &samplings[0])], Derivatives::None, true);
+            let want = gpu.evaluate_surfaces(&moved_job).unwrap();
             let got = read_back(gpu, &target, offset + layout.bytes);
             let base = (offset / 4) as usize;
             let n = want[0].points.len();
@@ -311,9 +306,7 @@ fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
             .record_into(gpu, &mut encoder, &target, offset)
             .unwrap();
         gpu.queue().submit([encoder.finish()]);
-        let want = gpu
-            .evaluate_surfaces(&jobs, Derivatives::None, true)
-            .unwrap();
+        let want = gpu.evaluate_surfaces(&job).unwrap();
         let got = read_back(gpu, &target, offset + layout.bytes);
         let base = (offset / 4) as usize;
         let points: Vec<f32> = want.iter().flat_map(|s| s.points.clone()).collect();

@@ -6,11 +6,9 @@
 
 use std::collections::HashMap;
 
-use crate::support::Rng;
+use crate::support::{Rng, surface_samples};
 use splinegpu::Derivatives;
-use splinegpu::surface::{
-    Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSampling, evaluate_surfaces,
-};
+use splinegpu::surface::{Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSampling};
 
 /// Barycentric places inside a triangle: its corners, edge midpoints, centroid and a grid.
 fn barycentric() -> Vec<[f64; 3]> {
@@ -183,7 +181,12 @@ fn certify(surface: &Surface, tols: &[f64], what: &str) -> Vec<(f64, SurfacePlan
     let mut plans = Vec::new();
     for &tol in tols {
         let plan = SurfacePlan::new(&table, &SurfaceSampling::Tolerance(tol)).unwrap();
-        let samples = evaluate_surfaces(&table, &plan, Derivatives::None, false);
+        let samples = surface_samples(
+            &table,
+            &SurfaceSampling::Tolerance(tol),
+            Derivatives::None,
+            false,
+        );
         let triangles = triangles_in_patches(&table, &plan, &samples.points);
         let gap = worst_gap(&table, &triangles);
         assert!(
@@ -395,7 +398,12 @@ fn the_teapots_certified_mesh_beats_the_smallest_uniform_grid_that_meets_tol() {
     // Watertight where the data share edges: no edge in more than two triangles but the
     // collapsed ones at the lid's top and the bottom's centre.
     let edges = edge_counts(plan.triangles.as_ref().unwrap());
-    let samples = evaluate_surfaces(&table, plan, Derivatives::None, true);
+    let samples = surface_samples(
+        &table,
+        &SurfaceSampling::Tolerance(tol),
+        Derivatives::None,
+        true,
+    );
     for (&(a, b), &n) in &edges {
         if n > 2 {
             let (pa, pb) = (
