@@ -1,6 +1,7 @@
 //! The f32 GPU evaluator against the f64 CPU reference, under the contract's accuracy promise
 //! (`splinegpu::accuracy::gpu_bound`). Runs on whatever adapter wgpu finds; in CI that is lavapipe.
 
+use crate::shapes::nurbs_circle;
 #[cfg(feature = "profiling")]
 use crate::support::compare;
 use crate::support::{Rng, assert_gpu_matches_cpu, bases, gpu, local_beta};
@@ -460,4 +461,24 @@ pub(crate) fn evaluate_into_reuses_samples_across_jobs_of_other_shapes() {
         context.evaluate_into(job, reused.planes_for(job)).unwrap();
         assert_eq!(reused, context.evaluate(job).unwrap());
     }
+}
+
+/// The weighted nurbs circle (four rational quarter arcs) on the GPU: every sample within the
+/// position promise of the unit radius, and the GPU within the promise of the f64 reference.
+pub(crate) fn a_weighted_nurbs_circle_stays_on_the_circle_on_the_gpu() {
+    let Some(context) = gpu() else { return };
+    let (_, _, curve) = nurbs_circle();
+    let mut job = EvalJob::new(Derivatives::Second);
+    job.push(&curve, &Sampling::PerSegment(64)).unwrap();
+    let gpu = context.evaluate(&job).unwrap();
+    let bound = splinegpu::accuracy::POSITION_TOLERANCE * 2.0 + 4.0 * f64::from(f32::EPSILON);
+    let worst = (gpu.curve(0).points.chunks_exact(2))
+        .map(|p| (f64::from(p[0]).hypot(f64::from(p[1])) - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= bound,
+        "GPU radius off by {worst:e} (promise {bound:e})"
+    );
+    println!("GPU circle: radius within {worst:.2e} of 1");
+    assert_gpu_matches_cpu(&job);
 }

@@ -3,13 +3,19 @@
 //! under CI (`CI=true`) they run and fail, so that a broken driver install is never green.
 //!
 //! Each test compares the GPU with the f64 reference under the accuracy promise
-//! ([`splinegpu::accuracy`]) or checks the renderer path; `cargo test --test gpu -- --list`
+//! ([`splinegpu::accuracy`]), curves and surfaces, or checks the renderer path; `cargo test --test gpu -- --list`
 //! lists them.
 
+#[path = "../it/arc_lengths.rs"]
+mod arc_lengths;
+mod geometric_sampling;
 mod gpu_vs_cpu;
 mod render;
+#[path = "../it/shapes.rs"]
+mod shapes;
 #[path = "../it/support.rs"]
 mod support;
+mod surfaces;
 
 fn main() -> std::process::ExitCode {
     let tests = support::gpu_trials![
@@ -28,8 +34,13 @@ fn main() -> std::process::ExitCode {
         gpu_vs_cpu::positions_of_knots_closer_than_f32_reaches_are_evaluated,
         gpu_vs_cpu::eight_threads_on_one_context_each_get_what_they_get_alone,
         gpu_vs_cpu::evaluate_into_reuses_samples_across_jobs_of_other_shapes,
+        gpu_vs_cpu::a_weighted_nurbs_circle_stays_on_the_circle_on_the_gpu,
+        geometric_sampling::arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5_of_the_length,
         render::recorded_samples_follow_the_output_layout,
         render::unusable_target_buffers_are_errors,
+        surfaces::gpu_surfaces_of_every_kind_in_one_call_keep_the_promise,
+        surfaces::gpu_surfaces_without_derivatives_give_positions_only,
+        surfaces::a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net,
     ];
     libtest_mimic::run(&libtest_mimic::Arguments::from_args(), tests).exit_code()
 }

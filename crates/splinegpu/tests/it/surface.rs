@@ -5,6 +5,7 @@
 //! bspline is watertight by construction), patch lists weld along shared edges, normals stay
 //! finite and right at a collapsed edge, and bad input is named.
 
+use crate::shapes::torus_surface;
 use crate::support::{Rng, surface_job, surface_samples};
 use splinegpu::surface::{
     Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
@@ -334,57 +335,6 @@ fn interpolating_surfaces_pass_through_the_net_and_not_a_knot_reproduces_a_bicub
         let duv = 0.75 * x * x - 8.0 * y * x + 1.0;
         assert!((samples.duv.as_ref().unwrap()[i] - duv).abs() < 1e-8 * (1.0 + duv.abs()));
     }
-}
-
-/// The 13 control points (x, y) and weights of a unit circle as four rational cubic arcs (each
-/// the exact quadratic quarter arc raised to degree 3), and its knots.
-fn circle() -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
-    let inner = std::f64::consts::SQRT_2 / (1.0 + std::f64::consts::SQRT_2);
-    let weight = (1.0 + std::f64::consts::SQRT_2) / 3.0;
-    let mut points = Vec::new();
-    let mut weights = Vec::new();
-    for q in 0..4 {
-        let (s, c) = (f64::from(q) * std::f64::consts::FRAC_PI_2).sin_cos();
-        let (s, c) = (s.round(), c.round());
-        points.push([c, s]);
-        points.push([c - inner * s, s + inner * c]);
-        points.push([-s + inner * c, c + inner * s]);
-        weights.extend([1.0, weight, weight]);
-    }
-    points.push(points[0]);
-    weights.push(1.0);
-    let mut knots = vec![0.0; 4];
-    for q in 1..4 {
-        knots.extend([f64::from(q); 3]);
-    }
-    knots.extend([4.0; 4]);
-    (points, weights, knots)
-}
-
-/// A torus of radii `big` and `small` about `center`, as a rational nurbs surface: the tensor
-/// product of two circles, P_ij = ((R + r x_j) X_i, (R + r x_j) Y_i, r y_j), w_ij = w_i w_j.
-pub(crate) fn torus_surface(big: f64, small: f64, center: [f64; 3]) -> Surface {
-    let (c, w, knots) = circle();
-    let n = c.len();
-    let mut coords = Vec::new();
-    let mut weights = Vec::new();
-    for i in 0..n {
-        for j in 0..n {
-            let radius = big + small * c[j][0];
-            coords.extend([
-                center[0] + radius * c[i][0],
-                center[1] + radius * c[i][1],
-                center[2] + small * c[j][1],
-            ]);
-            weights.push(w[i] * w[j]);
-        }
-    }
-    let kind = SurfaceKind::Nurbs {
-        knots_u: knots.clone(),
-        knots_v: knots,
-        weights: Some(weights),
-    };
-    Surface::new(kind, Net::new(3, n, n, coords).unwrap()).unwrap()
 }
 
 #[test]

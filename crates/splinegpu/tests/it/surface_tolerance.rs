@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 
+use crate::shapes::teapot;
 use crate::support::{Rng, surface_samples};
 use splinegpu::Derivatives;
 use splinegpu::surface::{Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSampling};
@@ -258,7 +259,7 @@ fn net_meshes_are_within_tol_under_the_cap_and_closed_ones_watertight() {
 
 #[test]
 fn rational_bounds_are_bounds_within_4x_and_the_torus_mesh_is_certified() {
-    let surface = crate::surface::torus_surface(3.0, 1.0, [0.0; 3]);
+    let surface = crate::shapes::torus_surface(3.0, 1.0, [0.0; 3]);
     let worst = bounds_over_maxima(&surface.fit());
     eprintln!("torus: bounds at most {worst:.2}x the sampled maxima");
     assert!(worst <= 4.0, "rational bounds {worst}x the true maxima");
@@ -350,28 +351,6 @@ fn bad_tolerances_are_named() {
         err.contains("\"sampling\"") && err.contains("more than 2^20") && err.contains("(patch 0)"),
         "{err}"
     );
-}
-
-/// The Utah teapot (Newell's 32 Bezier patches on 306 points), as the command line's example
-/// document holds it.
-pub(crate) fn teapot() -> Surface {
-    let text = include_str!("../../../splinegpu-cli/examples/teapot.json");
-    let doc: serde_json::Value = serde_json::from_str(text).unwrap();
-    let surface = &doc["surfaces"][0];
-    let coords: Vec<f64> = surface["points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .flat_map(|p| p.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
-        .collect();
-    let patches = surface["patches"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| std::array::from_fn(|k| p[k].as_u64().unwrap() as usize))
-        .collect();
-    let net = Net::new(3, coords.len() / 3, 1, coords).unwrap();
-    Surface::new(SurfaceKind::BezierPatches { patches }, net).unwrap()
 }
 
 #[test]

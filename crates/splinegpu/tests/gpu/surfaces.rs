@@ -1,11 +1,10 @@
 //! Surfaces on the GPU against the f64 reference, under the contract's surface promise
 //! (`splinegpu::accuracy::surface_gpu_bound`): every kind in one call, nets near 1e5, knot
 //! spacing ratios of 1e3, a rational torus, the teapot's certified mesh with its poles, all
-//! derivatives and normals. Skipped where wgpu finds no adapter (lavapipe in CI).
+//! derivatives and normals, and the renderer's recording. Run under the GPU harness (lavapipe in CI).
 
+use crate::shapes::{teapot, torus_surface};
 use crate::support::{Rng, gpu, surface_job};
-use crate::surface::torus_surface;
-use crate::surface_tolerance::teapot;
 use splinegpu::accuracy::surface_gpu_bound;
 use splinegpu::surface::{
     Net, PatchTable, Surface, SurfaceKind, SurfacePlan, SurfaceSamples, SurfaceSampling,
@@ -158,8 +157,7 @@ fn compare(
     }
 }
 
-#[test]
-fn gpu_surfaces_of_every_kind_in_one_call_keep_the_promise() {
+pub(crate) fn gpu_surfaces_of_every_kind_in_one_call_keep_the_promise() {
     let Some(gpu) = gpu() else { return };
     let surfaces = surfaces();
     let tables: Vec<PatchTable> = surfaces.iter().map(|(s, _)| s.fit()).collect();
@@ -200,8 +198,7 @@ fn gpu_surfaces_of_every_kind_in_one_call_keep_the_promise() {
     );
 }
 
-#[test]
-fn gpu_surfaces_without_derivatives_give_positions_only() {
+pub(crate) fn gpu_surfaces_without_derivatives_give_positions_only() {
     let Some(gpu) = gpu() else { return };
     let (surface, sampling) = surfaces().swap_remove(1);
     let table = surface.fit();
@@ -244,8 +241,7 @@ fn read_back(
     bytemuck::cast_slice::<u8, f32>(&view).to_vec()
 }
 
-#[test]
-fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
+pub(crate) fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net() {
     use splinegpu::wgpu;
     let Some(gpu) = gpu() else { return };
     let mut rng = Rng(60);
