@@ -486,9 +486,10 @@ fn fresh<'py, F: SampleFloat + numpy::Element>(
         .into_pyobject(py)
 }
 
-/// Refuses, before anything is allocated, a result larger than the memory this machine has
-/// available (MemAvailable of /proc/meminfo; where that cannot be read, NumPy's allocation
-/// raises MemoryError itself): a MemoryError naming the sampling, the samples and the bytes.
+/// Refuses, before anything is allocated, a result larger than the memory the process has
+/// available (`splinegpu::available_memory`: the machine's, its control group's and its
+/// address-space limit's; where none can be read, NumPy's allocation raises MemoryError
+/// itself): a MemoryError naming the sampling, the samples and the bytes.
 fn check_result_fits(job: &EvalJob, value_bytes: u128, sampling: &str) -> PyResult<()> {
     let layout = job.layout();
     let (rows, values) = (layout.samples() as u128, layout.values() as u128);
@@ -497,13 +498,13 @@ fn check_result_fits(job: &EvalJob, value_bytes: u128, sampling: &str) -> PyResu
     match available_memory() {
         Some(available) if bytes > available => Err(PyMemoryError::new_err(format!(
             "tessellate: {sampling} gives {rows} samples, whose arrays need {bytes} bytes; \
-             this machine has {available} bytes of memory available"
+             the process has {available} bytes of memory available"
         ))),
         _ => Ok(()),
     }
 }
 
-/// The bytes of memory available now (the crate's reading of Linux's MemAvailable).
+/// The bytes of memory the process may still allocate (`splinegpu::available_memory`).
 fn available_memory() -> Option<u128> {
     splinegpu::available_memory().map(u128::from)
 }
@@ -1293,7 +1294,7 @@ fn values_array(py: Python<'_>, rows: usize, dim: usize) -> PyResult<Bound<'_, P
         && let Some(available) = available_memory().filter(|&a| bytes > a)
     {
         return Err(PyMemoryError::new_err(format!(
-            "x: {rows} values of {dim} coordinates need {bytes} bytes; this machine has \
+            "x: {rows} values of {dim} coordinates need {bytes} bytes; the process has \
              {available} bytes of memory available"
         )));
     }

@@ -201,7 +201,7 @@ fn planned(
     {
         return Err(PyMemoryError::new_err(format!(
             "tessellate_surfaces: the sampling gives meshes whose plans and arrays need {bytes} \
-             bytes; this machine has {available} bytes of memory available"
+             bytes; the process has {available} bytes of memory available"
         )));
     }
     let mut job = SurfaceJob::new(derivatives, normals);
@@ -263,7 +263,7 @@ pub(crate) fn tessellate_surfaces<'py>(
     {
         return Err(PyMemoryError::new_err(format!(
             "tessellate_surfaces: the sampling gives {n} vertices and {m} triangles, whose \
-             arrays need {bytes} bytes; this machine has {available} bytes of memory available"
+             arrays need {bytes} bytes; the process has {available} bytes of memory available"
         )));
     }
     let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };

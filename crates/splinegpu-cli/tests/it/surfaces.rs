@@ -350,3 +350,37 @@ fn the_teapot_example_meshes_within_its_tolerance_on_both_backends() {
         }
     }
 }
+
+/// Under an address-space limit (`ulimit -v`, 1 GiB), a surface whose plan and values would
+/// not fit (a 4 x 4 net at per_segment [4096, 4096]: 16.8 M vertices, 1.3 GB) exits 2 naming
+/// its sampling, before it allocates, and writes nothing: the guard read the machine's memory
+/// alone, and the process aborted (exit 134) mid-allocation.
+#[test]
+fn a_surface_over_the_process_memory_limit_exits_2_before_it_allocates() {
+    let dir = tempfile::tempdir().unwrap();
+    let net: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| (0..4).map(|j| [f64::from(i), f64::from(j), 0.0]).collect())
+        .collect();
+    let doc = format!(
+        r#"{{"surfaces": [{{"kind": "bspline", "points": {}, "sampling": {{"per_segment": [4096, 4096]}}}}]}}"#,
+        serde_json::to_string(&net).unwrap()
+    );
+    let input = dir.path().join("big.json");
+    std::fs::write(&input, doc).unwrap();
+    let output = dir.path().join("big.npz");
+    let out = std::process::Command::new("sh")
+        .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_splinegpu"))
+        .args(["tessellate", input.to_str().unwrap(), "-o"])
+        .arg(&output)
+        .args(["--backend", "cpu"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("surface 0") && stderr.contains("sampling") && stderr.contains("bytes"),
+        "{stderr}"
+    );
+    assert!(!output.exists());
+}

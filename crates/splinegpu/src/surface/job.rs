@@ -213,8 +213,8 @@ impl SurfaceJob {
             return Err(InputError::field(
                 "sampling",
                 format!(
-                    "gives {vertices} vertices, whose plan and values need {bytes} bytes; this \
-                     machine has {available} bytes of memory available"
+                    "gives {vertices} vertices, whose plan and values need {bytes} bytes; the \
+                     process has {available} bytes of memory available"
                 ),
             ));
         }

@@ -6,16 +6,12 @@
 //! (`madvise(MADV_HUGEPAGE)`), and a system whose transparent huge pages are set to "madvise"
 //! (the usual default) gives them only where asked: a 2 MiB page costs one fault. The crate's
 //! own large buffers ask the same before they are first touched.
+//!
+//! `available`: the memory a job may still take, under every limit the process runs under.
 
-/// The bytes of memory available now (Linux's MemAvailable in /proc/meminfo), if the system
-/// says: what a job too large for memory is measured against before anything is allocated.
-#[must_use]
-pub fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kib.checked_mul(1024)
-}
+mod available;
+
+pub use available::available_memory;
 
 /// Bytes below which a buffer is left as the allocator made it (a huge page is 2 MiB; the
 /// advice covers only the whole huge pages inside the buffer).
