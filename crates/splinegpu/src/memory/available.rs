@@ -133,7 +133,7 @@ fn address_space_room() -> Option<u64> {
     }
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let mapped = meminfo_field(&status, "VmSize:")?;
-    Some(u64::try_from(limit.rlim_cur).ok()?.saturating_sub(mapped))
+    Some(limit.rlim_cur.saturating_sub(mapped))
 }
 
 /// Elsewhere no address-space limit is read.
