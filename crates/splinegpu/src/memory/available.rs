@@ -133,7 +133,12 @@ fn address_space_room() -> Option<u64> {
     }
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let mapped = meminfo_field(&status, "VmSize:")?;
-    Some(limit.rlim_cur.saturating_sub(mapped))
+    #[allow(
+        clippy::useless_conversion,
+        reason = "rlim_t is u64 on 64-bit Linux, u32 on some 32-bit targets"
+    )]
+    let limit = u64::from(limit.rlim_cur);
+    Some(limit.saturating_sub(mapped))
 }
 
 /// Elsewhere no address-space limit is read.
