@@ -105,6 +105,8 @@
 // sampling, job, then the cpu and gpu evaluators.
 pub mod accuracy;
 pub mod basis;
+mod checks;
+mod conventions;
 mod cpu;
 mod curve;
 mod error;

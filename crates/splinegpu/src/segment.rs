@@ -26,8 +26,8 @@ use crate::rational::{Denominator, quotient};
 
 /// One curve's segments in power form, with the parameter value of every knot.
 ///
-/// `Default` is an empty table, for [`Fitter::fit_into`](crate::fit::interp::Fitter::fit_into)
-/// to fill.
+/// `Default` is an empty table, for a fit to fill in place (the interpolating fits reuse one
+/// table across curves).
 #[derive(Clone, Debug, Default)]
 pub struct SegmentTable {
     dim: usize,
@@ -122,22 +122,7 @@ impl SegmentTable {
                 format!("needs at least 2 values, got {}", knots.len()),
             ));
         }
-        if let Some(i) = knots.iter().position(|k| !k.is_finite()) {
-            return Err(InputError::field(
-                "knots",
-                format!("must be finite: knots[{i}] = {}", Shown(knots[i])),
-            ));
-        }
-        if let Some(i) = (1..knots.len()).find(|&i| knots[i] <= knots[i - 1]) {
-            return Err(InputError::field(
-                "knots",
-                format!(
-                    "must be strictly increasing: knots[{i}] = {} follows {}",
-                    Shown(knots[i]),
-                    Shown(knots[i - 1])
-                ),
-            ));
-        }
+        crate::checks::check_increasing("knots", &knots, crate::checks::Order::Strictly)?;
         let wanted = 4 * dim * (knots.len() - 1);
         if coeffs.len() != wanted {
             return Err(InputError::field(

@@ -70,7 +70,7 @@ pub(crate) fn check(
             format!("must have one value per point ({n}), got {}", t.len()),
         ));
     }
-    crate::fit::interp::check_parameters(t)?;
+    crate::checks::check_increasing("t", t, crate::checks::Order::Strictly)?;
     crate::points::check_finite(values, dim)?;
     if let HermiteSlopes::Given(tangents) = slopes {
         if tangents.len() != n * dim {

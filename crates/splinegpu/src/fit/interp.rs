@@ -36,6 +36,7 @@
 
 use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
 use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
+use crate::checks::{Order, check_increasing};
 use crate::error::{InputError, Shown};
 use crate::fit::hermite::hermite_segments_for;
 use crate::segment::SegmentTable;
@@ -181,41 +182,6 @@ pub(crate) fn check(
     })
 }
 
-/// Checks parameter values "t": every one finite and each greater than the one before.
-/// Branch-free passes first (vectorized); the searches for the first bad value run only when
-/// there is one.
-///
-/// # Errors
-/// The first value that is not finite, or the first that does not increase, naming "t".
-pub(crate) fn check_parameters(t: &[f64]) -> Result<(), InputError> {
-    let finite = crate::points::all_finite(t);
-    if let Some(i) = (!finite)
-        .then(|| t.iter().position(|v| !v.is_finite()))
-        .flatten()
-    {
-        return Err(InputError::field(
-            "t",
-            format!("must be finite: t[{i}] = {}", Shown(t[i])),
-        ));
-    }
-    let increasing = t.windows(2).fold(true, |ok, w| ok & (w[1] > w[0]));
-    if let Some(i) = (!increasing)
-        .then(|| (1..t.len()).find(|&i| t[i] <= t[i - 1]))
-        .flatten()
-    {
-        return Err(InputError::field(
-            "t",
-            format!(
-                "must be strictly increasing: t[{i}] = {} follows t[{}] = {}",
-                Shown(t[i]),
-                i - 1,
-                Shown(t[i - 1])
-            ),
-        ));
-    }
-    Ok(())
-}
-
 /// [`check`], asking `points_finite` whether every value is finite when it comes to them (a
 /// large fit finds out on another thread while this one checks t).
 fn check_with(
@@ -239,7 +205,7 @@ fn check_with(
             format!("must have one value per point ({n}), got {}", t.len()),
         ));
     }
-    check_parameters(t)?;
+    check_increasing("t", t, Order::Strictly)?;
     if !points_finite() {
         crate::points::check_finite(values, dim)?;
     }

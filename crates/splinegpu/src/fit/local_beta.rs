@@ -54,9 +54,9 @@
 //! [`beta_rows`]: crate::basis::beta_rows
 
 use crate::basis::Rows;
-use crate::curve::Ends;
+use crate::conventions::Ends;
+use crate::conventions::PerPoint;
 use crate::error::{InputError, Shown};
-use crate::fit::tcb::PerPoint;
 
 /// A joint's shape parameters: bias b1 and tension b2.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -64,23 +64,7 @@ pub(crate) fn check(knots: &[f64], weights: Option<&[f64]>, n: usize) -> Result<
             ),
         ));
     }
-    if let Some(i) = knots.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::field(
-            "knots",
-            format!("must be finite: knots[{i}] = {}", Shown(knots[i])),
-        ));
-    }
-    if let Some(i) = (1..knots.len()).find(|&i| knots[i] < knots[i - 1]) {
-        return Err(InputError::field(
-            "knots",
-            format!(
-                "must be non-decreasing: knots[{i}] = {} follows knots[{}] = {}",
-                Shown(knots[i]),
-                i - 1,
-                Shown(knots[i - 1])
-            ),
-        ));
-    }
+    crate::checks::check_increasing("knots", knots, crate::checks::Order::NonDecreasing)?;
     let (lo, hi) = (knots[3], knots[n]);
     if lo >= hi {
         return Err(InputError::field(

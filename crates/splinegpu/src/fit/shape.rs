@@ -1,6 +1,6 @@
 //! Derivatives at the points for the shape-preserving kinds, each coordinate on its own, as
 //! SciPy defines them (`PchipInterpolator`, `Akima1DInterpolator`); the pieces between the
-//! points are then cubic Hermite ([`hermite`](crate::fit::hermite)).
+//! points are then cubic Hermite (the `hermite` fit, which calls these).
 //!
 //! With h_i = t_{i+1} − t_i and the secant slopes m_i = (y_{i+1} − y_i)/h_i:
 //!

@@ -18,56 +18,11 @@
 //! neighbour's (repeat ends) or wraps around (closed). T = C = B = 0 without t is Catmull-Rom;
 //! C = B = 0 is the cardinal spline of tension (1 − T)/2.
 
-use crate::curve::Ends;
-use crate::error::{InputError, Shown};
+use crate::conventions::Ends;
+use crate::error::InputError;
+
+pub use crate::conventions::PerPoint;
 use crate::segment::SegmentTable;
-
-/// A parameter given once for the whole curve, or one value per point (Kochanek–Bartels) or per
-/// joint (a Beta-spline with local bias and tension).
-#[derive(Clone, Debug, PartialEq)]
-pub enum PerPoint {
-    /// The same value at every point.
-    All(f64),
-    /// One value per point (or per joint).
-    Each(Vec<f64>),
-}
-
-impl PerPoint {
-    /// The value at point (or joint) `i`.
-    pub(crate) fn at(&self, i: usize) -> f64 {
-        match self {
-            PerPoint::All(v) => *v,
-            PerPoint::Each(values) => values[i],
-        }
-    }
-
-    /// Checks the values: finite, and one per `per` ("point", "joint") of `n` when given so.
-    pub(crate) fn check(&self, field: &str, n: usize, per: &str) -> Result<(), InputError> {
-        let values = match self {
-            PerPoint::All(v) => std::slice::from_ref(v),
-            PerPoint::Each(values) => {
-                if values.len() != n {
-                    return Err(InputError::field(
-                        field,
-                        format!("must have one value per {per} ({n}), got {}", values.len()),
-                    ));
-                }
-                values
-            }
-        };
-        match values.iter().position(|v| !v.is_finite()) {
-            Some(i) if matches!(self, PerPoint::Each(_)) => Err(InputError::field(
-                field,
-                format!("must be finite: {field}[{i}] = {}", Shown(values[i])),
-            )),
-            Some(i) => Err(InputError::field(
-                field,
-                format!("must be a finite number, got {}", Shown(values[i])),
-            )),
-            None => Ok(()),
-        }
-    }
-}
 
 /// A Kochanek–Bartels curve's parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +69,7 @@ pub(crate) fn check(ends: Ends, tcb: &Tcb, t: Option<&[f64]>, n: usize) -> Resul
             format!("must have {per} ({wanted}), got {}", t.len()),
         ));
     }
-    crate::fit::interp::check_parameters(t)?;
+    crate::checks::check_increasing("t", t, crate::checks::Order::Strictly)?;
     Ok(())
 }
 

@@ -11,9 +11,10 @@
 //! solve their banded systems once for all lines), never a dense or a global solve.
 
 use crate::basis::{Basis, Rows, bezier_rows};
+use crate::checks::{Order, check_increasing};
 use crate::curve::Ends;
 use crate::error::InputError;
-use crate::fit::interp::{self, EndCondition, Fitter};
+use crate::fit::interp::{EndCondition, Fitter};
 use crate::fit::{nurbs, uniform};
 use crate::segment::SegmentTable;
 
@@ -163,9 +164,5 @@ pub(crate) fn check_parameters(t: &[f64], n: usize, axis: &str) -> Result<(), In
             ),
         ));
     }
-    interp::check_parameters(t).map_err(|mut e| {
-        e.field = Some(axis.to_string());
-        e.message = e.message.replace("t[", &format!("{axis}["));
-        e
-    })
+    check_increasing(axis, t, Order::Strictly)
 }

@@ -12,11 +12,13 @@
 //! - `normal`: unit normals, with their limits at collapsed edges and poles;
 //! - `mesh`: per-segment grids with shared vertices, patch lists welded along their edges,
 //!   explicit (u, v);
+//! - `bounds`: proven bounds on a patch's second derivatives (Bernstein hulls);
 //! - `tolerance`: certified meshes within a distance, watertight across patches;
 //! - `eval`: a plan's vertices evaluated on the CPU;
 //! - `kinds`: the kinds by the contract's names, with their fields;
 //! - `job`: many surfaces, their plans, checks and output layout ([`SurfaceJob`]).
 
+pub(crate) mod bounds;
 pub(crate) mod direction;
 pub(crate) mod eval;
 pub(crate) mod job;

@@ -520,7 +520,8 @@ impl Patch<'_> {
     /// [`SurfacePlan::tolerance`]: crate::surface::SurfacePlan::tolerance
     #[must_use]
     pub fn second_derivative_bounds(&self) -> [f64; 3] {
-        crate::surface::tolerance::second_derivative_bounds(self)
+        let coefficient = |a: usize, b: usize, k: usize| self.coefficient(a, b)[k];
+        super::bounds::second_derivative_bounds(self.dim(), &coefficient, self.denominator())
     }
 
     /// The patch's derivative sizes s_u, s_v (contract, "Surfaces"): the Euclidean norms over
