@@ -1,8 +1,9 @@
 //! Proven bounds on a bicubic patch's second derivatives over [0, 1]², the certificate the
 //! tolerance mesher counts its vertices from: the convex hull of a polynomial's Bernstein
 //! coefficients holds its values, tightened by a sampled grid and the rise between its nodes;
-//! a rational patch's second derivatives are quotients whose hull is the ratios' (docs/input-format.md,
-//! "tolerance" of a surface). A leaf module: it takes a patch's power coefficients, not the patch.
+//! a rational patch's second derivatives are quotients whose hull is the ratios'
+//! (docs/input-format.md, a surface's "tolerance"). A leaf module: it takes a patch's power
+//! coefficients, not the patch.
 
 /// A bivariate polynomial of bidegree (du, dv) with `dim` values per coefficient, coefficient
 /// (i, j) (of u^i v^j, or the Bernstein function B_i B_j) at `(i * (dv + 1) + j) * dim`.
