@@ -105,6 +105,23 @@ fn sub<F>(plane: &mut [F], range: std::ops::Range<usize>) -> &mut [F] {
     }
 }
 
+/// The sealed evaluator of each number type ([`SampleFloat`]'s supertrait): the CPU's.
+macro_rules! evaluated_here {
+    ($($float:ty),*) => {$(
+        impl crate::job::samples::sealed::Sealed for $float {
+            fn evaluate_range(
+                job: &EvalJob,
+                range: std::ops::Range<usize>,
+                t: &mut [f64],
+                out: [&mut [Self]; 3],
+            ) {
+                evaluate_range_fastest(job, range, t, out);
+            }
+        }
+    )*};
+}
+evaluated_here!(f32, f64);
+
 /// [`evaluate_range`] compiled for the widest vectors this CPU has: AVX-512 (8 f64 lanes),
 /// else AVX2 (4), else the x86-64 baseline's SSE2 (2). Every build does the same IEEE
 /// operations in the same order (Rust never fuses a multiply and an add on its own), so all

@@ -7,13 +7,13 @@ use crate::job::planes::Planes;
 use crate::job::{Derivatives, EvalJob};
 use crate::sampling::Filling;
 
-mod sealed {
+pub(crate) mod sealed {
     use crate::job::EvalJob;
 
-    /// The evaluator of each number type, compiled once in this crate: non-generic, so that a
-    /// caller's build settings (a crate of 16 codegen units, which inlines across units only
-    /// what is marked) cannot undo the hot loop's inlining (w1 on one thread, f32, evaluated
-    /// from the command-line crate: 30 ms monomorphised there, 20 ms here).
+    /// The evaluator of each number type, compiled once in this crate (the impls are the CPU
+    /// evaluator's, in `cpu/`): non-generic, so that a caller's build settings (a crate of 16
+    /// codegen units, which inlines across units only what is marked) cannot undo the hot
+    /// loop's inlining (docs/benchmarks.md has the figures).
     pub trait Sealed: Sized {
         /// Samples `range` of `job` into `t` (unless empty) and the planes.
         fn evaluate_range(
@@ -23,22 +23,6 @@ mod sealed {
             out: [&mut [Self]; 3],
         );
     }
-
-    macro_rules! evaluated_here {
-        ($($float:ty),*) => {$(
-            impl Sealed for $float {
-                fn evaluate_range(
-                    job: &EvalJob,
-                    range: std::ops::Range<usize>,
-                    t: &mut [f64],
-                    out: [&mut [Self]; 3],
-                ) {
-                    crate::cpu::evaluate_range_fastest(job, range, t, out);
-                }
-            }
-        )*};
-    }
-    evaluated_here!(f32, f64);
 }
 
 /// The number type of evaluated values: f32 (the GPU's, and the fast CPU evaluator's on

@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 pub(crate) mod arc_length;
+pub(crate) mod place;
 pub(crate) mod tolerance;
 
 use crate::error::{InputError, Shown};
@@ -406,7 +407,7 @@ impl SamplePlan {
                 crate::memory::reserve_on_huge_pages(&mut locs, ts.len());
                 // Placed as the one-pass evaluator places them (the same places as `locate`,
                 // found faster: sorted t walk, scattered ones use the table's locator).
-                let mut placer = crate::cpu::at::Placer::new(table, ts);
+                let mut placer = place::Placer::new(table, ts);
                 for (i, &t) in ts.iter().enumerate() {
                     let (segment, u) = placer.place(t).ok_or_else(|| out_of_range(table, i, t))?;
                     locs.push(SampleLoc { segment, u, t });
