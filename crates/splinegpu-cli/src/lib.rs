@@ -12,9 +12,7 @@ pub mod npz;
 pub mod output;
 pub mod plain;
 pub mod stream;
-mod surface_bench;
 pub mod surface_output;
-pub mod surfaces;
 
 pub use document::{
     Document, parse_document, parse_document_from_reader, parse_input, parse_input_from_reader,

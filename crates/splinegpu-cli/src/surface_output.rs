@@ -12,9 +12,9 @@ use gltf::json::validation::{Checked::Valid, USize64};
 use splinegpu::surface::{SurfaceJob, SurfaceSamples};
 use splinegpu::{InputError, SampleFloat};
 
+use crate::document::surfaces::group_vertices;
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
-use crate::surfaces::group_vertices;
 
 /// The number types samples come in: f64 from the CPU, f32 from the GPU, each printed as the
 /// shortest text that reads back as the same value of its type.

@@ -4,8 +4,10 @@
 //! [`PatchTable`]: every patch in power form, S(u, v) = Σ_{a,b=0..3} A_ab u^a v^b in the patch's
 //! local u, v in [0, 1] (rational patches: a numerator over a denominator). A
 //! [`SurfaceSampling`] resolves into a [`SurfacePlan`] (the vertices, each a patch and its local
-//! u, v, and the triangles), which [`evaluate_surfaces`] evaluates in f64 with derivatives and
-//! unit normals.
+//! u, v, and the triangles). A [`SurfaceJob`] holds many surfaces' tables and plans, checked
+//! as they are pushed, with the layout of their output; it evaluates them in f64 with
+//! derivatives and unit normals on the CPU ([`SurfaceJob::evaluate_cpu`]), and
+//! [`GpuContext::evaluate_surfaces`](crate::GpuContext::evaluate_surfaces) in f32 on the GPU.
 //!
 //! - `direction`: each direction's curve rule, and the fit of many net lines by it;
 //! - `patch`: the patch table and its evaluation;

@@ -1,7 +1,7 @@
 //! A document's surfaces (contract: "Surfaces"): each surface object's fields read into the
 //! library's [`SurfaceFields`] and [`Surface`], its sampling into a [`SurfaceSampling`], and
 //! the whole into a [`SurfaceJob`].
-//! The JSON walk (duplicate keys, the document's keys) is `document`'s; this is what the
+//! The JSON walk (duplicate keys, the document's keys) is `walk`'s; this is what the
 //! surface objects' values mean.
 
 use serde_json::{Map, Value};
@@ -12,7 +12,7 @@ use splinegpu::surface::{
 };
 use splinegpu::{Derivatives, EndCondition, Ends, InputError, MAX_DIM};
 
-use crate::document::{describe, number, number_array, parse_ends, parse_matrix};
+use crate::document::values::{describe, number, number_array, parse_ends, parse_matrix};
 
 /// Vertices a written document evaluates at a time (whole surfaces, at least one): 1,048,576
 /// as curves' chunks, or `SPLINEGPU_CHUNK_SAMPLES` as for curves. The job keeps the plans of

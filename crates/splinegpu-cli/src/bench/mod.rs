@@ -7,6 +7,20 @@
 //! [`MAX_REPETITIONS`] runs), so that its fastest run, which the ratios use, is drawn from
 //! enough runs to miss most of a shared machine's stalls.
 
+mod anchors;
+mod measure;
+mod surfaces;
+mod workloads;
+
+use anchors::{kurbo_arclen, kurbo_flatten, wang};
+use measure::{StoreBytes, fill_on_every_thread};
+use workloads::Rng;
+
+pub use measure::{MAX_REPETITIONS, Measurement, REPETITIONS, TIMED_SECONDS, memset, time};
+pub use workloads::{
+    eval_at_job, fit_1m_data, w1_arc_job, w1_document, w1_job, w1_nurbs_job, w1_tol_job, w1_x10_job,
+};
+
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -39,139 +53,11 @@ pub enum BenchError {
 /// w1's plain loop: 32 samples per segment, positions only.
 const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
 
-/// The fewest timed runs per measurement, after the warm-up.
-pub const REPETITIONS: usize = 5;
-
-/// The seconds of timed runs a measurement gathers at least, where [`MAX_REPETITIONS`] allow:
-/// 5 runs of cli-w1's outputs (about a second each here) take longer than this, while memset
-/// (about 4 ms) gets 100 runs.
-pub const TIMED_SECONDS: f64 = 0.5;
-
-/// The most timed runs per measurement.
-pub const MAX_REPETITIONS: usize = 100;
-
 /// The workloads, in the order `bench` runs them by default.
 pub const WORKLOADS: [&str; 14] = [
     "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
     "cli-w1", "w1-x10", "s1", "teapot",
 ];
-
-/// One measurement: a contract `--json` line.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Measurement {
-    /// The workload's name.
-    pub workload: &'static str,
-    /// "gpu-device", "gpu-end-to-end", "gpu-first-call", "cpu-1t", "cpu-all", "memset",
-    /// "fit", "plain-loop" (the floor), or w1-tol's "wang".
-    pub path: &'static str,
-    /// Median seconds.
-    pub seconds: f64,
-    /// Fastest run.
-    pub min_seconds: f64,
-    /// Slowest run.
-    pub max_seconds: f64,
-    /// Samples (or knots, for a fit) per run.
-    pub samples: u64,
-    /// Useful output bytes per run (D values of 4 bytes for f32 or 8 for f64, no padding).
-    pub bytes: u64,
-    /// The output's number type, "f32" or "f64" (None for memset); an extension of the
-    /// contract's line, which tells the f32 and f64 CPU measurements apart.
-    pub float: Option<&'static str>,
-}
-
-impl Measurement {
-    /// Useful bytes per second, in GB/s.
-    #[must_use]
-    pub fn gbps(&self) -> f64 {
-        self.bytes as f64 / self.seconds / 1e9
-    }
-
-    /// The contract's JSON line.
-    #[must_use]
-    pub fn to_json(&self) -> String {
-        let float = self
-            .float
-            .map(|f| format!(", \"float\": \"{f}\""))
-            .unwrap_or_default();
-        format!(
-            "{{\"workload\": \"{}\", \"path\": \"{}\", \"seconds\": {:e}, \"min_seconds\": {:e}, \
-             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}}}",
-            self.workload,
-            self.path,
-            self.seconds,
-            self.min_seconds,
-            self.max_seconds,
-            self.samples,
-            self.bytes,
-            self.gbps()
-        )
-    }
-}
-
-/// Times `run` once to warm up, then at least [`REPETITIONS`] times and until the timed runs
-/// add up to [`TIMED_SECONDS`] or [`MAX_REPETITIONS`]; returns (median, min, max) seconds.
-/// `run` returns its own measured seconds, or `None` to be timed by the wall clock.
-pub fn time(mut run: impl FnMut() -> Option<f64>) -> (f64, f64, f64) {
-    run();
-    let mut times = Vec::new();
-    let mut spent = 0.0;
-    while times.len() < REPETITIONS || (spent < TIMED_SECONDS && times.len() < MAX_REPETITIONS) {
-        let start = Instant::now();
-        let own = run();
-        let wall = start.elapsed().as_secs_f64();
-        times.push(own.unwrap_or(wall));
-        spent += wall;
-    }
-    times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], times[0], times[times.len() - 1])
-}
-
-/// The machine's memset bandwidth into already-touched memory: `bytes` set by all threads.
-#[must_use]
-pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
-    let mut buffer = vec![0u8; bytes];
-    let mut stores = StoreBytes::default();
-    let (seconds, min_seconds, max_seconds) = time(|| {
-        fill_on_every_thread(&mut buffer, stores.next());
-        black_box(&buffer);
-        None
-    });
-    Measurement {
-        workload,
-        path: "memset",
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples: 0,
-        bytes: bytes as u64,
-        float: None,
-    }
-}
-
-/// The bytes memset writes, one per repetition: never zero and never the byte before, so that
-/// every store changes memory. Zeros written over zeros are about 3x faster on some machines
-/// than any other store (this one: 119 MB in 1.3 ms against 3.9 ms for any other byte; the
-/// CPU drops stores that change nothing), and would make memset a bound no evaluator
-/// writing real values can approach.
-#[derive(Default)]
-struct StoreBytes(u8);
-
-impl StoreBytes {
-    fn next(&mut self) -> u8 {
-        self.0 = self.0 % 255 + 1;
-        self.0
-    }
-}
-
-/// `buffer` set to `byte`, split evenly between all threads.
-fn fill_on_every_thread(buffer: &mut [u8], byte: u8) {
-    use rayon::prelude::*;
-    let chunk = buffer.len().div_ceil(available_threads()).max(1);
-    // On the pool the crate's stages run on, so that the floor pays what they pay to start.
-    buffer
-        .par_chunks_mut(chunk)
-        .for_each(|part| part.fill(byte));
-}
 
 /// The output number type of a cli-w1 path.
 #[derive(Clone, Copy)]
@@ -194,155 +80,6 @@ impl Float {
             Float::F64 => "f64",
         }
     }
-}
-
-/// A deterministic generator (xorshift64*) for the workloads' data.
-struct Rng(u64);
-
-impl Rng {
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        let bits = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11;
-        lo + (hi - lo) * (bits as f64 / (1u64 << 53) as f64)
-    }
-}
-
-/// w1's 10,000 curves: 34 control points in 3-D in ±100, "control" ends.
-fn w1_curves(basis: &Basis) -> impl Iterator<Item = Curve> + '_ {
-    curves_like_w1(basis, 10_000)
-}
-
-/// `count` curves made as w1's are (w1's own first, for any count >= 10,000).
-fn curves_like_w1(basis: &Basis, count: usize) -> impl Iterator<Item = Curve> + '_ {
-    let mut rng = Rng(1);
-    (0..count).map(move |_| {
-        let points = Points::new(3, (0..34 * 3).map(|_| rng.range(-100.0, 100.0)).collect())
-            .expect("finite points");
-        let kind = CurveKind::Uniform {
-            basis: basis.clone(),
-            ends: Ends::Control,
-        };
-        Curve::new(kind, points).expect("34 points")
-    })
-}
-
-/// w1 (`basis` Catmull-Rom), w1-b (B-spline), w1-d (w1 with derivatives): w1's curves, 32
-/// samples per segment plus the end point: 10,000 × (31 × 32 + 1) = 9,930,000 samples.
-#[must_use]
-pub fn w1_job(basis: Basis, derivatives: Derivatives) -> EvalJob {
-    w1_job_sampled(&basis, derivatives, |_| Sampling::PerSegment(32))
-}
-
-/// w1's Catmull-Rom curves, each sampled as `sampling(curve)` says.
-fn w1_job_sampled(
-    basis: &Basis,
-    derivatives: Derivatives,
-    sampling: impl Fn(&Curve) -> Sampling,
-) -> EvalJob {
-    let mut job = EvalJob::new(derivatives);
-    for curve in w1_curves(basis) {
-        job.push(&curve, &sampling(&curve)).expect("valid sampling");
-    }
-    job
-}
-
-/// w1-nurbs: w1's points as clamped rational B-splines (34 points, knots 0 four times, 30
-/// interior knots with spacings 10^U(-1, 1), the end four times; weights in [0.5, 2]), 32
-/// samples per span: w1's 31 segments per curve and its 9,930,000 samples.
-#[must_use]
-pub fn w1_nurbs_job() -> EvalJob {
-    let mut rng = Rng(3);
-    let mut job = EvalJob::new(Derivatives::None);
-    for curve in w1_curves(&Basis::CatmullRom) {
-        let mut knots = vec![0.0; 4];
-        let mut at = 0.0;
-        for _ in 0..30 {
-            at += 10f64.powf(rng.range(-1.0, 1.0));
-            knots.push(at);
-        }
-        at += 10f64.powf(rng.range(-1.0, 1.0));
-        knots.extend([at; 4]);
-        let kind = CurveKind::Nurbs {
-            knots,
-            weights: Some((0..34).map(|_| rng.range(0.5, 2.0)).collect()),
-        };
-        let curve = Curve::new(kind, curve.points().clone()).expect("a valid knot vector");
-        job.push(&curve, &Sampling::PerSegment(32))
-            .expect("valid sampling");
-    }
-    job
-}
-
-/// w1-x10: 100,000 curves made as w1's (99.3 M samples, 1.19 GB of f32 positions), so that
-/// on a GPU the timed region dwarfs launch overhead.
-#[must_use]
-pub fn w1_x10_job() -> EvalJob {
-    let mut job = EvalJob::new(Derivatives::None);
-    for curve in curves_like_w1(&Basis::CatmullRom, 100_000) {
-        job.push(&curve, &Sampling::PerSegment(32))
-            .expect("valid sampling");
-    }
-    job
-}
-
-/// w1-arc: w1's curves at 993 points evenly spaced by arc length (w1's 9,930,000 samples).
-#[must_use]
-pub fn w1_arc_job() -> EvalJob {
-    w1_job_sampled(&Basis::CatmullRom, Derivatives::None, |_| {
-        Sampling::ArcLength(993)
-    })
-}
-
-/// The tolerance of w1-tol's curves: 1e-3 of each one's extent.
-fn w1_tolerance(curve: &Curve) -> f64 {
-    1e-3 * curve.points().extent()
-}
-
-/// w1-tol: w1's curves, each at a tolerance of 1e-3 of its own extent.
-#[must_use]
-pub fn w1_tol_job() -> EvalJob {
-    w1_job_sampled(&Basis::CatmullRom, Derivatives::None, |curve| {
-        Sampling::Tolerance(w1_tolerance(curve))
-    })
-}
-
-/// fit-1m's data: 1,000,000 non-uniform knots (spacings within a factor of 100) and 3-D points.
-#[must_use]
-pub fn fit_1m_data() -> (Vec<f64>, Vec<f64>) {
-    let mut rng = Rng(2);
-    let mut t = Vec::with_capacity(1_000_000);
-    let mut at = 0.0;
-    for _ in 0..1_000_000 {
-        t.push(at);
-        at += 10f64.powf(rng.range(-1.0, 1.0));
-    }
-    let values = (0..3_000_000).map(|_| rng.range(-10.0, 10.0)).collect();
-    (t, values)
-}
-
-/// eval-at: 10,000 natural splines of 64 non-uniform knots in 3-D, each at 1,000 random t.
-#[must_use]
-pub fn eval_at_job() -> EvalJob {
-    let mut rng = Rng(3);
-    let mut job = EvalJob::new(Derivatives::None);
-    for _ in 0..10_000 {
-        let mut t = vec![0.0];
-        for i in 1..64 {
-            t.push(t[i - 1] + rng.range(0.1, 2.0));
-        }
-        let points = Points::new(3, (0..64 * 3).map(|_| rng.range(-10.0, 10.0)).collect())
-            .expect("finite points");
-        let ts: Vec<f64> = (0..1_000).map(|_| rng.range(0.0, t[63])).collect();
-        let kind = CurveKind::Interpolating {
-            condition: EndCondition::Natural,
-            t: Some(t),
-        };
-        let curve = Curve::new(kind, points).expect("valid knots");
-        job.push(&curve, &Sampling::At(ts)).expect("t in range");
-    }
-    job
 }
 
 /// Runs the named workloads and hands each measurement to `report` as soon as it is made, each
@@ -373,7 +110,7 @@ pub fn run(
     for name in names {
         match name {
             "fit-1m" => fit_1m(&mut report),
-            "s1" | "teapot" => crate::surface_bench::run(name, gpu, &mut report)?,
+            "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(
@@ -419,156 +156,6 @@ pub fn run(
         }
     }
     Ok(())
-}
-
-/// The (x, y) projection of w1's first 100 curves: each as our fitted curve and as kurbo's
-/// cubic Béziers (the projection of a Catmull-Rom curve is the Catmull-Rom curve of the
-/// projected points).
-fn projected_w1() -> Vec<(Curve, Vec<kurbo::CubicBez>)> {
-    w1_curves(&Basis::CatmullRom)
-        .take(100)
-        .map(|curve| {
-            let xy: Vec<f64> = curve
-                .points()
-                .coords()
-                .chunks_exact(3)
-                .flat_map(|p| [p[0], p[1]])
-                .collect();
-            let kind = curve.kind().clone();
-            let projected = Curve::new(kind, Points::new(2, xy).expect("finite")).expect("valid");
-            let table = projected.fit();
-            let beziers = (0..table.len())
-                .map(|i| {
-                    let [p0, p1, p2, p3] = (table.segment(i).bezier_points())
-                        .expect("the bench's arc-length curves are polynomial");
-                    let pt = |p: &[f64]| kurbo::Point::new(p[0], p[1]);
-                    kurbo::CubicBez::new(pt(&p0), pt(&p1), pt(&p2), pt(&p3))
-                })
-                .collect();
-            (projected, beziers)
-        })
-        .collect()
-}
-
-/// One timed run of `run` (for the anchors, slow by design), returning its samples.
-fn once(run: impl FnOnce() -> u64) -> (f64, u64) {
-    let start = Instant::now();
-    let samples = black_box(run());
-    (start.elapsed().as_secs_f64(), samples)
-}
-
-/// Ours beside an anchor: the curves sampled as `sampling` says, planned and evaluated in f64
-/// on one thread; returns the samples.
-fn ours_1t(curves: &[(Curve, Vec<kurbo::CubicBez>)], sampling: impl Fn(&Curve) -> Sampling) -> u64 {
-    let mut job = EvalJob::new(Derivatives::None);
-    for (curve, _) in curves {
-        job.push(curve, &sampling(curve)).expect("valid");
-    }
-    let mut out = splinegpu::Samples::<f64>::for_job(&job);
-    splinegpu::evaluate_cpu_into(&job, out.planes_for(&job), 1);
-    job.sample_count() as u64
-}
-
-/// A one-run measurement of `samples` 2-D f64 points.
-fn anchor(workload: &'static str, path: &'static str, seconds: f64, samples: u64) -> Measurement {
-    Measurement {
-        workload,
-        path,
-        seconds,
-        min_seconds: seconds,
-        max_seconds: seconds,
-        samples,
-        bytes: samples * 16,
-        float: Some("f64"),
-    }
-}
-
-/// w1-arc's anchor: kurbo's `inv_arclen` placing 993 points by arc length on each of the 100
-/// projected curves (to 1e-10 of the length, the contract's CPU target being 1e-4), one
-/// thread, one run ("kurbo-arclen"); beside it ours on the same curves ("ours-arclen-1t").
-fn kurbo_arclen(report: &mut impl FnMut(&Measurement)) {
-    use kurbo::ParamCurveArclen;
-    let curves = projected_w1();
-    let m = 993;
-    let (seconds, samples) = once(|| {
-        let mut placed = 0u64;
-        for (_, beziers) in &curves {
-            let rough: f64 = beziers.iter().map(|b| b.arclen(1e-6)).sum();
-            let accuracy = 1e-10 * rough;
-            let lengths: Vec<f64> = beziers.iter().map(|b| b.arclen(accuracy)).collect();
-            let total: f64 = lengths.iter().sum();
-            let (mut segment, mut start) = (0, 0.0);
-            for j in 0..m {
-                let target = total * j as f64 / (m - 1) as f64;
-                while segment + 1 < beziers.len() && start + lengths[segment] < target {
-                    start += lengths[segment];
-                    segment += 1;
-                }
-                black_box(beziers[segment].inv_arclen(target - start, accuracy));
-                placed += 1;
-            }
-        }
-        placed
-    });
-    report(&anchor("w1-arc", "kurbo-arclen", seconds, samples));
-    let (seconds, samples) = once(|| ours_1t(&curves, |_| Sampling::ArcLength(m as u32)));
-    report(&anchor("w1-arc", "ours-arclen-1t", seconds, samples));
-}
-
-/// w1-tol's anchor: kurbo's `flatten` of the 100 projected curves, each at 1e-3 of its
-/// extent, its points counted ("kurbo-flatten", one run); beside it ours on the same curves
-/// and tolerances ("ours-flatten").
-fn kurbo_flatten(report: &mut impl FnMut(&Measurement)) {
-    let curves = projected_w1();
-    let (seconds, samples) = once(|| {
-        let mut points = 0u64;
-        for (curve, beziers) in &curves {
-            let mut path = kurbo::BezPath::new();
-            path.move_to(beziers[0].p0);
-            for b in beziers {
-                path.curve_to(b.p1, b.p2, b.p3);
-            }
-            kurbo::flatten(path, w1_tolerance(curve), |_| points += 1);
-        }
-        points
-    });
-    report(&anchor("w1-tol", "kurbo-flatten", seconds, samples));
-    let (seconds, samples) =
-        once(|| ours_1t(&curves, |curve| Sampling::Tolerance(w1_tolerance(curve))));
-    report(&anchor("w1-tol", "ours-flatten", seconds, samples));
-}
-
-/// w1-tol's "wang" path: Wang's count for the same curves and tolerances (its "samples"), and
-/// the time to count.
-fn wang(report: &mut impl FnMut(&Measurement)) {
-    let curves: Vec<(SegmentTable, f64)> = w1_curves(&Basis::CatmullRom)
-        .map(|c| (c.fit(), w1_tolerance(&c)))
-        .collect();
-    let mut samples = 0u64;
-    let (seconds, min_seconds, max_seconds) = time(|| {
-        // Per curve, Wang's count on every segment, then the final point.
-        samples = curves
-            .iter()
-            .map(|(table, tol)| {
-                let segments: u64 = (0..table.len())
-                    .map(|s| splinegpu::wang_count(&table.segment(s), *tol) as u64)
-                    .sum();
-                segments + 1
-            })
-            .sum();
-        black_box(samples);
-        None
-    });
-    report(&Measurement {
-        workload: "w1-tol",
-        path: "wang",
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples,
-        bytes: 0,
-        float: None,
-    });
 }
 
 fn fit_1m(report: &mut impl FnMut(&Measurement)) {
@@ -618,32 +205,6 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         None
     });
     report(&measurement("plain-loop", plain));
-}
-
-/// w1 as the contract's document: the same curves (their coordinates as the shortest text
-/// that round-trips them), "control" ends by default, 32 samples per segment.
-#[must_use]
-pub fn w1_document() -> Vec<u8> {
-    let mut rng = Rng(1);
-    let mut text = zmij::Buffer::new();
-    let mut doc = br#"{"sampling": {"per_segment": 32}, "curves": ["#.to_vec();
-    for c in 0..10_000 {
-        doc.extend_from_slice(if c > 0 { b",\n" } else { b"\n" });
-        doc.extend_from_slice(br#"{"kind": "catmull-rom", "points": ["#);
-        for p in 0..34 {
-            doc.extend_from_slice(if p > 0 { b", [" } else { b"[" });
-            for k in 0..3 {
-                if k > 0 {
-                    doc.extend_from_slice(b", ");
-                }
-                doc.extend_from_slice(text.format(rng.range(-100.0, 100.0)).as_bytes());
-            }
-            doc.push(b']');
-        }
-        doc.extend_from_slice(b"]}");
-    }
-    doc.extend_from_slice(b"\n]}\n");
-    doc
 }
 
 /// `splinegpu tessellate`'s work on `document` into the file `target`: parse, fit, evaluate

@@ -14,7 +14,7 @@ use splinegpu::surface::{
 };
 use splinegpu::{Basis, Derivatives, Ends, GpuContext, GpuError, SampleFloat};
 
-use crate::bench::{Measurement, memset, time};
+use crate::bench::measure::{Measurement, memset, time};
 
 /// The s1 surfaces: 1,000 wavy 20 x 20 nets (a seeded generator, the same every run).
 fn s1_surfaces() -> Vec<Surface> {
@@ -45,7 +45,7 @@ fn s1_surfaces() -> Vec<Surface> {
 
 /// The teapot workload: the example's teapot, 1,000 times, each moved so none coincide.
 fn teapots() -> (Vec<Surface>, f64) {
-    let text = include_str!("../examples/teapot.json");
+    let text = include_str!("../../examples/teapot.json");
     let doc: serde_json::Value = serde_json::from_str(text).expect("the teapot example");
     let surface = &doc["surfaces"][0];
     let points: Vec<f64> = surface["points"]
