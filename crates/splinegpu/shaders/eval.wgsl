@@ -1,8 +1,8 @@
 // Evaluates runs of cubic samples, and their t-derivatives, from power-form coefficients.
-// Rust twins of the structs: src/gpu/pack.rs. CPU twin, line by line in f32 (same names, loop
-// order and arithmetic): src/gpu/interpret.rs. (src/cpu/ is the f64 reference, not a twin.)
+// Rust twins of the structs: src/gpu/curves/abi.rs. CPU twin, line by line in f32 (same names, loop
+// order and arithmetic): src/gpu/curves/interpret.rs. (src/cpu/ is the f64 reference, not a twin.)
 
-// Rust twin: gpu::pack::Params.
+// Rust twin: gpu::curves::abi::Params.
 struct Params {
     // Runs in this dispatch.
     run_count: u32,
@@ -14,7 +14,7 @@ struct Params {
     // 0, 1 or 2.
     derivatives: u32,
     // Float the runs' out_offsets count from in the bound buffer (a multiple of 4): 0 when each
-    // dispatch has a buffer of its own, the dispatch's base (gpu::pack::Batch::base) when a job
+    // dispatch has a buffer of its own, the dispatch's base (gpu::curves::abi::Batch::base) when a job
     // is written whole into a caller's buffer.
     out_base: u32,
     // The dispatch's first run in `runs` (its batch's runs of one mode).
@@ -23,18 +23,18 @@ struct Params {
     _padding1: u32,
 }
 
-// Rust twin: gpu::pack::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
+// Rust twin: gpu::curves::abi::GpuSegment. Its coefficient block starts at vec4 `coeff_offset`:
 // the floats a[0..dim], b[0..dim], c[0..dim], d_lo[0..dim], d_hi[0..dim], 1/(t_{i+1} - t_i),
 // end to end (gpu::abi::block_vec4s), with P(u) = d_hi + (d_lo + u(c + u(b + u a))) formed
 // in f64 on the host, d_hi = f32(D) and d_lo = f32(D - d_hi), so that large coordinates keep
 // their low bits. A rational segment (pipelines with RATIONAL) has its denominator's
 // a, b, c, d after 1/dt, and P(u) = d_hi + (d_lo + u(c + u(b + u a)) / W(u)) (src/rational.rs).
-struct Segment {
+struct GpuSegment {
     coeff_offset: u32,
     dim: u32,
 }
 
-// Rust twin: gpu::pack::Run. `segments` consecutive segments from `segment` on, `count`
+// Rust twin: gpu::curves::abi::Run. `segments` consecutive segments from `segment` on, `count`
 // samples of each at u = u0 + j*du, written `dim` floats apart from float out_offset on, one
 // segment's block after the other. Modes: MODE_SCALAR writes each float on its own;
 // MODE_VECTOR (dim <= 4, out_offset and count*dim multiples of 4, count a multiple of 4)
@@ -56,8 +56,8 @@ struct Run {
     first: u32,
 }
 
-// Rust twin: gpu::pack::GpuLoc. An explicitly placed sample.
-struct Loc {
+// Rust twin: gpu::curves::abi::GpuLoc. An explicitly placed sample.
+struct GpuLoc {
     segment: u32,
     u: f32,
 }
@@ -67,14 +67,14 @@ const MODE_EXPLICIT: u32 = 2u;
 const MODE_ARC: u32 = 3u;
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> segments: array<Segment>;
+@group(0) @binding(1) var<storage, read> segments: array<GpuSegment>;
 @group(0) @binding(2) var<storage, read> coeffs: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> runs: array<Run>;
 @group(0) @binding(4) var<storage, read_write> samples: array<vec4<f32>>;
-@group(0) @binding(5) var<storage, read_write> locs: array<Loc>;
+@group(0) @binding(5) var<storage, read_write> locs: array<GpuLoc>;
 // The buffer bound as `coeffs`, float by float: blocks of any dimension.
 @group(0) @binding(6) var<storage, read> coeff_floats: array<f32>;
-// Arc-length tables, floats as their bits (Rust twin: gpu::pack::write_arc_table): a header
+// Arc-length tables, floats as their bits (Rust twin: gpu::curves::pack::write_arc_table): a header
 // (m - 1, 1/(m - 1), 0, 0); per segment (start / L, the vec4 of its first piece, pieces, 0);
 // per piece of its length model two vec4s (start / L, u at its start, c1, c2),
 // (c3, c4, c5, u at its end): the length from its start over its length is
@@ -144,7 +144,7 @@ fn piece4(at: u32) -> Piece {
 }
 
 // Coordinates 4q..4q+3 of a segment of any dimension, float by float.
-fn piece_any(segment: Segment, q: u32) -> Piece {
+fn piece_any(segment: GpuSegment, q: u32) -> Piece {
     let block = 4u * segment.coeff_offset;
     let dim = segment.dim;
     var terms = array<vec4<f32>, 5>();
@@ -157,7 +157,7 @@ fn piece_any(segment: Segment, q: u32) -> Piece {
 }
 
 // A segment of at most 4 coordinates, by whole vec4s: the same floats as piece_any(segment, 0u).
-fn piece_small(segment: Segment) -> Piece {
+fn piece_small(segment: GpuSegment) -> Piece {
     switch segment.dim {
         case 1u: {
             return piece1(segment.coeff_offset);
@@ -390,7 +390,7 @@ fn nothing_loaded() -> Loaded {
 }
 
 // Sample j of a run, at its own segment and u, written from float out_offset + j * dim on.
-fn place_sample(loc: Loc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>) {
+fn place_sample(loc: GpuLoc, out_offset: u32, j: u32, loaded: ptr<function, Loaded>) {
     let segment = segments[loc.segment];
     let out = out_offset + j * segment.dim;
     if segment.dim <= 4u {
@@ -426,7 +426,7 @@ fn explicit_run(run: Run, lane: u32) {
 }
 
 // Steps of the safeguarded Newton iteration that solves a length model (Rust twin:
-// sampling::arc_length::SOLVE_STEPS, checked by gpu/abi_tests.rs).
+// sampling::arc_length::SOLVE_STEPS, checked by gpu/curves/abi_tests.rs).
 const SOLVE_STEPS: u32 = 12u;
 // The step in x below which the solve stops: 2^-22 (its error in length is below 2.4e-7 of
 // the piece's length).
@@ -476,13 +476,13 @@ struct ArcHint {
 // at or before it, the piece of its length model that does, and the x where the model reaches
 // it: Newton's method from the linear guess, kept inside the bracket the signs leave
 // (bisecting where a step would leave it). Rust twin of the solve: sampling::arc_length::solve_model.
-fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
+fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> GpuLoc {
     let header = arcs[run.arc];
     if i == 0u {
-        return Loc(run.segment, 0.0);
+        return GpuLoc(run.segment, 0.0);
     }
     if i >= header.x {
-        return Loc(run.segment + run.segments - 1u, 1.0);
+        return GpuLoc(run.segment + run.segments - 1u, 1.0);
     }
     let at_length = f32(i) * bitcast<f32>(header.y);
     let lo = last_start_at_or_before(run.arc + 1u, 1u, (*hint).segment, run.segments, at_length);
@@ -532,7 +532,7 @@ fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> Loc {
             x = 0.5 * (x_lo + x_hi);
         }
     }
-    return Loc(run.segment + lo, clamp(piece.y + x * (c.w - piece.y), 0.0, 1.0));
+    return GpuLoc(run.segment + lo, clamp(piece.y + x * (c.w - piece.y), 0.0, 1.0));
 }
 
 // An arc-length run: each sample placed by the curve's table, its place written for the host
@@ -549,7 +549,7 @@ fn arc_run(run: Run, lane: u32) {
 
 // The run's `count` samples of one segment whose block starts at float `out`, each float on
 // its own: any dimension and alignment.
-fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
+fn scalar_block(segment: GpuSegment, out: u32, run: Run, lane: u32) {
     for (var q = 0u; 4u * q < segment.dim; q++) {
         let piece = piece_any(segment, q);
         let last = min(segment.dim, 4u * q + 4u);
@@ -569,7 +569,7 @@ fn scalar_block(segment: Segment, out: u32, run: Run, lane: u32) {
 
 // The run's `count` samples of one rational segment whose block starts at float `out`, each
 // float on its own.
-fn rational_block(segment: Segment, out: u32, run: Run, lane: u32) {
+fn rational_block(segment: GpuSegment, out: u32, run: Run, lane: u32) {
     let w = denominator(segment.coeff_offset, segment.dim);
     for (var q = 0u; 4u * q < segment.dim; q++) {
         let piece = piece_any(segment, q);

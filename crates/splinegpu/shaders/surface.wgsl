@@ -1,8 +1,8 @@
 // Evaluates surface vertices (positions, u/v derivatives, unit normals) from bicubic patches in power form.
-// Rust twins of the structs: src/gpu/surface.rs. CPU twin, line by line in f32 (same names,
-// loop order and arithmetic): src/gpu/surface_twin.rs.
+// Rust twins of the structs: src/gpu/surfaces/abi.rs. CPU twin, line by line in f32 (same names,
+// loop order and arithmetic): src/gpu/surfaces/twin.rs.
 
-// Rust twin: gpu::surface::SurfaceParams.
+// Rust twin: gpu::surfaces::abi::SurfaceParams.
 struct SurfaceParams {
     // Vertices in this dispatch.
     vertex_count: u32,
@@ -20,7 +20,7 @@ struct SurfaceParams {
     _padding2: u32,
 }
 
-// Rust twin: gpu::surface::GpuPatch. Its coefficients start at float coeff_offset: A_ab for
+// Rust twin: gpu::surfaces::abi::GpuPatch. Its coefficients start at float coeff_offset: A_ab for
 // (a, b) != (0, 0) in the order 4a + b, dim floats each (15 dim), then the origin
 // A_00 = S(0, 0) as o_hi = f32(A_00) and o_lo = f32(A_00 - o_hi) (dim floats each), so that
 // large coordinates keep their low bits: S = o_hi + (o_lo + sum). A rational patch (S = O + N/W,
@@ -43,7 +43,7 @@ struct GpuPatch {
     _padding2: u32,
 }
 
-// Rust twin: gpu::surface::GpuVertex. Patch `patch_index` at local (u, v), its values written from
+// Rust twin: gpu::surfaces::abi::GpuVertex. Patch `patch_index` at local (u, v), its values written from
 // float `out` of each plane on (normals too: 3-D).
 struct GpuVertex {
     patch_index: u32,
@@ -58,7 +58,7 @@ struct GpuVertex {
 @group(0) @binding(3) var<storage, read> vertices: array<GpuVertex>;
 @group(0) @binding(4) var<storage, read_write> out: array<f32>;
 
-// Rust twin: gpu::surface::SURFACE_WG_SIZE.
+// Rust twin: gpu::surfaces::abi::SURFACE_WG_SIZE.
 const WG_SIZE: u32 = 64u;
 
 // Below this fraction of |Su| |Sv|, or of the sizes of the sums that make Su and Sv (a

@@ -4,27 +4,18 @@
 //! [`GpuContext::from_device`] takes a caller's device and queue, and
 //! [`GpuContext::evaluate`] (in `eval.rs`) runs a job and reads the samples back.
 
-pub(crate) mod abi;
 #[cfg(feature = "profiling")]
 pub(crate) mod ceiling;
-mod dispatch;
-pub(crate) mod eval;
+pub(crate) mod curves;
 // The kernel's f32 twin on the CPU: the tests check the packer and every kernel shape with it
 // where no GPU is needed.
-#[cfg(test)]
-mod interpret;
-pub(crate) mod pack;
-mod pool;
-mod readback;
-mod record;
-pub(crate) mod surface;
-mod surface_record;
-#[cfg(test)]
-mod surface_twin;
+pub(crate) mod pool;
+pub(crate) mod readback;
+pub(crate) mod surfaces;
 pub(crate) mod timing;
 
-pub use record::OutputLayout;
-pub use surface_record::{SurfaceOutputLayout, SurfaceRecording};
+pub use curves::record::OutputLayout;
+pub use surfaces::record::{SurfaceOutputLayout, SurfaceRecording};
 
 use crate::error::GpuError;
 
@@ -109,8 +100,8 @@ pub struct GpuContext {
     /// At most this many output values per plane in one dispatch (besides the device's limit).
     max_dispatch_values: usize,
     bind_group_layout: wgpu::BindGroupLayout,
-    /// The kernel compiled for each run mode (indexed by `pack::MODE_*`).
-    pipelines: [wgpu::ComputePipeline; abi::MODES],
+    /// The kernel compiled for each run mode (indexed by `curves::pack::MODE_*`).
+    pipelines: [wgpu::ComputePipeline; curves::abi::MODES],
     /// Whether the kernel's output buffer is mapped and read itself (a CPU adapter with
     /// `MAPPABLE_PRIMARY_BUFFERS`, where device memory is host memory), instead of copied into
     /// a download buffer first: on lavapipe that copy cost about 8 ms of w1's 60 end to end.
@@ -118,9 +109,9 @@ pub struct GpuContext {
     /// Buffers kept between calls, so that repeated jobs neither allocate nor page-fault.
     pool: std::sync::Mutex<pool::BufferPool>,
     /// Host-side packings kept between calls, for the same reason (one per concurrent call).
-    packings: std::sync::Mutex<Vec<pack::Packed>>,
+    packings: std::sync::Mutex<Vec<curves::pack::Packed>>,
     /// The surface kernel, compiled on first use.
-    surface: std::sync::OnceLock<surface::SurfacePipeline>,
+    surface: std::sync::OnceLock<surfaces::pipeline::SurfacePipeline>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -214,7 +205,7 @@ impl GpuContext {
 
     fn with_parts(device: wgpu::Device, queue: wgpu::Queue, info: wgpu::AdapterInfo) -> Self {
         let shape = KernelShape::for_device_type(info.device_type);
-        let entries: Vec<_> = abi::BINDINGS
+        let entries: Vec<_> = curves::abi::BINDINGS
             .iter()
             .enumerate()
             .map(|(i, (ty, _, min_size))| wgpu::BindGroupLayoutEntry {
@@ -344,10 +335,10 @@ fn compile(
     device: &wgpu::Device,
     bind_group_layout: &wgpu::BindGroupLayout,
     shape: KernelShape,
-) -> [wgpu::ComputePipeline; abi::MODES] {
+) -> [wgpu::ComputePipeline; curves::abi::MODES] {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("eval.wgsl"),
-        source: wgpu::ShaderSource::Wgsl(abi::EVAL_WGSL.into()),
+        source: wgpu::ShaderSource::Wgsl(curves::abi::EVAL_WGSL.into()),
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("eval"),
@@ -355,17 +346,20 @@ fn compile(
         immediate_size: 0,
     });
     std::array::from_fn(|mode| {
-        let (kernel_mode, rational) = abi::kernel_mode(mode as u32);
+        let (kernel_mode, rational) = curves::abi::kernel_mode(mode as u32);
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("eval"),
             layout: Some(&layout),
             module: &module,
-            entry_point: Some(abi::ENTRY_POINT),
+            entry_point: Some(curves::abi::ENTRY_POINT),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &[
-                    (abi::LANES_CONSTANT, f64::from(shape.lanes)),
-                    (abi::MODE_CONSTANT, f64::from(kernel_mode)),
-                    (abi::RATIONAL_CONSTANT, f64::from(u8::from(rational))),
+                    (curves::abi::LANES_CONSTANT, f64::from(shape.lanes)),
+                    (curves::abi::MODE_CONSTANT, f64::from(kernel_mode)),
+                    (
+                        curves::abi::RATIONAL_CONSTANT,
+                        f64::from(u8::from(rational)),
+                    ),
                 ],
                 ..Default::default()
             },

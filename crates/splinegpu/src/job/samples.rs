@@ -231,7 +231,7 @@ impl<F> Samples<F> {
 pub(crate) fn fill_t(
     job: &EvalJob,
     host_placed: &[f64],
-    arc_places: &[crate::gpu::abi::GpuLoc],
+    arc_places: &[crate::gpu::curves::abi::GpuLoc],
     t: &mut [f64],
 ) {
     if t.is_empty() {

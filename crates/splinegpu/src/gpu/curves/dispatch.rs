@@ -6,11 +6,11 @@ use std::sync::PoisonError;
 
 use wgpu::util::DeviceExt;
 
-use super::GpuContext;
 use super::abi::{self, Params, WG_SIZE};
 use super::pack::{self, BatchLimits, Packed};
-use super::timing::Timestamps;
 use crate::error::GpuError;
+use crate::gpu::GpuContext;
+use crate::gpu::timing::Timestamps;
 use crate::job::EvalJob;
 
 /// Bytes per f32.

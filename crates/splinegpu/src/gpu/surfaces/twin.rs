@@ -4,11 +4,9 @@
 //! make, so that the packing and the kernel's arithmetic are tested against the contract's
 //! promise without a GPU.
 
-use super::surface::{
-    DispatchBudget, GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams, evaluate_group_with,
-    plane_count,
-};
 use crate::error::GpuError;
+use crate::gpu::surfaces::abi::{GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+use crate::gpu::surfaces::dispatch::{DispatchBudget, evaluate_group_with, plane_count};
 use crate::job::Derivatives;
 use crate::surface::{PatchTable, SurfacePlan, SurfaceSamples};
 

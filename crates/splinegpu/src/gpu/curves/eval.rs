@@ -3,13 +3,13 @@
 //! the buffers come from the context's pool through a [`Lease`] that gives them back on every
 //! path out, an error included.
 
-use super::GpuContext;
 use super::dispatch::{F32, Tables, Target};
 use super::pack::{self, Packed};
-use super::pool::Lease;
-use super::readback::{map_read, map_write, unpack_device_planes};
-use super::timing::{DeviceTime, Timestamps, TimingMethod};
 use crate::error::GpuError;
+use crate::gpu::GpuContext;
+use crate::gpu::pool::Lease;
+use crate::gpu::readback::{map_read, map_write, unpack_device_planes};
+use crate::gpu::timing::{DeviceTime, Timestamps, TimingMethod};
 use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{Samples, fill_t};

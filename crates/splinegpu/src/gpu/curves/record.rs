@@ -3,10 +3,10 @@
 
 use wgpu::util::DeviceExt;
 
-use super::GpuContext;
 use super::dispatch::{F32, Tables, Target};
 use super::pack::{self, check_size};
 use crate::error::{GpuError, TargetError};
+use crate::gpu::GpuContext;
 use crate::job::EvalJob;
 
 impl GpuContext {

@@ -10,8 +10,9 @@ use wgpu::util::DeviceExt;
 use crate::error::{GpuError, InputError, TargetError};
 use crate::surface::{PatchTable, SurfaceJob, SurfacePlan};
 
-use super::GpuContext;
-use super::surface::{GpuVertex, PackedPatches, SURFACE_WG_SIZE, SurfaceParams};
+use crate::gpu::GpuContext;
+use crate::gpu::surfaces::abi::{GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+use crate::gpu::surfaces::pack::PackedPatches;
 
 /// Where a recording writes: byte offsets from the target's offset, and each surface's first
 /// vertex and first index. Positions are `dim` f32 per vertex, then (3-D) normals, 3 f32 per

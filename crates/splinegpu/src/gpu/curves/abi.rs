@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 
 /// `shaders/eval.wgsl`: evaluates runs of samples from power-form coefficients.
-pub(crate) const EVAL_WGSL: &str = include_str!("../../shaders/eval.wgsl");
+pub(crate) const EVAL_WGSL: &str = include_str!("../../../shaders/eval.wgsl");
 
 /// The kernel's workgroup size; `const WG_SIZE` in `shaders/eval.wgsl` (checked by a test).
 pub(crate) const WG_SIZE: u32 = 64;

@@ -1,298 +1,20 @@
-//! Surfaces on the GPU: `shaders/surface.wgsl` evaluates every vertex of many surfaces (of mixed
-//! kinds, rational or not) in one dispatch, from patches packed here in f32, with the same
-//! discipline as the curve kernel: Pod twins checked against the shader by naga (the tests
-//! below), an f32 CPU twin of the kernel, the promise tested on lavapipe.
-//!
-//! Packing: each patch's 15 non-constant power coefficients A_ab relative to its origin, the
-//! origin split into o_hi = f32(A_00) and o_lo = f32(A_00 − o_hi), and a rational patch's W;
-//! each vertex its patch, its local (u, v) in f32 and where its values go. The pipeline is
-//! compiled on first use, so that curve-only callers never pay for it.
+//! Surfaces evaluated on the GPU: a job's surfaces grouped so that their packed patches fit one
+//! storage binding, each group's vertices cut into dispatches whose every binding fits the
+//! device's limits ([`DispatchBudget`]), each dispatch's planes copied straight into the
+//! surfaces' samples.
 
-use bytemuck::{Pod, Zeroable};
-use rayon::prelude::*;
-
-use crate::error::GpuError;
-use crate::job::Derivatives;
 use std::ops::Range;
 
-use crate::surface::{PatchTable, SurfaceJob, SurfacePlan, SurfaceSamples};
-
-use super::GpuContext;
-use super::timing::Timestamps;
+use crate::error::GpuError;
+use crate::gpu::GpuContext;
+use crate::gpu::surfaces::abi::{GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+use crate::gpu::surfaces::pack::{NORMAL_NET_FLOATS, PackedPatches};
+use crate::gpu::surfaces::pipeline::SurfacePipeline;
+use crate::gpu::timing::Timestamps;
 #[cfg(feature = "profiling")]
-use super::timing::{DeviceTime, TimingMethod};
-
-/// `shaders/surface.wgsl`.
-pub(crate) const SURFACE_WGSL: &str = include_str!("../../shaders/surface.wgsl");
-
-/// The kernel's workgroup size; `const WG_SIZE` in `shaders/surface.wgsl` (checked by a test).
-pub(crate) const SURFACE_WG_SIZE: u32 = 64;
-
-/// Per-dispatch uniforms. WGSL twin: `SurfaceParams` in `shaders/surface.wgsl`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
-#[repr(C)]
-pub(crate) struct SurfaceParams {
-    pub vertex_count: u32,
-    pub row_width: u32,
-    pub plane_stride: u32,
-    pub derivatives: u32,
-    pub normals: u32,
-    pub _padding: [u32; 3],
-}
-
-impl SurfaceParams {
-    /// A dispatch of `vertices` vertices in rows of `row_width` invocations, `floats` floats a
-    /// plane, derivatives of `order` (0, 1 or 2), normals when `normals`.
-    pub(crate) fn new(
-        vertices: usize,
-        row_width: u32,
-        floats: usize,
-        order: usize,
-        normals: bool,
-    ) -> Self {
-        SurfaceParams {
-            vertex_count: vertices as u32,
-            row_width,
-            plane_stride: floats as u32,
-            derivatives: order as u32,
-            normals: u32::from(normals),
-            _padding: [0; 3],
-        }
-    }
-}
-
-/// One patch. WGSL twin: `GpuPatch`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
-#[repr(C)]
-pub(crate) struct GpuPatch {
-    pub coeff_offset: u32,
-    pub dim: u32,
-    pub rational: u32,
-    pub normal_offset: u32,
-    pub inv_du: f32,
-    pub inv_dv: f32,
-    pub _padding1: [u32; 2],
-}
-
-/// One vertex. WGSL twin: `GpuVertex`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
-#[repr(C)]
-pub(crate) struct GpuVertex {
-    pub patch_index: u32,
-    pub out: u32,
-    pub u: f32,
-    pub v: f32,
-}
-
-/// The surface pipeline and its bind group layout.
-#[derive(Debug)]
-pub(crate) struct SurfacePipeline {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
-}
-
-/// The kernel's bindings, in order: the uniform, then patches, coefficients, vertices (read)
-/// and the output (read-write).
-const BINDINGS: [wgpu::BufferBindingType; 5] = [
-    wgpu::BufferBindingType::Uniform,
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: false },
-];
-
-impl SurfacePipeline {
-    fn new(device: &wgpu::Device) -> Self {
-        let entries: Vec<_> = BINDINGS
-            .iter()
-            .enumerate()
-            .map(|(i, ty)| wgpu::BindGroupLayoutEntry {
-                binding: i as u32,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: *ty,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            })
-            .collect();
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("surface"),
-            entries: &entries,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("surface.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SURFACE_WGSL.into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("surface"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("surface"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
-        Self { layout, pipeline }
-    }
-
-    /// The bind group layout of [`BINDINGS`].
-    pub(crate) fn layout(&self) -> &wgpu::BindGroupLayout {
-        &self.layout
-    }
-
-    /// The compute pipeline.
-    pub(crate) fn pipeline(&self) -> &wgpu::ComputePipeline {
-        &self.pipeline
-    }
-}
-
-/// Many surfaces' patches packed for the kernel: patch records and coefficients, and where
-/// each surface's patches start.
-#[derive(Debug, Default)]
-pub(crate) struct PackedPatches {
-    pub patches: Vec<GpuPatch>,
-    pub coeffs: Vec<f32>,
-    pub first_patch: Vec<u32>,
-}
-
-impl PackedPatches {
-    /// Packs every table's patches (see the module docs); the normal nets only when `normals`
-    /// are asked for. Tables are packed on every thread, then laid end to end.
-    pub(crate) fn new(tables: &[&PatchTable], normals: bool) -> Self {
-        let parts: Vec<Self> = tables
-            .par_iter()
-            .map(|table| Self::of_table(table, normals))
-            .collect();
-        let mut packed = Self::default();
-        packed
-            .patches
-            .reserve(parts.iter().map(|p| p.patches.len()).sum());
-        packed
-            .coeffs
-            .reserve(parts.iter().map(|p| p.coeffs.len()).sum());
-        for part in parts {
-            let base = packed.coeffs.len() as u32;
-            packed.first_patch.push(packed.patches.len() as u32);
-            packed.patches.extend(part.patches.iter().map(|p| GpuPatch {
-                coeff_offset: p.coeff_offset + base,
-                normal_offset: if normals { p.normal_offset + base } else { 0 },
-                ..*p
-            }));
-            packed.coeffs.extend_from_slice(&part.coeffs);
-        }
-        packed
-    }
-
-    /// One table's patches, their offsets from its own first float.
-    fn of_table(table: &PatchTable, normals: bool) -> Self {
-        let mut packed = Self::default();
-        let dim = table.dim();
-        for p in 0..table.len() {
-            let patch = table.patch(p);
-            let [lu, lv] = patch.length();
-            let rational = patch.denominator();
-            packed.patches.push(GpuPatch {
-                coeff_offset: packed.coeffs.len() as u32,
-                dim: dim as u32,
-                rational: u32::from(rational.is_some()),
-                inv_du: (1.0 / lu) as f32,
-                inv_dv: (1.0 / lv) as f32,
-                ..GpuPatch::default()
-            });
-            for ab in 1..16 {
-                packed
-                    .coeffs
-                    .extend(patch.coefficient(ab / 4, ab % 4).iter().map(|&x| x as f32));
-            }
-            let origin = patch.coefficient(0, 0);
-            let hi: Vec<f32> = origin.iter().map(|&x| x as f32).collect();
-            packed.coeffs.extend(&hi);
-            packed.coeffs.extend(
-                origin
-                    .iter()
-                    .zip(&hi)
-                    .map(|(&x, &h)| (x - f64::from(h)) as f32),
-            );
-            if let Some(w) = rational {
-                packed.coeffs.extend(w.iter().map(|&x| x as f32));
-            }
-            if normals {
-                let nets = normal_nets(&patch);
-                let record = packed.patches.last_mut().expect("pushed above");
-                record.normal_offset = packed.coeffs.len() as u32;
-                packed.coeffs.extend(nets.iter().map(|&x| x as f32));
-            }
-        }
-        packed
-    }
-}
-
-/// Floats of a patch's normal nets: 16 points, 12 + 12 differences (3 each), 24 lengths.
-pub(crate) const NORMAL_NET_FLOATS: usize = 48 + 72 + 24;
-
-/// A 3-D patch's normal nets (see `shaders/surface.wgsl`): the Bezier points N_ij of its
-/// numerator relative to its origin (16 x 3, i along u), their differences along u
-/// (N_(i+1)j − N_ij, 12 x 3) and along v (N_i(j+1) − N_ij, 12 x 3), then the differences'
-/// lengths (12 along u, 12 along v), in f64.
-fn normal_nets(patch: &crate::surface::Patch<'_>) -> Vec<f64> {
-    // Power to Bernstein along one direction of a cubic: b_j = Σ_{k <= j} C(j,k)/C(3,k) c_k.
-    const TO_BERNSTEIN: [[f64; 4]; 4] = [
-        [1.0, 0.0, 0.0, 0.0],
-        [1.0, 1.0 / 3.0, 0.0, 0.0],
-        [1.0, 2.0 / 3.0, 1.0 / 3.0, 0.0],
-        [1.0, 1.0, 1.0, 1.0],
-    ];
-    let power = |a: usize, b: usize, k: usize| {
-        if a + b == 0 {
-            0.0 // the numerator relative to the origin (a polynomial's too)
-        } else {
-            patch.coefficient(a, b)[k]
-        }
-    };
-    let mut n = [[[0.0f64; 3]; 4]; 4];
-    for (i, row) in n.iter_mut().enumerate() {
-        for (j, point) in row.iter_mut().enumerate() {
-            for (k, x) in point.iter_mut().enumerate() {
-                for (a, wa) in TO_BERNSTEIN[i].iter().enumerate() {
-                    for (b, wb) in TO_BERNSTEIN[j].iter().enumerate() {
-                        *x += wa * wb * power(a, b, k);
-                    }
-                }
-            }
-        }
-    }
-    let mut out = Vec::with_capacity(NORMAL_NET_FLOATS);
-    let mut lengths = Vec::with_capacity(24);
-    out.extend(n.iter().flatten().flatten());
-    let mut differences = |d: &dyn Fn(usize, usize, usize) -> f64, rows: usize, cols: usize| {
-        let net: Vec<[f64; 3]> = (0..rows)
-            .flat_map(|i| (0..cols).map(move |j| [0, 1, 2].map(|k| d(i, j, k))))
-            .collect();
-        // Points that coincide (a collapsed edge) differ by rounding only: exactly zero here,
-        // so that the kernel sees a vanishing derivative as one.
-        let length = |p: &[f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-        let largest = net.iter().map(length).fold(0.0, f64::max);
-        for p in &net {
-            let kept = if length(p) <= 1e-12 * largest {
-                [0.0; 3]
-            } else {
-                *p
-            };
-            out.extend(kept);
-            lengths.push(length(&kept));
-        }
-    };
-    differences(&|i, j, k| n[i + 1][j][k] - n[i][j][k], 3, 4);
-    differences(&|i, j, k| n[i][j + 1][k] - n[i][j][k], 4, 3);
-    out.extend(lengths);
-    out
-}
+use crate::gpu::timing::{DeviceTime, TimingMethod};
+use crate::job::Derivatives;
+use crate::surface::{PatchTable, SurfaceJob, SurfacePlan, SurfaceSamples};
 
 /// The output planes of a vertex of a job: positions, then the derivatives asked for, then
 /// normals.
@@ -518,7 +240,7 @@ impl GpuContext {
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface"),
-            layout: &pipeline.layout,
+            layout: pipeline.layout(),
             entries: &[&uniform, &patches, &coeffs, &vertex_buffer, &output]
                 .iter()
                 .enumerate()
@@ -536,7 +258,7 @@ impl GpuContext {
                 label: Some("surfaces"),
                 timestamp_writes: stamps.as_ref().map(|s| s.writes(0)),
             });
-            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_pipeline(pipeline.pipeline());
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
         }
@@ -546,7 +268,7 @@ impl GpuContext {
         }
         let submitted = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
-        super::readback::map_read(device, &download, |bytes| {
+        crate::gpu::readback::map_read(device, &download, |bytes| {
             consume(&bytemuck::cast_slice::<u8, f32>(bytes)[..planes * floats]);
         })?;
         Ok(match (&stamps, timed) {

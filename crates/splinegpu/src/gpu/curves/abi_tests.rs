@@ -86,7 +86,7 @@ fn structs_match_their_rust_twins() {
             first_run
         ]
     );
-    assert_twin!(&module, "Segment", GpuSegment, [coeff_offset, dim]);
+    assert_twin!(&module, "GpuSegment", GpuSegment, [coeff_offset, dim]);
     assert_twin!(
         &module,
         "Run",
@@ -95,7 +95,7 @@ fn structs_match_their_rust_twins() {
             segment, segments, out_offset, count, mode, u0, du, first_loc, arc, first
         ]
     );
-    assert_twin!(&module, "Loc", GpuLoc, [segment, u]);
+    assert_twin!(&module, "GpuLoc", GpuLoc, [segment, u]);
 }
 
 #[test]
@@ -187,7 +187,7 @@ fn bindings_match_the_rust_binding_list() {
 
 /// `shaders/surface.wgsl`, parsed and validated.
 fn surface_module() -> naga::Module {
-    let module = naga::front::wgsl::parse_str(crate::gpu::surface::SURFACE_WGSL)
+    let module = naga::front::wgsl::parse_str(crate::gpu::surfaces::abi::SURFACE_WGSL)
         .expect("surface.wgsl parses");
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
@@ -200,7 +200,7 @@ fn surface_module() -> naga::Module {
 
 #[test]
 fn surface_structs_match_their_rust_twins_and_the_workgroup_size() {
-    use crate::gpu::surface::{GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+    use crate::gpu::surfaces::abi::{GpuPatch, GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
     let module = surface_module();
     assert_twin!(
         &module,

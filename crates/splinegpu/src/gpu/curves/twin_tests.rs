@@ -5,7 +5,7 @@
 
 use super::evaluate_interpreted;
 use crate::gpu::KernelShape;
-use crate::gpu::pack::BatchLimits;
+use crate::gpu::curves::pack::BatchLimits;
 #[cfg(feature = "profiling")]
 use crate::support::gpu;
 use crate::support::{Rng, bases, compare};

@@ -7,12 +7,12 @@
 
 use std::ops::Range;
 
-use super::KernelShape;
 use super::abi::{
     GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_SCALAR, MODE_VECTOR, MODES, Run, TERMS,
     block_vec4s, is_arc, mode_for,
 };
 use crate::error::GpuError;
+use crate::gpu::KernelShape;
 use crate::job::{Derivatives, EvalJob};
 use crate::parallel::{even_ranges, fan_out, fan_out_map, take_front};
 use crate::points::for_dimension;
@@ -831,7 +831,7 @@ mod tests {
     /// Floats a run writes, from its out_offset on.
     fn run_floats(packed: &Packed, run: &Run) -> usize {
         let dim = packed.segments[run.segment as usize].dim as usize;
-        let dim = if super::super::abi::kernel_mode(run.mode).0 == MODE_EXPLICIT {
+        let dim = if crate::gpu::curves::abi::kernel_mode(run.mode).0 == MODE_EXPLICIT {
             packed.segments[packed.locs[run.first_loc as usize].segment as usize].dim as usize
         } else {
             dim
@@ -868,7 +868,7 @@ mod tests {
                     start >= batch.values.start && end <= batch.values.end,
                     "{shape:?}: run inside its dispatch"
                 );
-                if super::super::abi::kernel_mode(run.mode).0 == MODE_VECTOR {
+                if crate::gpu::curves::abi::kernel_mode(run.mode).0 == MODE_VECTOR {
                     assert_eq!(start % 4, 0, "{shape:?}: vector runs aligned");
                 }
                 for w in &mut writes[start..end] {

@@ -8,13 +8,13 @@
 //! The f64 reference (`cpu::evaluate_reference`) is not the kernel's twin: it evaluates the f64
 //! power form, with D whole and 1/Δ applied after Horner. This interpreter is.
 
-use super::KernelShape;
 use super::abi::{
     GpuLoc, GpuSegment, MODE_ARC, MODE_EXPLICIT, MODE_VECTOR, Params, Run, kernel_mode,
 };
 use super::pack::{self, BatchLimits, Packed};
-use super::readback::unpack_device_planes;
 use crate::error::GpuError;
+use crate::gpu::KernelShape;
+use crate::gpu::readback::unpack_device_planes;
 use crate::job::EvalJob;
 use crate::job::samples::{Samples, fill_t};
 use crate::sampling::arc_length::SOLVE_STEPS;
