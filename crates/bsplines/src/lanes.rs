@@ -272,7 +272,9 @@ pub enum Isa {
 }
 
 impl Isa {
-    /// The widest this CPU runs.
+    /// The widest this CPU runs: the workspace's one test of the CPU's vector features (the
+    /// splinegpu crate's CPU evaluator dispatches on it too).
+    #[must_use]
     pub fn widest() -> Self {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -281,6 +283,19 @@ impl Isa {
             return if registers { Self::Avx512 } else { Self::Avx2 };
         }
         Self::Baseline
+    }
+
+    /// Every one this CPU runs, narrowest first (each includes the ones before it).
+    #[must_use]
+    pub fn available() -> Vec<Self> {
+        let mut all = vec![Self::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        match Self::widest() {
+            Self::Baseline => {}
+            Self::Avx2 => all.push(Self::Avx2),
+            Self::Avx512 => all.extend([Self::Avx2, Self::Avx512]),
+        }
+        all
     }
 }
 

@@ -16,6 +16,7 @@ use crate::job::samples::{SampleFloat, Samples};
 use crate::parallel::{even_ranges, fan_out, take_front};
 use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
+use bsplines::lanes::Isa;
 
 /// Evaluates every curve of `job` in f64 on one thread, sample by sample through
 /// [`SamplePlan::loc`]: the reference the GPU and the fast evaluator are tested against.
@@ -133,63 +134,32 @@ pub(crate) fn evaluate_range_fastest<F: SampleFloat>(
     t: &mut [f64],
     out: [&mut [F]; 3],
 ) {
-    evaluate_range_with(Vectors::widest(), job, range, t, out);
+    evaluate_range_with(Isa::widest(), job, range, t, out);
 }
 
-/// The instruction sets [`evaluate_range`] is compiled for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Vectors {
-    Baseline,
-    #[cfg(target_arch = "x86_64")]
-    Avx2,
-    #[cfg(target_arch = "x86_64")]
-    Avx512,
-}
-
-impl Vectors {
-    /// The widest this CPU runs.
-    fn widest() -> Self {
-        *Self::available().last().expect("the baseline always runs")
-    }
-
-    /// Every one this CPU runs, narrowest first.
-    fn available() -> Vec<Self> {
-        let mut all = vec![Self::Baseline];
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx2") {
-                all.push(Self::Avx2);
-            }
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                all.push(Self::Avx512);
-            }
-        }
-        all
-    }
-}
-
-/// [`evaluate_range`] as compiled for `vectors`, which this CPU must run.
+/// [`evaluate_range`] as compiled for `isa`, which this CPU must run.
 fn evaluate_range_with<F: SampleFloat>(
-    vectors: Vectors,
+    isa: Isa,
     job: &EvalJob,
     range: std::ops::Range<usize>,
     t: &mut [f64],
     out: [&mut [F]; 3],
 ) {
-    // One of the crate's two unsafe blocks (the other is memory.rs's madvise): a function
-    // compiled for an instruction set may only be called where the CPU has it.
+    // One of the crate's three unsafe blocks (the others are memory/'s madvise and
+    // getrlimit): a function compiled for an instruction set may only be called where the CPU
+    // has it.
     #[allow(
         unsafe_code,
         reason = "a function compiled for an instruction set is called only where the CPU has it"
     )]
-    match vectors {
-        Vectors::Baseline => evaluate_range(job, range, t, out),
-        // SAFETY: `Vectors::widest` and `available` name AVX2 only where the CPU has it.
+    match isa {
+        Isa::Baseline => evaluate_range(job, range, t, out),
+        // SAFETY: `Isa::widest` and `available` name AVX2 only where the CPU has it.
         #[cfg(target_arch = "x86_64")]
-        Vectors::Avx2 => unsafe { evaluate_range_avx2(job, range, t, out) },
-        // SAFETY: as for AVX2, with AVX-512F.
+        Isa::Avx2 => unsafe { evaluate_range_avx2(job, range, t, out) },
+        // SAFETY: as for AVX2, with AVX-512F (and VL).
         #[cfg(target_arch = "x86_64")]
-        Vectors::Avx512 => unsafe { evaluate_range_avx512(job, range, t, out) },
+        Isa::Avx512 => unsafe { evaluate_range_avx512(job, range, t, out) },
     }
 }
 
@@ -567,25 +537,21 @@ mod tests {
         let job = job();
         let (_, _, reference) = evaluate_reference(&job).into_parts();
         let total = job.layout().samples();
-        for vectors in Vectors::available() {
+        for isa in Isa::available() {
             let mut fast = Samples::<f64>::for_job(&job);
             let [p, d1, d2] = fast.planes_mut();
-            evaluate_range_with(vectors, &job, 0..total, &mut [], [p, d1, d2]);
+            evaluate_range_with(isa, &job, 0..total, &mut [], [p, d1, d2]);
             let mut narrow = Samples::<f32>::for_job(&job);
             let [p, d1, d2] = narrow.planes_mut();
-            evaluate_range_with(vectors, &job, 0..total, &mut [], [p, d1, d2]);
+            evaluate_range_with(isa, &job, 0..total, &mut [], [p, d1, d2]);
             let (_, _, fast) = fast.into_parts();
             let (_, _, narrow) = narrow.into_parts();
             for plane in 0..3 {
                 let (want, got, got32) = (&reference[plane], &fast[plane], &narrow[plane]);
                 assert!(!want.is_empty() && want.len() == got.len());
                 for (v, ((&w, &g), &g32)) in want.iter().zip(got).zip(got32).enumerate() {
-                    assert_eq!(
-                        w.to_bits(),
-                        g.to_bits(),
-                        "{vectors:?}: plane {plane} value {v}"
-                    );
-                    assert_eq!((w as f32).to_bits(), g32.to_bits(), "{vectors:?}: f32 {v}");
+                    assert_eq!(w.to_bits(), g.to_bits(), "{isa:?}: plane {plane} value {v}");
+                    assert_eq!((w as f32).to_bits(), g32.to_bits(), "{isa:?}: f32 {v}");
                 }
             }
         }
