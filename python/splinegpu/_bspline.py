@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _native
+
 
 def check(t: np.ndarray, c_length: int, k: int) -> None:
     """SciPy's rules for (t, c, k), each a ValueError naming what is wrong."""
@@ -200,35 +202,17 @@ def intervals(t: np.ndarray, k: int, x: np.ndarray) -> np.ndarray:
 
 def basis(t: np.ndarray, k: int, x: np.ndarray, span: np.ndarray, nu: int = 0) -> np.ndarray:
     """The nu-th derivatives of the k + 1 B-splines B_{l-k,k} .. B_{l,k} that do not vanish
-    on [t_l, t_{l+1}], at each x (l its `span`), as (len(x), k + 1); all x at once.
-
-    Cox-de Boor raises the degree from 0 (B_{l,0} = 1) to k - nu:
+    on [t_l, t_{l+1}], at each x (l its `span`), as (len(x), k + 1): the workspace's one
+    Cox-de Boor recursion (bsplines::de_boor::basis_in, through the extension), which raises
+    the degree from 0 (B_{l,0} = 1) to k - nu by
         B_{i,p}(x) = w_{i,p} B_{i,p-1} + (1 - w_{i+1,p}) B_{i+1,p-1},
         w_{i,p} = (x - t_i) / (t_{i+p} - t_i),
-    and each of the last nu degrees applies the derivative instead,
+    and applies the derivative for each of the last nu degrees,
         B'_{i,p} = p (B_{i,p-1} / (t_{i+p} - t_i) - B_{i+1,p-1} / (t_{i+p+1} - t_{i+1})),
     a term over a zero width being zero (its function is zero)."""
-    x = np.asarray(x, dtype=np.float64)
-    values = np.ones((len(x), 1))
-    if nu > k:
-        return np.zeros((len(x), k + 1))
-    for p in range(1, k + 1):
-        # Functions l - p .. l of degree p from l - p + 1 .. l of degree p - 1 (zero outside).
-        i = span[:, None] + np.arange(-p, 1)[None, :]
-        lower = np.concatenate([np.zeros((len(x), 1)), values], axis=1)
-        upper = np.concatenate([values, np.zeros((len(x), 1))], axis=1)
-        left = t[i + p] - t[i]
-        right = t[i + p + 1] - t[i + 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            if p <= k - nu:
-                a = np.where(left > 0, (x[:, None] - t[i]) / left, 0.0)
-                b = np.where(right > 0, (t[i + p + 1] - x[:, None]) / right, 0.0)
-                values = a * lower + b * upper
-            else:
-                a = np.where(left > 0, p / left, 0.0)
-                b = np.where(right > 0, p / right, 0.0)
-                values = a * lower - b * upper
-    return values
+    return _native.bspline_basis(np.ascontiguousarray(t, dtype=np.float64), int(k),
+                                 np.ascontiguousarray(x, dtype=np.float64),
+                                 np.ascontiguousarray(span, dtype=np.int64), int(nu))
 
 
 def insert(t: np.ndarray, c: np.ndarray, k: int, x: float, periodic: bool):

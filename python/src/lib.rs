@@ -2369,6 +2369,55 @@ fn fit_tensor<'py>(
     Ok(Some(PyArray1::from_vec(py, c).reshape([needed, m])?))
 }
 
+/// The nu-th derivatives of the k + 1 B-splines that do not vanish on each x's knot span (l
+/// its `span`, t_l <= x < t_{l+1}), (len(x), k + 1): the workspace's one Cox–de Boor
+/// recursion (`bsplines::de_boor::basis_in`), for the package's collocation and design
+/// matrices.
+#[pyfunction]
+fn bspline_basis<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'_, f64>,
+    k: usize,
+    x: PyReadonlyArray1<'_, f64>,
+    span: PyReadonlyArray1<'_, i64>,
+    nu: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (t, x, span) = (t.as_slice()?, x.as_slice()?, span.as_slice()?);
+    if x.len() != span.len() {
+        return Err(value_error(format!(
+            "span: one per x ({}), got {}",
+            x.len(),
+            span.len()
+        )));
+    }
+    let Some(n) = t.len().checked_sub(k + 1).filter(|&n| n > k) else {
+        return Err(value_error(format!(
+            "t: needs at least 2k + 2 = {} knots, got {}",
+            2 * k + 2,
+            t.len()
+        )));
+    };
+    if let Some(i) = span
+        .iter()
+        .position(|&l| !(k as i64..n as i64).contains(&l))
+    {
+        return Err(value_error(format!(
+            "span[{i}] = {} is not a knot span of degree {k} (k to n - 1 = {})",
+            span[i],
+            n - 1
+        )));
+    }
+    let width = k + 1;
+    let mut out = vec![0.0; x.len() * width];
+    py.detach(|| {
+        let mut scratch = vec![0.0; width];
+        for ((row, &xi), &l) in out.chunks_exact_mut(width).zip(x).zip(span) {
+            bsplines::de_boor::basis_in(t, k, xi, l as usize, nu, row, &mut scratch);
+        }
+    });
+    PyArray1::from_vec(py, out).reshape([x.len(), width])
+}
+
 /// The smallest and largest value of each column of xi (N, d), NaN for a column that holds a
 /// NaN: one pass over the points (NumPy's min and max along axis 0 of a C-ordered array
 /// stride through it column by column, several times slower).
@@ -2458,6 +2507,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pchip_grid, m)?)?;
     m.add_function(wrap_pyfunction!(fit_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(column_ranges, m)?)?;
+    m.add_function(wrap_pyfunction!(bspline_basis, m)?)?;
     m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;

@@ -4,7 +4,8 @@
 //!
 //! On span i ([k_i, k_{i+1}], Δ = k_{i+1} − k_i > 0, 3 <= i < n) the curve is
 //! Σ_{j=i−3..i} N_{j,3}(t) P_j. With t = k_i + Δu, each basis function there is a cubic in u,
-//! formed by the Cox–de Boor recursion on polynomials (a term whose denominator is 0 is 0):
+//! formed by the Cox–de Boor recursion on polynomials (`bsplines::de_boor`'s, the workspace's
+//! one; a term whose denominator is 0 is 0):
 //!
 //! ```text
 //! N_{j,0} = 1 for j = i, else 0
@@ -161,7 +162,7 @@ fn fit_polynomial(knots: &[f64], points: &[f64], dim: usize, extent: f64, out: &
 /// spans [k_i, k_{i+1}], so none is below Δ > 0 (repeated knots need no special case), and
 /// the Δ powers undo the divisions' scale: each coefficient's rounding stays within a few
 /// ulps of the points' spread. A fraction of the Cox–de Boor recursion's arithmetic, which
-/// the rational spans still use (`span_basis`).
+/// the rational spans still use (`bsplines::de_boor::cubic_span_polynomials`).
 struct Taylor {
     /// 3 / (k_{j+3} − k_j) for j = i−2, i−1, i.
     first: [f64; 3],
@@ -229,7 +230,7 @@ fn fit_rational(
     denominators.clear();
     let mut origin = vec![0.0; dim];
     for (&i, c) in spans.iter().zip(coeffs.chunks_exact_mut(4 * dim)) {
-        let basis = span_basis(knots, i);
+        let basis = bsplines::de_boor::cubic_span_polynomials(knots, i);
         let w = &weights[i - 3..=i];
         let smallest = w.iter().copied().fold(f64::INFINITY, f64::min);
         let largest = w.iter().copied().fold(0.0, f64::max);
@@ -269,52 +270,3 @@ fn fit_rational(
     }
 }
 
-/// N_{i−3,3} .. N_{i,3} on span i as cubics in u, coefficients of 1, u, u², u³.
-fn span_basis(knots: &[f64], i: usize) -> [[f64; 4]; 4] {
-    let dt = knots[i + 1] - knots[i];
-    // level[m] is N_{i−3+m, p} for m in 0..5 (m = 4 is N_{i+1}, zero on this span).
-    let mut level = [[0.0; 4]; 5];
-    level[3][0] = 1.0;
-    // One function per degree, so that its loops have constant bounds and the levels stay
-    // in registers (0.6x the time of one loop over the degrees, the same arithmetic bit for
-    // bit).
-    let level = raise::<1>(knots, i, dt, &level);
-    let level = raise::<2>(knots, i, dt, &level);
-    let level = raise::<3>(knots, i, dt, &level);
-    [level[0], level[1], level[2], level[3]]
-}
-
-/// Level P of `span_basis`' recursion from level P − 1:
-/// N_{j,P} = ((k_i − k_j) + Δu) / (k_{j+P} − k_j) · N_{j,P−1}
-///         + ((k_{j+P+1} − k_i) − Δu) / (k_{j+P+1} − k_{j+1}) · N_{j+1,P−1}.
-#[inline(always)]
-fn raise<const P: usize>(knots: &[f64], i: usize, dt: f64, level: &[[f64; 4]; 5]) -> [[f64; 4]; 5] {
-    let mut next = [[0.0; 4]; 5];
-    for m in 3 - P..4 {
-        let poly = &mut next[m];
-        let j = i - 3 + m;
-        // ((k_i − k_j) + Δu) / (k_{j+p} − k_j) · N_{j,p−1}
-        let left = knots[j + P] - knots[j];
-        if left > 0.0 {
-            add_times_linear(poly, &level[m], (knots[i] - knots[j]) / left, dt / left);
-        }
-        // ((k_{j+p+1} − k_i) − Δu) / (k_{j+p+1} − k_{j+1}) · N_{j+1,p−1}
-        let right = knots[j + P + 1] - knots[j + 1];
-        if right > 0.0 {
-            let c0 = (knots[j + P + 1] - knots[i]) / right;
-            add_times_linear(poly, &level[m + 1], c0, -dt / right);
-        }
-    }
-    next
-}
-
-/// out += (c0 + c1 u) · poly (degrees stay within 3 on a cubic's recursion).
-#[inline(always)]
-fn add_times_linear(out: &mut [f64; 4], poly: &[f64; 4], c0: f64, c1: f64) {
-    for d in 0..4 {
-        out[d] += c0 * poly[d];
-        if d + 1 < 4 {
-            out[d + 1] += c1 * poly[d];
-        }
-    }
-}
