@@ -105,9 +105,8 @@ def _stacked(items, otherwise=None):
     first = items[0]
     if not isinstance(first, np.ndarray) or first.dtype.kind not in "biuf":
         return otherwise
-    # np.array checks the shapes in C (a Python check of 10,000 arrays cost 13 ms) and copies
-    # in 0.3x np.stack's time (1.5 ms against 4.8 for 10,000 arrays of 100); another type
-    # among them shows in the result's.
+    # np.array checks the shapes in C and copies faster than np.stack (docs/benchmarks.md);
+    # another type among them shows in the result's.
     try:
         stacked = np.array(items)
     except (ValueError, TypeError):
@@ -250,7 +249,7 @@ def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
     """A batch's x (a list of 1-D arrays or a 2-D array) and weights (None for unit weights,
     or one 1-D array per series) as the extension takes them (`_batch`), and the (S + 1,)
     offsets where each series starts, were they laid end to end."""
-    # A 2-D xs' rows are not made into arrays one by one (10,000 rows: 8 ms).
+    # A 2-D xs' rows are not made into arrays one by one (docs/benchmarks.md).
     lengths = [xs.shape[1]] * len(xs) if isinstance(xs, np.ndarray) else [len(x) for x in xs]
     offsets = np.concatenate([[0], np.cumsum(lengths, dtype=np.int64)]).astype(np.int64)
     if ws is None:

@@ -108,8 +108,8 @@ fn rows<'a>(a: &'a PyReadonlyArray2<'_, f64>) -> PyResult<Vec<&'a [f64]>> {
 }
 
 /// A per-curve kind field: one C-contiguous (C, k) array, a row per curve (one borrow: the
-/// rows of one array handed over as thousands of views made each borrow check the others,
-/// 10,000 curves' knots and weights 150 ms), or a list with an array or None per curve.
+/// rows of one array handed over as thousands of views made each borrow check the others;
+/// docs/benchmarks.md), or a list with an array or None per curve.
 #[derive(FromPyObject)]
 enum PerCurve<'py> {
     Dense(PyReadonlyArray2<'py, f64>),
@@ -252,8 +252,7 @@ impl Context {
         let same_dim = (0..job.len()).all(|c| layout.dim(c) == dim);
         match &self.gpu {
             // NumPy's own arrays, filled in place: its allocator advises large arrays as huge
-            // pages, which a Rust Vec handed over does not get (a fresh 318 MB result pays
-            // about 2.8 us per 4 KiB page here without them).
+            // pages, which a Rust Vec handed over does not get (fresh pages: docs/benchmarks.md).
             None if same_dim => Out::zeros::<f64>(py, &job)?.fill(py, &job, None, offsets),
             Some(gpu) if same_dim => {
                 Out::zeros::<f32>(py, &job)?.fill(py, &job, Some(gpu), offsets)

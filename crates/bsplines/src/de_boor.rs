@@ -198,8 +198,8 @@ pub fn cubic_span_polynomials(knots: &[f64], i: usize) -> [[f64; 4]; 4] {
     let mut level = [[0.0; 4]; 5];
     level[3][0] = 1.0;
     // One function per degree, so that its loops have constant bounds and the levels stay
-    // in registers (0.6x the time of one loop over the degrees, the same arithmetic bit for
-    // bit).
+    // in registers (faster than one loop over the degrees, the same arithmetic bit for bit;
+    // docs/benchmarks.md has the figure).
     let level = raise::<1>(knots, i, dt, &level);
     let level = raise::<2>(knots, i, dt, &level);
     let level = raise::<3>(knots, i, dt, &level);

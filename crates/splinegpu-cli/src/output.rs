@@ -327,7 +327,7 @@ fn csv_rows_text<F: SampleFloat + zmij::Float>(
 /// number before the one ahead of it is copied. Reading digits back right after zmij stored
 /// them stalls: the copy's wide loads span several of its narrow stores, which cannot be
 /// forwarded, so the load waits for them to reach the cache. Another number's formatting in
-/// between hides that wait: 1,048,576 rows of w1 on two threads went from 81 to 58 ms.
+/// between hides that wait (docs/benchmarks.md has the figure).
 fn put_values<F: zmij::Float + Copy>(
     text: &mut Text,
     [a, b]: &mut [zmij::Buffer; 2],
@@ -539,9 +539,8 @@ const WRITEBACK_BYTES: u64 = 8 << 20;
 /// to the disk as soon as they are written (`posix_fadvise(POSIX_FADV_DONTNEED)` on Linux,
 /// which starts the writeback of a range's dirty pages and returns), so that the `sync_all`
 /// before the rename waits only for the last of them. Without it the disk receives the file
-/// only in that sync, after every byte is made (w1's 318 MB NPZ: about 140 ms of waiting);
-/// a second thread calling `sync_data` every 20 ms instead paid a journal commit and a disk
-/// flush each time. The advice is only a hint: a failure changes nothing, and the final
+/// only in that sync, after every byte is made; a second thread calling `sync_data` at
+/// intervals instead paid a journal commit and a disk flush each time (docs/benchmarks.md). The advice is only a hint: a failure changes nothing, and the final
 /// `sync_all` reports any error in the writing.
 struct WritebackStarter<'a> {
     file: &'a fs::File,

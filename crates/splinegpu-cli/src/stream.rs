@@ -226,10 +226,9 @@ fn write_json_long_curve<F: SampleFloat + zmij::Float>(
     Ok(())
 }
 
-/// Samples per chunk at most for NPZ: 262,144 (6 MiB of 3-D f64 positions). w1 into a file
-/// (min of 6, three runs): 240-261 ms in chunks of 1,048,576 samples, 229-238 ms in chunks of
-/// 262,144, 225-239 ms in chunks of 65,536. (CSV formats a chunk's rows in blocks on every
-/// thread, and wants its chunks large.)
+/// Samples per chunk at most for NPZ: 262,144 (6 MiB of 3-D f64 positions), chosen by w1 into
+/// a file (docs/benchmarks.md). (CSV formats a chunk's rows in blocks on every thread, and
+/// wants its chunks large.)
 const NPZ_CHUNK_SAMPLES: usize = 1 << 18;
 
 /// The contract's NPZ: "t" (N,) f64, "points" (N, D), "d1" and "d2" (N, D) when asked for, and

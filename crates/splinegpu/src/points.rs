@@ -121,7 +121,7 @@ pub(crate) fn check_finite(coords: &[f64], dim: usize) -> Result<(), InputError>
 
 /// True when every value is finite: one pass without an early exit, which the compiler turns
 /// into vector compares (a search for the first bad value runs only when there is one; the
-/// search alone measured about 3x slower on a million-knot fit's values).
+/// search alone measured slower on a million-knot fit's values: docs/benchmarks.md).
 #[must_use]
 pub(crate) fn all_finite(values: &[f64]) -> bool {
     values.iter().fold(true, |ok, v| ok & v.is_finite())
@@ -151,8 +151,7 @@ pub(crate) fn extent_and_finite(coords: &[f64], dim: usize) -> (f64, bool) {
         return (extent, all_finite(coords));
     }
     // Stack arrays and plain comparisons: this runs over every point of million-knot fits,
-    // with the dimension known at compile time for the common ones (about 3x faster on a
-    // million 3-D points).
+    // with the dimension known at compile time for the common ones (docs/benchmarks.md).
     for_dimension!(dim, extent_of, MAX_DIM)(coords, dim)
 }
 

@@ -11,8 +11,7 @@ use splinegpu::available_threads;
 pub const REPETITIONS: usize = 5;
 
 /// The seconds of timed runs a measurement gathers at least, where [`MAX_REPETITIONS`] allow:
-/// 5 runs of cli-w1's outputs (about a second each here) take longer than this, while memset
-/// (about 4 ms) gets 100 runs.
+/// 5 runs of cli-w1's outputs take longer than this, while memset gets 100 runs.
 pub const TIMED_SECONDS: f64 = 0.5;
 
 /// The most timed runs per measurement.
@@ -111,10 +110,10 @@ pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
 }
 
 /// The bytes memset writes, one per repetition: never zero and never the byte before, so that
-/// every store changes memory. Zeros written over zeros are about 3x faster on some machines
-/// than any other store (this one: 119 MB in 1.3 ms against 3.9 ms for any other byte; the
-/// CPU drops stores that change nothing), and would make memset a bound no evaluator
-/// writing real values can approach.
+/// every store changes memory. Zeros written over zeros are several times faster on some
+/// machines than any other store (the CPU drops stores that change nothing;
+/// docs/benchmarks.md), and would make memset a bound no evaluator writing real values can
+/// approach.
 #[derive(Default)]
 pub(crate) struct StoreBytes(u8);
 

@@ -80,7 +80,7 @@ pub fn parse_document_from_reader(reader: impl io::Read) -> Result<EvalJob, Inpu
 pub fn parse_input_from_reader(mut reader: impl io::Read) -> Result<Document, InputError> {
     let start = read_past_bom(&mut reader).map_err(|e| syntax(&serde_json::Error::io(e)))?;
     // serde_json takes a reader's bytes one at a time, which only a `BufReader` serves from
-    // its buffer: through the bare chain w1's document parsed in 169-173 ms, not 95-99.
+    // its buffer (the bare chain took w1's document nearly twice as long: docs/benchmarks.md).
     let reader = io::BufReader::with_capacity(1 << 16, start.chain(reader));
     into_document(parse(&mut serde_json::Deserializer::from_reader(reader))?)
 }

@@ -313,8 +313,7 @@ impl<'de> Visitor<'de> for CurvesSeed<'_> {
 }
 
 /// Curves handed to the fitting thread at a time: one message per curve cost w1's document
-/// more than the fitting it moved (10,000 Catmull-Rom curves: 129-130 to 137-141 ms), one per
-/// 64 curves saves it (116-120 ms).
+/// more than the fitting it moved, one per 64 curves saves it (docs/benchmarks.md).
 pub(crate) const FIT_BATCH: usize = 64;
 
 /// "surfaces": an array of surface objects, read whole (a surface's net is its size) and

@@ -193,7 +193,7 @@ fn run<const NU: usize, const D: usize, F: SampleFloat>(
     }
     // In blocks: every t of a block placed first, then every value written. Two short loops
     // of independent iterations keep more places and Horner chains in flight than one long
-    // loop body (eval-at, one thread: 175 ms fused, see the commit for the blocked figure).
+    // loop body (eval-at, one thread: docs/benchmarks.md).
     let mut places = [(0usize, 0f64); BLOCK];
     for (b, (at, out)) in at
         .chunks(BLOCK)

@@ -48,8 +48,8 @@ pub fn evaluate_reference(job: &EvalJob) -> Samples<f64> {
 /// The threads of the pool this crate's parallel stages run on (at least 1; rayon's global
 /// pool: one per CPU this process may use, or `RAYON_NUM_THREADS`): the default for the
 /// `threads` arguments of this crate. Cheap: the pool's size is read once, where
-/// `std::thread::available_parallelism` reads the cgroup's limits on every call (about 20 us
-/// here, more than a small call's whole work).
+/// `std::thread::available_parallelism` reads the cgroup's limits on every call (more than a
+/// small call's whole work; docs/benchmarks.md).
 #[must_use]
 pub fn available_threads() -> usize {
     rayon::current_num_threads().max(1)
@@ -126,8 +126,7 @@ evaluated_here!(f32, f64);
 /// [`evaluate_range`] compiled for the widest vectors this CPU has: AVX-512 (8 f64 lanes),
 /// else AVX2 (4), else the x86-64 baseline's SSE2 (2). Every build does the same IEEE
 /// operations in the same order (Rust never fuses a multiply and an add on its own), so all
-/// give the same bits. On w1, one thread (fastest of three alternated runs of 30): 16.8 ms
-/// baseline, 12.6 AVX2, 9.6 AVX-512.
+/// give the same bits (docs/benchmarks.md has each one's time on w1).
 pub(crate) fn evaluate_range_fastest<F: SampleFloat>(
     job: &EvalJob,
     range: std::ops::Range<usize>,
@@ -308,7 +307,7 @@ fn curve_range<F: SampleFloat>(
 /// Samples at `locs` into `out`, one after the other, with the dimension known at compile time
 /// for D <= 4. Each sample reads its segment's coefficients straight from the table: going
 /// through [`segment_block`] per sample (a `Segment`, its slices and a one-element block) cost
-/// about 3x the arithmetic on eval-at.
+/// more than the arithmetic on eval-at (docs/benchmarks.md).
 #[inline(always)]
 fn at_places<F: SampleFloat>(table: &SegmentTable, locs: &[SampleLoc], out: [&mut [F]; 3]) {
     if table.is_rational() {
@@ -385,8 +384,8 @@ fn segment_block<F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [
 }
 
 /// [`block_any`] for a dimension fixed at compile time. The coefficients as arrays let the
-/// compiler drop the bounds checks and vectorize: on w1 this measured about 1.4x faster than
-/// `block_any` inlined with a constant dimension, so the two bodies stay separate (the
+/// compiler drop the bounds checks and vectorize: on w1 this measured faster than `block_any`
+/// inlined with a constant dimension (docs/benchmarks.md), so the two bodies stay separate (the
 /// formulas themselves are written once, in `segment`).
 #[inline(always)]
 fn block<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], out: [&mut [F]; 3]) {
@@ -462,7 +461,7 @@ fn rational<const D: usize, F: SampleFloat>(segment: &Segment<'_>, us: &[f64], o
     let w = segment.denominator().expect("a rational segment");
     let [points, d1, d2] = out;
     // 1/W(u) for a block of samples first: a loop of divisions alone, which vectorizes
-    // (w1-nurbs, 2 threads: 28.9 ms with one division inside each sample's loop).
+    // (docs/benchmarks.md has w1-nurbs with one division inside each sample's loop).
     let [wa, wb, wc, wd] = w.coeffs;
     let mut inv = [0.0; RATIONAL_BLOCK];
     for (us, points) in us

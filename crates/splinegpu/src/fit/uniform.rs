@@ -45,8 +45,7 @@ pub(crate) fn from_windows<'a>(
 }
 
 /// [`from_windows`]'s products for `D` coordinates known at compile time (a fit of a few
-/// segments is dominated by its loop overhead otherwise: 1,000 closed curves of 9 points took
-/// 0.74 ms).
+/// segments is dominated by its loop overhead otherwise; docs/benchmarks.md).
 #[inline(always)]
 fn fill<'a, const D: usize>(
     points: &[f64],

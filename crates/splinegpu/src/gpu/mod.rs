@@ -104,7 +104,8 @@ pub struct GpuContext {
     pipelines: [wgpu::ComputePipeline; curves::abi::MODES],
     /// Whether the kernel's output buffer is mapped and read itself (a CPU adapter with
     /// `MAPPABLE_PRIMARY_BUFFERS`, where device memory is host memory), instead of copied into
-    /// a download buffer first: on lavapipe that copy cost about 8 ms of w1's 60 end to end.
+    /// a download buffer first (on lavapipe that copy was a large share of w1's time end to
+    /// end: docs/benchmarks.md).
     map_output: bool,
     /// Buffers kept between calls, so that repeated jobs neither allocate nor page-fault.
     pool: std::sync::Mutex<pool::BufferPool>,

@@ -6,7 +6,7 @@ use std::sync::{Mutex, PoisonError};
 
 /// Device buffers by role, kept between evaluations and grown when a job needs more. Fresh
 /// memory is expensive on CPU adapters (lavapipe backs buffers with host pages that fault in
-/// on first touch, writing them about 15x slower than touched memory). An evaluation
+/// on first touch, writing them far slower than touched memory; docs/benchmarks.md). An evaluation
 /// takes its buffers out and puts them back when done, so concurrent evaluations on one
 /// context never share a buffer.
 #[derive(Debug, Default)]

@@ -1,8 +1,7 @@
 //! Large buffers backed by transparent huge pages where Linux allows it.
 //!
-//! A fresh page costs a fault on its first touch: about 2.8 us per 4 KiB page on the machines
-//! this crate is measured on, so the 104 MB table of a 1 M-knot fit in 3-D paid some 70 ms
-//! before a value was written. NumPy asks for huge pages on its large arrays
+//! A fresh page costs a fault on its first touch (docs/benchmarks.md has what it cost a
+//! million-knot fit's table on the machines this crate is measured on). NumPy asks for huge pages on its large arrays
 //! (`madvise(MADV_HUGEPAGE)`), and a system whose transparent huge pages are set to "madvise"
 //! (the usual default) gives them only where asked: a 2 MiB page costs one fault. The crate's
 //! own large buffers ask the same before they are first touched.

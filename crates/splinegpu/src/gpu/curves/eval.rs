@@ -92,7 +92,7 @@ impl GpuContext {
         // Every t is known on the host unless the kernel places arc-length samples: formed
         // while the device works, except when the device is timed. A CPU adapter's device
         // shares the host's cores, so that work would slow the kernel and be counted in its
-        // time (lavapipe, w1: 7-9 ms of t).
+        // time (lavapipe: docs/benchmarks.md).
         let t_known = outputs.arc_places.is_none();
         if t_known && !timed {
             fill_t(job, &packed.computed_t, &[], t);
