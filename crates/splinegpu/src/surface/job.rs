@@ -18,6 +18,16 @@ use crate::error::InputError;
 use crate::job::Derivatives;
 use crate::{SampleFloat, memory};
 
+/// What pushing a surface made: its plan, or (a plan the job will not keep, whose counts
+/// follow from the sampling) its counts alone.
+enum Planned {
+    Plan(SurfacePlan),
+    Counted {
+        vertices: usize,
+        triangles: Option<usize>,
+    },
+}
+
 /// One surface of a [`SurfaceJob`]: its patches, its sampling, its plan's sizes, and the plan
 /// when the job keeps it.
 #[derive(Debug)]
@@ -27,6 +37,9 @@ pub struct JobSurface {
     vertices: usize,
     triangles: Option<usize>,
     plan: Option<SurfacePlan>,
+    /// A plan not kept: its cells per patch, from which it is made again without the
+    /// tolerance's bounds (empty where the sampling makes it as cheaply).
+    cells: Vec<[u32; 2]>,
 }
 
 impl JobSurface {
@@ -59,6 +72,10 @@ impl JobSurface {
     pub fn plan(&self) -> Cow<'_, SurfacePlan> {
         match &self.plan {
             Some(plan) => Cow::Borrowed(plan),
+            None if !self.cells.is_empty() => Cow::Owned(
+                SurfacePlan::from_cells(&self.table, &self.cells)
+                    .expect("the cells of the plan made when the surface was pushed"),
+            ),
             None => Cow::Owned(
                 SurfacePlan::new(&self.table, &self.sampling)
                     .expect("the same plan was made when the surface was pushed"),
@@ -66,6 +83,12 @@ impl JobSurface {
         }
     }
 }
+
+/// Vertices whose per_segment plans a new job keeps: 2^20 (40 MiB of plans). Holding every
+/// plan of a large job costs its memory's first touch (about 3 us a 4 KiB page on this
+/// project's machines), more than making a grid's plan again while it is in the cache
+/// (docs/benchmarks.md).
+pub const KEPT_VERTICES: usize = 1 << 20;
 
 /// Many surfaces to evaluate together (see the module docs).
 ///
@@ -93,13 +116,19 @@ pub struct SurfaceJob {
     /// when they are evaluated.
     keep_vertices: usize,
     kept: usize,
+    /// Whether the bound holds for every plan (`keeping_plans_up_to`), or only for those made
+    /// again as cheaply as they are counted (per_segment on a net; a new job's).
+    bound_every_plan: bool,
     /// The memory available, read once (at the first surface that needs it).
     available: OnceLock<Option<u64>>,
 }
 
 impl SurfaceJob {
     /// An empty job forming the planes `derivatives` asks for, and unit normals when
-    /// `normals` (every surface must then be 3-D). It keeps every plan.
+    /// `normals` (every surface must then be 3-D). Past its first [`KEPT_VERTICES`] vertices
+    /// it counts per_segment nets without planning them (their plans are made while they are
+    /// evaluated) and keeps the other plans, which cost more to make again (a tolerance's
+    /// bounds, a patch list's welding); [`SurfaceJob::keeping_plans_up_to`] bounds them all.
     #[must_use]
     pub fn new(derivatives: Derivatives, normals: bool) -> Self {
         Self {
@@ -108,18 +137,21 @@ impl SurfaceJob {
             surfaces: Vec::new(),
             vertex_offsets: vec![0],
             triangle_offsets: vec![0],
-            keep_vertices: usize::MAX,
+            keep_vertices: KEPT_VERTICES,
             kept: 0,
+            bound_every_plan: false,
             available: OnceLock::new(),
         }
     }
 
     /// This job, keeping the plans (40 bytes a vertex) of the surfaces first pushed up to
-    /// `vertices` in all and making the others again when they are evaluated: memory stays
-    /// bounded however many surfaces are pushed.
+    /// `vertices` in all and making the others again when they are evaluated (each then
+    /// dropped as soon as its surface is evaluated): memory stays bounded however many
+    /// surfaces are pushed, and a plan is touched while it is still in the cache.
     #[must_use]
     pub fn keeping_plans_up_to(mut self, vertices: usize) -> Self {
         self.keep_vertices = vertices;
+        self.bound_every_plan = true;
         self
     }
 
@@ -131,9 +163,29 @@ impl SurfaceJob {
     /// plan is made); the sampling's own errors ([`SurfacePlan::new`]). The job is unchanged.
     pub fn push(&mut self, table: PatchTable, sampling: SurfaceSampling) -> Result<(), InputError> {
         self.check(&table, &sampling)?;
-        let plan = SurfacePlan::new(&table, &sampling)?;
-        self.append(table, sampling, plan);
+        let planned = self.planned_for(&table, &sampling, self.kept)?;
+        self.append(table, sampling, planned);
         Ok(())
+    }
+
+    /// What the job holds of a surface pushed with `kept` vertices' plans kept before it: its
+    /// plan where it will be kept or where only the plan gives its counts, else its counts
+    /// alone (the plan is made again when it is evaluated).
+    fn planned_for(
+        &self,
+        table: &PatchTable,
+        sampling: &SurfaceSampling,
+        kept: usize,
+    ) -> Result<Planned, InputError> {
+        if let Some((vertices, triangles)) = SurfacePlan::counts(table, sampling)?
+            && kept.saturating_add(vertices) > self.keep_vertices
+        {
+            return Ok(Planned::Counted {
+                vertices,
+                triangles: Some(triangles),
+            });
+        }
+        SurfacePlan::new(table, sampling).map(Planned::Plan)
     }
 
     /// Adds many surfaces, planned on every thread, in order.
@@ -146,13 +198,22 @@ impl SurfaceJob {
         surfaces: Vec<(PatchTable, SurfaceSampling)>,
     ) -> Result<(), InputError> {
         let first = self.len();
+        // An upper estimate of the vertices kept before each surface (as if every counted
+        // surface's plan were kept), so that planning on every thread never keeps more than
+        // the bound allows; `append` keeps within it exactly.
+        let mut kept = Vec::with_capacity(surfaces.len());
+        let mut before = self.kept;
         for (i, (table, sampling)) in surfaces.iter().enumerate() {
             self.check(table, sampling)
                 .map_err(|e| e.in_surface(first + i))?;
+            kept.push(before);
+            let counted = SurfacePlan::vertex_count(table, sampling).unwrap_or(0);
+            before = before.saturating_add(usize::try_from(counted).unwrap_or(usize::MAX));
         }
-        let plans: Vec<Result<SurfacePlan, InputError>> = surfaces
+        let plans: Vec<Result<Planned, InputError>> = surfaces
             .par_iter()
-            .map(|(table, sampling)| SurfacePlan::new(table, sampling))
+            .zip(kept)
+            .map(|((table, sampling), kept)| self.planned_for(table, sampling, kept))
             .collect();
         let mut planned = Vec::with_capacity(plans.len());
         for (i, plan) in plans.into_iter().enumerate() {
@@ -175,13 +236,29 @@ impl SurfaceJob {
         self.check_fits(table, sampling)
     }
 
-    /// Appends a planned surface and its place in the layout.
-    fn append(&mut self, table: PatchTable, sampling: SurfaceSampling, plan: SurfacePlan) {
-        let (vertices, triangles) = (plan.vertices.len(), plan.triangles.as_ref().map(Vec::len));
-        let keep = self.kept.saturating_add(vertices) <= self.keep_vertices;
+    /// Appends a planned (or counted) surface and its place in the layout.
+    fn append(&mut self, table: PatchTable, sampling: SurfaceSampling, planned: Planned) {
+        let (vertices, triangles, plan) = match planned {
+            Planned::Plan(plan) => (
+                plan.vertices.len(),
+                plan.triangles.as_ref().map(Vec::len),
+                Some(plan),
+            ),
+            Planned::Counted {
+                vertices,
+                triangles,
+            } => (vertices, triangles, None),
+        };
+        let within = self.kept.saturating_add(vertices) <= self.keep_vertices;
+        let keep = plan.is_some() && (within || !self.bound_every_plan);
         if keep {
             self.kept += vertices;
         }
+        // A tolerance plan let go keeps its cells: made again from them, it skips the bounds.
+        let cells = match (&plan, &sampling) {
+            (Some(plan), SurfaceSampling::Tolerance(_)) if !keep => plan.cells.clone(),
+            _ => Vec::new(),
+        };
         let last = |offsets: &[u64]| *offsets.last().expect("offsets start at 0");
         self.vertex_offsets
             .push(last(&self.vertex_offsets) + vertices as u64);
@@ -192,7 +269,8 @@ impl SurfaceJob {
             sampling,
             vertices,
             triangles,
-            plan: keep.then_some(plan),
+            plan: plan.filter(|_| keep),
+            cells,
         });
     }
 
@@ -314,8 +392,10 @@ impl SurfaceJob {
     /// If `range` is not within the job.
     #[must_use]
     pub fn evaluate_cpu_group(&self, range: Range<usize>) -> Vec<SurfaceSamples> {
+        // Surfaces on every thread (each also splits its vertices), a plan made again only
+        // for its own surface's evaluation.
         self.surfaces[range]
-            .iter()
+            .par_iter()
             .map(|s| evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals))
             .collect()
     }
@@ -418,6 +498,48 @@ mod tests {
         assert!(job.surfaces()[1].plan.is_none());
         let again = job.evaluate_cpu_group(1..2);
         assert_eq!(again[0].len(), 8);
+    }
+
+    /// Plans let go are made again bit for bit: per_segment from the sampling, tolerance from
+    /// the cells kept (both kinds of table), explicit (u, v) from the sampling.
+    #[test]
+    fn plans_not_kept_are_made_again_the_same() {
+        let list = {
+            let net = Net::new(3, 16, 1, (0..48).map(|i| f64::from(i % 11)).collect()).unwrap();
+            let patches = vec![std::array::from_fn(|k| k)];
+            Surface::new(SurfaceKind::BezierPatches { patches }, net)
+                .unwrap()
+                .fit()
+        };
+        // A 2 x 2 patch net with a sharp corner: rows and columns of different counts.
+        let sharp = {
+            let coords = (0..49)
+                .flat_map(|p| {
+                    let (i, j) = (p / 7, p % 7);
+                    [f64::from(i), f64::from(j), if p == 0 { 40.0 } else { 0.0 }]
+                })
+                .collect();
+            Surface::new(SurfaceKind::Bezier, Net::new(3, 7, 7, coords).unwrap())
+                .unwrap()
+                .fit()
+        };
+        let samplings = [
+            (bezier(3), SurfaceSampling::PerSegment([3, 2])),
+            (sharp, SurfaceSampling::Tolerance(0.05)),
+            (bezier(3), SurfaceSampling::Tolerance(0.01)),
+            (list, SurfaceSampling::Tolerance(0.02)),
+            (bezier(3), SurfaceSampling::At(vec![[0.25, 0.5], [1.0, 0.0]])),
+        ];
+        for (table, sampling) in samplings {
+            let want = SurfacePlan::new(&table, &sampling).unwrap();
+            let mut job = SurfaceJob::new(Derivatives::None, false).keeping_plans_up_to(0);
+            job.push(table, sampling.clone()).unwrap();
+            let surface = &job.surfaces()[0];
+            assert!(surface.plan.is_none(), "{sampling:?}");
+            assert_eq!(*surface.plan(), want, "{sampling:?}");
+            assert_eq!(surface.vertices(), want.vertices.len());
+            assert_eq!(surface.triangles(), want.triangles.as_ref().map(Vec::len));
+        }
     }
 
     #[test]

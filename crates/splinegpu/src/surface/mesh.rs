@@ -73,12 +73,7 @@ impl SurfacePlan {
         match (sampling, table.knots()) {
             (SurfaceSampling::Tolerance(tol), _) => SurfacePlan::tolerance(table, *tol),
             (SurfaceSampling::PerSegment(k), Some(knots)) => {
-                if k.contains(&0) {
-                    return Err(InputError::field(
-                        "sampling",
-                        format!("per_segment counts must be >= 1, got [{}, {}]", k[0], k[1]),
-                    ));
-                }
+                check_per_segment(*k)?;
                 let ku = vec![k[0] as usize; knots[0].len() - 1];
                 let kv = vec![k[1] as usize; knots[1].len() - 1];
                 grid(knots, table.closed(), [&ku, &kv])
@@ -114,6 +109,70 @@ impl SurfacePlan {
 }
 
 impl SurfacePlan {
+    /// The grid plan whose `cells` (per patch, as [`SurfacePlan::cells`] holds them) are
+    /// given, made again without the counts' bounds: a net's grid or a patch list's welded
+    /// grids, bit for bit the plan those cells came from.
+    ///
+    /// # Errors
+    /// Cells that are not one per patch, or a grid past u32 indices.
+    pub fn from_cells(table: &PatchTable, cells: &[[u32; 2]]) -> Result<Self, InputError> {
+        if cells.len() != table.len() {
+            return Err(InputError::field(
+                "cells",
+                format!("must be one per patch ({}), got {}", table.len(), cells.len()),
+            ));
+        }
+        let cells: Vec<[usize; 2]> = cells.iter().map(|c| c.map(|k| k as usize)).collect();
+        match (table.knots(), table.patch_indices()) {
+            (Some(knots), _) => {
+                let across = knots[1].len() - 1;
+                let ku: Vec<usize> = cells.iter().step_by(across).map(|c| c[0]).collect();
+                let kv: Vec<usize> = cells[..across].iter().map(|c| c[1]).collect();
+                grid(knots, table.closed(), [&ku, &kv])
+            }
+            (None, Some(patches)) => welded(patches, &cells),
+            (None, None) => unreachable!("a table is a net or a patch list"),
+        }
+    }
+}
+
+/// Refuses a per_segment count of 0 on a net.
+fn check_per_segment(k: [u32; 2]) -> Result<(), InputError> {
+    if k.contains(&0) {
+        return Err(InputError::field(
+            "sampling",
+            format!("per_segment counts must be >= 1, got [{}, {}]", k[0], k[1]),
+        ));
+    }
+    Ok(())
+}
+
+impl SurfacePlan {
+    /// The vertices and triangles of the plan [`SurfacePlan::new`] would make, with its
+    /// checks, where they follow from the sampling alone (per_segment on a net: a grid of
+    /// (Σ k_u + open) x (Σ k_v + open) vertices and 2 · Σ k_u · Σ k_v triangles); `None` where
+    /// only the plan says (a welded patch list, explicit (u, v), a tolerance).
+    ///
+    /// # Errors
+    /// As [`SurfacePlan::new`] for the samplings it counts.
+    pub fn counts(
+        table: &PatchTable,
+        sampling: &SurfaceSampling,
+    ) -> Result<Option<(usize, usize)>, InputError> {
+        let (SurfaceSampling::PerSegment(k), Some(knots)) = (sampling, table.knots()) else {
+            return Ok(None);
+        };
+        check_per_segment(*k)?;
+        let closed = table.closed();
+        let cells = [0, 1].map(|d| (knots[d].len() - 1) as u64 * u64::from(k[d]));
+        let lines = [0, 1].map(|d| cells[d] + u64::from(!closed[d]));
+        check_count(lines[0].saturating_mul(lines[1]))?;
+        Ok(Some((
+            (lines[0] * lines[1]) as usize,
+            (2 * cells[0] * cells[1]) as usize,
+        )))
+    }
+
     /// The vertices `sampling` gives on `table`, counted without making the plan (a patch
     /// list's welded grids: their bound, each patch's grid whole); None for a tolerance
     /// sampling, whose counts come from the patches' bounds as the plan is made. What a

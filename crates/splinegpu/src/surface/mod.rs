@@ -38,7 +38,7 @@ use crate::points::MAX_DIM;
 use direction::Direction;
 
 pub use eval::{SurfacePlanes, SurfaceSamples};
-pub use job::{JobSurface, SurfaceJob};
+pub use job::{JobSurface, KEPT_VERTICES, SurfaceJob};
 pub use kinds::{
     SURFACE_KINDS, SurfaceFields, not_a_surface_field, not_a_surface_kind, surface_kind_fields,
 };
