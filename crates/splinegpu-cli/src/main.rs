@@ -27,7 +27,7 @@ enum Command {
     Tessellate {
         /// The input document, or `-` for standard input.
         input: String,
-        /// Where to write; standard output when absent.
+        /// Where to write; standard output when absent or `-`.
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Output format; by default the extension of OUTPUT (.csv, .json, .npz, .glb, .obj),
@@ -129,7 +129,11 @@ fn main() -> ExitCode {
             output,
             format,
             backend,
-        } => tessellate(&input, output.as_deref(), format, backend),
+        } => {
+            // `-o -` is standard output, as INPUT's `-` is standard input.
+            let output = output.filter(|path| path.as_os_str() != "-");
+            tessellate(&input, output.as_deref(), format, backend)
+        }
         Command::Bench { workloads, json } => bench(&workloads, json),
         Command::Info => info(),
     };

@@ -469,7 +469,9 @@ const WRITE_BUFFER: usize = 1 << 20;
 /// Writes the output at `path` as the contract says:
 /// - a regular file, or a new path, appears only whole: `write` fills a temporary file beside
 ///   it, which is renamed onto `path` only when `write` succeeds; on any failure the temporary
-///   file is removed and an existing file stays as it was;
+///   file is removed and an existing file stays as it was. An existing file the user may not
+///   write is refused before anything is written (`PermissionDenied`), and the new file keeps
+///   an existing one's mode;
 /// - a device, FIFO or socket is written directly, never replaced;
 /// - a symbolic link is followed to the file it names (which is then treated as above).
 ///
@@ -588,6 +590,15 @@ fn write_atomically<E: From<io::Error>>(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // A file already there is replaced only where the user may write it (as `cp` and
+    // `sort -o` refuse), and the replacement keeps its mode.
+    let existing = match fs::metadata(path) {
+        Ok(meta) if meta.is_file() => {
+            fs::OpenOptions::new().write(true).open(path)?;
+            Some(meta.permissions())
+        }
+        _ => None,
+    };
     let mut builder = tempfile::Builder::new();
     builder.prefix(".splinegpu-").suffix(".tmp");
     // tempfile makes private (0600) files; ask for 0666 so that, after the umask, the output
@@ -606,6 +617,9 @@ fn write_atomically<E: From<io::Error>>(
         write(&mut out)?;
         out.flush()?;
         drop(out);
+        if let Some(permissions) = existing {
+            file.as_file().set_permissions(permissions)?;
+        }
         file.as_file().sync_all()?;
         file.persist(path).map_err(|e| e.error)?;
         Ok(())

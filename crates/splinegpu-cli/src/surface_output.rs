@@ -563,5 +563,10 @@ fn write_glb<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> i
         json: Cow::Owned(text),
         bin: Some(Cow::Owned(bin)),
     };
-    glb.to_writer(out).map_err(io::Error::other)
+    // The writer's own error, kind and all (a closed pipe is `BrokenPipe`, which ends the run
+    // quietly, as for every other format).
+    glb.to_writer(out).map_err(|e| match e {
+        gltf::Error::Io(e) => e,
+        other => io::Error::other(other),
+    })
 }

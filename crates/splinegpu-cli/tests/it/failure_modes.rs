@@ -454,3 +454,119 @@ fn stdin_documents_stream_too() {
         2 * 3 + 1
     );
 }
+
+/// A surface document whose .glb is far more than a pipe holds (a 4 x 4 net at
+/// per_segment [300, 300]: 90,601 vertices, about 1.8 MB).
+fn big_surface_document() -> String {
+    let net: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| [f64::from(i), f64::from(j), f64::from((i + j) % 3)])
+                .collect()
+        })
+        .collect();
+    format!(
+        r#"{{"sampling": {{"per_segment": [300, 300]}}, "surfaces": [{{"kind": "bspline", "points": {}}}]}}"#,
+        serde_json::to_string(&net).unwrap()
+    )
+}
+
+#[test]
+fn a_glb_reader_that_closes_early_ends_the_run_quietly() {
+    // Exit 1 "Broken pipe" before: the .glb writer's error hid the pipe's.
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "surface.json", &big_surface_document());
+    let mut child = spawn(
+        &[
+            "tessellate",
+            input.to_str().unwrap(),
+            "--format",
+            "glb",
+            "--backend",
+            "cpu",
+        ],
+        Stdio::piped(),
+    );
+    let mut magic = [0u8; 4];
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_exact(&mut magic)
+        .unwrap();
+    assert_eq!(&magic, b"glTF");
+    let stderr = stderr_of(&mut child);
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}: {stderr}");
+    assert_eq!(stderr, "", "nothing on stderr");
+}
+
+#[test]
+fn a_dash_as_output_is_standard_output() {
+    // A file named "-" was written before.
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "doc.json", &document(2, 4));
+    let out = Command::new(BIN)
+        .current_dir(dir.path())
+        .args(["tessellate", "doc.json", "-o", "-", "--backend", "cpu"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stdout.starts_with(b"curve,sample,t,x0"));
+    assert_eq!(out.stdout, regular_output(dir.path(), &input));
+    assert!(!dir.path().join("-").exists());
+}
+
+#[test]
+fn a_replaced_output_keeps_its_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "doc.json", &document(2, 4));
+    let output = write(dir.path(), "out.csv", "old");
+    fs::set_permissions(&output, fs::Permissions::from_mode(0o640)).unwrap();
+    let mut child = tessellate_to(&input, &output, Some("cpu"), Stdio::null());
+    let stderr = stderr_of(&mut child);
+    assert!(child.wait().unwrap().success(), "{stderr}");
+    let mode = fs::metadata(&output).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o640, "the mode was {mode:o}");
+    assert_ne!(fs::read(&output).unwrap(), b"old");
+}
+
+#[test]
+fn an_output_the_user_may_not_write_is_refused_and_kept() {
+    // As `cp` and `sort -o` refuse it; before, the rename replaced it (a writable folder lets
+    // anyone rename over a file they may not write). Run as an unprivileged user (nobody,
+    // through setpriv) when the tests run as root, where every file is writable.
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    fs::set_permissions(dir.path(), fs::Permissions::from_mode(0o777)).unwrap();
+    let input = write(dir.path(), "doc.json", &document(2, 4));
+    let output = write(dir.path(), "theirs.csv", "not yours");
+    fs::set_permissions(&output, fs::Permissions::from_mode(0o444)).unwrap();
+    let args = [
+        "tessellate",
+        input.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+        "--backend",
+        "cpu",
+    ];
+    let out = if is_root() {
+        let Ok(out) = Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups", BIN])
+            .args(args)
+            .output()
+        else {
+            eprintln!("skipping: no setpriv to drop root");
+            return;
+        };
+        out
+    } else {
+        Command::new(BIN).args(args).output().unwrap()
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("theirs.csv") && stderr.contains("ermission denied"), "{stderr}");
+    assert_eq!(fs::read(&output).unwrap(), b"not yours");
+    assert!(temporary_files_in(dir.path()).is_empty());
+}
