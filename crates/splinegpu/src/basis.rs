@@ -189,7 +189,28 @@ pub fn tensioned_bspline_rows(a: f64) -> Rows {
 pub fn beta_rows(b1: f64, b2: f64) -> Result<Rows, InputError> {
     let (s, c) = (b1 * b1, b1 * b1 * b1);
     let d = b2 + 2.0 * c + 4.0 * s + 4.0 * b1 + 2.0;
-    if d == 0.0 || !d.is_finite() {
+    // An overflow is the parameter's that overflows: bias enters d cubed, tension once.
+    if !c.is_finite() {
+        return Err(InputError::field(
+            "bias",
+            format!(
+                "is too large for a Beta-spline: bias^3 overflows float64 (bias {})",
+                Shown(b1)
+            ),
+        ));
+    }
+    if !d.is_finite() {
+        return Err(InputError::field(
+            "tension",
+            format!(
+                "is too large for a Beta-spline: d = b2 + 2b1^3 + 4b1^2 + 4b1 + 2 overflows \
+                 float64 (bias {}, tension {})",
+                Shown(b1),
+                Shown(b2)
+            ),
+        ));
+    }
+    if d == 0.0 {
         return Err(InputError::field(
             "tension",
             format!(

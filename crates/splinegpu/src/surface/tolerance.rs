@@ -37,7 +37,7 @@
 //! classes, by union-find, each taking its members' largest count. The vertices of a shared
 //! edge are then made once ([`welded`]): bit-identical, and no T-junctions.
 
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::surface::mesh::{SurfacePlan, grid, welded};
 use crate::surface::patch::{Patch, PatchTable};
 
@@ -108,8 +108,11 @@ pub(crate) fn patch_counts(patch: &Patch<'_>, tol: f64) -> Result<[usize; 2], In
         return Err(InputError::field(
             "sampling",
             format!(
-                "needs {vertices} vertices on one patch at this tolerance, more than 2^20 \
-                 ({nu} x {nv} cells)"
+                "needs {} vertices on one patch at this tolerance, more than 2^20 ({} x {} \
+                 cells)",
+                Shown(vertices),
+                Shown(nu),
+                Shown(nv)
             ),
         ));
     }

@@ -192,3 +192,15 @@ fn non_finite_parameters_are_errors() {
     let e = Basis::Matrix(m).try_rows().unwrap_err();
     assert!(e.to_string().contains("matrix[2][1]"), "{e}");
 }
+
+#[test]
+fn an_overflowing_beta_parameter_is_the_one_named() {
+    // bias^3 overflows: "bias" is named (it was blamed on "tension").
+    let e = beta_rows(1e300, 0.0).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("bias"), "{e}");
+    assert!(e.message.contains("1e300"), "{e}");
+    let e = beta_rows(1.0, f64::MAX).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("tension"), "{e}");
+    let e = beta_rows(-1.0, 0.0).unwrap_err();
+    assert!(e.message.contains("degenerate"), "{e}");
+}

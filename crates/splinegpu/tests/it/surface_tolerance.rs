@@ -351,6 +351,11 @@ fn bad_tolerances_are_named() {
         err.contains("\"sampling\"") && err.contains("more than 2^20") && err.contains("(patch 0)"),
         "{err}"
     );
+    // A count past 1e16 is printed in scientific form, not as its 300 digits.
+    let err = SurfacePlan::new(&table, &SurfaceSampling::Tolerance(1e-300))
+        .unwrap_err()
+        .to_string();
+    assert!(err.len() < 200 && err.contains("e"), "{err}");
 }
 
 #[test]
