@@ -52,6 +52,18 @@ def check_many(ts: list, c_lengths: list, k: int, named) -> None:
                          f"of degree {k} (wants at least {n[s]})")
 
 
+def cubic_knots_taken(t: np.ndarray) -> bool:
+    """Whether the crate's cubic B-splines (kind "nurbs") take the knots `t` (which SciPy's
+    rules passed): no value more than 4 times, none strictly inside the base interval
+    [t_3, t_n] more than 3 times (SciPy takes those; the spline breaks there)."""
+    t = np.asarray(t)
+    if np.any(t[4:] == t[:-4]):
+        return False
+    triple = t[3:] == t[:-3]
+    inside = (t[:-3] > t[3]) & (t[:-3] < t[-4])
+    return not np.any(triple & inside)
+
+
 def pieces(t: np.ndarray, c: np.ndarray, k: int):
     """The B-spline sum_i c_i B_{i,k} (c of shape (>= n, m)) as polynomial pieces: breakpoints
     (the distinct knots of the base interval) and coefficients (k + 1, P, m) in SciPy's power

@@ -459,11 +459,8 @@ def _end_conditions(end, trailing: tuple):
 def _cubic_ends(bc_type, n: int):
     """bc_type as CubicSpline's where the cubic fast path takes it (`_interp_bc`'s forms, and
     not-a-knot on 4 points or more), else None."""
-    try:
-        bc = _interp_bc(bc_type)
-    except ValueError:
-        return None
-    return None if bc == "not-a-knot" and n < 4 else bc
+    bc, _ = _cubic_bc(bc_type)
+    return None if bc is None or (bc == "not-a-knot" and n < 4) else bc
 
 
 def _cubic(x, y, bc, axis: int, context) -> BSpline:
@@ -492,36 +489,55 @@ def _interp_coefficients(x: np.ndarray, pieces: np.ndarray, bc):
 
 
 def _interp_bc(bc_type):
-    """make_interp_spline's bc_type as CubicSpline's."""
+    """make_interp_spline's bc_type as CubicSpline's, or a ValueError saying why it has none."""
+    bc, why = _cubic_bc(bc_type)
+    if why is not None:
+        raise ValueError(why)
+    return bc
+
+
+def _cubic_bc(bc_type):
+    """(make_interp_spline's bc_type as CubicSpline's, None), or (None, why it has none)."""
     if bc_type is None:
-        return "not-a-knot"
+        return "not-a-knot", None
     if isinstance(bc_type, str):
         if bc_type not in ("not-a-knot", "natural", "clamped", "periodic"):
-            raise ValueError(f"bc_type: unknown boundary condition {bc_type!r}")
-        return bc_type
-    try:
-        left, right = bc_type
-    except (TypeError, ValueError):
-        raise ValueError(f"bc_type: must be None, a name, or a pair (left, right), got "
-                         f"{bc_type!r}") from None
+            return None, f"bc_type: unknown boundary condition {bc_type!r}"
+        return bc_type, None
+    pair = _unpacked(bc_type, 2)
+    if pair is None:
+        return None, f"bc_type: must be None, a name, or a pair (left, right), got {bc_type!r}"
+    left, right = pair
     if left is None and right is None:
-        return "not-a-knot"
+        return "not-a-knot", None
 
     def end(spec, where: str):
         if isinstance(spec, str):
             if spec not in ("natural", "clamped"):
-                raise ValueError(f"bc_type: unknown boundary condition {spec!r} at the {where}")
-            return spec
-        try:
-            (order, value), = spec
-        except (TypeError, ValueError):
-            raise ValueError(f"bc_type: the {where} end must be \"natural\", \"clamped\" or a "
-                             f"list of one (order, value) for k=3, got {spec!r}") from None
+                return None, f"bc_type: unknown boundary condition {spec!r} at the {where}"
+            return spec, None
+        one = _unpacked(spec, 1)
+        derivative = None if one is None else _unpacked(one[0], 2)
+        if derivative is None:
+            return None, (f"bc_type: the {where} end must be \"natural\", \"clamped\" or a "
+                          f"list of one (order, value) for k=3, got {spec!r}")
+        order, value = derivative
         if isinstance(order, bool) or order not in (1, 2):
-            raise ValueError(f"bc_type: the derivative order at the {where} end must be 1 or 2 "
-                             f"here, got {order!r}")
-        return (int(order), value)
+            return None, (f"bc_type: the derivative order at the {where} end must be 1 or 2 "
+                          f"here, got {order!r}")
+        return (int(order), value), None
 
-    return (end(left, "left"), end(right, "right"))
+    (lo, why_left), (hi, why_right) = end(left, "left"), end(right, "right")
+    why = why_left or why_right
+    return (None, why) if why else ((lo, hi), None)
+
+
+def _unpacked(value, count: int):
+    """`value`'s `count` items as a tuple where it is an iterable of exactly that many, else
+    None (strings and mappings are not unpacked)."""
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+        return None
+    items = tuple(value)
+    return items if len(items) == count else None
 
 

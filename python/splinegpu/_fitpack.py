@@ -194,6 +194,9 @@ def make_splprep(x, *, w=None, u=None, ub=None, ue=None, k: int = 3, s: float = 
     if points.ndim != 2:
         raise ValueError(f"x: a list of coordinate arrays (or a (d, m) array), got "
                          f"{np.ndim(x)} dimensions")
+    if points.shape[0] <= operator.index(k):
+        raise ValueError(f"x: needs more points than the degree k = {k}, got "
+                         f"{points.shape[0]}")
     if u is None:
         u = chord_lengths(points)
     periodic = _periodic(bc_type)
@@ -214,7 +217,10 @@ def fit_many(us: list, points, ws, s, k: int, ends, nest, periodic: bool = False
     `periodic` for percur's periodic fits."""
     count = len(us)
     k = operator.index(k)
-    s = np.broadcast_to(_float64(s, "s"), (count,)).astype(np.float64)
+    s = _float64(s, "s")
+    if s.ndim > 1 or (s.ndim == 1 and len(s) != count):
+        raise ValueError(f"s: one value, or one per series ({count}), got shape {s.shape}")
+    s = np.broadcast_to(s, (count,)).astype(np.float64)
     if np.any(~(s > 0)) or not np.all(np.isfinite(s)):
         raise ValueError("s: every series' s must be > 0 and finite (s = 0 interpolates: "
                          "make_interp_splines)")

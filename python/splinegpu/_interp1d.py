@@ -51,6 +51,8 @@ class interp1d:
         if isinstance(kind, str) and kind in _ORDERS:
             order, kind = _ORDERS[kind], "spline"
         elif isinstance(kind, (int, np.integer)) and not isinstance(kind, bool):
+            if kind < 0:
+                raise ValueError(f"kind: a spline's order must be >= 0, got {int(kind)}")
             order, kind = int(kind), "spline"
         elif not (isinstance(kind, str) and kind in ("linear", "nearest", "nearest-up",
                                                       "previous", "next")):

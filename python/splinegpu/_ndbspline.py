@@ -35,9 +35,7 @@ def _knots_and_degrees(t, k) -> tuple:
     if not isinstance(t, tuple):
         raise ValueError(f"Expect `t` to be a tuple of array-likes. Got {t} instead.")
     d = len(t)
-    try:
-        len(k)
-    except TypeError:
+    if np.ndim(k) == 0:
         k = (k,) * d
     k = tuple(operator.index(kd) for kd in k)
     if len(k) != d:
@@ -237,19 +235,17 @@ def on_device(splines: list, points: list, orders: list):
     for spline, xi in zip(splines, points):
         c = spline.c
         if len(spline.t) != 2 or spline.k != (3, 3) or c.dtype.kind == "c" or \
-                spline.context is not context or spline._columns().shape[1] > 64:
+                spline.context is not context or not 1 <= spline._columns().shape[1] <= 64 or \
+                not all(_bspline.cubic_knots_taken(t) for t in spline.t):
             return None
         for a, t in enumerate(spline.t):
             x = xi[:, a]
             if len(x) and not (t[3] <= x.min() and x.max() <= t[-4]):
                 return None  # also NaN
     nets = [s._columns().reshape(len(s.t[0]) - 4, len(s.t[1]) - 4, -1) for s in splines]
-    try:
-        result = context.tessellate_surfaces(
-            nets, "nurbs", knots_u=[s.t[0] for s in splines], knots_v=[s.t[1] for s in splines],
-            at=list(points), derivatives=plane[1])
-    except ValueError:
-        return None
+    result = context.tessellate_surfaces(
+        nets, "nurbs", knots_u=[s.t[0] for s in splines], knots_v=[s.t[1] for s in splines],
+        at=list(points), derivatives=plane[1])
     values = getattr(result, plane[0])
     return np.split(values, result.surface_offsets[1:-1])
 

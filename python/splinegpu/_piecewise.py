@@ -104,8 +104,9 @@ class _Blocks:
     def __init__(self, parts: list):
         self.parts = parts
 
-    def evaluate_one(self, context, x: np.ndarray, nu: int) -> np.ndarray:
-        return np.concatenate([p.evaluate_one(context, x, nu) for p in self.parts], axis=1)
+    def evaluate_one(self, context, x: np.ndarray, nu: int) -> np.ndarray | None:
+        parts = [p.evaluate_one(context, x, nu) for p in self.parts]
+        return None if any(p is None for p in parts) else np.concatenate(parts, axis=1)
 
     def coefficients(self, i: int) -> np.ndarray:
         return np.concatenate([p.coefficients(i) for p in self.parts], axis=2)
@@ -351,12 +352,8 @@ class _Piecewise(PPoly):
             if native.backend == "gpu":
                 values = values.astype(np.float32)
         elif nu <= 2 and mode != "periodic":
-            try:
-                values = self._native.evaluate_one(native, flat, nu)
-            except ValueError:
-                # x outside the knots, or NaN: the general route below, which raises again
-                # where the reason is another.
-                pass
+            # None for an x outside the knots, or NaN: the general route below takes it.
+            values = self._native.evaluate_one(native, flat, nu)
         if values is None:
             values = self._anywhere(native, flat, nu, mode)
         if self._complex:

@@ -149,6 +149,10 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
             if p.ndim != 2 or p.shape[1] != 16 or not np.issubdtype(p.dtype, np.integer):
                 raise ValueError(f"patches[{s}]: must be (P, 16) integer indices, got "
                                  f"{p.dtype} {p.shape}")
+            if p.dtype.kind == "u" and p.size and p.max() > np.iinfo(np.int64).max:
+                # int64 would wrap it to a negative index: name the value given.
+                raise ValueError(f"patches[{s}]: index {int(p.max())} is beyond the "
+                                 f"{len(nets3[s])} points")
             patches.append(np.require(p, np.int64, ["C", "A"]))
     fields = {
         "ends": _pair("ends", ends),

@@ -88,7 +88,11 @@ class _Batch:
                 if y.ndim == 0 or y.shape[1:] != trailing:
                     raise ValueError(f"{name}[{i}]: every spline's values must have the shape "
                                      f"(n_i,) + {trailing}, got {y.shape}")
-            ys2 = [_aligned(y.reshape(len(y), -1), name) for y in ys]
+            width = int(np.prod(trailing, dtype=np.int64))
+            for i, y in enumerate(ys):
+                if len(y) == 0:
+                    raise ValueError(f"{name}[{i}]: a series of no values")
+            ys2 = [_aligned(y.reshape(len(y), width), name) for y in ys]
         return xs, ys2, trailing
 
     def __reduce__(self):
@@ -236,15 +240,15 @@ class BSplines(_Batch):
     def _build(self, ts_given, cs_given, ts, cs2, k, trailing, extrapolate, context) -> None:
         """The pieces of checked splines: `ts_given`/`cs_given` as the extension takes them (a
         2-D / 3-D array, or lists), `ts`/`cs2` as lists of each spline's arrays."""
+        if k > 3:
+            raise ValueError(f"k: a batch's splines are evaluated up to degree 3, got {k} "
+                             f"(make_splrep and BSpline take degree {k} one spline at a time)")
         self._native = _tables([], [], "cs") if not ts else None
         if k == 3 and ts:
-            try:
-                # The crate's cubic B-splines (kind "nurbs"), made on every thread.
-                self._native = _native.fit_bspline(ts_given, cs_given)
-            except ValueError:
-                # What the crate refuses but SciPy takes (a knot inside the base interval 4
-                # times, where the spline breaks): the pieces from NumPy.
-                pass
+            # The crate's cubic B-splines (kind "nurbs"), made on every thread; None for what
+            # it does not take but SciPy does (a knot inside the base interval 4 times, where
+            # the spline breaks), whose pieces come from NumPy below.
+            self._native = _native.fit_bspline(ts_given, cs_given)
         if self._native is None:
             made = _bspline.many_pieces(ts, cs2, k)
             # Each spline's extent: the largest per-column spread of its coefficients.

@@ -841,8 +841,15 @@ type TableState<'py> = (
 /// Makes one cubic B-spline per (t, c) pair (the crate's kind "nurbs" without weights, which
 /// is SciPy's `BSpline(t, c, 3)` on [t[3], t[n]]): c an (n', m) array whose first
 /// n = len(t) − 4 rows are the coefficients (rows past them are ignored, as SciPy's).
+/// `None` where the crate's kind does not take a spline SciPy takes (a knot inside the base
+/// interval 4 times, where the spline breaks; more than 64 columns; slopes that overflow):
+/// the package then makes the pieces itself.
 #[pyfunction]
-fn fit_bspline<'py>(py: Python<'py>, ts: Stack1<'py>, cs: Stack2<'py>) -> PyResult<Splines> {
+fn fit_bspline<'py>(
+    py: Python<'py>,
+    ts: Stack1<'py>,
+    cs: Stack2<'py>,
+) -> PyResult<Option<Splines>> {
     let (ts, cs) = (ts.items()?, cs.items()?);
     if ts.len() != cs.len() {
         return Err(value_error(format!(
@@ -851,15 +858,20 @@ fn fit_bspline<'py>(py: Python<'py>, ts: Stack1<'py>, cs: Stack2<'py>) -> PyResu
             cs.len()
         )));
     }
-    fit_curves(py, ts.len(), |s| {
-        let (dim, c) = cs[s];
-        let used = (ts[s].len().saturating_sub(4) * dim).min(c.len());
-        let kind = CurveKind::Nurbs {
-            knots: ts[s].to_vec(),
-            weights: None,
-        };
-        Ok((kind, dim, c[..used].to_vec()))
-    })
+    let tables = py.detach(|| {
+        on_threads(ts.len(), |s| {
+            let (dim, c) = cs[s];
+            let used = (ts[s].len().saturating_sub(4) * dim).min(c.len());
+            let kind = CurveKind::Nurbs {
+                knots: ts[s].to_vec(),
+                weights: None,
+            };
+            let points = Points::new(dim, c[..used].to_vec())?;
+            Ok(Arc::new(finite(Curve::new(kind, points)?.fit())?))
+        })
+    });
+    // Every refusal here is of a spline SciPy's rules (checked by the package) let through.
+    Ok(tables.ok().map(|tables| Splines { tables }))
 }
 
 /// The fitted table, refused where a coefficient is not finite: finite data whose slopes
@@ -1129,15 +1141,16 @@ impl Splines {
 
     /// Spline 0 at `x` (a contiguous 1-D float64 array), derivative `nu` (0, 1 or 2) with
     /// respect to x, on `context`: shape (len(x), m), float64 from the CPU, float32 from the
-    /// GPU. On the CPU each x is located and evaluated in one pass straight into the new array
-    /// ([`splinegpu::evaluate_at_into`]); on the GPU through a job.
+    /// GPU; `None` where an x is not finite or lies outside the knots (the caller's general
+    /// route takes those). On the CPU each x is located and evaluated in one pass straight into
+    /// the new array ([`splinegpu::evaluate_at_into`]); on the GPU through a job.
     fn evaluate_one<'py>(
         &self,
         py: Python<'py>,
         context: &Context,
         x: PyReadonlyArray1<'py, f64>,
         nu: usize,
-    ) -> PyResult<Bound<'py, PyAny>> {
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
         let table = self
             .tables
             .first()
@@ -1145,18 +1158,26 @@ impl Splines {
         let x = x.as_slice()?;
         let derivatives = derivatives_of(nu)?;
         if let Some(gpu) = &context.gpu {
+            let (lo, hi) = table.t_range();
+            if !x.iter().all(|&v| v >= lo && v <= hi) {
+                return Ok(None);
+            }
             let job = one_spline_job(table, x, derivatives)?;
             let samples = py.detach(|| gpu.evaluate(&job)).map_err(runtime_error)?;
-            return gpu_plane(py, samples, nu, table.dim());
+            return gpu_plane(py, samples, nu, table.dim()).map(Some);
         }
         let out = values_array(py, x.len(), table.dim())?;
         {
             let mut o = out.readwrite();
             let o = o.as_slice_mut()?;
-            py.detach(|| splinegpu::evaluate_at_into(table, x, nu, o, threads()))
-                .map_err(value_error)?;
+            match py.detach(|| splinegpu::evaluate_at_into(table, x, nu, o, threads())) {
+                Ok(()) => {}
+                // An x outside the knots or not finite: the one refusal that is not an error.
+                Err(e) if e.field.as_deref() == Some("at") => return Ok(None),
+                Err(e) => return Err(value_error(e)),
+            }
         }
-        Ok(out.into_any())
+        Ok(Some(out.into_any()))
     }
 
     /// Spline i at `at[i]` for every i, derivative `nu` (0, 1 or 2) with respect to x, on

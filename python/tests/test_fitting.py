@@ -569,3 +569,18 @@ def test_fitted_curves_tessellate_as_nurbs():
         for i in range(3):
             rows = slice(made.curve_offsets[i], made.curve_offsets[i + 1])
             close(made.points[rows], batch[i](made.t[rows]), 1e-12)
+
+
+def test_bad_batch_arguments_are_named():
+    # Each raised IndexError or a NumPy reshape/broadcast error before.
+    x = np.linspace(0, 1, 20)
+    with pytest.raises(ValueError, match=r"x: needs more points than the degree k = 3, got 1"):
+        G.make_splprep([np.array([1.0]), np.array([2.0])])
+    with pytest.raises(ValueError, match=r"ys\[1\]: a series of no values"):
+        G.make_smoothing_splines([x, np.zeros(0)], [x, np.zeros(0)])
+    with pytest.raises(ValueError, match=r"ys\[1\]: a series of no values"):
+        G.CubicSplines([x, np.zeros(0)], [x, np.zeros(0)])
+    with pytest.raises(ValueError, match=r"k: a batch's splines are evaluated up to degree 3, got 6"):
+        G.make_splreps([x, x], [np.sin(x), np.cos(x)], k=6, s=0.1)
+    with pytest.raises(ValueError, match=r"s: one value, or one per series \(2\), got shape \(3,\)"):
+        G.make_splreps([x, x], [np.sin(x), np.cos(x)], s=[0.1, 0.2, 0.3])

@@ -230,3 +230,10 @@ def test_batch_integrals_are_their_single_splines(cpu):
         np.testing.assert_array_equal(again.integrate(a, b), batch.integrate(a, b))
     with pytest.raises(ValueError, match=r"a: must be a number or one per spline \(25\)"):
         batches[0][0].integrate(np.zeros(3), 1.0)
+
+
+def test_interp1d_refuses_a_negative_order_naming_it():
+    # IndexError "index 10 is out of bounds" before.
+    x = np.linspace(0, 1, 10)
+    with pytest.raises(ValueError, match="kind: a spline's order must be >= 0, got -1"):
+        si.interp1d(x, x, kind=-1)

@@ -26,6 +26,21 @@ def cases(n):
 
 CPU = splinegpu.Context("cpu")
 
+
+class Share:
+    """How many of a property test's cases returned a result and how many were refused: a
+    test that "returns or refuses" would pass without testing anything if every case were
+    refused, so each asserts that at least `least` of its cases returned one."""
+
+    def __init__(self, least: float):
+        self.least, self.returned, self.refused = least, 0, 0
+
+    def check(self):
+        total = self.returned + self.refused
+        assert total and self.returned >= self.least * total, (
+            f"{self.returned} of {total} cases returned a result; at least {self.least:.0%} "
+            f"should")
+
 numbers = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True, width=64),
     st.sampled_from([0.0, 1.0, -1.0, 0.5, 1e-300, 1e300, 1e6]),
@@ -121,18 +136,27 @@ def holds_together(r, derivatives):
             assert plane.shape == r.points.shape
 
 
+TESSELLATE_SHARE = Share(0.2)
+
+
+def test_tessellate_returns_a_sound_result_or_refuses():
+    tessellate_or_refuse()
+    TESSELLATE_SHARE.check()
+
+
 @cases(6000)
 @given(points=point_arrays(), kind=st.sampled_from([*splinegpu.KIND_NAMES, "nurbs"]),
        fields=kind_fields, sampling=samplings,
        derivatives=st.one_of(st.integers(-1, 3), st.just(1.5), st.just(True)),
        seed=st.integers(0, 2**32 - 1))
-def test_tessellate_returns_a_sound_result_or_refuses(points, kind, fields, sampling,
-                                                      derivatives, seed):
+def tessellate_or_refuse(points, kind, fields, sampling, derivatives, seed):
     fields = fitted(points, fields, seed)
     try:
         r = CPU.tessellate(points, kind, derivatives=derivatives, **fields, **sampling)
     except REFUSED:
+        TESSELLATE_SHARE.refused += 1
         return
+    TESSELLATE_SHARE.returned += 1
     holds_together(r, derivatives)
     # The same call into the result's own arrays gives the same values.
     again = CPU.tessellate(points, kind, derivatives=derivatives, **fields, **sampling,
@@ -185,21 +209,37 @@ GOOD_CURVES = np.random.default_rng(3).uniform(-1, 1, (3, 7, 2))
 GOOD = CPU.tessellate(GOOD_CURVES, per_segment=5, derivatives=1)
 
 
-def used_right_or_refused(ctx, good, out):
+def used_right_or_refused(ctx, good, out, share: Share):
     """`out` filled with `good`'s values by the same call on `ctx`, or refused."""
     try:
         r = ctx.tessellate(GOOD_CURVES, per_segment=5, derivatives=1, out=out)
     except REFUSED:
+        share.refused += 1
         return
+    share.returned += 1
     for a, b in ((r.t, good.t), (r.points, good.points), (r.d1, good.d1),
                  (r.curve_offsets, good.curve_offsets)):
         np.testing.assert_array_equal(a, b)
 
 
-@cases(2000)
-@given(out=out_arrays(GOOD))
-def test_out_is_used_right_or_refused(out):
-    used_right_or_refused(CPU, GOOD, out)
+def test_out_is_used_right_or_refused():
+    share = Share(0.2)
+
+    @cases(2000)
+    @given(out=out_arrays(GOOD))
+    def run(out):
+        used_right_or_refused(CPU, GOOD, out, share)
+
+    run()
+    share.check()
+
+
+CUBIC_SHARE = Share(0.1)
+
+
+def test_cubic_spline_fits_and_evaluates_or_refuses():
+    cubic_spline_or_refuse()
+    CUBIC_SHARE.check()
 
 
 @cases(2000)
@@ -209,7 +249,7 @@ def test_out_is_used_right_or_refused(out):
                            ((1, 0.0), (1, 0.0)), ((2, 0.0), (2, 0.0)), 3]),
        x_kind=st.sampled_from(["sorted", "unsorted", "repeated", "nan", "complex", "2-d"]),
        nu=st.one_of(st.integers(-1, 3), st.just(0.5)), seed=st.integers(0, 2**32 - 1))
-def test_cubic_spline_fits_and_evaluates_or_refuses(n, trailing, axis, bc, x_kind, nu, seed):
+def cubic_spline_or_refuse(n, trailing, axis, bc, x_kind, nu, seed):
     rng = np.random.default_rng(seed)
     x = np.sort(rng.uniform(0, 10, n))
     if x_kind == "unsorted":
@@ -232,12 +272,15 @@ def test_cubic_spline_fits_and_evaluates_or_refuses(n, trailing, axis, bc, x_kin
     try:
         s = splinegpu.CubicSpline(x, y, axis=axis, bc_type=bc)
     except REFUSED:
+        CUBIC_SHARE.refused += 1
         return
     xq = rng.uniform(x.min(), x.max(), (2, 3))
     try:
         values = s(xq, nu=nu)
     except REFUSED:
+        CUBIC_SHARE.refused += 1
         return
+    CUBIC_SHARE.returned += 1
     # SciPy's shape: y's axes before `axis`, x's, then y's after it.
     shape = np.shape(y)
     assert values.shape == (*shape[:s.axis], *xq.shape, *shape[s.axis + 1:])
@@ -248,11 +291,17 @@ def gpu_good(gpu):
     return gpu, gpu.tessellate(GOOD_CURVES, per_segment=5, derivatives=1)
 
 
-@cases(300)
-@given(data=st.data())
-def test_out_on_the_gpu_is_used_right_or_refused(gpu_good, data):
+def test_out_on_the_gpu_is_used_right_or_refused(gpu_good):
     gpu, good = gpu_good
-    used_right_or_refused(gpu, good, data.draw(out_arrays(good)))
+    share = Share(0.2)
+
+    @cases(300)
+    @given(data=st.data())
+    def run(data):
+        used_right_or_refused(gpu, good, data.draw(out_arrays(good)), share)
+
+    run()
+    share.check()
 
 
 @cases(300)

@@ -189,3 +189,11 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="surface 0"):
         CPU.tessellate_surfaces([np.zeros((16, 3))], "bezier",
                                 patches=np.arange(16).reshape(1, 16) + 1)
+    # An unsigned index past int64 is named as given (it wrapped to "= -1" before).
+    huge = np.arange(16, dtype=np.uint64).reshape(1, 16)
+    huge[0, 3] = 2**64 - 1
+    with pytest.raises(ValueError, match=r"patches\[0\]: index 18446744073709551615"):
+        CPU.tessellate_surfaces([np.zeros((16, 3))], "bezier", patches=huge)
+    # A field the kind does not take is refused, as the command line refuses it.
+    with pytest.raises(ValueError, match=r"is not a field of a \"bezier\" surface"):
+        CPU.tessellate_surfaces([np.zeros((4, 4, 3))], "bezier", tension=0.5)
