@@ -112,7 +112,7 @@ pub(crate) fn run(
         job.push_many(fitted).expect("the workload's surfaces");
         job
     };
-    let call = || -> Vec<SurfaceSamples> { job().evaluate_cpu() };
+    let call = || -> Vec<SurfaceSamples> { job().into_samples() };
     let first = call();
     let vertices: u64 = first.iter().map(|s| s.len() as u64).sum();
     let bytes = |per_value: u64| vertices * 6 * per_value;

@@ -488,12 +488,7 @@ fn a_glb_reader_that_closes_early_ends_the_run_quietly() {
         Stdio::piped(),
     );
     let mut magic = [0u8; 4];
-    child
-        .stdout
-        .take()
-        .unwrap()
-        .read_exact(&mut magic)
-        .unwrap();
+    child.stdout.take().unwrap().read_exact(&mut magic).unwrap();
     assert_eq!(&magic, b"glTF");
     let stderr = stderr_of(&mut child);
     let status = child.wait().unwrap();
@@ -511,7 +506,11 @@ fn a_dash_as_output_is_standard_output() {
         .args(["tessellate", "doc.json", "-o", "-", "--backend", "cpu"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(out.stdout.starts_with(b"curve,sample,t,x0"));
     assert_eq!(out.stdout, regular_output(dir.path(), &input));
     assert!(!dir.path().join("-").exists());
@@ -566,7 +565,10 @@ fn an_output_the_user_may_not_write_is_refused_and_kept() {
     };
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("theirs.csv") && stderr.contains("ermission denied"), "{stderr}");
+    assert!(
+        stderr.contains("theirs.csv") && stderr.contains("ermission denied"),
+        "{stderr}"
+    );
     assert_eq!(fs::read(&output).unwrap(), b"not yours");
     assert!(temporary_files_in(dir.path()).is_empty());
 }

@@ -269,4 +269,3 @@ fn fit_rational(
         });
     }
 }
-

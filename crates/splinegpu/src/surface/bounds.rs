@@ -207,7 +207,7 @@ const GRID: usize = 9;
 #[must_use]
 pub(crate) fn second_derivative_bounds(
     dim: usize,
-    coefficient: &dyn Fn(usize, usize, usize) -> f64,
+    coefficient: impl Fn(usize, usize, usize) -> f64,
     denominator: Option<&[f64; 16]>,
 ) -> [f64; 3] {
     let Some(w) = denominator else {

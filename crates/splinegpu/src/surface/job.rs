@@ -400,6 +400,22 @@ impl SurfaceJob {
             .collect()
     }
 
+    /// Every surface evaluated on the CPU in f64, the job consumed: each surface's plan is
+    /// dropped as soon as it is evaluated, so that the samples reuse its memory (a caller who
+    /// wants the samples and not the job waits less than for [`SurfaceJob::evaluate_cpu`]).
+    #[must_use]
+    pub fn into_samples(self) -> Vec<SurfaceSamples> {
+        let (derivatives, normals) = (self.derivatives, self.normals);
+        self.surfaces
+            .into_par_iter()
+            .map(|s| {
+                let samples = evaluate_surfaces(&s.table, &s.plan(), derivatives, normals);
+                drop(s);
+                samples
+            })
+            .collect()
+    }
+
     /// Surface `s` evaluated into a caller's planes (each value formed in f64, rounded to `F`
     /// as it is stored): the planes present are formed, nothing is allocated per vertex.
     ///
@@ -528,7 +544,10 @@ mod tests {
             (sharp, SurfaceSampling::Tolerance(0.05)),
             (bezier(3), SurfaceSampling::Tolerance(0.01)),
             (list, SurfaceSampling::Tolerance(0.02)),
-            (bezier(3), SurfaceSampling::At(vec![[0.25, 0.5], [1.0, 0.0]])),
+            (
+                bezier(3),
+                SurfaceSampling::At(vec![[0.25, 0.5], [1.0, 0.0]]),
+            ),
         ];
         for (table, sampling) in samplings {
             let want = SurfacePlan::new(&table, &sampling).unwrap();

@@ -119,7 +119,11 @@ impl SurfacePlan {
         if cells.len() != table.len() {
             return Err(InputError::field(
                 "cells",
-                format!("must be one per patch ({}), got {}", table.len(), cells.len()),
+                format!(
+                    "must be one per patch ({}), got {}",
+                    table.len(),
+                    cells.len()
+                ),
             ));
         }
         let cells: Vec<[usize; 2]> = cells.iter().map(|c| c.map(|k| k as usize)).collect();

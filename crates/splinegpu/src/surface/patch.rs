@@ -521,7 +521,7 @@ impl Patch<'_> {
     #[must_use]
     pub fn second_derivative_bounds(&self) -> [f64; 3] {
         let coefficient = |a: usize, b: usize, k: usize| self.coefficient(a, b)[k];
-        super::bounds::second_derivative_bounds(self.dim(), &coefficient, self.denominator())
+        super::bounds::second_derivative_bounds(self.dim(), coefficient, self.denominator())
     }
 
     /// The patch's derivative sizes s_u, s_v (contract, "Surfaces"): the Euclidean norms over
