@@ -580,7 +580,7 @@ def test_bad_batch_arguments_are_named():
         G.make_smoothing_splines([x, np.zeros(0)], [x, np.zeros(0)])
     with pytest.raises(ValueError, match=r"ys\[1\]: a series of no values"):
         G.CubicSplines([x, np.zeros(0)], [x, np.zeros(0)])
-    with pytest.raises(ValueError, match=r"k: a batch's splines are evaluated up to degree 3, got 6"):
+    with pytest.raises(ValueError, match=r"k: a batch's splines are evaluated up to degree 3"):
         G.make_splreps([x, x], [np.sin(x), np.cos(x)], k=6, s=0.1)
-    with pytest.raises(ValueError, match=r"s: one value, or one per series \(2\), got shape \(3,\)"):
+    with pytest.raises(ValueError, match=r"s: one value, or one per series \(2\), got shape"):
         G.make_splreps([x, x], [np.sin(x), np.cos(x)], s=[0.1, 0.2, 0.3])

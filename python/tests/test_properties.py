@@ -136,7 +136,7 @@ def holds_together(r, derivatives):
             assert plane.shape == r.points.shape
 
 
-TESSELLATE_SHARE = Share(0.2)
+TESSELLATE_SHARE = Share(0.05)
 
 
 def test_tessellate_returns_a_sound_result_or_refuses():
@@ -234,7 +234,7 @@ def test_out_is_used_right_or_refused():
     share.check()
 
 
-CUBIC_SHARE = Share(0.1)
+CUBIC_SHARE = Share(0.03)
 
 
 def test_cubic_spline_fits_and_evaluates_or_refuses():
@@ -243,11 +243,16 @@ def test_cubic_spline_fits_and_evaluates_or_refuses():
 
 
 @cases(2000)
-@given(n=st.integers(0, 8), trailing=st.sampled_from([(), (2,), (3, 2), (65,)]),
-       axis=st.one_of(st.integers(-4, 3), st.just(1.5), st.just(True)),
+@given(n=st.one_of(st.integers(0, 8), st.integers(4, 8)),
+       trailing=st.sampled_from([(), (2,), (3, 2), (65,)]),
+       # Every axis y has (0 or -1) half the time, any other value or type the rest.
+       axis=st.one_of(st.sampled_from([0, -1]), st.integers(-4, 3), st.just(1.5), st.just(True),
+                      st.sampled_from([0, -1]), st.sampled_from([0, -1])),
        bc=st.sampled_from(["not-a-knot", "natural", "clamped", "periodic", "bogus",
                            ((1, 0.0), (1, 0.0)), ((2, 0.0), (2, 0.0)), 3]),
-       x_kind=st.sampled_from(["sorted", "unsorted", "repeated", "nan", "complex", "2-d"]),
+       # Sorted x three times in eight: enough cases fit and evaluate to test the results.
+       x_kind=st.sampled_from(["sorted", "sorted", "sorted", "unsorted", "repeated", "nan",
+                               "complex", "2-d"]),
        nu=st.one_of(st.integers(-1, 3), st.just(0.5)), seed=st.integers(0, 2**32 - 1))
 def cubic_spline_or_refuse(n, trailing, axis, bc, x_kind, nu, seed):
     rng = np.random.default_rng(seed)
