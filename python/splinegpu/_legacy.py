@@ -146,6 +146,10 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
         if per:
             raise NotImplementedError("per: periodic splprep with given knots (task=-1) is "
                                       "not implemented here")
+    if np.iscomplexobj(x):
+        # SciPy's parcur takes real data and refuses the cast (its splrep warns instead).
+        raise TypeError("x: Cannot cast array data from dtype('complex128') to "
+                        "dtype('float64') according to the rule 'safe'")
     x = np.array(x, dtype=np.float64)
     if x.ndim != 2:
         raise ValueError(f"too many values to unpack: x must be a list of coordinate arrays "

@@ -584,3 +584,13 @@ def test_bad_batch_arguments_are_named():
         G.make_splreps([x, x], [np.sin(x), np.cos(x)], k=6, s=0.1)
     with pytest.raises(ValueError, match=r"s: one value, or one per series \(2\), got shape"):
         G.make_splreps([x, x], [np.sin(x), np.cos(x)], s=[0.1, 0.2, 0.3])
+
+
+def test_splprep_of_complex_points_raises_as_scipy_does():
+    # The imaginary part was dropped with a ComplexWarning before; SciPy's splprep raises
+    # TypeError (its splrep warns and drops it, as ours does).
+    x = np.linspace(0, 1, 10)
+    with pytest.raises(TypeError):
+        S.splprep([x, x + 1j * x])
+    with pytest.raises(TypeError, match="complex128"):
+        G.splprep([x, x + 1j * x])
