@@ -12,6 +12,7 @@ has the table of what is and how it differs).
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Sequence
 from typing import Any
 
@@ -412,8 +413,12 @@ def make_splpreps(points, ws=None, us=None, s=None, k: int = 3, nest=None, bc_ty
     else:
         rows = [np.ascontiguousarray(_float64(p, f"points[{i}]").T)
                 for i, p in enumerate(points)]
-        if us is None:
-            us = [_fitpack.chord_lengths(r) for r in rows]
+    for i, r in enumerate(rows):
+        if r.ndim != 2 or len(r) <= operator.index(k):
+            raise ValueError(f"points[{i}]: needs more points than the degree k = {k}, got "
+                             f"shape {np.shape(r)[::-1]}")
+    if us is None and not isinstance(rows, np.ndarray):
+        us = [_fitpack.chord_lengths(r) for r in rows]
     if isinstance(us, np.ndarray) and us.ndim == 2:
         us = _aligned(us, "us")
     else:

@@ -580,6 +580,8 @@ def test_bad_batch_arguments_are_named():
         G.make_smoothing_splines([x, np.zeros(0)], [x, np.zeros(0)])
     with pytest.raises(ValueError, match=r"ys\[1\]: a series of no values"):
         G.CubicSplines([x, np.zeros(0)], [x, np.zeros(0)])
+    with pytest.raises(ValueError, match=r"points\[1\]: needs more points than the degree"):
+        G.make_splpreps([np.stack([x, x]), np.zeros((2, 0))], s=0.1)
     with pytest.raises(ValueError, match=r"k: a batch's splines are evaluated up to degree 3"):
         G.make_splreps([x, x], [np.sin(x), np.cos(x)], k=6, s=0.1)
     with pytest.raises(ValueError, match=r"s: one value, or one per series \(2\), got shape"):
