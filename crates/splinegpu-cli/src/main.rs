@@ -55,6 +55,8 @@ enum Command {
     /// plane of the output: (u, v), positions, normals, triangles);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
+    /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64
+    /// with t into reused memory, the whole library call);
     /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),
     /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu,
     /// floor-cpu (parse, fit and evaluate into reused memory plus a memset of the NPZ file's

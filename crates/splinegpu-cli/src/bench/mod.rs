@@ -14,7 +14,7 @@ mod workloads;
 
 use anchors::{kurbo_arclen, kurbo_flatten, wang};
 use measure::{StoreBytes, fill_on_every_thread};
-use workloads::Rng;
+use workloads::{Rng, w1_curves};
 
 pub use measure::{MAX_REPETITIONS, Measurement, REPETITIONS, TIMED_SECONDS, memset, time};
 pub use workloads::{
@@ -146,13 +146,16 @@ pub fn run(
                 gpu,
                 &mut report,
             )?,
-            _ => evaluation(
-                name,
-                &w1_job(Basis::CatmullRom, Derivatives::None),
-                W1_PLAIN,
-                gpu,
-                &mut report,
-            )?,
+            _ => {
+                evaluation(
+                    name,
+                    &w1_job(Basis::CatmullRom, Derivatives::None),
+                    W1_PLAIN,
+                    gpu,
+                    &mut report,
+                )?;
+                whole_call(name, &mut report);
+            }
         }
     }
     Ok(())
@@ -703,6 +706,30 @@ fn eval_at(
     });
     report(&measurement("cpu-all", run, 8));
     Ok(())
+}
+
+/// w1's `cpu-whole`: the library call as a caller with w1's points makes it, each run from the
+/// points: the curves fitted and planned on every thread (`EvalJob::push_many`), then evaluated
+/// in f64 with t into reused samples. The Python bench compares its `tessellate(out=...)`
+/// against this figure: the difference is the bindings' own cost.
+fn whole_call(workload: &'static str, report: &mut impl FnMut(&Measurement)) {
+    let curves: Vec<(Curve, Sampling)> = w1_curves(&Basis::CatmullRom)
+        .map(|curve| (curve, Sampling::PerSegment(32)))
+        .collect();
+    let build = || {
+        let mut job = EvalJob::new(Derivatives::None);
+        job.push_many(&curves).expect("w1's curves fit");
+        job
+    };
+    let sized = build();
+    let mut samples = splinegpu::Samples::<f64>::for_job(&sized);
+    let run = time(|| {
+        let job = build();
+        evaluate_cpu_into(&job, samples.planes_for(&job), available_threads());
+        black_box(&samples);
+        None
+    });
+    report(&measured(workload, &sized, "cpu-whole", run, 8));
 }
 
 fn evaluation(

@@ -2,6 +2,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::curve::Curve;
 use crate::error::InputError;
 pub(crate) mod layout;
@@ -11,6 +13,16 @@ pub(crate) mod samples;
 use crate::sampling::{SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 use layout::JobLayout;
+
+/// A plan of `samples` samples does not fit in a job that already indexes `before`.
+fn too_many_samples(samples: usize, before: usize) -> InputError {
+    InputError::field(
+        "sampling",
+        format!(
+            "asks for {samples} samples, more than one job can index after the {before} already in it"
+        ),
+    )
+}
 
 /// Which derivatives (with respect to t) to compute besides positions.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
@@ -79,6 +91,43 @@ impl EvalJob {
         self.push_table(table, plan)
     }
 
+    /// Fits and plans many curves on every thread, then adds them in order: what
+    /// [`EvalJob::push`] does for each, as a caller with thousands of curves wants it done.
+    ///
+    /// # Errors
+    /// The first failing curve's error (as [`EvalJob::push`]'s), placed at its index in the job
+    /// ([`InputError::in_curve`]); the job is then unchanged.
+    pub fn push_many(&mut self, curves: &[(Curve, Sampling)]) -> Result<(), InputError> {
+        let first = self.len();
+        let derivatives = self.derivatives;
+        let made: Vec<Result<(SegmentTable, SamplePlan), InputError>> = curves
+            .par_iter()
+            .map(|(curve, sampling)| {
+                let table = curve.fit();
+                table.check_range(derivatives)?;
+                let plan = SamplePlan::new(&table, sampling)?;
+                Ok((table, plan))
+            })
+            .collect();
+        let mut parts = Vec::with_capacity(made.len());
+        for (i, part) in made.into_iter().enumerate() {
+            parts.push(part.map_err(|e| e.in_curve(first + i))?);
+        }
+        let mut layout = self.layout.clone();
+        for (i, (table, plan)) in parts.iter().enumerate() {
+            let before = layout.samples();
+            layout
+                .push(table.dim(), plan.len())
+                .ok_or_else(|| too_many_samples(plan.len(), before).in_curve(first + i))?;
+        }
+        self.layout = layout;
+        for (table, plan) in parts {
+            self.tables.push(Arc::new(table));
+            self.plans.push(Arc::new(plan));
+        }
+        Ok(())
+    }
+
     /// Adds an already fitted curve and its plan. The plan must have been made for this table.
     ///
     /// # Errors
@@ -106,16 +155,10 @@ impl EvalJob {
         table: Arc<SegmentTable>,
         plan: Arc<SamplePlan>,
     ) -> Result<(), InputError> {
-        self.layout.push(table.dim(), plan.len()).ok_or_else(|| {
-            InputError::field(
-                "sampling",
-                format!(
-                    "asks for {} samples, more than one job can index after the {} already in it",
-                    plan.len(),
-                    self.layout.samples()
-                ),
-            )
-        })?;
+        let before = self.layout.samples();
+        (self.layout)
+            .push(table.dim(), plan.len())
+            .ok_or_else(|| too_many_samples(plan.len(), before))?;
         self.tables.push(table);
         self.plans.push(plan);
         Ok(())

@@ -12,6 +12,7 @@ mod cpu_fast;
 mod geometric_sampling;
 mod hermite;
 mod interpolation;
+mod job;
 mod kochanek_bartels;
 mod local_beta;
 mod nurbs;
