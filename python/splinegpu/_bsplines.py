@@ -1,7 +1,7 @@
 """SciPy's `BSpline` and `make_interp_spline` (any degree k): knots and coefficients kept
 as SciPy lays them out, evaluated as polynomial pieces (degree <= 3 through a `Context`, above
 in NumPy); the cubic interpolant with SciPy's usual ends fitted as `CubicSpline` (O(n) in the
-crate), every other degree and end through the banded collocation system of `_interp`.
+crate), every other degree and end through the banded collocation system of `_collocation`.
 """
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from . import _bspline, _interp, _native
-from ._arrays import _axis, _float64, _natural
+from . import _bspl, _collocation, _native
 from ._context import Context
-from ._piecewise import CubicSpline, _Piecewise
-from ._ppoly import _F64, PPoly, _extrapolate, _f64
+from ._cubic import CubicSpline, PiecewiseCubic
+from ._helpers import _F64, _axis, _extrapolate, _f64, _float64, _natural
+from ._ppoly import PPoly
 
 _COMPLEX = np.dtype(np.complex128)
 
@@ -61,7 +61,7 @@ class BSpline:
         axis = _axis(axis, c.ndim, "c")
         c = np.array(np.moveaxis(c, axis, 0),
                      dtype=np.complex128 if c.dtype.kind == "c" else np.float64, order="C")
-        _bspline.check(t, c.shape[0], k)
+        _bspl.check(t, c.shape[0], k)
         extrapolate = _extrapolate(extrapolate)
         self._set(t, c, k, True if extrapolate is None else extrapolate, axis, context)
 
@@ -100,7 +100,7 @@ class BSpline:
         """(t, c, k) unpacked as the tck tuple SciPy's FITPACK functions (`splev`, `splder`,
         `insert`, ...) take in place of a BSpline: c padded with zeros to len(t), FITPACK's
         layout, and its interpolation axis last, as they take it."""
-        c = _bspline.padded(self.t, self.c)
+        c = _bspl.padded(self.t, self.c)
         return iter((self.t, np.moveaxis(c, 0, -1) if c.ndim > 1 else c, self.k))
 
     @classmethod
@@ -138,8 +138,8 @@ class BSpline:
             x = t[k] + (x - t[k]) % (t[n] - t[k])
         elif not extrapolate and x.size and (x.min() < t[k] or x.max() > t[n]):
             raise ValueError(f"Out of bounds w/ x = {x}.")
-        span = _bspline.intervals(t, k, x)
-        data = _bspline.basis(t, k, x, span).ravel()
+        span = _bspl.intervals(t, k, x)
+        data = _bspl.basis(t, k, x, span).ravel()
         index = np.int32 if x.size * (k + 1) < np.iinfo(np.int32).max else np.int64
         indices = ((span - k)[:, None] + np.arange(k + 1)[None, :]).astype(index).ravel()
         indptr = np.arange(0, (len(x) + 1) * (k + 1), k + 1, dtype=index)
@@ -156,16 +156,16 @@ class BSpline:
                                       f"{type(pp)} instead.")
         x = pp.x
         if bc_type == "not-a-knot":
-            t = _interp.not_a_knot(x, 3)
+            t = _collocation.not_a_knot(x, 3)
         elif bc_type in ("natural", "clamped"):
-            t = _interp.with_ends(x, 3)
+            t = _collocation.with_ends(x, 3)
         elif bc_type == "periodic":
-            t = _interp.periodic(x, 3)
+            t = _collocation.periodic(x, 3)
         else:
             raise TypeError(f"Unknown boundary condition: {bc_type}")
         pieces = pp.c.reshape(4, len(x) - 1, -1)
         period = x[-1] - x[0] if bc_type == "periodic" else None
-        c = _bspline.cubic_coefficients(t, x, pieces, period)
+        c = _bspl.cubic_coefficients(t, x, pieces, period)
         return cls.construct_fast(t, c.reshape((len(c), *pp.c.shape[2:])), 3, pp.extrapolate,
                                   pp.axis)
 
@@ -179,7 +179,7 @@ class BSpline:
             raise ValueError(f"`m` must be positive, got {m = }.")
         t, c = self.t, self.c
         for _ in range(m):
-            t, c = _bspline.insert(t, c, self.k, x, self.extrapolate == "periodic")
+            t, c = _bspl.insert(t, c, self.k, x, self.extrapolate == "periodic")
         return self.construct_fast(t, c, self.k, self.extrapolate, self.axis, self.context)
 
     def _pieces(self):
@@ -187,12 +187,12 @@ class BSpline:
         if self._pp is None:
             n = len(self.t) - self.k - 1
             c = self.c[:n].reshape(n, -1)
-            breaks, coeff = _bspline.pieces(self.t, c, self.k)
+            breaks, coeff = _bspl.pieces(self.t, c, self.k)
             coeff = coeff.reshape(coeff.shape[:2] + self.c.shape[1:])
             if self.k <= 3 and np.all(np.isfinite(coeff)):
                 columns = np.concatenate([c.real, c.imag], axis=1)
                 extent = float(np.max(np.ptp(columns, axis=0))) if columns.size else 0.0
-                self._pp = _Piecewise._of_pieces(breaks, coeff, extent, self.extrapolate,
+                self._pp = PiecewiseCubic._of_pieces(breaks, coeff, extent, self.extrapolate,
                                                  self.axis, self.context)
             else:
                 self._pp = PPoly._made(coeff, breaks, self.extrapolate, self.axis)
@@ -210,9 +210,9 @@ class BSpline:
         if not on_gpu or not regular:
             return self._de_boor(x, nu, mode, regular)
         pp = self._pieces()
-        if isinstance(pp, _Piecewise) and nu <= 3:
+        if isinstance(pp, PiecewiseCubic) and nu <= 3:
             return pp(x, nu, mode)
-        if isinstance(pp, _Piecewise):
+        if isinstance(pp, PiecewiseCubic):
             pp = pp.ppoly()
         return pp(x, nu, mode)
 
@@ -275,13 +275,13 @@ class BSpline:
 
     def derivative(self, nu: int = 1) -> BSpline:
         """The nu-th derivative as a BSpline of degree k - nu (SciPy's t and c)."""
-        t, c, k = _bspline.derivative(self.t, self.c, self.k, _natural("nu", nu))
+        t, c, k = _bspl.derivative(self.t, self.c, self.k, _natural("nu", nu))
         return self.construct_fast(t, c, k, self.extrapolate, self.axis, self.context)
 
     def antiderivative(self, nu: int = 1) -> BSpline:
         """The nu-th antiderivative, zero at t[0], as a BSpline of degree k + nu (SciPy's t and
         c); a periodic extrapolation becomes False, as SciPy's."""
-        t, c, k = _bspline.antiderivative(self.t, self.c, self.k, _natural("nu", nu))
+        t, c, k = _bspl.antiderivative(self.t, self.c, self.k, _natural("nu", nu))
         extrapolate = False if self.extrapolate == "periodic" else self.extrapolate
         return self.construct_fast(t, c, k, extrapolate, self.axis, self.context)
 
@@ -321,7 +321,7 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
 
     The cubic with one condition at each end (SciPy's usual case) is fitted as `CubicSpline`
     (O(n) in the crate) and its coefficients read off its pieces by blossoming; every other
-    degree, end or knot vector through the banded collocation system (`_interp`). A complex y
+    degree, end or knot vector through the banded collocation system (`_collocation`). A complex y
     gives complex coefficients (its parts fitted as columns of their own); `check_finite` is
     always on (NaN and infinity are refused)."""
     periodic = isinstance(bc_type, str) and bc_type == "periodic"
@@ -371,12 +371,12 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
             2 if np.iscomplexobj(y) else 1) <= 64:
         fast = _cubic_ends(bc_type, len(x))
         if fast is not None:
-            return _cubic(x, np.moveaxis(y, 0, axis), fast, axis, context)
+            return _cubic_fit(x, np.moveaxis(y, 0, axis), fast, axis, context)
     if t is None:
         if left is None and right is None:
-            t = _interp.periodic(x, k) if periodic else _interp.not_a_knot(x, k)
+            t = _collocation.periodic(x, k) if periodic else _collocation.not_a_knot(x, k)
         else:
-            t = _interp.with_ends(x, k)
+            t = _collocation.with_ends(x, k)
     t = np.array(_float64(t, "t"), order="C")
     if k < 0:
         raise ValueError("Expect non-negative k.")
@@ -388,7 +388,7 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
         raise ValueError(f"Out of bounds w/ x = {x}.")
     nt = len(t) - k - 1
     if periodic:
-        c = _solved_columns(lambda rhs: _interp.periodic_coefficients(x, rhs, t, k), columns)
+        c = _solved_columns(lambda rhs: _collocation.periodic_coefficients(x, rhs, t, k), columns)
         return BSpline.construct_fast(t, c.reshape((len(c), *trailing)), k, "periodic", axis,
                                       context)
     ends = [_end_conditions(end, trailing) for end in (left, right)]
@@ -410,7 +410,7 @@ def make_interp_spline(x, y, k: int = 3, t=None, bc_type=None, axis: int = 0,
         split = rhs.shape[1] != m
         conditions = [[(o, np.concatenate([v.real, v.imag]) if split else np.real(v))
                        for o, v in zip(*end)] for end in ends]
-        return _interp.coefficients(x, rhs, t, k, *conditions)
+        return _collocation.coefficients(x, rhs, t, k, *conditions)
 
     c = _solved_columns(solve, columns)
     return BSpline.construct_fast(t, c.reshape((nt, *trailing)), k, axis=axis,
@@ -457,16 +457,16 @@ def _end_conditions(end, trailing: tuple):
 
 
 def _cubic_ends(bc_type, n: int):
-    """bc_type as CubicSpline's where the cubic fast path takes it (`_interp_bc`'s forms, and
+    """bc_type as CubicSpline's where the cubic fast path takes it (`interp_bc`'s forms, and
     not-a-knot on 4 points or more), else None."""
     bc, _ = _cubic_bc(bc_type)
     return None if bc is None or (bc == "not-a-knot" and n < 4) else bc
 
 
-def _cubic(x, y, bc, axis: int, context) -> BSpline:
+def _cubic_fit(x, y, bc, axis: int, context) -> BSpline:
     """make_interp_spline's cubic through CubicSpline's fit (bc in CubicSpline's form)."""
     fitted = CubicSpline(x, y, axis=axis, bc_type=bc, context=context)
-    knots, c = _interp_coefficients(fitted.x, fitted.c.reshape(4, len(fitted.x) - 1, -1), bc)
+    knots, c = interp_coefficients(fitted.x, fitted.c.reshape(4, len(fitted.x) - 1, -1), bc)
     c = c.reshape((len(c), *fitted.c.shape[2:]))
     spline = BSpline.construct_fast(knots, c, 3, "periodic" if bc == "periodic" else True,
                                     fitted.axis, context)
@@ -475,20 +475,20 @@ def _cubic(x, y, bc, axis: int, context) -> BSpline:
     return spline
 
 
-def _interp_coefficients(x: np.ndarray, pieces: np.ndarray, bc):
+def interp_coefficients(x: np.ndarray, pieces: np.ndarray, bc):
     """make_interp_spline's knots for x and bc (CubicSpline's form), and the coefficients
     (n, m) of the cubic (pieces (4, len(x) - 1, m) in SciPy's power form) on them."""
     period = None
     if bc == "periodic":
-        knots, period = _interp.periodic(x, 3), x[-1] - x[0]
+        knots, period = _collocation.periodic(x, 3), x[-1] - x[0]
     elif bc == "not-a-knot":
-        knots = _interp.not_a_knot(x, 3)
+        knots = _collocation.not_a_knot(x, 3)
     else:
-        knots = _interp.with_ends(x, 3)
-    return knots, _bspline.cubic_coefficients(knots, x, pieces, period)
+        knots = _collocation.with_ends(x, 3)
+    return knots, _bspl.cubic_coefficients(knots, x, pieces, period)
 
 
-def _interp_bc(bc_type):
+def interp_bc(bc_type):
     """make_interp_spline's bc_type as CubicSpline's, or a ValueError saying why it has none."""
     bc, why = _cubic_bc(bc_type)
     if why is not None:

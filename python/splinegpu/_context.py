@@ -8,7 +8,7 @@ import threading
 import numpy as np
 
 from . import _native
-from ._arrays import (
+from ._helpers import (
     _count,
     _curves,
     _float64,
@@ -19,6 +19,7 @@ from ._arrays import (
     _per_point,
     _rows,
 )
+from ._surfaces import tessellate_surfaces
 
 
 class Tessellation:
@@ -168,8 +169,6 @@ class Context:
 
         Raises ValueError naming the surface, field and value for bad input.
         """
-        from ._surfaces import tessellate_surfaces
-
         return tessellate_surfaces(self, nets, kind, ends=ends, tension=tension, bias=bias,
                                    matrix=matrix, patches=patches, conditions=conditions,
                                    u=u, v=v, knots_u=knots_u, knots_v=knots_v,
@@ -182,7 +181,7 @@ _shared_cpu: Context | None = None
 _shared_lock = threading.Lock()
 
 
-def _default_context() -> Context:
+def default_context() -> Context:
     global _shared_cpu
     with _shared_lock:
         if _shared_cpu is None:
@@ -190,6 +189,6 @@ def _default_context() -> Context:
         return _shared_cpu
 
 
-def _shared_context():
+def shared_context():
     """The native half of `self.context`'s default, made once (a call takes no lock after)."""
-    return (_shared_cpu or _default_context())._native
+    return (_shared_cpu or default_context())._native

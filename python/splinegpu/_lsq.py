@@ -9,9 +9,9 @@ import operator
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _batch, _end_to_end, _float64, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
+from ._helpers import _aligned, _axis, _batch, _end_to_end, _float64, _xs_and_weights
 
 
 def _numbers(a, name: str) -> np.ndarray:

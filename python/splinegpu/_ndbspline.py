@@ -22,7 +22,7 @@ from math import prod
 
 import numpy as np
 
-from . import _bspline, _interp, _native
+from . import _bspl, _collocation, _native
 
 
 def _value_dtype(dtype) -> type:
@@ -61,7 +61,7 @@ def _knots_and_degrees(t, k) -> tuple:
     return tuple(knots), k
 
 
-def _orders(nu, d: int) -> list:
+def derivative_orders(nu, d: int) -> list:
     if nu is None:
         return [0] * d
     orders = np.asarray(nu)
@@ -136,7 +136,7 @@ class NdBSpline:
         polynomials continue where `extrapolate` (default: the spline's), else NaN."""
         d = len(self._t)
         extrapolate = self.extrapolate if extrapolate is None else bool(extrapolate)
-        orders = _orders(nu, d)
+        orders = derivative_orders(nu, d)
         xi = np.asarray(xi, dtype=np.float64)
         shape = xi.shape
         if shape[-1] != d:
@@ -174,8 +174,8 @@ class NdBSpline:
             x = xvals[:, a]
             if not extrapolate and x.size and (x.min() < t[a][k[a]] or x.max() > t[a][-k[a] - 1]):
                 raise ValueError(f"Out of bounds in dimension {a} with x = {x}.")
-            span = _bspline.intervals(t[a], k[a], x)
-            values = _bspline.basis(t[a], k[a], x, span)
+            span = _bspl.intervals(t[a], k[a], x)
+            values = _bspl.basis(t[a], k[a], x, span)
             index = (span - k[a])[:, None] + np.arange(k[a] + 1)[None, :]
             data = (data[:, :, None] * values[:, None, :]).reshape(len(xvals), -1)
             columns = (columns[:, :, None] * counts[a] + index[:, None, :]).reshape(
@@ -206,14 +206,14 @@ class NdBSpline:
                 moved = np.zeros((len(t[a]) - 1, *moved.shape[1:]), dtype=c.dtype)
             else:
                 flat = moved.reshape(moved.shape[0], -1)
-                t[a], flat, k[a] = _bspline.derivative(t[a], flat, k[a], order)
+                t[a], flat, k[a] = _bspl.derivative(t[a], flat, k[a], order)
                 moved = flat[:len(t[a]) - k[a] - 1].reshape((-1, *moved.shape[1:]))
             c = np.moveaxis(moved, 0, a)
         return NdBSpline(tuple(t), c, tuple(k), extrapolate=self.extrapolate,
                          context=self.context)
 
     def __reduce__(self):
-        return (_restore, (self._t, self._c, self._k, self.extrapolate, self.context))
+        return (restore, (self._t, self._c, self._k, self.extrapolate, self.context))
 
 
 # The surface planes of each derivative order (nu_u, nu_v) a surface gives, and the
@@ -236,7 +236,7 @@ def on_device(splines: list, points: list, orders: list):
         c = spline.c
         if len(spline.t) != 2 or spline.k != (3, 3) or c.dtype.kind == "c" or \
                 spline.context is not context or not 1 <= spline._columns().shape[1] <= 64 or \
-                not all(_bspline.cubic_knots_taken(t) for t in spline.t):
+                not all(_bspl.cubic_knots_taken(t) for t in spline.t):
             return None
         for a, t in enumerate(spline.t):
             x = xi[:, a]
@@ -250,7 +250,7 @@ def on_device(splines: list, points: list, orders: list):
     return np.split(values, result.surface_offsets[1:-1])
 
 
-def _restore(t, c, k, extrapolate, context) -> NdBSpline:
+def restore(t, c, k, extrapolate, context) -> NdBSpline:
     return NdBSpline(t, c, k, extrapolate=extrapolate, context=context)
 
 
@@ -260,7 +260,7 @@ def fit_grid(grid: tuple, values: np.ndarray, k: tuple) -> tuple:
     increasing axes), by one sweep of banded solves per axis (see the module's documentation).
     Complex values are fitted as their real and imaginary parts."""
     grid = tuple(np.asarray(x, dtype=np.float64) for x in grid)
-    t = tuple(_interp.not_a_knot(x, ka) for x, ka in zip(grid, k))
+    t = tuple(_collocation.not_a_knot(x, ka) for x, ka in zip(grid, k))
     return t, solve_grid(grid, t, k, values)
 
 
@@ -279,7 +279,7 @@ def solve_grid(grid: tuple, t: tuple, k: tuple, values: np.ndarray) -> np.ndarra
                                 [np.require(ta, np.float64, ["C", "A"]) for ta in t],
                                 [int(ka) for ka in k], np.require(real, np.float64, ["C", "A"]))
     if solved is None:
-        raise _interp._singular()
+        raise _collocation.singular()
     if dtype is np.complex128:
         solved = solved.view(np.complex128)
     return solved.reshape(shape)

@@ -13,32 +13,8 @@ import math
 
 import numpy as np
 
-from . import _native
-
-
-def _extrapolate(value):
-    """SciPy's `extrapolate`: True, False or "periodic" (None: the object's own)."""
-    if value is None or isinstance(value, bool):
-        return value
-    if isinstance(value, str):
-        if value != "periodic":
-            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
-        return value
-    return bool(value)
-
-
-_F64 = np.dtype(np.float64)
-
-
-def _f64(a) -> np.ndarray:
-    """a as an aligned, C-contiguous float64 array for the extension (itself where it is one,
-    checked first: a call of microseconds makes several): arrays unpickled from a network
-    buffer (Dask) may be misaligned."""
-    if a.__class__ is np.ndarray and a.dtype == _F64:
-        flags = a.flags
-        if flags.c_contiguous and flags.aligned:
-            return a
-    return np.require(a, dtype=np.float64, requirements=["C", "A"])
+from . import _bspl, _native
+from ._helpers import _extrapolate, _f64
 
 
 class PPoly:
@@ -99,7 +75,6 @@ class PPoly:
         """The B-spline `tck` (a BSpline, ours or SciPy's, or a (t, c, k) tuple) as SciPy's
         PPoly.from_spline makes it: one piece per knot interval (len(t) - 1 of them, empty
         ones too, breakpoints t), each the spline's Taylor expansion at its start."""
-        from . import _bspline
 
         if all(hasattr(tck, name) for name in ("t", "c", "k")):
             t, c, k = tck.t, tck.c, tck.k
@@ -111,8 +86,8 @@ class PPoly:
         c = np.asarray(c)
         c = c.astype(np.complex128 if c.dtype.kind == "c" else np.float64)
         trailing = c.shape[1:]
-        columns = _bspline.padded(t, c).reshape(max(len(c), len(t)), -1)
-        coeff = _bspline.taylor(t, columns, k, t[:-1])
+        columns = _bspl.padded(t, c).reshape(max(len(c), len(t)), -1)
+        coeff = _bspl.taylor(t, columns, k, t[:-1])
         return cls.construct_fast(coeff.reshape((k + 1, len(t) - 1, *trailing)), t,
                                   extrapolate)
 
@@ -124,7 +99,6 @@ class PPoly:
         if isinstance(bp, PPoly) or type(bp).__name__ != "BPoly":
             raise TypeError(f".from_bernstein_basis only accepts BPoly instances. Got "
                             f"{type(bp)} instead.")
-        from math import comb
 
         b = np.asarray(bp.c)
         x = np.asarray(bp.x, dtype=np.float64)
@@ -133,7 +107,7 @@ class PPoly:
         c = np.zeros_like(b, dtype=np.result_type(b, np.float64))
         for d in range(k + 1):
             for a in range(d + 1):
-                c[k - d] += b[a] * comb(k, a) * comb(k - a, d - a) * (-1) ** (d - a)
+                c[k - d] += b[a] * math.comb(k, a) * math.comb(k - a, d - a) * (-1) ** (d - a)
             c[k - d] /= h ** d
         if extrapolate is None:
             extrapolate = bp.extrapolate
@@ -227,7 +201,7 @@ class PPoly:
         """The integral from a to b (b < a: its negative), shape c.shape[2:], as SciPy's:
         `extrapolate` None (the polynomial's), True (the end pieces past the breakpoints),
         False (NaN when a or b lies outside them) or "periodic" (whole periods and the rest,
-        wrapped); see `_integrals`."""
+        wrapped); see `integrals`."""
         mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
         a, b = float(a), float(b)
         if mode is not True or self.x[0] > self.x[-1] or a != a or b != b:
@@ -241,10 +215,10 @@ class PPoly:
         return out.reshape(self.c.shape[2:])
 
     def _integrated(self, a: float, b: float, mode) -> np.ndarray:
-        """`integrate` in every mode, through `_integrals`."""
+        """`integrate` in every mode, through `integrals`."""
         m = self.c.shape[1]
         c, x = self._ascending()
-        total = _integrals(c, x[:-1], x[1:], np.array([0, m]), np.array([a]), np.array([b]),
+        total = integrals(c, x[:-1], x[1:], np.array([0, m]), np.array([a]), np.array([b]),
                            mode)
         return total[0].reshape(self.c.shape[2:])
 
@@ -255,14 +229,13 @@ class PPoly:
         c = self._column_c()
         if self.x[0] <= self.x[-1]:
             return c, self.x
-        from math import comb
 
         k = c.shape[0]
         h = (self.x[:-1] - self.x[1:])[:, None]
         shifted = np.zeros_like(c)
         for p in range(k):
             for j in range(p + 1):
-                shifted[k - 1 - j] += c[k - 1 - p] * comb(p, j) * (-h) ** (p - j)
+                shifted[k - 1 - j] += c[k - 1 - p] * math.comb(p, j) * (-h) ** (p - j)
         return shifted[:, ::-1], self.x[::-1].copy()
 
     def solve(self, y=0.0, discontinuity: bool = True, extrapolate=None):
@@ -429,13 +402,13 @@ def _roots(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarra
         return _roots_numpy(c, start, end, offsets, y, discontinuity, extrapolate, exact)
     cubic = np.zeros((4, c.shape[1]))
     cubic[4 - k:] = c
-    return _solved(_native.solve_pieces(cubic, np.ascontiguousarray(start, np.float64),
+    return solved(_native.solve_pieces(cubic, np.ascontiguousarray(start, np.float64),
                                         np.ascontiguousarray(end, np.float64),
                                         np.asarray(offsets, np.int64), y, discontinuity,
                                         extrapolate, exact), y)
 
 
-def _solved(pending, y: float):
+def solved(pending, y: float):
     """A native solve's second step: the real eigenvalues of the pieces it left undecided
     (their companion matrices minus y, each piece's ascending), handed back to `finish` ->
     (roots, offsets)."""
@@ -522,7 +495,7 @@ def _located(start: np.ndarray, offsets: np.ndarray, x: np.ndarray) -> np.ndarra
     return lo
 
 
-def _integrals(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray,
+def integrals(c: np.ndarray, start: np.ndarray, end: np.ndarray, offsets: np.ndarray,
                a: np.ndarray, b: np.ndarray, mode) -> np.ndarray:
     """The integral of each spline from a[s] to b[s] (S,), all splines at once: spline s's
     pieces are columns offsets[s]:offsets[s+1] of c (k, P, m), piece p spanning

@@ -7,7 +7,7 @@ Methods, as SciPy 1.17 defines them:
   tensor-product evaluator, the identity being the degree-1 collocation);
 - "cubic", "quintic": the tensor-product not-a-knot B-spline of degree 3 or 5 through the
   values, fitted by separable banded solves along each axis (`_ndbspline.fit_grid`); the
-  "_legacy" variants (SciPy: 1-D fits folded axis by axis at each point) are the same
+  "_fitpack_py" variants (SciPy: 1-D fits folded axis by axis at each point) are the same
   interpolant and take the same path;
 - "pchip": PCHIP folded axis by axis, the last axis first (`_native.pchip_grid`);
 - "nearest": the nearest grid node per axis, half-way rounding down.
@@ -22,7 +22,8 @@ import itertools
 
 import numpy as np
 
-from . import _native
+from . import _collocation, _native
+from ._fitpack2 import RectBivariateSpline
 from ._ndbspline import NdBSpline, fit_grid
 
 _DEGREES = {"slinear": 1, "cubic": 3, "quintic": 5, "pchip": 3,
@@ -118,7 +119,7 @@ class RegularGridInterpolator:
                              f" {solver = } and with arguments {solver_args}.")
         self._spline = None
         if method in _DEGREES and method != "pchip":
-            self._spline = self._fit(method.removesuffix("_legacy"), solver, solver_args or {})
+            self._spline = self._fit(method.removesuffix("_fitpack_py"), solver, solver_args or {})
 
     @staticmethod
     def _checked_values(values):
@@ -226,7 +227,7 @@ class RegularGridInterpolator:
         method, else fitted now (not kept: a call does not change the interpolator)."""
         if method == self.method and self._spline is not None:
             return self._spline
-        return self._fit(method.removesuffix("_legacy"))
+        return self._fit(method.removesuffix("_fitpack_py"))
 
     def _linear_tensor(self):
         """The multilinear interpolant as a degree-1 tensor B-spline on the grid's nodes (its
@@ -311,8 +312,6 @@ def _solved_by(solver, solver_args: dict, grid: tuple, values: np.ndarray, k: tu
     TypeError before any work."""
     import scipy.sparse.linalg as ssl
 
-    from . import _interp
-
     solver = ssl.gcrotmk if solver is None else solver
     iterative = solver is not ssl.spsolve
     if iterative and "atol" not in solver_args:
@@ -328,7 +327,7 @@ def _solved_by(solver, solver_args: dict, grid: tuple, values: np.ndarray, k: tu
             raise TypeError(f"solver: cannot be called as solver(A, b, **solver_args) with "
                             f"solver_args {sorted(solver_args)}: {e}") from None
     d = len(grid)
-    t = tuple(_interp.not_a_knot(g, ka) for g, ka in zip(grid, k))
+    t = tuple(_collocation.not_a_knot(g, ka) for g, ka in zip(grid, k))
     nodes = np.asarray(list(itertools.product(*grid)), dtype=np.float64)
     matrix = NdBSpline.design_matrix(nodes, t, k)
     rhs = values.reshape(int(np.prod(values.shape[:d])), -1)
@@ -356,8 +355,6 @@ def interpn(points, values, xi, method="linear", bounds_error=True, fill_value=n
     """SciPy's `interpn`: `RegularGridInterpolator(points, values, method, bounds_error,
     fill_value)(xi)`, and "splinef2d" (2-D scalar data, no extrapolation: the
     RectBivariateSpline through it, `fill_value` outside)."""
-    from ._rect import RectBivariateSpline
-
     known = [*_METHODS, "splinef2d"]
     if method not in known:
         raise ValueError("interpn only understands the methods 'linear', 'nearest', "

@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _axis, _batch, _float64, _Laid, _xs_and_weights
 from ._bsplines import BSpline
 from ._context import Context
+from ._helpers import _aligned, _axis, _batch, _float64, _Laid, _xs_and_weights
 
 
 def knots(x: np.ndarray) -> np.ndarray:

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from . import _native
-from ._arrays import _float64, _one_sampling, _order
+from ._helpers import _float64, _one_sampling, _order
 
 # The arrays of a result, by the NPZ's names, in its order.
 _ARRAYS = ("uv", "points", "du", "dv", "duu", "duv", "dvv", "normals", "triangles",

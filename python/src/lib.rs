@@ -1321,49 +1321,6 @@ fn values_array(py: Python<'_>, rows: usize, dim: usize) -> PyResult<Bound<'_, P
     Ok(PyArray2::<f64>::zeros(py, [rows, dim], false))
 }
 
-/// `python -m splinegpu.bench`'s anchor: the crate's own CPU path on the same curves, from Rust
-/// in this process. Each repetition fits the curves and builds the job on every thread, as
-/// `Context.tessellate` does, and evaluates it into reused f64 samples with t; evaluation alone
-/// is timed apart. The difference to `tessellate(out=...)` is the bindings' own cost. Returns the fastest of `repeats` (after one warm-up) of each, in seconds.
-#[pyfunction]
-fn time_rust_tessellate<'py>(
-    py: Python<'py>,
-    points: Stack2<'py>,
-    kind: &str,
-    per_segment: u32,
-    repeats: usize,
-) -> PyResult<(f64, f64)> {
-    let coords: Vec<(usize, Vec<f64>)> = (points.items()?.into_iter())
-        .map(|(dim, xyz)| (dim, xyz.to_vec()))
-        .collect();
-    py.detach(|| {
-        // As `tessellate` builds it: curves fitted and planned on every thread.
-        let build = || {
-            job_on_threads(coords.len(), Derivatives::None, |c| {
-                let (dim, xyz) = &coords[c];
-                let kind = CurveKind::named(kind, KindFields::default())?;
-                let table = Curve::new(kind, Points::new(*dim, xyz.clone())?)?.fit();
-                let plan = SamplePlan::new(&table, &Sampling::PerSegment(per_segment))?;
-                Ok((table, plan))
-            })
-        };
-        let threads = splinegpu::available_threads();
-        let mut samples = Samples::<f64>::for_job(&EvalJob::new(Derivatives::None));
-        let (mut whole, mut evaluation) = (f64::INFINITY, f64::INFINITY);
-        for _ in 0..=repeats {
-            let start = std::time::Instant::now();
-            let job = build()?;
-            let evaluated = std::time::Instant::now();
-            splinegpu::evaluate_cpu_into(&job, samples.planes_for(&job), threads);
-            let end = std::time::Instant::now();
-            whole = whole.min((end - start).as_secs_f64());
-            evaluation = evaluation.min((end - evaluated).as_secs_f64());
-        }
-        Ok((whole, evaluation))
-    })
-    .map_err(|e: InputError| value_error(e))
-}
-
 /// A ragged result: the values, and offsets (S + 1) splitting them per spline.
 type Ragged<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<i64>>);
 
@@ -2529,7 +2486,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(column_ranges, m)?)?;
     m.add_function(wrap_pyfunction!(bspline_basis, m)?)?;
     m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
-    m.add_function(wrap_pyfunction!(time_rust_tessellate, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
 }

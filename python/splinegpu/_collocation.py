@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _bspline, _native
+from . import _bspl, _native
 
 
 def not_a_knot(x: np.ndarray, k: int) -> np.ndarray:
@@ -57,7 +57,7 @@ def _banded(first: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray 
                                 np.require(rhs, np.float64, ["C", "A"]))
 
 
-def _singular() -> np.linalg.LinAlgError:
+def singular() -> np.linalg.LinAlgError:
     return np.linalg.LinAlgError("Colocation matrix is singular.")
 
 
@@ -68,15 +68,15 @@ def coefficients(x, y, t, k: int, left: list, right: list) -> np.ndarray:
     rows = []
     first = []
     for where, conditions in ((x[:1], left), (x, None), (x[-1:], right)):
-        span = _bspline.intervals(t, k, where)
+        span = _bspl.intervals(t, k, where)
         for order in ([0] if conditions is None else [o for o, _ in conditions]):
-            rows.append(_bspline.basis(t, k, where, span, order))
+            rows.append(_bspl.basis(t, k, where, span, order))
             first.append(span - k)
     rhs = np.concatenate([np.array([v for _, v in left]).reshape(-1, y.shape[1]), y,
                           np.array([v for _, v in right]).reshape(-1, y.shape[1])])
     c = _banded(np.concatenate(first), np.concatenate(rows), rhs)
     if c is None or rhs.shape[0] != nt:
-        raise _singular()
+        raise singular()
     return c
 
 
@@ -86,8 +86,8 @@ def periodic_coefficients(x, y, t, k: int) -> np.ndarray:
     cyclic system at x_0 .. x_{n-2}, the row of x_j in knot span l touching c_{l-k} .. c_l
     (indices mod n - 1)."""
     size = len(x) - 1
-    span = _bspline.intervals(t, k, x[:-1])
-    rows = _bspline.basis(t, k, x[:-1], span)
+    span = _bspl.intervals(t, k, x[:-1])
+    rows = _bspl.basis(t, k, x[:-1], span)
     columns = (span - k)[:, None] + np.arange(k + 1)[None, :]
     rhs = y[:-1]
     free = None
@@ -100,7 +100,7 @@ def periodic_coefficients(x, y, t, k: int) -> np.ndarray:
         try:
             free = np.linalg.solve(dense, rhs)
         except np.linalg.LinAlgError:
-            raise _singular() from None
+            raise singular() from None
     return np.concatenate([free, free[np.arange(k) % size]])
 
 

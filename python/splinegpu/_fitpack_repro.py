@@ -12,9 +12,9 @@ import warnings
 import numpy as np
 
 from . import _native
-from ._arrays import _aligned, _batch, _float64, _xs_and_weights
 from ._bsplines import BSpline, make_interp_spline
 from ._context import Context
+from ._helpers import _aligned, _batch, _float64, _xs_and_weights
 
 # SciPy's warnings when the root finder stops short of fp = s (its ier 2 and 3).
 _STOPPED = {
@@ -29,7 +29,7 @@ _STOPPED = {
 }
 
 
-def _periodic(bc_type) -> bool:
+def periodic_bc(bc_type) -> bool:
     """Whether bc_type asks for a periodic fit (SciPy's `_validate_bc_type`)."""
     if bc_type is None or (isinstance(bc_type, str) and bc_type == "not-a-knot"):
         return False
@@ -171,7 +171,7 @@ def make_splrep(x, y, *, w=None, xb=None, xe=None, k: int = 3, s: float = 0, t=N
         if t is not None or w is not None or nest is not None:
             raise ValueError("s==0 is for interpolation only")
         return make_interp_spline(x, y, k=k, bc_type=bc_type, context=context)
-    periodic = _periodic(bc_type)
+    periodic = periodic_bc(bc_type)
     x, y, w, k, s, xb, xe = _validated(x, y, w, k, s, xb, xe, False, periodic)
     knots, c = _fit(x, y, w, xb, xe, k, s, t, nest, periodic)
     return BSpline.construct_fast(knots, np.ascontiguousarray(c[:, 0]), k, context=context)
@@ -199,7 +199,7 @@ def make_splprep(x, *, w=None, u=None, ub=None, ue=None, k: int = 3, s: float = 
                          f"{points.shape[0]}")
     if u is None:
         u = chord_lengths(points)
-    periodic = _periodic(bc_type)
+    periodic = periodic_bc(bc_type)
     if s == 0:
         # SciPy's: the interpolating curve, not-a-knot even for bc_type "periodic".
         if t is not None or w is not None or nest is not None:

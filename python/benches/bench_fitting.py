@@ -1,4 +1,4 @@
-"""The fitting rows of `python -m splinegpu.bench` (`--fitting` runs them alone): each the
+"""The fitting rows of `python python/benches/bench.py` (`--fitting` runs them alone): each the
 whole fit as a caller makes it (the batch's splines ready to evaluate), against SciPy's loop
 in the same run on the same data. SciPy's loops that would take minutes or hours run on a
 sample of the series and are scaled up (the row says so).
@@ -20,8 +20,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-
-from .bench import best, faster
+from timing import Rows, best, faster
 
 
 def _loop(fit, items, sample: int) -> float:
@@ -39,10 +38,9 @@ def rows() -> list:
 
     import splinegpu.interpolate as si
 
-    from ._bench_gridded import _Rows
 
     rng = np.random.default_rng(32)
-    out = _Rows()
+    out = Rows()
 
     lengths = rng.integers(1900, 2201, 8192)
     xs = [np.linspace(0, 10, n) + rng.uniform(-0.3, 0.3, n) * 10 / n for n in lengths]

@@ -1,8 +1,8 @@
-"""`python -m splinegpu.bench [--workers]`: the package against SciPy (and against the crate
-from Rust), on the CPU backend, in one run on the same inputs; each figure the fastest of 5
-after a warm-up (a call of microseconds: the fastest of 5 loops of many calls, per call).
-Every timed call is the whole call as it is made: arguments converted, points located,
-results allocated.
+"""`python python/benches/bench.py [--workers | --gridded | --fitting]`: the package against SciPy
+(and against the crate from Rust), on the CPU backend, in one run on the same inputs; each
+figure the fastest of 5 after a warm-up (a call of microseconds: the fastest of 5 loops of many
+calls, per call). Every timed call is the whole call as it is made: arguments converted, points
+located, results allocated.
 
 - s(x) on one spline: one point on 100 and on 1,000,000 knots (the cost per call must not
   grow with the knots), 1,000 random points on 1,000 knots, 10 M sorted points on 1 M knots
@@ -21,11 +21,12 @@ results allocated.
 - tessellate: one curve of 16 points (32 samples per segment), and w1 (10,000 Catmull-Rom
   curves of 34 points in 3-D, 9.93 M samples) with a fresh result and with `out=`, against
   SciPy's CubicHermiteSpline with Catmull-Rom tangents on the same curves, and against the
-  crate's own path from Rust in this process (the package's overhead).
+  crate's own whole call from Rust (`splinegpu bench --workload w1`'s cpu-whole, run by this
+  bench when the command line is built: the package's overhead).
 - nurbs: w1's curves as clamped NURBS with weights (w1-nurbs) against w1 in the same run, and
   100 of them against geomdl's NURBS curves on the same parameters (`pip install geomdl`).
-- gridded data (`_bench_gridded`): RegularGridInterpolator, NdBSpline and their batches.
-- fitting noisy data (`_bench_fitting`): smoothing (GCV), FITPACK and least-squares fits and
+- gridded data (bench_gridded.py): RegularGridInterpolator, NdBSpline and their batches.
+- fitting noisy data (bench_fitting.py): smoothing (GCV), FITPACK and least-squares fits and
   their batches.
 With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves x 4; with
 --gridded or --fitting: those rows alone.
@@ -33,27 +34,19 @@ With --workers: 1 against 2 Dask worker processes (LocalCluster) on w1's curves 
 
 from __future__ import annotations
 
+import json
+import os
+import shutil
+import subprocess
 import sys
-import time
+from pathlib import Path
 
+import bench_fitting
+import bench_gridded
 import numpy as np
+from timing import REPEATS, best, faster
 
 import splinegpu
-from splinegpu import _native
-
-REPEATS = 5
-
-
-def best(run, repeats=REPEATS, calls=1):
-    """The fastest of `repeats` timed runs (after one warm-up) of `calls` calls, per call."""
-    run()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(calls):
-            run()
-        times.append((time.perf_counter() - start) / calls)
-    return min(times)
 
 
 def w1_curves(count=10_000):
@@ -64,10 +57,6 @@ def uneven_knots(rng, n):
     return np.concatenate([[0.0], np.cumsum(10 ** rng.uniform(-1, 1, n - 1))])
 
 
-def faster(ours, theirs, goal=None):
-    ratio = f"{theirs / ours:.2f}x faster" if theirs >= ours else f"{ours / theirs:.2f}x slower"
-    return ratio + (f" (goal {goal})" if goal else "")
-
 
 def main(argv):
     ctx = splinegpu.Context("cpu")
@@ -75,18 +64,15 @@ def main(argv):
     rows = [] if alone else curves_and_1d(ctx)
     if "--workers" in argv:
         rows.extend(workers())
-    from ._bench_fitting import rows as fitting
-    from ._bench_gridded import rows as gridded
-
     if "--fitting" not in argv:
         try:
             gpu = splinegpu.Context("gpu")
         except RuntimeError:
             gpu = None
-        rows.extend(gridded(gpu))
+        rows.extend(bench_gridded.rows(gpu))
     if "--gridded" not in argv:
-        rows.extend(fitting())
-    print(f"splinegpu.bench on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
+        rows.extend(bench_fitting.rows())
+    print(f"python/benches/bench.py on {ctx.info}; fastest of {REPEATS} after a warm-up\n")
     print(f"| {'ours':<38} | {'seconds':>10} | {'against':<26} | {'seconds':>10} | ratio |")
     print(f"|{'-' * 40}|{'-' * 12}|{'-' * 28}|{'-' * 12}|---|")
     for name, a, other, b, ratio in rows:
@@ -198,12 +184,39 @@ def curves_and_1d(ctx):
                  faster(fresh, theirs, ">= 3x")))
     rows.append(("w1 tessellate(out=reused)", reused, "fresh result", fresh,
                  f"fresh / out= {fresh / reused:.2f} (goal <= 1.5)"))
-    rust_whole, rust_eval = _native.time_rust_tessellate(curves, "catmull-rom", 32, REPEATS)
-    rows.append(("  the crate from Rust", rust_whole, "of which evaluate_into", rust_eval,
-                 f"out= overhead {100 * (reused / rust_whole - 1):+.1f} %"))
+    crate = crate_w1()
+    if crate is None:
+        print("  the crate from Rust: skipped (no splinegpu binary: cargo build --release "
+              "-p splinegpu-cli, or set SPLINEGPU)", file=sys.stderr)
+    else:
+        rust_whole, rust_eval = crate
+        rows.append(("  the crate from Rust", rust_whole, "of which evaluate_into", rust_eval,
+                     f"out= overhead {100 * (reused / rust_whole - 1):+.1f} %"))
 
     rows.extend(nurbs(ctx, fresh))
     return rows
+
+
+def crate_w1():
+    """The crate's own whole call on w1 (`splinegpu bench --workload w1`'s cpu-whole: fitted
+    and planned on every thread, evaluated in f64 with t into reused memory) and its f64
+    evaluation alone (cpu-all f64), the fastest of its runs, in seconds; None without the
+    command line. Its w1 is the contract's (10,000 curves of 34 points in ±100, its own
+    seeded draw): the same work as this bench's w1, other numbers."""
+    binary = os.environ.get("SPLINEGPU") or shutil.which(
+        "splinegpu", path=str(Path(__file__).resolve().parents[2] / "target" / "release"))
+    if binary is None:
+        binary = shutil.which("splinegpu")
+    if binary is None:
+        return None
+    env = dict(os.environ, VK_ICD_FILENAMES="/nonexistent")  # the CPU paths only
+    done = subprocess.run([binary, "bench", "--workload", "w1", "--json"], env=env,
+                          capture_output=True, text=True, check=True)
+    found = {}
+    for line in done.stdout.splitlines():
+        row = json.loads(line)
+        found[(row["path"], row.get("float"))] = row["min_seconds"]
+    return found[("cpu-whole", "f64")], found[("cpu-all", "f64")]
 
 
 def batches(xs, ys, qs):

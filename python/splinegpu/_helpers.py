@@ -1,6 +1,7 @@
-"""Arguments as the extension takes them: float64, aligned and C-contiguous arrays, per-curve
-fields as one (C, k) array where the curves' share a shape, and every refusal naming the
-argument."""
+"""The package's one helpers module: arguments as the extension takes them (float64, aligned
+and C-contiguous arrays, per-curve fields as one (C, k) array where the curves' share a shape,
+SciPy's `extrapolate`), every refusal naming the argument. Its names are the only private ones
+that other modules import (tests/test_layers.py holds every module to that)."""
 
 from __future__ import annotations
 
@@ -258,3 +259,28 @@ def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
     if len(ws) != len(lengths):
         raise ValueError(f"ws: {len(ws)} weight arrays for {len(lengths)} series")
     return _batch(xs, xname, 1), _batch(ws, "ws", 1), offsets
+
+
+def _extrapolate(value):
+    """SciPy's `extrapolate`: True, False or "periodic" (None: the object's own)."""
+    if value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, str):
+        if value != "periodic":
+            raise ValueError(f"extrapolate: must be True, False or 'periodic', got {value!r}")
+        return value
+    return bool(value)
+
+
+_F64 = np.dtype(np.float64)
+
+
+def _f64(a) -> np.ndarray:
+    """a as an aligned, C-contiguous float64 array for the extension (itself where it is one,
+    checked first: a call of microseconds makes several): arrays unpickled from a network
+    buffer (Dask) may be misaligned."""
+    if a.__class__ is np.ndarray and a.dtype == _F64:
+        flags = a.flags
+        if flags.c_contiguous and flags.aligned:
+            return a
+    return np.require(a, dtype=np.float64, requirements=["C", "A"])

@@ -17,9 +17,9 @@ import warnings
 
 import numpy as np
 
-from . import _bspline, _interp
+from . import _bspl, _collocation
 from ._bsplines import BSpline, make_interp_spline
-from ._fitpack import chord_lengths, make_splprep, make_splrep
+from ._fitpack_repro import chord_lengths, make_splprep, make_splrep
 from ._lsq import make_lsq_spline
 from ._ppoly import PPoly
 
@@ -46,7 +46,7 @@ def _each(c: np.ndarray, one):
 
 def _padded(t: np.ndarray, c: np.ndarray) -> np.ndarray:
     """c with zeros to len(t) along its first axis, as FITPACK lays it out."""
-    return _bspline.padded(t, np.asarray(c))
+    return _bspl.padded(t, np.asarray(c))
 
 
 def _check_finite_input(x, name: str) -> np.ndarray:
@@ -118,7 +118,7 @@ def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None) -> B
     interpolating spline on the periodic knots for s = 0, the smoothing spline otherwise;
     c (n - k - 1, d)."""
     if s == 0:
-        t = _interp.periodic(x, k)
+        t = _collocation.periodic(x, k)
         if k == 1:
             # percur's k = 1: the coefficients are the values.
             return BSpline.construct_fast(t, y, 1)

@@ -1,6 +1,6 @@
-"""The gridded rows of `python -m splinegpu.bench` (`--gridded` runs them alone): each the whole
-call as a caller makes it (construction included where the row says so), against SciPy in the
-same run on the same inputs, and on the GPU backend where a surface carries the work.
+"""The gridded rows of `python python/benches/bench.py` (`--gridded` runs them alone): each the
+whole call as a caller makes it (construction included where the row says so), against SciPy in
+the same run on the same inputs, and on the GPU backend where a surface carries the work.
 
 Grids are evenly spaced (as xarray's coordinates) but for the ragged ones (each node moved by
 up to 0.3 of the step): SciPy's iterative solve converges slowly on uneven grids (minutes for
@@ -25,8 +25,7 @@ import sys
 import time
 
 import numpy as np
-
-from .bench import best, faster
+from timing import Rows, best, faster
 
 # The extra memory of the xarray#11342 call, measured in a fresh interpreter: its peak
 # resident set over the one it had with the grid made (tracemalloc would slow SciPy's
@@ -56,7 +55,6 @@ print(high_water() - before)
 def _extra_memory(module: str) -> float:
     """Bytes the xarray#11342 call adds to the peak resident set, in its own interpreter."""
     import subprocess
-    import sys
 
     done = subprocess.run([sys.executable, "-c", _MEMORY.format(module=module)],
                           capture_output=True, text=True, check=True)
@@ -75,13 +73,6 @@ def _inside(rng, axes, count):
     return np.stack([rng.uniform(a[0], a[-1], count) for a in axes], axis=-1)
 
 
-class _Rows(list):
-    """The rows, each also told on standard error as it is measured (the run takes minutes)."""
-
-    def append(self, row) -> None:
-        super().append(row)
-        print(f"  {row[0]}: {row[1]:.3g} against {row[3]:.3g}", file=sys.stderr, flush=True)
-
 
 def rows(gpu) -> list:
     import scipy.interpolate as scipy
@@ -89,7 +80,7 @@ def rows(gpu) -> list:
     import splinegpu.interpolate as si
 
     rng = np.random.default_rng(31)
-    out = _Rows()
+    out = Rows()
     adapter = gpu.info.removeprefix("gpu: ").split(" (")[0] if gpu is not None else None
 
     axes, values = _grid(rng, (288, 71, 73))

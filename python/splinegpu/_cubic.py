@@ -14,23 +14,22 @@ from typing import Any
 
 import numpy as np
 
-from . import _bspline, _interp, _native
-from ._arrays import _axis, _flat, _float64, _order
-from ._context import Context, _shared_context
-from ._ppoly import PPoly, _extrapolate, _f64
+from . import _bspl, _collocation, _native
+from ._context import Context, shared_context
+from ._helpers import _F64, _axis, _extrapolate, _f64, _flat, _float64, _order
+from ._ppoly import PPoly
 
 # The most coordinates a curve's point has (the crate's MAX_DIM): the columns fitted together.
 _MAX_COLUMNS = 64
 # The largest call on a spline made from pieces (a derivative) that its pieces answer before
 # its tables exist.
 _UNTABULATED_CALL = 1 << 16
-_F64 = np.dtype(np.float64)
 
 
 _END_NAMES = {"natural": "second", "clamped": "first", "not-a-knot": "not-a-knot"}
 
 
-def _bc(bc_type, trailing: tuple, complex_y: bool = False, broadcast: bool = False):
+def bc_of(bc_type, trailing: tuple, complex_y: bool = False, broadcast: bool = False):
     """SciPy's bc_type as (name, start, end) for the native fit: a name, "clamped" with first
     derivatives at both ends, or "each" with every end on its own: (order name, values) where
     order name is "first", "second" or "not-a-knot". Derivative values have y's trailing
@@ -83,13 +82,13 @@ def _bc(bc_type, trailing: tuple, complex_y: bool = False, broadcast: bool = Fal
 
 
 def _cut_end(end, cut: slice):
-    """An end condition of `_bc` for the columns `cut` of y."""
+    """An end condition of `bc_of` for the columns `cut` of y."""
     if end is None or end[1] is None:
         return end
     return (end[0], end[1][cut])
 
 
-def _restore(cls, attributes: dict, state):
+def restore(cls, attributes: dict, state):
     """A spline `__reduce__` saved: its attributes, and its tables restored bit for bit."""
     spline = cls.__new__(cls)
     spline.__dict__.update(attributes)
@@ -151,7 +150,7 @@ def _in_blocks(fit, m: int, pieces: int) -> Any:
     return _Blocks([fit(slice(i, min(i + _MAX_COLUMNS, m))) for i in range(0, m, _MAX_COLUMNS)])
 
 
-def _tables(pieces: list, extents: Sequence[float], name: str) -> Any:
+def piece_tables(pieces: list, extents: Sequence[float], name: str) -> Any:
     """The extension's tables of piecewise polynomials of degree <= 3 given in SciPy's power
     form: per spline (breakpoints x, real coefficients (k + 1, P, m)), all made in one call;
     extents[s] is the spread of the points spline s was made from, which scales the GPU's
@@ -173,7 +172,7 @@ def _tables(pieces: list, extents: Sequence[float], name: str) -> Any:
                                        np.asarray(extents, dtype=np.float64))
 
 
-class _Piecewise(PPoly):
+class PiecewiseCubic(PPoly):
     """What every spline of this module shares: knots `x` (a read-only copy), the fitted
     tables, SciPy's `extrapolate`, `axis` and `c`, calls, pickling; the rest (derivatives,
     antiderivatives, integrals, roots) it answers as the `PPoly` it is. Its subclasses are the
@@ -225,7 +224,7 @@ class _Piecewise(PPoly):
 
     @classmethod
     def _of_pieces(cls, x: np.ndarray, c: np.ndarray, extent: float | None, extrapolate,
-                   axis: int, context: Context | None) -> _Piecewise:
+                   axis: int, context: Context | None) -> PiecewiseCubic:
         """The piecewise polynomial of degree <= 3 with breakpoints x and coefficients c
         (k + 1, P, ...) in SciPy's power form (real or complex), its tables made from them
         when first needed (no fit); `extent` is the spread of the points it was made from,
@@ -255,7 +254,7 @@ class _Piecewise(PPoly):
             if spread is None:
                 spread = float(np.max(np.ptp(columns[-1], axis=0))) if columns.size else 0.0
             return _in_blocks(
-                lambda cut: _tables([(x, np.ascontiguousarray(columns[:, :, cut]))], [spread],
+                lambda cut: piece_tables([(x, np.ascontiguousarray(columns[:, :, cut]))], [spread],
                                     "c"),
                 columns.shape[2], columns.shape[1])
 
@@ -283,7 +282,7 @@ class _Piecewise(PPoly):
         attributes = {k: v for k, v in self.__dict__.items() if k not in ("_native",
                                                                           "_deferred")}
         attributes["_pieces"] = attributes["_c"] = None
-        return (_restore, (type(self), attributes, self._native.state()))
+        return (restore, (type(self), attributes, self._native.state()))
 
     @property
     def c(self) -> np.ndarray:
@@ -336,7 +335,7 @@ class _Piecewise(PPoly):
             x = _float64(x, "x")
             flat = _flat(x, "x")
         ctx = self.context
-        native = _shared_context() if ctx is None else ctx._native
+        native = shared_context() if ctx is None else ctx._native
         values = None
         if native.backend == "cpu" and "_deferred" in self.__dict__ and \
                 len(flat) <= _UNTABULATED_CALL:
@@ -424,7 +423,7 @@ class _Piecewise(PPoly):
         self.__dict__.update(self._like(merged.c, merged.x, self.extrapolate).__dict__)
 
 
-class CubicSpline(_Piecewise):
+class CubicSpline(PiecewiseCubic):
     """`scipy.interpolate.CubicSpline(x, y, axis=0, bc_type="not-a-knot", extrapolate=None)`:
     bc_type "not-a-knot", "natural", "clamped", "periodic" (on 2 points too), or a pair of
     ends, each "not-a-knot", "natural", "clamped" or (order, value) with order 1 or 2 (a
@@ -456,7 +455,7 @@ class CubicSpline(_Piecewise):
             # A complex end value makes the spline complex, as SciPy's.
             y = np.asarray(y).astype(np.complex128)
         x, y2 = self._setup(x, y, axis, extrapolate, context)
-        name, start, end = _bc(bc_type, self._trailing, self._complex)
+        name, start, end = bc_of(bc_type, self._trailing, self._complex)
         if len(x) < 4 and name in ("natural", "clamped", "each"):
             # Fewer points than the crate's per-end fit takes: the same cubic through the
             # collocation system, as its pieces.
@@ -479,7 +478,7 @@ def _complex_ends(bc_type) -> bool:
 
 
 def _few_points(x: np.ndarray, y2: np.ndarray, name: str, start, end) -> Any:
-    """The tables of the cubic spline through 2 or 3 points with its ends (`_bc`'s form;
+    """The tables of the cubic spline through 2 or 3 points with its ends (`bc_of`'s form;
     "natural" and "clamped" as zero second or first derivatives), as SciPy fits it: on 2
     points a not-a-knot end is the line's slope; on 3, a not-a-knot end drops x_1 (or x_{n-2})
     from the knots, a derivative end adds a condition."""
@@ -500,15 +499,15 @@ def _few_points(x: np.ndarray, y2: np.ndarray, name: str, start, end) -> Any:
             ends.append([(orders[order], np.zeros(m) if values is None else
                           np.asarray(values, dtype=np.float64))])
     t = np.concatenate([np.repeat(x[:1], 4), inner, np.repeat(x[-1:], 4)])
-    c = _interp.coefficients(x, y2, t, 3, *ends)
-    coeff = _bspline.taylor(t, c, 3, x[:-1])
+    c = _collocation.coefficients(x, y2, t, 3, *ends)
+    coeff = _bspl.taylor(t, c, 3, x[:-1])
     extent = float(np.max(np.ptp(y2, axis=0))) if y2.size else 0.0
     return _in_blocks(
-        lambda cut: _tables([(x, np.ascontiguousarray(coeff[:, :, cut]))], [extent], "c"),
+        lambda cut: piece_tables([(x, np.ascontiguousarray(coeff[:, :, cut]))], [extent], "c"),
         m, len(x) - 1)
 
 
-class CubicHermiteSpline(_Piecewise):
+class CubicHermiteSpline(PiecewiseCubic):
     """`scipy.interpolate.CubicHermiteSpline(x, y, dydx, axis=0, extrapolate=None)`: the
     cubic through every point with the derivative `dydx` there (y's shape; complex with a
     complex y). As `CubicSpline` in everything else; `extrapolate` None means True."""
@@ -529,7 +528,7 @@ class CubicHermiteSpline(_Piecewise):
             y2.shape[1], len(x) - 1)
 
 
-class PchipInterpolator(_Piecewise):
+class PchipInterpolator(PiecewiseCubic):
     """`scipy.interpolate.PchipInterpolator(x, y, axis=0, extrapolate=None)`: monotone cubic
     interpolation (Fritsch-Carlson-Butland slopes, SciPy's ends), each of y's columns on its
     own; real y only, as SciPy's. As `CubicSpline` in everything else; `extrapolate` None
@@ -545,7 +544,7 @@ class PchipInterpolator(_Piecewise):
             y2.shape[1], len(x) - 1)
 
 
-class Akima1DInterpolator(_Piecewise):
+class Akima1DInterpolator(PiecewiseCubic):
     """`scipy.interpolate.Akima1DInterpolator(x, y, axis=0, *, method="akima",
     extrapolate=None)`: Akima's slopes, or the modified ("makima") ones, each of y's columns
     on its own; real y only, as SciPy's. As `CubicSpline` in everything else; `extrapolate`
