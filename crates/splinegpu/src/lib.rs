@@ -111,6 +111,7 @@ mod cpu;
 mod curve;
 mod error;
 mod fit;
+pub mod geometry;
 mod gpu;
 mod job;
 pub mod kinds;

@@ -10,6 +10,7 @@ mod at;
 mod basis;
 mod cpu_fast;
 mod geometric_sampling;
+mod geometry;
 mod hermite;
 mod interpolation;
 mod job;

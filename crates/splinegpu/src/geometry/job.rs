@@ -1,0 +1,346 @@
+//! `GeometryJob`: many curves' meshes, counted when each curve is pushed and made together.
+
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
+use super::frames::{self, Vec3};
+use super::mesh::{self, MeshOut, Section, Shape};
+use super::{Geometry, widen};
+use crate::conventions::Ends;
+use crate::curve::{Curve, CurveKind};
+use crate::error::InputError;
+use crate::fit::interp::EndCondition;
+use crate::job::Derivatives;
+use crate::memory;
+use crate::sampling::arc_length::DEFAULT_ARCLEN_ACCURACY;
+use crate::sampling::{SampleLoc, SamplePlan, Sampling};
+use crate::segment::SegmentTable;
+
+/// The most cross-sections one curve may have (the contract's 2^20).
+pub const MAX_SECTIONS: usize = 1 << 20;
+
+/// One curve's mesh, planned: its widened table (the width its last coordinate), where its
+/// cross-sections lie, and what the counts were made from.
+#[derive(Clone, Debug)]
+struct Planned {
+    table: SegmentTable,
+    locs: Vec<SampleLoc>,
+    /// The arc length to each cross-section (closed curves, whose frames are closed up).
+    lengths: Option<Vec<f64>>,
+    shape: Shape,
+    n0: Vec3,
+}
+
+/// Many curves' meshes: each curve's geometry and sampling checked and its counts known when
+/// it is pushed, the meshes made by [`GeometryJob::evaluate_cpu`]. Mesh c owns vertices
+/// `vertex_offsets()[c]..vertex_offsets()[c + 1]` and triangles likewise; its triangles'
+/// indices are local to it (a renderer draws mesh c with base vertex `vertex_offsets()[c]`).
+#[derive(Debug, Default)]
+pub struct GeometryJob {
+    curves: Vec<Planned>,
+    vertex_offsets: Vec<u64>,
+    triangle_offsets: Vec<u64>,
+    available: OnceLock<Option<u64>>,
+}
+
+/// The meshes of a [`GeometryJob`], every curve's in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Meshes {
+    /// 3 coordinates a vertex.
+    pub points: Vec<f64>,
+    /// The unit normal at each vertex, 3 coordinates a vertex.
+    pub normals: Vec<f64>,
+    /// The curve parameter each vertex was made at (a cap's centre: its end's).
+    pub t: Vec<f64>,
+    /// Counter-clockwise triangles, indices local to their mesh.
+    pub triangles: Vec<[u32; 3]>,
+    /// Mesh c's vertices are `vertex_offsets[c]..vertex_offsets[c + 1]`.
+    pub vertex_offsets: Vec<u64>,
+    /// Mesh c's triangles are `triangle_offsets[c]..triangle_offsets[c + 1]`.
+    pub triangle_offsets: Vec<u64>,
+}
+
+impl GeometryJob {
+    /// An empty job.
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            vertex_offsets: vec![0],
+            triangle_offsets: vec![0],
+            ..Self::default()
+        }
+    }
+
+    /// Plans `curve`'s mesh: `geometry` made at the cross-sections `sampling` places.
+    ///
+    /// # Errors
+    /// A curve whose dimension the geometry does not take (field "geometry"); a radius or
+    /// width that is not finite and > 0 or not one per point ("radius", "width"); a tube of
+    /// fewer than 3 sides ("sides"); an `up` not 3 finite numbers or parallel to the first
+    /// tangent ("up"); "at" or tolerance sampling, more than [`MAX_SECTIONS`] cross-sections,
+    /// more than 2^32 - 1 vertices in the mesh, or a mesh larger than the memory the process
+    /// has ("sampling"). The caller places the error in its curve
+    /// ([`InputError::in_curve`]); the job is then unchanged.
+    pub fn push(
+        &mut self,
+        curve: &Curve,
+        geometry: &Geometry,
+        sampling: &Sampling,
+    ) -> Result<(), InputError> {
+        let planned = plan(curve, geometry, sampling)?;
+        let closed = planned.lengths.is_some();
+        let (vertices, triangles) = mesh::counts(planned.shape, planned.locs.len() as u64, closed);
+        if vertices > u64::from(u32::MAX) {
+            return Err(InputError::field(
+                "sampling",
+                format!("makes a mesh of {vertices} vertices, more than 2^32 - 1"),
+            ));
+        }
+        let total_vertices = self.vertex_count() + vertices;
+        let total_triangles = self.triangle_count() + triangles;
+        self.check_fits(total_vertices, total_triangles)?;
+        self.curves.push(planned);
+        self.vertex_offsets.push(total_vertices);
+        self.triangle_offsets.push(total_triangles);
+        Ok(())
+    }
+
+    /// Refuses a job whose meshes (7 f64 and a triangle's 12 bytes per vertex and triangle)
+    /// would not fit in the memory the process has.
+    fn check_fits(&self, vertices: u64, triangles: u64) -> Result<(), InputError> {
+        let Some(available) = *self.available.get_or_init(memory::available_memory) else {
+            return Ok(());
+        };
+        let bytes = u128::from(vertices) * 56 + u128::from(triangles) * 12;
+        if bytes > u128::from(available) {
+            return Err(InputError::field(
+                "sampling",
+                format!(
+                    "gives the job {vertices} vertices and {triangles} triangles, {bytes} bytes; \
+                     the process has {available} bytes of memory available"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The number of curves.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.curves.len()
+    }
+
+    /// Whether the job has no curves.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.curves.is_empty()
+    }
+
+    /// Every mesh's vertices, together.
+    #[must_use]
+    pub fn vertex_count(&self) -> u64 {
+        *self.vertex_offsets.last().unwrap_or(&0)
+    }
+
+    /// Every mesh's triangles, together.
+    #[must_use]
+    pub fn triangle_count(&self) -> u64 {
+        *self.triangle_offsets.last().unwrap_or(&0)
+    }
+
+    /// Mesh c's first vertex, for c in 0..=len (the last: the vertex count).
+    #[must_use]
+    pub fn vertex_offsets(&self) -> &[u64] {
+        &self.vertex_offsets
+    }
+
+    /// Mesh c's first triangle, for c in 0..=len.
+    #[must_use]
+    pub fn triangle_offsets(&self) -> &[u64] {
+        &self.triangle_offsets
+    }
+
+    /// Every curve's mesh, in f64 on every thread.
+    #[must_use]
+    pub fn evaluate_cpu(&self) -> Meshes {
+        let vertices = usize::try_from(self.vertex_count()).expect("checked against memory");
+        let triangles = usize::try_from(self.triangle_count()).expect("checked against memory");
+        let mut meshes = Meshes {
+            points: vec![0.0; 3 * vertices],
+            normals: vec![0.0; 3 * vertices],
+            t: vec![0.0; vertices],
+            triangles: vec![[0; 3]; triangles],
+            vertex_offsets: self.vertex_offsets.clone(),
+            triangle_offsets: self.triangle_offsets.clone(),
+        };
+        let outs = self.split(&mut meshes);
+        self.curves
+            .par_iter()
+            .zip(outs)
+            .for_each(|(planned, mut out)| make(planned, &mut out));
+        meshes
+    }
+
+    /// `meshes`' arrays cut into each curve's part.
+    fn split<'a>(&self, meshes: &'a mut Meshes) -> Vec<MeshOut<'a>> {
+        let (mut points, mut normals) = (&mut meshes.points[..], &mut meshes.normals[..]);
+        let (mut t, mut triangles) = (&mut meshes.t[..], &mut meshes.triangles[..]);
+        let mut outs = Vec::with_capacity(self.len());
+        for c in 0..self.len() {
+            let v = (self.vertex_offsets[c + 1] - self.vertex_offsets[c]) as usize;
+            let f = (self.triangle_offsets[c + 1] - self.triangle_offsets[c]) as usize;
+            let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
+            let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
+            let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
+            let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
+            (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
+            outs.push(MeshOut {
+                points: p,
+                normals: n,
+                t: tt,
+                triangles: tri,
+            });
+        }
+        outs
+    }
+}
+
+/// Whether the curve closes on itself (its frames are then closed up and its mesh wraps).
+fn is_closed(kind: &CurveKind) -> bool {
+    match kind {
+        CurveKind::Uniform { ends, .. }
+        | CurveKind::LocalBeta { ends, .. }
+        | CurveKind::KochanekBartels { ends, .. } => *ends == Ends::Closed,
+        CurveKind::Interpolating { condition, .. } => *condition == EndCondition::Periodic,
+        _ => false,
+    }
+}
+
+fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Planned, InputError> {
+    let dim = curve.points().dim();
+    if dim != 3 {
+        return Err(InputError::field(
+            "geometry",
+            format!(
+                "a {} needs 3-D points, got {dim} coordinates per point",
+                geometry.name()
+            ),
+        ));
+    }
+    let shape = match geometry {
+        Geometry::Tube(tube) => {
+            if tube.sides < 3 {
+                return Err(InputError::field(
+                    "sides",
+                    format!("a tube needs at least 3 sides, got {}", tube.sides),
+                ));
+            }
+            Shape::Tube {
+                sides: tube.sides,
+                caps: tube.caps,
+            }
+        }
+        Geometry::Ribbon(_) => Shape::Ribbon,
+    };
+    match sampling {
+        Sampling::At(_) => {
+            return Err(InputError::field(
+                "sampling",
+                "\"at\" places no cross-sections: geometry takes per_segment or arc_length",
+            ));
+        }
+        Sampling::Tolerance(_) => {
+            return Err(InputError::field(
+                "sampling",
+                "tolerance cross-sections for geometry are not built yet: use per_segment or \
+                 arc_length",
+            ));
+        }
+        Sampling::PerSegment(_) | Sampling::ArcLength(_) => {}
+    }
+    let (width, field) = geometry.width();
+    let table = widen::widened(curve, width, field)?.fit();
+    table.check_range(Derivatives::Second)?;
+    // The places are the position's: its arc length, not the widened curve's.
+    let position = curve.fit();
+    let plan = SamplePlan::new(&position, sampling)?;
+    if plan.len() > MAX_SECTIONS {
+        return Err(InputError::field(
+            "sampling",
+            format!("places {} cross-sections, more than 2^20", plan.len()),
+        ));
+    }
+    let locs: Vec<SampleLoc> = (0..plan.len()).map(|i| plan.loc(i)).collect();
+    let lengths = is_closed(curve.kind()).then(|| arc_lengths(&position, &locs));
+    let first = section(&table, locs[0]);
+    let t0 = frames::unit_tangent(first.d1, first.d2, false).unwrap_or_else(|| {
+        let d1: Vec<Vec3> = locs.iter().map(|&l| section(&table, l).d1).collect();
+        let d2: Vec<Vec3> = locs.iter().map(|&l| section(&table, l).d2).collect();
+        frames::tangents(&d1, &d2)[0]
+    });
+    let n0 = frames::first_normal(t0, geometry.up())?;
+    Ok(Planned {
+        table,
+        locs,
+        lengths,
+        shape,
+        n0,
+    })
+}
+
+/// The arc length from the curve's start to each place.
+fn arc_lengths(position: &SegmentTable, locs: &[SampleLoc]) -> Vec<f64> {
+    let tables = position.arc_tables(DEFAULT_ARCLEN_ACCURACY, false);
+    let mut before = Vec::with_capacity(tables.len() + 1);
+    let mut sum = 0.0;
+    for table in &tables {
+        before.push(sum);
+        sum += table.length();
+    }
+    locs.iter()
+        .map(|loc| before[loc.segment] + tables[loc.segment].length_to(loc.u))
+        .collect()
+}
+
+/// The widened table at one place: position, derivatives and width (its frame not yet set).
+fn section(table: &SegmentTable, loc: SampleLoc) -> Section {
+    let segment = table.segment(loc.segment);
+    let (mut p, mut d1, mut d2) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+    segment.eval(loc.u, &mut p);
+    segment.deriv(loc.u, &mut d1);
+    segment.deriv2(loc.u, &mut d2);
+    let clamped = p[3] < 0.0;
+    Section {
+        t: loc.t,
+        position: [p[0], p[1], p[2]],
+        d1: [d1[0], d1[1], d1[2]],
+        d2: [d2[0], d2[1], d2[2]],
+        width: p[3].max(0.0),
+        width_d1: if clamped { 0.0 } else { d1[3] },
+        tangent: [0.0; 3],
+        normal: [0.0; 3],
+    }
+}
+
+/// Makes one curve's mesh into `out`.
+fn make(planned: &Planned, out: &mut MeshOut<'_>) {
+    let mut sections: Vec<Section> = planned
+        .locs
+        .iter()
+        .map(|&loc| section(&planned.table, loc))
+        .collect();
+    let d1: Vec<Vec3> = sections.iter().map(|s| s.d1).collect();
+    let d2: Vec<Vec3> = sections.iter().map(|s| s.d2).collect();
+    let tangents = frames::tangents(&d1, &d2);
+    let positions: Vec<Vec3> = sections.iter().map(|s| s.position).collect();
+    let mut normals = frames::rotation_minimizing(&positions, &tangents, planned.n0);
+    if let Some(lengths) = &planned.lengths {
+        frames::close_up(&tangents, &mut normals, lengths);
+    }
+    for ((section, tangent), normal) in sections.iter_mut().zip(tangents).zip(normals) {
+        section.tangent = tangent;
+        section.normal = normal;
+    }
+    mesh::write(planned.shape, &sections, planned.lengths.is_some(), out);
+}

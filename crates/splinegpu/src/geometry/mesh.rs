@@ -1,0 +1,194 @@
+//! The meshes made from a curve's cross-sections and frames: their counts (known before any
+//! work) and their vertices, normals and triangles.
+//!
+//! - Tube: cross-section j is a ring of s vertices x_j + r_j (cos θ_k N_j + sin θ_k B_j),
+//!   θ_k = 2πk/s; rings j and j+1 are joined by the quads (j, k), (j, k+1), (j+1, k+1),
+//!   (j+1, k), two triangles each; a closed curve's last ring is its first. Caps: a vertex
+//!   at each open end (normal -T_0, T_n) and a fan of s triangles onto the end ring.
+//! - Ribbon: cross-section j gives x_j - (w_j/2) B_j and x_j + (w_j/2) B_j (normals N_j),
+//!   joined to the next pair by two triangles; a closed curve's wraps as its tube does.
+//!
+//! Every triangle is counter-clockwise seen from its normal's side (a tube's from outside).
+//!
+//! A tube's vertex normal is the exact surface's. With e = cos θ N + sin θ B, the surface
+//! X(s, θ) = C(s) + r(s) e(s, θ) (s the arc length) has, the frame being rotation-minimizing
+//! (e_s = -(T_s · e) T),
+//!
+//! ```text
+//! X_s = (1 - r T_s·e) T + r_s e,   X_θ = r (-sin θ N + cos θ B),
+//! X_s × X_θ / r = r_s T - (1 - r T_s·e) e   ⇒   n = ((1 - r T_s·e) e - r_s T) / |...|
+//! ```
+//!
+//! with T_s = (C'' - (C''·T) T) / |C'|² and r_s = r' / |C'| (derivatives in t). Where C' = 0
+//! the normal is e.
+
+use super::frames::{Vec3, cross, dot, unit};
+
+/// What a mesh is made from at one cross-section: the curve parameter, the position and its
+/// first two derivatives in t, the width (or radius, clamped at 0) and its derivative, and
+/// the frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Section {
+    /// The curve parameter t_j.
+    pub t: f64,
+    /// C(t_j).
+    pub position: Vec3,
+    /// C'(t_j).
+    pub d1: Vec3,
+    /// C''(t_j).
+    pub d2: Vec3,
+    /// w(t_j) or r(t_j), at least 0.
+    pub width: f64,
+    /// Its derivative in t (0 where the width is clamped).
+    pub width_d1: f64,
+    /// The unit tangent T_j.
+    pub tangent: Vec3,
+    /// The unit normal N_j.
+    pub normal: Vec3,
+}
+
+/// A mesh's shape, all that its counts depend on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// A tube of `sides` vertices per ring, with or without end caps.
+    Tube {
+        /// Vertices per ring.
+        sides: u32,
+        /// End discs (an open curve's).
+        caps: bool,
+    },
+    /// A ribbon.
+    Ribbon,
+}
+
+/// The vertex and triangle counts of a mesh of `sections` cross-sections (at least 2), closed
+/// (the last cross-section the first's) or open.
+#[must_use]
+pub fn counts(shape: Shape, sections: u64, closed: bool) -> (u64, u64) {
+    let distinct = if closed { sections - 1 } else { sections };
+    let joins = sections - 1;
+    match shape {
+        Shape::Tube { sides, caps } => {
+            let s = u64::from(sides);
+            let capped = caps && !closed;
+            (
+                distinct * s + if capped { 2 } else { 0 },
+                2 * joins * s + if capped { 2 * s } else { 0 },
+            )
+        }
+        Shape::Ribbon => (2 * distinct, 2 * joins),
+    }
+}
+
+/// Where one mesh goes: 3 coordinates a vertex of points and normals, one t a vertex, and
+/// triangles of indices local to the mesh.
+pub(crate) struct MeshOut<'a> {
+    pub(crate) points: &'a mut [f64],
+    pub(crate) normals: &'a mut [f64],
+    pub(crate) t: &'a mut [f64],
+    pub(crate) triangles: &'a mut [[u32; 3]],
+}
+
+impl MeshOut<'_> {
+    fn vertex(&mut self, v: usize, position: Vec3, normal: Vec3, t: f64) {
+        self.points[3 * v..3 * v + 3].copy_from_slice(&position);
+        self.normals[3 * v..3 * v + 3].copy_from_slice(&normal);
+        self.t[v] = t;
+    }
+}
+
+fn index(v: u64) -> u32 {
+    u32::try_from(v).expect("a mesh's vertices were counted within u32 when it was pushed")
+}
+
+/// Writes the mesh of `sections` (with their frames) into `out`, sized by [`counts`].
+pub(crate) fn write(shape: Shape, sections: &[Section], closed: bool, out: &mut MeshOut<'_>) {
+    match shape {
+        Shape::Tube { sides, caps } => tube(sections, sides, caps && !closed, closed, out),
+        Shape::Ribbon => ribbon(sections, closed, out),
+    }
+}
+
+fn tube(sections: &[Section], sides: u32, caps: bool, closed: bool, out: &mut MeshOut<'_>) {
+    let s = sides as usize;
+    let rings = if closed {
+        sections.len() - 1
+    } else {
+        sections.len()
+    };
+    for (j, section) in sections[..rings].iter().enumerate() {
+        let b = cross(section.tangent, section.normal);
+        let speed = dot(section.d1, section.d1).sqrt();
+        // T_s and r_s of the module's docs.
+        let (bend, slope) = if speed > 0.0 {
+            let along = dot(section.d2, section.tangent);
+            let bend = std::array::from_fn::<f64, 3, _>(|i| {
+                (section.d2[i] - along * section.tangent[i]) / (speed * speed)
+            });
+            (bend, section.width_d1 / speed)
+        } else {
+            ([0.0; 3], 0.0)
+        };
+        for k in 0..s {
+            let theta = std::f64::consts::TAU * k as f64 / s as f64;
+            let (sin, cos) = theta.sin_cos();
+            let e: Vec3 = std::array::from_fn(|i| cos * section.normal[i] + sin * b[i]);
+            let position = std::array::from_fn(|i| section.position[i] + section.width * e[i]);
+            let stretch = 1.0 - section.width * dot(bend, e);
+            let n: Vec3 = std::array::from_fn(|i| stretch * e[i] - slope * section.tangent[i]);
+            let n = unit(n).unwrap_or(e);
+            out.vertex(j * s + k, position, n, section.t);
+        }
+    }
+    let ring = |j: usize| (j % rings) as u64 * s as u64;
+    let mut triangle = 0;
+    for j in 0..sections.len() - 1 {
+        let (a, b) = (ring(j), ring(j + 1));
+        for k in 0..s as u64 {
+            let k1 = (k + 1) % s as u64;
+            out.triangles[triangle] = [index(a + k), index(a + k1), index(b + k1)];
+            out.triangles[triangle + 1] = [index(a + k), index(b + k1), index(b + k)];
+            triangle += 2;
+        }
+    }
+    if caps {
+        let (first, last) = (&sections[0], &sections[sections.len() - 1]);
+        let (start, end) = ((rings * s) as u64, (rings * s + 1) as u64);
+        out.vertex(
+            start as usize,
+            first.position,
+            first.tangent.map(|x| -x),
+            first.t,
+        );
+        out.vertex(end as usize, last.position, last.tangent, last.t);
+        let end_ring = ring(rings - 1);
+        for k in 0..s as u64 {
+            let k1 = (k + 1) % s as u64;
+            out.triangles[triangle] = [index(start), index(k1), index(k)];
+            out.triangles[triangle + 1] = [index(end), index(end_ring + k), index(end_ring + k1)];
+            triangle += 2;
+        }
+    }
+}
+
+fn ribbon(sections: &[Section], closed: bool, out: &mut MeshOut<'_>) {
+    let pairs = if closed {
+        sections.len() - 1
+    } else {
+        sections.len()
+    };
+    for (j, section) in sections[..pairs].iter().enumerate() {
+        let b = cross(section.tangent, section.normal);
+        let half = 0.5 * section.width;
+        let left = std::array::from_fn(|i| section.position[i] - half * b[i]);
+        let right = std::array::from_fn(|i| section.position[i] + half * b[i]);
+        out.vertex(2 * j, left, section.normal, section.t);
+        out.vertex(2 * j + 1, right, section.normal, section.t);
+    }
+    let pair = |j: usize| 2 * (j % pairs) as u64;
+    for j in 0..sections.len() - 1 {
+        let (a, b) = (pair(j), pair(j + 1));
+        out.triangles[2 * j] = [index(a), index(a + 1), index(b)];
+        out.triangles[2 * j + 1] = [index(a + 1), index(b + 1), index(b)];
+    }
+}

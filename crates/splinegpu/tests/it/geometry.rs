@@ -1,0 +1,361 @@
+//! Tubes and ribbons against their exact shapes: rings at the radius from the curve, normals
+//! of the exact surface (a cone's, derived by hand), triangles facing out, closed tubes
+//! watertight and without a twist at the seam, and bad geometry refused by name.
+
+use std::collections::HashMap;
+
+use splinegpu::geometry::{Geometry, GeometryJob, Meshes, Ribbon, Tube, Width};
+use splinegpu::{Basis, Curve, CurveKind, EndCondition, Ends, Points, Sampling};
+
+fn natural(points: Vec<f64>) -> Curve {
+    let kind = CurveKind::Interpolating {
+        condition: EndCondition::Natural,
+        t: None,
+    };
+    Curve::new(kind, Points::new(3, points).unwrap()).unwrap()
+}
+
+/// The z axis from 0 to 4 through 5 points: a natural spline reproduces the line, C(t) =
+/// (0, 0, t).
+fn axis() -> Curve {
+    natural((0..5).flat_map(|i| [0.0, 0.0, f64::from(i)]).collect())
+}
+
+/// A trefoil, the (2, 3) torus knot, as a closed Catmull-Rom curve of 24 points: a loop
+/// whose rotation-minimizing frame comes back turned, so that a tube without the closing-up
+/// twists at its seam (this test's seam is then 1.2 times as wide as any other ring gap).
+fn trefoil() -> Curve {
+    let points = (0..24)
+        .flat_map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 24.0;
+            let r = 2.0 + (3.0 * a).cos();
+            [r * (2.0 * a).cos(), r * (2.0 * a).sin(), (3.0 * a).sin()]
+        })
+        .collect();
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    Curve::new(kind, Points::new(3, points).unwrap()).unwrap()
+}
+
+fn meshes(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> (GeometryJob, Meshes) {
+    let mut job = GeometryJob::new();
+    job.push(curve, geometry, sampling).unwrap();
+    let meshes = job.evaluate_cpu();
+    (job, meshes)
+}
+
+fn vertex(m: &Meshes, v: usize) -> [f64; 3] {
+    [m.points[3 * v], m.points[3 * v + 1], m.points[3 * v + 2]]
+}
+
+fn normal(m: &Meshes, v: usize) -> [f64; 3] {
+    [m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The triangle's normal (b - a) x (c - a), counter-clockwise seen from where it points.
+fn facing(m: &Meshes, [a, b, c]: [u32; 3]) -> [f64; 3] {
+    let (a, b, c) = (
+        vertex(m, a as usize),
+        vertex(m, b as usize),
+        vertex(m, c as usize),
+    );
+    cross(sub(b, a), sub(c, a))
+}
+
+/// How many triangles hold each undirected edge.
+fn edge_uses(m: &Meshes) -> HashMap<(u32, u32), usize> {
+    let mut uses = HashMap::new();
+    for &[a, b, c] in &m.triangles {
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            *uses.entry((p.min(q), p.max(q))).or_insert(0) += 1;
+        }
+    }
+    uses
+}
+
+#[test]
+fn a_tube_about_a_line_has_its_rings_at_the_radius_facing_out_and_capped_watertight() {
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.25),
+        sides: 7,
+        caps: true,
+        ..Tube::default()
+    });
+    let (job, m) = meshes(&axis(), &tube, &Sampling::PerSegment(4));
+    // 4 segments x 4 + 1 = 17 rings of 7, and the two caps' centres.
+    assert_eq!(job.vertex_count(), 17 * 7 + 2);
+    assert_eq!(job.triangle_count(), 2 * 16 * 7 + 2 * 7);
+    for v in 0..17 * 7 {
+        let p = vertex(&m, v);
+        assert!(
+            ((p[0] * p[0] + p[1] * p[1]).sqrt() - 0.25).abs() < 1e-12,
+            "{p:?}"
+        );
+        assert!((p[2] - m.t[v]).abs() < 1e-12);
+        let n = normal(&m, v);
+        // The exact normal of a cylinder: radial.
+        assert!((n[0] - p[0] / 0.25).abs() < 1e-12 && (n[1] - p[1] / 0.25).abs() < 1e-12);
+        assert!(n[2].abs() < 1e-12);
+    }
+    assert_eq!(normal(&m, 17 * 7), [0.0, 0.0, -1.0]);
+    assert_eq!(normal(&m, 17 * 7 + 1), [0.0, 0.0, 1.0]);
+    for &triangle in &m.triangles {
+        let f = facing(&m, triangle);
+        let [a, b, c] = triangle.map(|v| vertex(&m, v as usize));
+        let centre = [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0, 0.0];
+        let outward = if triangle.iter().any(|&v| v >= 17 * 7) {
+            // A cap's triangle: outward is along the axis, away from the tube's middle.
+            [0.0, 0.0, (a[2] + b[2] + c[2]) / 3.0 - 2.0]
+        } else {
+            centre
+        };
+        assert!(dot(f, outward) > 0.0, "{triangle:?} faces in");
+    }
+    assert!(
+        edge_uses(&m).values().all(|&n| n == 2),
+        "a capped tube is closed"
+    );
+}
+
+/// A cone: radius 1 + t/2 per point along the z axis (the natural spline of the radii
+/// reproduces the line), so r_s = 1/2 and the exact normal leans back along the axis:
+/// n = (e - T/2) / sqrt(1 + 1/4).
+#[test]
+fn a_tube_of_growing_radius_has_the_cones_exact_normals() {
+    let radii = (0..5).map(|i| 1.0 + 0.5 * f64::from(i)).collect();
+    let tube = Geometry::Tube(Tube {
+        radius: Width::PerPoint(radii),
+        sides: 5,
+        ..Tube::default()
+    });
+    let (_, m) = meshes(&axis(), &tube, &Sampling::ArcLength(9));
+    for v in 0..9 * 5 {
+        let p = vertex(&m, v);
+        let r = 1.0 + 0.5 * m.t[v];
+        assert!(((p[0] * p[0] + p[1] * p[1]).sqrt() - r).abs() < 1e-12);
+        let n = normal(&m, v);
+        let scale = 1.25f64.sqrt();
+        let expected = [p[0] / r / scale, p[1] / r / scale, -0.5 / scale];
+        for i in 0..3 {
+            assert!(
+                (n[i] - expected[i]).abs() < 1e-12,
+                "{n:?} against {expected:?}"
+            );
+        }
+    }
+    // Arc length places: t evenly spaced on a line.
+    for j in 0..9 {
+        assert!((m.t[5 * j] - 0.5 * j as f64).abs() < 1e-9, "{}", m.t[5 * j]);
+    }
+}
+
+#[test]
+fn a_closed_tube_wraps_its_rings_without_a_twist_at_the_seam() {
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.1),
+        sides: 6,
+        caps: true, // a closed tube has no ends to cap
+        ..Tube::default()
+    });
+    let (job, m) = meshes(&trefoil(), &tube, &Sampling::PerSegment(8));
+    let rings = 24 * 8;
+    assert_eq!(job.vertex_count(), rings as u64 * 6);
+    assert!(
+        edge_uses(&m).values().all(|&n| n == 2),
+        "a closed tube is closed"
+    );
+    // The quads across the seam join vertex k of the last ring to vertex k of the first: as
+    // near as those of any other pair of neighbouring rings, which a twist would not be.
+    let widest = |a: usize, b: usize| {
+        (0..6)
+            .map(|k| {
+                let d = sub(vertex(&m, a * 6 + k), vertex(&m, b * 6 + k));
+                dot(d, d).sqrt()
+            })
+            .fold(0.0, f64::max)
+    };
+    let elsewhere = (0..rings - 1).map(|j| widest(j, j + 1)).fold(0.0, f64::max);
+    assert!(
+        widest(rings - 1, 0) <= 1.01 * elsewhere,
+        "{} against {elsewhere}",
+        widest(rings - 1, 0)
+    );
+}
+
+#[test]
+fn a_ribbon_spans_its_width_across_the_curve_facing_its_normal() {
+    let ribbon = Geometry::Ribbon(Ribbon {
+        width: Width::Constant(0.5),
+        up: Some([0.0, 0.0, 1.0]),
+    });
+    let (job, m) = meshes(&trefoil(), &ribbon, &Sampling::PerSegment(4));
+    let pairs = 24 * 4;
+    assert_eq!(job.vertex_count(), 2 * pairs as u64);
+    assert_eq!(job.triangle_count(), 2 * pairs as u64);
+    for j in 0..pairs {
+        let (a, b) = (vertex(&m, 2 * j), vertex(&m, 2 * j + 1));
+        let across = sub(b, a);
+        assert!((dot(across, across).sqrt() - 0.5).abs() < 1e-12);
+        assert!(dot(across, normal(&m, 2 * j)).abs() < 1e-12);
+        assert_eq!(normal(&m, 2 * j), normal(&m, 2 * j + 1));
+    }
+    for &triangle in &m.triangles {
+        let n = normal(&m, triangle[0] as usize);
+        assert!(
+            dot(facing(&m, triangle), n) > 0.0,
+            "{triangle:?} faces away from N"
+        );
+    }
+}
+
+#[test]
+fn bad_geometry_is_refused_by_name() {
+    let tube = |radius, sides| {
+        Geometry::Tube(Tube {
+            radius,
+            sides,
+            ..Tube::default()
+        })
+    };
+    let flat = Curve::new(
+        CurveKind::Uniform {
+            basis: Basis::BSpline,
+            ends: Ends::Control,
+        },
+        Points::new(2, vec![0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 3.0, 1.0]).unwrap(),
+    )
+    .unwrap();
+    let per_segment = Sampling::PerSegment(4);
+    let cases: Vec<(Curve, Geometry, Sampling, &str)> = vec![
+        (
+            flat,
+            tube(Width::Constant(1.0), 8),
+            per_segment.clone(),
+            "geometry",
+        ),
+        (
+            axis(),
+            tube(Width::Constant(0.0), 8),
+            per_segment.clone(),
+            "radius",
+        ),
+        (
+            axis(),
+            tube(Width::Constant(f64::NAN), 8),
+            per_segment.clone(),
+            "radius",
+        ),
+        (
+            axis(),
+            tube(Width::PerPoint(vec![1.0; 4]), 8),
+            per_segment.clone(),
+            "radius",
+        ),
+        (
+            axis(),
+            tube(Width::Constant(1.0), 2),
+            per_segment.clone(),
+            "sides",
+        ),
+        (
+            axis(),
+            tube(Width::Constant(1.0), 8),
+            Sampling::At(vec![0.5]),
+            "sampling",
+        ),
+        (
+            axis(),
+            Geometry::Ribbon(Ribbon {
+                width: Width::Constant(1.0),
+                up: Some([0.0, 0.0, -3.0]),
+            }),
+            per_segment,
+            "up",
+        ),
+    ];
+    for (curve, geometry, sampling, field) in cases {
+        let mut job = GeometryJob::new();
+        let error = job.push(&curve, &geometry, &sampling).unwrap_err();
+        assert_eq!(error.field.as_deref(), Some(field), "{error}");
+        assert!(job.is_empty());
+    }
+}
+
+/// Every kind carries its radius as one more coordinate: a tube of radius 0.5 at every point
+/// (so r(t) = 0.5 everywhere, hermite's tangents and clamped ends being 0 in it) has each ring
+/// at 0.5 from the curve's own point at the ring's t, in the plane perpendicular to its
+/// tangent there (the curve evaluated on its own, by the CPU reference).
+#[test]
+fn every_kind_carries_a_radius_per_point_as_one_more_coordinate() {
+    use crate::support::{Rng, cpu_at, local_beta};
+    use splinegpu::HermiteSlopes;
+    let mut rng = Rng(45);
+    let n = 7;
+    let knots: Vec<f64> = [0.0, 0.0, 0.0, 0.0, 1.0, 2.5, 3.0, 5.0, 5.0, 5.0, 5.0].to_vec();
+    let kinds = vec![
+        CurveKind::Hermite {
+            slopes: HermiteSlopes::Given((0..3 * n).map(|_| rng.range(-2.0, 2.0)).collect()),
+            t: None,
+        },
+        CurveKind::Interpolating {
+            condition: EndCondition::Clamped {
+                start: vec![1.0, -2.0, 0.5],
+                end: vec![0.0, 3.0, 1.0],
+            },
+            t: Some(vec![0.0, 0.5, 2.0, 2.5, 4.0, 4.2, 6.0]),
+        },
+        CurveKind::Nurbs {
+            knots,
+            weights: Some((0..n).map(|_| rng.range(0.5, 2.0)).collect()),
+        },
+        local_beta(&mut rng, Ends::Closed, n),
+    ];
+    for kind in kinds {
+        let curve = Curve::new(kind.clone(), rng.points(n, 3, -3.0, 3.0)).unwrap();
+        let tube = Geometry::Tube(Tube {
+            radius: Width::PerPoint(vec![0.5; n]),
+            sides: 4,
+            ..Tube::default()
+        });
+        let (_, m) = meshes(&curve, &tube, &Sampling::PerSegment(5));
+        let exact = cpu_at(&curve, &m.t);
+        let samples = exact.curve(0);
+        let d1 = samples.d1.unwrap();
+        for v in 0..m.t.len() {
+            let centre = [
+                samples.points[3 * v],
+                samples.points[3 * v + 1],
+                samples.points[3 * v + 2],
+            ];
+            let out = sub(vertex(&m, v), centre);
+            assert!(
+                (dot(out, out).sqrt() - 0.5).abs() < 1e-9,
+                "{kind:?}: vertex {v}"
+            );
+            let tangent = [d1[3 * v], d1[3 * v + 1], d1[3 * v + 2]];
+            let across = dot(out, tangent) / dot(tangent, tangent).sqrt();
+            assert!(
+                across.abs() < 1e-9,
+                "{kind:?}: vertex {v} is {across} off its plane"
+            );
+        }
+    }
+}
