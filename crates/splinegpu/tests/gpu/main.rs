@@ -17,6 +17,51 @@ mod shapes;
 mod support;
 mod surfaces;
 
+// The CPU tests' files whose cases the GPU is checked on too: their `#[test]`s are not built
+// in this binary (no libtest), their cases are, and their `..._gpu_...` functions are trials.
+#[path = "../it/hermite.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "only the cases and the GPU trial are used here"
+)]
+mod hermite;
+#[path = "../it/kochanek_bartels.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "only the cases and the GPU trial are used here"
+)]
+mod kochanek_bartels;
+#[path = "../it/local_beta.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "only the cases and the GPU trial are used here"
+)]
+mod local_beta;
+#[path = "../it/nurbs.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "only the cases and the GPU trial are used here"
+)]
+mod nurbs;
+#[path = "../it/geometric_sampling.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "only the cases and the GPU trial are used here"
+)]
+mod sampling_cases;
+#[path = "../it/scipy_fixture.rs"]
+#[allow(
+    dead_code,
+    unused_imports,
+    reason = "the fixtures' readers the cases use"
+)]
+mod scipy_fixture;
+
 fn main() -> std::process::ExitCode {
     let tests = support::gpu_trials![
         gpu_vs_cpu::gpu_matches_cpu_for_every_family_end_and_dimension,
@@ -41,6 +86,12 @@ fn main() -> std::process::ExitCode {
         surfaces::gpu_surfaces_of_every_kind_in_one_call_keep_the_promise,
         surfaces::gpu_surfaces_without_derivatives_give_positions_only,
         surfaces::a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net,
+        hermite::the_hermite_kinds_meet_the_gpu_promise,
+        kochanek_bartels::per_point_tcb_on_uneven_keys_meets_the_gpu_promise,
+        local_beta::the_gpu_keeps_the_promise_on_local_bias_and_tension_near_the_origin_and_at_1e6,
+        nurbs::scipys_bspline_cases_meet_the_gpu_promise,
+        nurbs::basis_sums_meet_the_gpu_promise,
+        sampling_cases::geometric_samplings_evaluate_on_the_gpu_within_the_promise,
     ];
     libtest_mimic::run(&libtest_mimic::Arguments::from_args(), tests).exit_code()
 }

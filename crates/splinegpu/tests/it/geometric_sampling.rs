@@ -215,8 +215,9 @@ fn tolerance_sampling_needs_fewer_samples_than_wang_on_w1_like_curves() {
     assert!(ratio < 1.0);
 }
 
-#[test]
-fn geometric_samplings_chunk_and_evaluate_on_the_gpu_within_the_promise() {
+/// Arc-length and tolerance samplings of every kind, cut into chunks anywhere: every sample
+/// once with the whole job's t, and the fast evaluator equal to the reference; the job.
+fn geometric_samplings_chunked() -> EvalJob {
     let mut job = EvalJob::new(Derivatives::Second);
     for dim in [1, 3, 30] {
         for curve in curves(dim) {
@@ -242,7 +243,20 @@ fn geometric_samplings_chunk_and_evaluate_on_the_gpu_within_the_promise() {
     let mut fast = splinegpu::Samples::<f64>::for_job(&job);
     splinegpu::evaluate_cpu_into(&job, fast.planes_for(&job), 2);
     assert_eq!(fast, whole);
-    assert_gpu_matches_cpu(&job);
+    job
+}
+
+#[test]
+fn geometric_samplings_chunk_and_evaluate_alike() {
+    geometric_samplings_chunked();
+}
+
+#[allow(
+    dead_code,
+    reason = "a trial of the GPU harness (tests/gpu/main.rs), which includes this file"
+)]
+pub(crate) fn geometric_samplings_evaluate_on_the_gpu_within_the_promise() {
+    assert_gpu_matches_cpu(&geometric_samplings_chunked());
 }
 
 mod random_curves {

@@ -12,6 +12,11 @@ use splinegpu::{Curve, CurveKind, Derivatives, EvalJob, Points, Sampling};
 
 #[test]
 fn nurbs_without_weights_is_scipys_bspline() {
+    nurbs_cases_checked();
+}
+
+/// SciPy's BSpline cases checked on the CPU, as one job.
+fn nurbs_cases_checked() -> EvalJob {
     let doc: serde_json::Value =
         serde_json::from_str(include_str!("../fixtures/scipy_bspline.json")).unwrap();
     let cases = doc["cases"].as_array().unwrap();
@@ -34,7 +39,15 @@ fn nurbs_without_weights_is_scipys_bspline() {
         job.push(&curve, &Sampling::PerSegment(5)).unwrap();
     }
     println!("worst CPU error against SciPy: {worst:.2e} of the bound");
-    if let Some(gpu) = assert_gpu_matches_cpu(&job) {
+    job
+}
+
+#[allow(
+    dead_code,
+    reason = "a trial of the GPU harness (tests/gpu/main.rs), which includes this file"
+)]
+pub(crate) fn scipys_bspline_cases_meet_the_gpu_promise() {
+    if let Some(gpu) = assert_gpu_matches_cpu(&nurbs_cases_checked()) {
         println!("worst GPU error: {:.3} of the promise", gpu.ratio);
     }
 }
@@ -283,8 +296,8 @@ fn assert_basis_sum(
 
 /// The weighted test curves (`weighted_curves`, points near 0 and near 1e6), with their
 /// weights or without them (against the basis sum with unit weights), each against the basis
-/// sum on the CPU and the GPU.
-fn basis_sums_on_both_backends(seed: u64, weighted: bool) {
+/// sum on the CPU; returns them as one job.
+fn basis_sums_checked(seed: u64, weighted: bool) -> EvalJob {
     let mut rng = Rng(seed);
     let mut job = EvalJob::new(Derivatives::Second);
     let mut worst = 0.0f64;
@@ -306,24 +319,34 @@ fn basis_sums_on_both_backends(seed: u64, weighted: bool) {
     println!(
         "worst CPU error against the basis sum (weighted: {weighted}): {worst:.2e} of the bound"
     );
-    if let Some(gpu) = assert_gpu_matches_cpu(&job) {
-        println!(
-            "worst GPU error: {:.3} of the promise ({:?})",
-            gpu.ratio, gpu.per_order
-        );
+    job
+}
+
+#[allow(
+    dead_code,
+    reason = "a trial of the GPU harness (tests/gpu/main.rs), which includes this file"
+)]
+pub(crate) fn basis_sums_meet_the_gpu_promise() {
+    for (seed, weighted) in [(41, true), (43, false)] {
+        if let Some(gpu) = assert_gpu_matches_cpu(&basis_sums_checked(seed, weighted)) {
+            println!(
+                "worst GPU error (weighted: {weighted}): {:.3} of the promise ({:?})",
+                gpu.ratio, gpu.per_order
+            );
+        }
     }
 }
 
 #[test]
 fn weighted_nurbs_is_the_rational_basis_sum_on_both_backends() {
-    basis_sums_on_both_backends(41, true);
+    basis_sums_checked(41, true);
 }
 
 /// The same knot vectors without weights (the polynomial spans' own construction, from the
 /// derivatives at each span's start).
 #[test]
 fn unweighted_nurbs_is_the_basis_sum_on_both_backends() {
-    basis_sums_on_both_backends(43, false);
+    basis_sums_checked(43, false);
 }
 
 #[test]
