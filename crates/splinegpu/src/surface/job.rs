@@ -12,8 +12,9 @@ use std::sync::OnceLock;
 use rayon::prelude::*;
 
 use super::eval::{SurfacePlanes, SurfaceSamples, evaluate_surfaces, evaluate_surfaces_into};
-use super::mesh::{SurfacePlan, SurfaceSampling};
+use super::mesh::{SurfacePlan, SurfaceSampling, cell_counts};
 use super::patch::PatchTable;
+use super::tolerance::tolerance_cells;
 use crate::error::InputError;
 use crate::job::Derivatives;
 use crate::{SampleFloat, memory};
@@ -25,7 +26,33 @@ enum Planned {
     Counted {
         vertices: usize,
         triangles: Option<usize>,
+        /// A tolerance plan's cells, what it is made again from (empty otherwise).
+        cells: Vec<[u32; 2]>,
     },
+}
+
+/// A tolerance sampling's cells on a surface and the counts of the plan they make.
+#[derive(Debug)]
+struct CountedCells {
+    cells: Vec<[u32; 2]>,
+    vertices: usize,
+    triangles: usize,
+}
+
+impl CountedCells {
+    /// The cells and counts where `sampling` is a tolerance, else `None`.
+    fn of(table: &PatchTable, sampling: &SurfaceSampling) -> Result<Option<Self>, InputError> {
+        let SurfaceSampling::Tolerance(tol) = sampling else {
+            return Ok(None);
+        };
+        let cells = tolerance_cells(table, *tol)?;
+        let (vertices, triangles) = cell_counts(table, &cells)?;
+        Ok(Some(Self {
+            cells,
+            vertices,
+            triangles,
+        }))
+    }
 }
 
 /// One surface of a [`SurfaceJob`]: its patches, its sampling, its plan's sizes, and the plan
@@ -116,8 +143,8 @@ pub struct SurfaceJob {
     /// when they are evaluated.
     keep_vertices: usize,
     kept: usize,
-    /// Whether the bound holds for every plan (`keeping_plans_up_to`), or only for those made
-    /// again as cheaply as they are counted (per_segment on a net; a new job's).
+    /// Whether the bound holds for every plan (`keeping_plans_up_to`), or only for those
+    /// counted without one (per_segment on a net, tolerance; a new job's).
     bound_every_plan: bool,
     /// The memory available, read once (at the first surface that needs it).
     available: OnceLock<Option<u64>>,
@@ -126,9 +153,10 @@ pub struct SurfaceJob {
 impl SurfaceJob {
     /// An empty job forming the planes `derivatives` asks for, and unit normals when
     /// `normals` (every surface must then be 3-D). Past its first [`KEPT_VERTICES`] vertices
-    /// it counts per_segment nets without planning them (their plans are made while they are
-    /// evaluated) and keeps the other plans, which cost more to make again (a tolerance's
-    /// bounds, a patch list's welding); [`SurfaceJob::keeping_plans_up_to`] bounds them all.
+    /// it counts per_segment nets without planning them and tolerance samplings from their
+    /// cells (the patches' bounds; the plans are made while they are evaluated), and keeps
+    /// the other plans, whose counts only the plan gives (explicit (u, v), a per_segment
+    /// patch list's welding); [`SurfaceJob::keeping_plans_up_to`] bounds them all.
     #[must_use]
     pub fn new(derivatives: Derivatives, normals: bool) -> Self {
         Self {
@@ -163,7 +191,7 @@ impl SurfaceJob {
     /// plan is made); the sampling's own errors ([`SurfacePlan::new`]). The job is unchanged.
     pub fn push(&mut self, table: PatchTable, sampling: SurfaceSampling) -> Result<(), InputError> {
         self.check(&table, &sampling)?;
-        let planned = self.planned_for(&table, &sampling, self.kept)?;
+        let planned = self.planned_for(&table, &sampling, self.kept, None)?;
         self.append(table, sampling, planned);
         Ok(())
     }
@@ -176,13 +204,35 @@ impl SurfaceJob {
         table: &PatchTable,
         sampling: &SurfaceSampling,
         kept: usize,
+        counted: Option<CountedCells>,
     ) -> Result<Planned, InputError> {
+        let counted = match counted {
+            Some(counted) => Some(counted),
+            None => CountedCells::of(table, sampling)?,
+        };
+        if let Some(CountedCells {
+            cells,
+            vertices,
+            triangles,
+        }) = counted
+        {
+            // The cells give the counts; the plan is made from them where it is kept.
+            if kept.saturating_add(vertices) > self.keep_vertices {
+                return Ok(Planned::Counted {
+                    vertices,
+                    triangles: Some(triangles),
+                    cells,
+                });
+            }
+            return SurfacePlan::from_cells(table, &cells).map(Planned::Plan);
+        }
         if let Some((vertices, triangles)) = SurfacePlan::counts(table, sampling)?
             && kept.saturating_add(vertices) > self.keep_vertices
         {
             return Ok(Planned::Counted {
                 vertices,
                 triangles: Some(triangles),
+                cells: Vec::new(),
             });
         }
         SurfacePlan::new(table, sampling).map(Planned::Plan)
@@ -201,19 +251,38 @@ impl SurfaceJob {
         // An upper estimate of the vertices kept before each surface (as if every counted
         // surface's plan were kept), so that planning on every thread never keeps more than
         // the bound allows; `append` keeps within it exactly.
-        let mut kept = Vec::with_capacity(surfaces.len());
-        let mut before = self.kept;
         for (i, (table, sampling)) in surfaces.iter().enumerate() {
             self.check(table, sampling)
                 .map_err(|e| e.in_surface(first + i))?;
+        }
+        // Tolerance surfaces' cells and counts first, on every thread (their bounds: the
+        // plans are made from them only where they are kept).
+        let counted: Vec<Result<Option<CountedCells>, InputError>> = surfaces
+            .par_iter()
+            .map(|(table, sampling)| CountedCells::of(table, sampling))
+            .collect();
+        let mut cells = Vec::with_capacity(counted.len());
+        for (i, c) in counted.into_iter().enumerate() {
+            cells.push(c.map_err(|e| e.in_surface(first + i))?);
+        }
+        let mut kept = Vec::with_capacity(surfaces.len());
+        let mut before = self.kept;
+        for ((table, sampling), cells) in surfaces.iter().zip(&cells) {
             kept.push(before);
-            let counted = SurfacePlan::vertex_count(table, sampling).unwrap_or(0);
-            before = before.saturating_add(usize::try_from(counted).unwrap_or(usize::MAX));
+            let counted = match cells {
+                Some(cells) => Some(cells.vertices as u64),
+                None => SurfacePlan::vertex_count(table, sampling),
+            };
+            before =
+                before.saturating_add(usize::try_from(counted.unwrap_or(0)).unwrap_or(usize::MAX));
         }
         let plans: Vec<Result<Planned, InputError>> = surfaces
             .par_iter()
             .zip(kept)
-            .map(|((table, sampling), kept)| self.planned_for(table, sampling, kept))
+            .zip(cells)
+            .map(|(((table, sampling), kept), cells)| {
+                self.planned_for(table, sampling, kept, cells)
+            })
             .collect();
         let mut planned = Vec::with_capacity(plans.len());
         for (i, plan) in plans.into_iter().enumerate() {
@@ -238,16 +307,18 @@ impl SurfaceJob {
 
     /// Appends a planned (or counted) surface and its place in the layout.
     fn append(&mut self, table: PatchTable, sampling: SurfaceSampling, planned: Planned) {
-        let (vertices, triangles, plan) = match planned {
+        let (vertices, triangles, plan, counted_cells) = match planned {
             Planned::Plan(plan) => (
                 plan.vertices.len(),
                 plan.triangles.as_ref().map(Vec::len),
                 Some(plan),
+                Vec::new(),
             ),
             Planned::Counted {
                 vertices,
                 triangles,
-            } => (vertices, triangles, None),
+                cells,
+            } => (vertices, triangles, None, cells),
         };
         let within = self.kept.saturating_add(vertices) <= self.keep_vertices;
         let keep = plan.is_some() && (within || !self.bound_every_plan);
@@ -257,7 +328,7 @@ impl SurfaceJob {
         // A tolerance plan let go keeps its cells: made again from them, it skips the bounds.
         let cells = match (&plan, &sampling) {
             (Some(plan), SurfaceSampling::Tolerance(_)) if !keep => plan.cells.clone(),
-            _ => Vec::new(),
+            _ => counted_cells,
         };
         let last = |offsets: &[u64]| *offsets.last().expect("offsets start at 0");
         self.vertex_offsets

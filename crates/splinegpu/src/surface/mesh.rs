@@ -319,6 +319,50 @@ fn edge(indices: [usize; 4], place: usize, k: usize) -> Weld {
     }
 }
 
+/// The vertex and triangle counts of the plan [`SurfacePlan::from_cells`] makes of `cells`,
+/// read off them: a net's (Σ k_u + open) x (Σ k_v + open) vertices, a patch list's interior
+/// vertices (k_u - 1)(k_v - 1) a patch and one for each distinct boundary place (its weld
+/// key, as [`welded`] shares them); 2 k_u k_v triangles a patch.
+///
+/// # Errors
+/// More vertices than one surface may have.
+pub(crate) fn cell_counts(
+    table: &PatchTable,
+    cells: &[[u32; 2]],
+) -> Result<(usize, usize), InputError> {
+    let cells: Vec<[usize; 2]> = cells.iter().map(|c| c.map(|k| k as usize)).collect();
+    let triangles = cells.iter().map(|[ku, kv]| 2 * ku * kv).sum();
+    let vertices = match (table.knots(), table.patch_indices()) {
+        (Some(knots), _) => {
+            let across = knots[1].len() - 1;
+            let closed = table.closed();
+            let ku: usize = cells.iter().step_by(across).map(|c| c[0]).sum();
+            let kv: usize = cells[..across].iter().map(|c| c[1]).sum();
+            ((ku + usize::from(!closed[0])) as u64)
+                .saturating_mul((kv + usize::from(!closed[1])) as u64)
+        }
+        (None, Some(patches)) => {
+            let mut boundary = std::collections::HashSet::new();
+            let mut interior = 0u64;
+            for (controls, &[ku, kv]) in patches.iter().zip(&cells) {
+                interior += (ku.saturating_sub(1) * kv.saturating_sub(1)) as u64;
+                for a in 0..=ku {
+                    let step = if a == 0 || a == ku { 1 } else { kv.max(1) };
+                    for b in (0..=kv).step_by(step) {
+                        if let Some(key) = weld_key(controls, [ku, kv], a, b) {
+                            boundary.insert(key);
+                        }
+                    }
+                }
+            }
+            interior + boundary.len() as u64
+        }
+        (None, None) => unreachable!("a table is a net or a patch list"),
+    };
+    check_count(vertices)?;
+    Ok((vertices as usize, triangles))
+}
+
 /// A patch list's mesh, patch p a `cells[p]` = (k_u, k_v) grid, welded. Patches that share an
 /// edge must have the same count along it (per_segment's one k; the tolerance mesher's counts
 /// are made so).

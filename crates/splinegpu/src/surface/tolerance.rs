@@ -38,7 +38,7 @@
 //! edge are then made once ([`welded`]): bit-identical, and no T-junctions.
 
 use crate::error::{InputError, Shown};
-use crate::surface::mesh::{SurfacePlan, grid, welded};
+use crate::surface::mesh::SurfacePlan;
 use crate::surface::patch::{Patch, PatchTable};
 
 /// The most vertices one patch's grid may have (contract: a patch whose (n_u + 1)(n_v + 1)
@@ -52,40 +52,54 @@ impl SurfacePlan {
     /// tol not finite and > 0, or a patch whose own grid would exceed
     /// [`MAX_PATCH_VERTICES`] (naming "sampling", the patch and the count).
     pub fn tolerance(table: &PatchTable, tol: f64) -> Result<Self, InputError> {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(InputError::field(
-                "tolerance",
-                format!("must be a finite number > 0, got {tol}"),
-            ));
+        SurfacePlan::from_cells(table, &tolerance_cells(table, tol)?)
+    }
+}
+
+/// The cells (n_u, n_v) of every patch of the certified mesh of `table` within `tol`, what
+/// its plan is made from ([`SurfacePlan::from_cells`]) and its counts are read off
+/// ([`cell_counts`](crate::surface::mesh::cell_counts)) without making it.
+///
+/// # Errors
+/// As [`SurfacePlan::tolerance`].
+pub(crate) fn tolerance_cells(table: &PatchTable, tol: f64) -> Result<Vec<[u32; 2]>, InputError> {
+    if !(tol.is_finite() && tol > 0.0) {
+        return Err(InputError::field(
+            "tolerance",
+            format!("must be a finite number > 0, got {tol}"),
+        ));
+    }
+    let counts = (0..table.len())
+        .map(|p| patch_counts(&table.patch(p), tol).map_err(|e| at_patch(e, p)))
+        .collect::<Result<Vec<_>, _>>()?;
+    match (table.knots(), table.patch_indices()) {
+        (Some(knots), _) => {
+            let across = knots[1].len() - 1;
+            let rows = knots[0].len() - 1;
+            let ku: Vec<usize> = (0..rows)
+                .map(|i| {
+                    (0..across)
+                        .map(|j| counts[i * across + j][0])
+                        .max()
+                        .unwrap_or(1)
+                })
+                .collect();
+            let kv: Vec<usize> = (0..across)
+                .map(|j| {
+                    (0..rows)
+                        .map(|i| counts[i * across + j][1])
+                        .max()
+                        .unwrap_or(1)
+                })
+                .collect();
+            let cells = (0..rows * across).map(|p| [ku[p / across], kv[p % across]]);
+            Ok(cells.map(|c| c.map(|k| k as u32)).collect())
         }
-        let counts = (0..table.len())
-            .map(|p| patch_counts(&table.patch(p), tol).map_err(|e| at_patch(e, p)))
-            .collect::<Result<Vec<_>, _>>()?;
-        match (table.knots(), table.patch_indices()) {
-            (Some(knots), _) => {
-                let across = knots[1].len() - 1;
-                let rows = knots[0].len() - 1;
-                let ku: Vec<usize> = (0..rows)
-                    .map(|i| {
-                        (0..across)
-                            .map(|j| counts[i * across + j][0])
-                            .max()
-                            .unwrap_or(1)
-                    })
-                    .collect();
-                let kv: Vec<usize> = (0..across)
-                    .map(|j| {
-                        (0..rows)
-                            .map(|i| counts[i * across + j][1])
-                            .max()
-                            .unwrap_or(1)
-                    })
-                    .collect();
-                grid(knots, table.closed(), [&ku, &kv])
-            }
-            (None, Some(patches)) => welded(patches, &shared_counts(patches, &counts)),
-            (None, None) => unreachable!("a table is a net or a patch list"),
-        }
+        (None, Some(patches)) => Ok(shared_counts(patches, &counts)
+            .into_iter()
+            .map(|c| c.map(|k| k as u32))
+            .collect()),
+        (None, None) => unreachable!("a table is a net or a patch list"),
     }
 }
 

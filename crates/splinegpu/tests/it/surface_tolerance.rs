@@ -408,3 +408,39 @@ fn the_teapots_certified_mesh_beats_the_smallest_uniform_grid_that_meets_tol() {
         assert!((length - 1.0).abs() < 1e-12, "{n:?}");
     }
 }
+
+/// A job counts a tolerance sampling from its cells (the patches' bounds) without making the
+/// plan, and makes the plan from them when the surface is evaluated: the counts are the
+/// plan's, the samples those of a job that kept every plan, on welded patch lists (the
+/// teapot, whose patches share edges) and on nets, open and closed.
+#[test]
+fn tolerance_counts_from_the_cells_are_the_plans() {
+    use splinegpu::surface::SurfaceJob;
+    let mut rng = Rng(61);
+    let torus = crate::shapes::torus_surface(3.0, 1.0, [0.0; 3]).fit();
+    let net = Surface::new(SurfaceKind::Bezier, random_net(&mut rng, 7, 10))
+        .unwrap()
+        .fit();
+    let surfaces = [
+        (teapot().fit(), 1e-3),
+        (teapot().fit(), 0.05),
+        (torus, 1e-2),
+        (net, 0.1),
+    ];
+    for (table, tol) in surfaces {
+        let sampling = SurfaceSampling::Tolerance(tol);
+        let plan = SurfacePlan::new(&table, &sampling).unwrap();
+        let fresh = || SurfaceJob::new(Derivatives::First, true);
+        let mut counted = fresh().keeping_plans_up_to(0);
+        let mut kept = fresh().keeping_plans_up_to(usize::MAX);
+        counted
+            .push_many(vec![(table.clone(), sampling.clone())])
+            .unwrap();
+        kept.push(table, sampling).unwrap();
+        let triangles = plan.triangles.as_ref().map_or(0, Vec::len) as u64;
+        assert_eq!(counted.vertex_offsets(), &[0, plan.vertices.len() as u64]);
+        assert_eq!(counted.triangle_offsets(), &[0, triangles]);
+        assert_eq!(counted.vertex_offsets(), kept.vertex_offsets());
+        assert_eq!(counted.evaluate_cpu(), kept.evaluate_cpu(), "tol {tol}");
+    }
+}
