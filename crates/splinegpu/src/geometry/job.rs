@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use super::frames::{self, Vec3};
 use super::mesh::{self, MeshOut, Section, Shape};
+use super::stroke::StrokePlan;
 use super::{Geometry, widen};
 use crate::conventions::Ends;
 use crate::curve::{Curve, CurveKind};
@@ -25,11 +26,24 @@ pub const MAX_SECTIONS: usize = 1 << 20;
 #[derive(Clone, Debug)]
 struct Planned {
     table: SegmentTable,
-    locs: Vec<SampleLoc>,
-    /// The arc length to each cross-section (closed curves, whose frames are closed up).
-    lengths: Option<Vec<f64>>,
-    shape: Shape,
-    n0: Vec3,
+    body: Body,
+    vertices: u64,
+    triangles: u64,
+}
+
+/// How a planned mesh is made.
+#[derive(Clone, Debug)]
+enum Body {
+    /// A tube or ribbon swept along the curve's frames.
+    Swept {
+        locs: Vec<SampleLoc>,
+        /// The arc length to each cross-section (closed curves, whose frames are closed up).
+        lengths: Option<Vec<f64>>,
+        shape: Shape,
+        n0: Vec3,
+    },
+    /// A 2-D stroke.
+    Stroke(StrokePlan),
 }
 
 /// Many curves' meshes: each curve's geometry and sampling checked and its counts known when
@@ -89,8 +103,7 @@ impl GeometryJob {
         sampling: &Sampling,
     ) -> Result<(), InputError> {
         let planned = plan(curve, geometry, sampling)?;
-        let closed = planned.lengths.is_some();
-        let (vertices, triangles) = mesh::counts(planned.shape, planned.locs.len() as u64, closed);
+        let (vertices, triangles) = (planned.vertices, planned.triangles);
         if vertices > u64::from(u32::MAX) {
             return Err(InputError::field(
                 "sampling",
@@ -219,16 +232,22 @@ fn is_closed(kind: &CurveKind) -> bool {
 
 fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Planned, InputError> {
     let dim = curve.points().dim();
-    if dim != 3 {
+    let wanted = if matches!(geometry, Geometry::Stroke(_)) {
+        2
+    } else {
+        3
+    };
+    if dim != wanted {
         return Err(InputError::field(
             "geometry",
             format!(
-                "a {} needs 3-D points, got {dim} coordinates per point",
+                "a {} needs {wanted}-D points, got {dim} coordinates per point",
                 geometry.name()
             ),
         ));
     }
     let shape = match geometry {
+        Geometry::Stroke(_) => None,
         Geometry::Tube(tube) => {
             if tube.sides < 3 {
                 return Err(InputError::field(
@@ -236,12 +255,12 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
                     format!("a tube needs at least 3 sides, got {}", tube.sides),
                 ));
             }
-            Shape::Tube {
+            Some(Shape::Tube {
                 sides: tube.sides,
                 caps: tube.caps,
-            }
+            })
         }
-        Geometry::Ribbon(_) => Shape::Ribbon,
+        Geometry::Ribbon(_) => Some(Shape::Ribbon),
     };
     match sampling {
         Sampling::At(_) => {
@@ -272,7 +291,20 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         ));
     }
     let locs: Vec<SampleLoc> = (0..plan.len()).map(|i| plan.loc(i)).collect();
-    let lengths = is_closed(curve.kind()).then(|| arc_lengths(&position, &locs));
+    let closed = is_closed(curve.kind());
+    let Some(shape) = shape else {
+        let Geometry::Stroke(style) = geometry else {
+            unreachable!("a shape for every swept geometry")
+        };
+        let stroke = StrokePlan::new(&table, &locs, style, closed)?;
+        return Ok(Planned {
+            vertices: stroke.vertices,
+            triangles: stroke.triangles,
+            table,
+            body: Body::Stroke(stroke),
+        });
+    };
+    let lengths = closed.then(|| arc_lengths(&position, &locs));
     let first = section(&table, locs[0]);
     let t0 = frames::unit_tangent(first.d1, first.d2, false).unwrap_or_else(|| {
         let d1: Vec<Vec3> = locs.iter().map(|&l| section(&table, l).d1).collect();
@@ -280,12 +312,17 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         frames::tangents(&d1, &d2)[0]
     });
     let n0 = frames::first_normal(t0, geometry.up())?;
+    let (vertices, triangles) = mesh::counts(shape, locs.len() as u64, closed);
     Ok(Planned {
         table,
-        locs,
-        lengths,
-        shape,
-        n0,
+        body: Body::Swept {
+            locs,
+            lengths,
+            shape,
+            n0,
+        },
+        vertices,
+        triangles,
     })
 }
 
@@ -325,8 +362,16 @@ fn section(table: &SegmentTable, loc: SampleLoc) -> Section {
 
 /// Makes one curve's mesh into `out`.
 fn make(planned: &Planned, out: &mut MeshOut<'_>) {
-    let mut sections: Vec<Section> = planned
-        .locs
+    let (locs, lengths, shape, n0) = match &planned.body {
+        Body::Stroke(stroke) => return stroke.write(&planned.table, out),
+        Body::Swept {
+            locs,
+            lengths,
+            shape,
+            n0,
+        } => (locs, lengths, *shape, *n0),
+    };
+    let mut sections: Vec<Section> = locs
         .iter()
         .map(|&loc| section(&planned.table, loc))
         .collect();
@@ -334,13 +379,13 @@ fn make(planned: &Planned, out: &mut MeshOut<'_>) {
     let d2: Vec<Vec3> = sections.iter().map(|s| s.d2).collect();
     let tangents = frames::tangents(&d1, &d2);
     let positions: Vec<Vec3> = sections.iter().map(|s| s.position).collect();
-    let mut normals = frames::rotation_minimizing(&positions, &tangents, planned.n0);
-    if let Some(lengths) = &planned.lengths {
+    let mut normals = frames::rotation_minimizing(&positions, &tangents, n0);
+    if let Some(lengths) = lengths {
         frames::close_up(&tangents, &mut normals, lengths);
     }
     for ((section, tangent), normal) in sections.iter_mut().zip(tangents).zip(normals) {
         section.tangent = tangent;
         section.normal = normal;
     }
-    mesh::write(planned.shape, &sections, planned.lengths.is_some(), out);
+    mesh::write(shape, &sections, lengths.is_some(), out);
 }

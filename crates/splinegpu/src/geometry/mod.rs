@@ -10,9 +10,9 @@
 //! The counts of a mesh (vertices, triangles) are decided on the host when the curve is pushed
 //! into a [`GeometryJob`], before any work: a renderer sizes its buffers from them.
 //!
-//! Built so far: tubes and ribbons, per_segment and arc_length cross-sections, on the CPU in
-//! f64. Strokes, dashes, the certified tolerance sampling and the GPU kernel are the stages to
-//! come (issue 45).
+//! Built so far: strokes (joins and caps), tubes and ribbons, per_segment and arc_length
+//! cross-sections, on the CPU in f64. Dashes, the certified tolerance sampling and the GPU
+//! kernel are the stages to come (issue 45).
 //!
 //! ```
 //! use splinegpu::geometry::{Geometry, GeometryJob, Tube, Width};
@@ -35,9 +35,11 @@
 pub mod frames;
 mod job;
 pub mod mesh;
+mod stroke;
 mod widen;
 
 pub use job::{GeometryJob, MAX_SECTIONS, Meshes};
+pub use stroke::{Cap, Join, Stroke};
 
 /// A width (ribbons, strokes) or radius (tubes): one value for the whole curve, or one per
 /// point, interpolated as one more coordinate of the curve's spline (a value below 0 there
@@ -95,6 +97,8 @@ pub struct Ribbon {
 /// What to make of a curve.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Geometry {
+    /// A stroke of a 2-D curve (its mesh in the plane z = 0, normals +z).
+    Stroke(Stroke),
     /// A tube about the curve.
     Tube(Tube),
     /// A ribbon along the curve.
@@ -106,6 +110,7 @@ impl Geometry {
     #[must_use]
     pub fn name(&self) -> &'static str {
         match self {
+            Geometry::Stroke(_) => "stroke",
             Geometry::Tube(_) => "tube",
             Geometry::Ribbon(_) => "ribbon",
         }
@@ -114,6 +119,7 @@ impl Geometry {
     /// The width or radius, and the field it is named by.
     pub(crate) fn width(&self) -> (&Width, &'static str) {
         match self {
+            Geometry::Stroke(stroke) => (&stroke.width, "width"),
             Geometry::Tube(tube) => (&tube.radius, "radius"),
             Geometry::Ribbon(ribbon) => (&ribbon.width, "width"),
         }
@@ -124,6 +130,7 @@ impl Geometry {
         match self {
             Geometry::Tube(tube) => tube.up,
             Geometry::Ribbon(ribbon) => ribbon.up,
+            Geometry::Stroke(_) => None,
         }
     }
 }

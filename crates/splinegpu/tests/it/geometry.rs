@@ -359,3 +359,272 @@ fn every_kind_carries_a_radius_per_point_as_one_more_coordinate() {
         }
     }
 }
+
+mod strokes {
+    //! Strokes against their exact areas: straight Bezier pieces, so that the exact area is
+    //! rectangles, the join's region and the caps' (round: every point within w/2 of the
+    //! path). Each mesh is checked both ways: points spread over every triangle lie in the
+    //! area, and points of the area (away from its boundary by more than a chord's sagitta)
+    //! lie in some triangle.
+
+    use super::*;
+    use splinegpu::geometry::{Cap, Join, Stroke};
+
+    /// The polyline through `corners` as cubic Bezier pieces with their control points a third
+    /// and two thirds along each side (straight, at constant speed).
+    fn polyline(corners: &[[f64; 2]]) -> Curve {
+        let mut points = vec![corners[0][0], corners[0][1]];
+        for pair in corners.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            for k in 1..=3 {
+                let s = f64::from(k) / 3.0;
+                points.extend([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]);
+            }
+        }
+        Curve::new(CurveKind::Bezier, Points::new(2, points).unwrap()).unwrap()
+    }
+
+    fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let s = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        (p[0] - a[0] - s * dx).hypot(p[1] - a[1] - s * dy)
+    }
+
+    fn distance(p: [f64; 2], corners: &[[f64; 2]]) -> f64 {
+        corners
+            .windows(2)
+            .map(|w| distance_to_segment(p, w[0], w[1]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn xy(m: &Meshes, v: u32) -> [f64; 2] {
+        [m.points[3 * v as usize], m.points[3 * v as usize + 1]]
+    }
+
+    fn inside_triangle(p: [f64; 2], [a, b, c]: [[f64; 2]; 3]) -> bool {
+        let side = |a: [f64; 2], b: [f64; 2]| {
+            (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+        };
+        let eps = -1e-12;
+        side(a, b) >= eps && side(b, c) >= eps && side(c, a) >= eps
+    }
+
+    /// Checks `m` against the area `in_area` (with `margin`: how far inside the area a point
+    /// must be to be owed a triangle, `deep(p)`), over the box `[lo, hi]`.
+    fn check(
+        m: &Meshes,
+        in_area: impl Fn([f64; 2]) -> bool,
+        deep: impl Fn([f64; 2]) -> bool,
+        lo: [f64; 2],
+        hi: [f64; 2],
+    ) {
+        let triangles: Vec<[[f64; 2]; 3]> =
+            m.triangles.iter().map(|t| t.map(|v| xy(m, v))).collect();
+        for (i, &[a, b, c]) in triangles.iter().enumerate() {
+            let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            assert!(area >= 0.0, "triangle {i} is clockwise");
+            for (wa, wb) in [
+                (1.0, 0.0),
+                (0.0, 1.0),
+                (0.0, 0.0),
+                (0.3, 0.3),
+                (0.5, 0.5),
+                (0.1, 0.8),
+            ] {
+                let wc = 1.0 - wa - wb;
+                let p = [
+                    wa * a[0] + wb * b[0] + wc * c[0],
+                    wa * a[1] + wb * b[1] + wc * c[1],
+                ];
+                assert!(in_area(p), "triangle {i}: {p:?} is outside the stroke");
+            }
+        }
+        let steps = 160;
+        for i in 0..=steps {
+            for j in 0..=steps {
+                let p = [
+                    lo[0] + (hi[0] - lo[0]) * f64::from(i) / f64::from(steps),
+                    lo[1] + (hi[1] - lo[1]) * f64::from(j) / f64::from(steps),
+                ];
+                if deep(p) {
+                    assert!(
+                        triangles.iter().any(|&t| inside_triangle(p, t)),
+                        "{p:?} is not covered"
+                    );
+                }
+            }
+        }
+    }
+
+    fn stroke(cap: Cap, join: Join, miter_limit: f64) -> Geometry {
+        Geometry::Stroke(Stroke {
+            width: Width::Constant(0.5),
+            cap,
+            join,
+            miter_limit,
+            sides: 16,
+        })
+    }
+
+    const ZIGZAG: [[f64; 2]; 4] = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [3.5, 0.5]];
+
+    /// Round joins and caps: the exact area is every point within w/2 of the path (a round
+    /// fan's chords fall short of its arc by h (1 - cos(π/8)) at most, with 16 sides).
+    #[test]
+    fn round_joins_and_caps_cover_the_points_within_half_the_width() {
+        let (job, m) = meshes(
+            &polyline(&ZIGZAG),
+            &stroke(Cap::Round, Join::Round, 4.0),
+            &Sampling::PerSegment(4),
+        );
+        assert_eq!(job.vertex_count() as usize, m.t.len());
+        let h = 0.25;
+        let sagitta = h * (1.0 - (std::f64::consts::PI / 8.0).cos());
+        check(
+            &m,
+            |p| distance(p, &ZIGZAG) <= h + 1e-12,
+            |p| distance(p, &ZIGZAG) < h - sagitta - 1e-9,
+            [-0.5, -0.5],
+            [4.0, 2.5],
+        );
+    }
+
+    /// A right-angle corner is a miter (ratio √2 <= 4): the outer corner squared off; with a
+    /// limit of 1.2 it is a bevel, the triangle between the corner and the outer offsets.
+    /// Butt and square caps: nothing, or w/2 more of the rectangle, beyond each end.
+    #[test]
+    fn miters_bevels_and_square_caps_make_their_exact_regions() {
+        let l = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]];
+        let h = 0.25;
+        let rect = |p: [f64; 2], x0: f64, x1: f64, y0: f64, y1: f64, e: f64| {
+            p[0] >= x0 - e && p[0] <= x1 + e && p[1] >= y0 - e && p[1] <= y1 + e
+        };
+        for (cap, join, limit, extra_vertices) in [
+            (Cap::Butt, Join::Miter, 4.0, 2),
+            (Cap::Square, Join::Miter, 4.0, 2 + 4),
+            (Cap::Butt, Join::Bevel, 4.0, 1),
+            (Cap::Butt, Join::Miter, 1.2, 1),
+        ] {
+            let (job, m) = meshes(
+                &polyline(&l),
+                &stroke(cap, join, limit),
+                &Sampling::PerSegment(3),
+            );
+            // 7 cross-sections, the corner's twice, two vertices each.
+            assert_eq!(
+                job.vertex_count(),
+                2 * 8 + extra_vertices,
+                "{cap:?} {join:?} {limit}"
+            );
+            let reach = if cap == Cap::Square { h } else { 0.0 };
+            let mitered = join == Join::Miter && limit >= 2f64.sqrt();
+            let area = |p: [f64; 2], e: f64| {
+                rect(p, -reach, 2.0, -h, h, e)
+                    || rect(p, 2.0 - h, 2.0 + h, 0.0, 2.0 + reach, e)
+                    // The corner's outer quarter: all of it for a miter, the bevel's half.
+                    || (rect(p, 2.0, 2.0 + h, -h, 0.0, e)
+                        && (mitered || (p[0] - 2.0) - (p[1] + h) <= e))
+            };
+            check(
+                &m,
+                |p| area(p, 1e-12),
+                |p| area(p, -1e-9),
+                [-0.5, -0.5],
+                [2.5, 2.5],
+            );
+        }
+    }
+
+    /// A closed curve has no caps, and its closing point is a joint: a closed square path
+    /// (four straight pieces) with miters has a square frame as its exact area.
+    #[test]
+    fn a_closed_path_joins_its_closing_point() {
+        // Closed uniform kinds are smooth; a closed square is the Bezier path back to its
+        // start, whose ends the stroke caps, so the closing here is a periodic interpolating
+        // circle: no caps, no corner, its band covered all round.
+        let n = 24;
+        let points: Vec<f64> = (0..=n)
+            .flat_map(|i| {
+                let a = std::f64::consts::TAU * f64::from(i % n) / f64::from(n);
+                [2.0 * a.cos(), 2.0 * a.sin()]
+            })
+            .collect();
+        let kind = CurveKind::Interpolating {
+            condition: EndCondition::Periodic,
+            t: None,
+        };
+        let curve = Curve::new(kind, Points::new(2, points).unwrap()).unwrap();
+        let (job, m) = meshes(
+            &curve,
+            &stroke(Cap::Round, Join::Miter, 4.0),
+            &Sampling::PerSegment(8),
+        );
+        // 24 x 8 + 1 cross-sections, no caps, no corner.
+        assert_eq!(job.vertex_count(), 2 * (24 * 8 + 1));
+        // The exact curve: the spline through the circle's points, densely sampled.
+        let dense = crate::support::cpu_at(
+            &curve,
+            &(0..=24_000)
+                .map(|i| f64::from(i) / 1000.0)
+                .collect::<Vec<_>>(),
+        );
+        let path: Vec<[f64; 2]> = dense
+            .curve(0)
+            .points
+            .chunks(2)
+            .map(|p| [p[0], p[1]])
+            .collect();
+        let h = 0.25;
+        check(
+            &m,
+            |p| distance(p, &path) <= h + 1e-3,
+            |p| distance(p, &path) < h - 1e-3,
+            [-2.5, -2.5],
+            [2.5, 2.5],
+        );
+    }
+}
+
+#[test]
+fn bad_strokes_are_refused_by_name() {
+    use splinegpu::geometry::Stroke;
+    let flat = Curve::new(
+        CurveKind::Bezier,
+        Points::new(2, vec![0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 3.0, 1.0]).unwrap(),
+    )
+    .unwrap();
+    let cases = [
+        (axis(), Stroke::default(), "geometry"),
+        (
+            flat.clone(),
+            Stroke {
+                sides: 3,
+                ..Stroke::default()
+            },
+            "sides",
+        ),
+        (
+            flat.clone(),
+            Stroke {
+                miter_limit: 0.5,
+                ..Stroke::default()
+            },
+            "miter_limit",
+        ),
+        (
+            flat,
+            Stroke {
+                width: Width::Constant(-1.0),
+                ..Stroke::default()
+            },
+            "width",
+        ),
+    ];
+    for (curve, stroke, field) in cases {
+        let mut job = GeometryJob::new();
+        let error = job
+            .push(&curve, &Geometry::Stroke(stroke), &Sampling::PerSegment(4))
+            .unwrap_err();
+        assert_eq!(error.field.as_deref(), Some(field), "{error}");
+    }
+}

@@ -1,0 +1,482 @@
+//! 2-D strokes: the area a pen of width w(t) sweeps along a curve, with joins at its corners
+//! and caps at its ends (the contract's "stroke"), planned on the host in f64 so that the
+//! counts are known before any vertex is made.
+//!
+//! The body: at each cross-section t_j, the vertices C(t_j) ± (w/2) n_j with n = (-T_y, T_x)
+//! the unit left normal; consecutive cross-sections of one piece are joined by two triangles.
+//! A corner (a joint whose arriving and leaving unit tangents differ by more than 1e-6 rad, a
+//! closed curve's closing point, or a cross-section where C' = 0 inside the range) has a
+//! cross-section on each side, each with its own side's normal, and a join on the outer side
+//! about the corner point: a bevel (the triangle between the corner and the two outer offset
+//! points), a miter (the bevel and the triangle out to where the two outer offset lines
+//! meet, at h / cos(θ/2) from the corner along the outer normals' bisector, θ the turn,
+//! while the miter ratio 1 / sin(φ/2) = 1 / cos(θ/2) is within the limit; the bevel
+//! otherwise), or a round join (the fan of ceil(θ/π · sides/2) chords about the corner). A
+//! cusp always takes a round join. Caps at an open curve's ends: "butt" nothing, "square"
+//! the rectangle reaching w/2 beyond the end, "round" the half disc of sides/2 chords.
+//!
+//! Every triangle is counter-clockwise in (x, y).
+
+use super::frames::Vec3;
+use super::mesh::MeshOut;
+use crate::error::InputError;
+use crate::sampling::SampleLoc;
+use crate::segment::SegmentTable;
+
+/// How a stroke ends at an open curve's ends.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Cap {
+    /// Nothing beyond the end.
+    #[default]
+    Butt,
+    /// The rectangle of the stroke's width reaching w/2 beyond the end.
+    Square,
+    /// The half disc of radius w/2 beyond the end.
+    Round,
+}
+
+/// How a stroke turns a corner.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Join {
+    /// The outer offset lines extended until they meet, within the miter limit.
+    #[default]
+    Miter,
+    /// The disc of radius w/2 at the corner.
+    Round,
+    /// The triangle between the corner and the two outer offset points.
+    Bevel,
+}
+
+/// A stroke's style (2-D curves).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stroke {
+    /// The pen's width w.
+    pub width: super::Width,
+    /// The ends' caps.
+    pub cap: Cap,
+    /// The corners' joins.
+    pub join: Join,
+    /// The largest miter ratio 1 / sin(φ/2) drawn as a miter (>= 1; the contract's 4).
+    pub miter_limit: f64,
+    /// Chords per full turn of round joins and caps (>= 4; the contract's 16).
+    pub sides: u32,
+}
+
+impl Default for Stroke {
+    fn default() -> Self {
+        Self {
+            width: super::Width::default(),
+            cap: Cap::Butt,
+            join: Join::Miter,
+            miter_limit: 4.0,
+            sides: 16,
+        }
+    }
+}
+
+/// The smallest turn between a joint's tangents that makes it a corner, in radians.
+const CORNER: f64 = 1e-6;
+
+/// A cross-section: where the widened table is evaluated, and its unit tangent (its side's,
+/// at a corner).
+#[derive(Clone, Copy, Debug)]
+struct Section {
+    segment: usize,
+    u: f64,
+    t: f64,
+    tangent: [f64; 2],
+}
+
+/// What joins section `at` (arriving) to the next one (leaving), or to the first (a closed
+/// curve's closing point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Corner {
+    Bevel,
+    /// The miter point at `reach` half widths from the corner.
+    Miter {
+        reach: f64,
+    },
+    Round {
+        chords: u32,
+    },
+}
+
+/// A stroke's plan: its cross-sections, its corners (after which section, and how), its caps
+/// and its counts.
+#[derive(Clone, Debug)]
+pub(crate) struct StrokePlan {
+    sections: Vec<Section>,
+    /// (arriving section, join); the leaving one is the next, or the first for the closing
+    /// corner of a closed curve.
+    corners: Vec<(usize, Corner)>,
+    cap: Option<Cap>,
+    cap_chords: u32,
+    pub(crate) vertices: u64,
+    pub(crate) triangles: u64,
+}
+
+fn unit2(v: [f64; 2]) -> Option<[f64; 2]> {
+    let length = v[0].hypot(v[1]);
+    (length > 0.0 && length.is_finite()).then(|| [v[0] / length, v[1] / length])
+}
+
+/// The table's position derivatives at (segment, u): C' and C'' (the first two coordinates).
+fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], [f64; 2]) {
+    let s = table.segment(segment);
+    let (mut d1, mut d2) = ([0.0; 3], [0.0; 3]);
+    s.deriv(u, &mut d1);
+    s.deriv2(u, &mut d2);
+    ([d1[0], d1[1]], [d2[0], d2[1]])
+}
+
+/// The unit tangent at (segment, u) approached from above (`below` false) or below.
+fn tangent(table: &SegmentTable, segment: usize, u: f64, below: bool) -> Option<[f64; 2]> {
+    let (d1, d2) = derivatives(table, segment, u);
+    unit2(d1).or_else(|| unit2(d2).map(|t| if below { [-t[0], -t[1]] } else { t }))
+}
+
+fn turn(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] * b[1] - a[1] * b[0])
+        .atan2(a[0] * b[0] + a[1] * b[1])
+        .abs()
+}
+
+/// `locs` with a place at every joint where the curve turns a corner that they do not already
+/// hold (arc-length places seldom fall on one): every corner gets its join.
+fn with_corner_joints(table: &SegmentTable, locs: &[SampleLoc]) -> Vec<SampleLoc> {
+    let joints = (1..table.len()).filter(|&s| {
+        let arriving = tangent(table, s - 1, 1.0, true);
+        let leaving = tangent(table, s, 0.0, false);
+        matches!((arriving, leaving), (Some(a), Some(b)) if turn(a, b) > CORNER)
+    });
+    let mut merged = Vec::with_capacity(locs.len());
+    let mut joints = joints.peekable();
+    for loc in locs {
+        while let Some(&s) = joints.peek() {
+            let t = table.segment(s).t0();
+            if t > loc.t {
+                break;
+            }
+            if t < loc.t {
+                merged.push(SampleLoc {
+                    segment: s,
+                    u: 0.0,
+                    t,
+                });
+            }
+            joints.next();
+        }
+        merged.push(*loc);
+    }
+    merged
+}
+
+impl StrokePlan {
+    /// Plans the stroke of `style` on the widened `table` (x, y, w) at `locs`, closed or open.
+    ///
+    /// # Errors
+    /// A miter limit below 1 or not finite ("miter_limit"), fewer than 4 sides ("sides").
+    pub(crate) fn new(
+        table: &SegmentTable,
+        locs: &[SampleLoc],
+        style: &Stroke,
+        closed: bool,
+    ) -> Result<Self, InputError> {
+        if !(style.miter_limit.is_finite() && style.miter_limit >= 1.0) {
+            return Err(InputError::field(
+                "miter_limit",
+                format!("must be a number >= 1, got {}", style.miter_limit),
+            ));
+        }
+        if style.sides < 4 {
+            return Err(InputError::field(
+                "sides",
+                format!("a stroke needs at least 4 sides, got {}", style.sides),
+            ));
+        }
+        let half_turn = u64::from(style.sides.div_ceil(2));
+        let chords = |theta: f64| {
+            let c = (theta / std::f64::consts::PI * half_turn as f64).ceil();
+            c.clamp(1.0, half_turn as f64) as u32
+        };
+        let join = |arriving: [f64; 2], leaving: [f64; 2], cusp: bool| {
+            let theta = turn(arriving, leaving);
+            if cusp || style.join == Join::Round {
+                return Corner::Round {
+                    chords: chords(theta),
+                };
+            }
+            let reach = 1.0 / (0.5 * theta).cos();
+            match style.join {
+                Join::Miter if reach <= style.miter_limit => Corner::Miter { reach },
+                _ => Corner::Bevel,
+            }
+        };
+        let locs = with_corner_joints(table, locs);
+        let last = locs.len() - 1;
+        let mut sections: Vec<Section> = Vec::with_capacity(locs.len());
+        let mut corners = Vec::new();
+        let mut previous = [1.0, 0.0];
+        for (j, loc) in locs.iter().enumerate() {
+            let loc = *loc;
+            let at_end = j == last;
+            let here = tangent(table, loc.segment, loc.u, at_end && j > 0);
+            let leaving = here.unwrap_or(previous);
+            let section = |tangent| Section {
+                segment: loc.segment,
+                u: loc.u,
+                t: loc.t,
+                tangent,
+            };
+            let (d1, _) = derivatives(table, loc.segment, loc.u);
+            let interior = j > 0 && !at_end;
+            if interior && loc.u == 0.0 && loc.segment > 0 {
+                // A joint: the arriving side is the segment before at u = 1.
+                let arriving = tangent(table, loc.segment - 1, 1.0, true).unwrap_or(previous);
+                if turn(arriving, leaving) > CORNER {
+                    sections.push(Section {
+                        segment: loc.segment - 1,
+                        u: 1.0,
+                        t: loc.t,
+                        tangent: arriving,
+                    });
+                    corners.push((sections.len() - 1, join(arriving, leaving, false)));
+                }
+            } else if interior && d1 == [0.0, 0.0] && here.is_some() {
+                // A cusp inside a segment: arriving from below, leaving from above.
+                let arriving = tangent(table, loc.segment, loc.u, true).unwrap_or(previous);
+                sections.push(section(arriving));
+                corners.push((sections.len() - 1, join(arriving, leaving, true)));
+            }
+            sections.push(section(leaving));
+            previous = leaving;
+        }
+        if closed {
+            let (arriving, leaving) = (sections[sections.len() - 1].tangent, sections[0].tangent);
+            if turn(arriving, leaving) > CORNER {
+                corners.push((sections.len() - 1, join(arriving, leaving, false)));
+            }
+        }
+        let cap = (!closed).then_some(style.cap);
+        let mut plan = Self {
+            sections,
+            corners,
+            cap,
+            cap_chords: half_turn as u32,
+            vertices: 0,
+            triangles: 0,
+        };
+        (plan.vertices, plan.triangles) = plan.counts();
+        Ok(plan)
+    }
+
+    /// (vertices, triangles) of the mesh [`StrokePlan::write`] makes.
+    fn counts(&self) -> (u64, u64) {
+        let n = self.sections.len() as u64;
+        let inner_corners = self
+            .corners
+            .iter()
+            .filter(|(at, _)| *at + 1 < self.sections.len())
+            .count() as u64;
+        let (mut vertices, mut triangles) = (2 * n, 2 * (n - 1 - inner_corners));
+        for (_, corner) in &self.corners {
+            let (v, f) = match corner {
+                Corner::Bevel => (1, 1),
+                Corner::Miter { .. } => (2, 2),
+                Corner::Round { chords } => (u64::from(*chords), u64::from(*chords)),
+            };
+            vertices += v;
+            triangles += f;
+        }
+        let (v, f) = match self.cap {
+            None | Some(Cap::Butt) => (0, 0),
+            Some(Cap::Square) => (2, 2),
+            Some(Cap::Round) => (u64::from(self.cap_chords), u64::from(self.cap_chords)),
+        };
+        (vertices + 2 * v, triangles + 2 * f)
+    }
+
+    /// Writes the stroke's mesh into `out` (points with z = 0, normals +z).
+    pub(crate) fn write(&self, table: &SegmentTable, out: &mut MeshOut<'_>) {
+        let mut mesh = Writer {
+            out,
+            vertex: 0,
+            triangle: 0,
+        };
+        // Each section's left and right vertices, 2j and 2j + 1.
+        let mut centres = Vec::with_capacity(self.sections.len());
+        for s in &self.sections {
+            let mut p = [0.0; 3];
+            table.segment(s.segment).eval(s.u, &mut p);
+            let h = 0.5 * p[2].max(0.0);
+            let n = [-s.tangent[1], s.tangent[0]];
+            mesh.vertex([p[0] + h * n[0], p[1] + h * n[1]], s.t);
+            mesh.vertex([p[0] - h * n[0], p[1] - h * n[1]], s.t);
+            centres.push(([p[0], p[1]], h));
+        }
+        let corner_after: std::collections::HashSet<usize> =
+            self.corners.iter().map(|(at, _)| *at).collect();
+        for j in 0..self.sections.len() - 1 {
+            if corner_after.contains(&j) {
+                continue;
+            }
+            let (l0, r0, l1, r1) = (2 * j, 2 * j + 1, 2 * j + 2, 2 * j + 3);
+            mesh.triangle([r0, r1, l1]);
+            mesh.triangle([r0, l1, l0]);
+        }
+        for &(at, corner) in &self.corners {
+            let next = (at + 1) % self.sections.len();
+            let (a, b) = (self.sections[at].tangent, self.sections[next].tangent);
+            let (centre, h) = centres[at];
+            // Turning left, the outer side is the right one.
+            let left_turn = a[0] * b[1] - a[1] * b[0] > 0.0;
+            let (outer_a, outer_b) = if left_turn {
+                (2 * at + 1, 2 * next + 1)
+            } else {
+                (2 * at, 2 * next)
+            };
+            let sign = if left_turn { -1.0 } else { 1.0 };
+            let normal = |t: [f64; 2]| [-sign * t[1], sign * t[0]];
+            let c = mesh.vertex(centre, self.sections[at].t);
+            match corner {
+                Corner::Bevel => mesh.triangle([c, outer_a, outer_b]),
+                Corner::Miter { reach } => {
+                    let (na, nb) = (normal(a), normal(b));
+                    let bisector = unit2([na[0] + nb[0], na[1] + nb[1]]).unwrap_or(na);
+                    let r = h * reach;
+                    let m = mesh.vertex(
+                        [centre[0] + r * bisector[0], centre[1] + r * bisector[1]],
+                        self.sections[at].t,
+                    );
+                    mesh.triangle([c, outer_a, m]);
+                    mesh.triangle([c, m, outer_b]);
+                }
+                Corner::Round { chords } => {
+                    let (na, nb) = (normal(a), normal(b));
+                    let start = na[1].atan2(na[0]);
+                    let (cross, dot) =
+                        (na[0] * nb[1] - na[1] * nb[0], na[0] * nb[0] + na[1] * nb[1]);
+                    // The short way round; a cusp's reversal the half turn ahead of it.
+                    let sweep = if cross == 0.0 && dot < 0.0 {
+                        -sign * std::f64::consts::PI
+                    } else {
+                        cross.atan2(dot)
+                    };
+                    mesh.fan(
+                        c,
+                        centre,
+                        h,
+                        start,
+                        sweep,
+                        chords,
+                        outer_a,
+                        outer_b,
+                        self.sections[at].t,
+                    );
+                }
+            }
+        }
+        if let Some(cap) = self.cap {
+            let last = self.sections.len() - 1;
+            for (j, forward) in [(0, -1.0), (last, 1.0)] {
+                let t = self.sections[j].tangent;
+                let along = [forward * t[0], forward * t[1]];
+                let (centre, h) = centres[j];
+                let (l, r) = (2 * j, 2 * j + 1);
+                match cap {
+                    Cap::Butt => {}
+                    Cap::Square => {
+                        let beyond = |v: usize| {
+                            let p = mesh.position(v);
+                            [p[0] + h * along[0], p[1] + h * along[1]]
+                        };
+                        let (l2, r2) = (beyond(l), beyond(r));
+                        let l2 = mesh.vertex(l2, self.sections[j].t);
+                        let r2 = mesh.vertex(r2, self.sections[j].t);
+                        mesh.triangle([l, r, r2]);
+                        mesh.triangle([l, r2, l2]);
+                    }
+                    Cap::Round => {
+                        let n = [-t[1], t[0]];
+                        let start = n[1].atan2(n[0]);
+                        // From the left vertex round the end to the right one.
+                        let sweep = std::f64::consts::PI * -forward;
+                        let c = mesh.vertex(centre, self.sections[j].t);
+                        mesh.fan(
+                            c,
+                            centre,
+                            h,
+                            start,
+                            sweep,
+                            self.cap_chords,
+                            l,
+                            r,
+                            self.sections[j].t,
+                        );
+                    }
+                }
+            }
+        }
+        debug_assert_eq!(mesh.vertex as u64, self.vertices);
+        debug_assert_eq!(mesh.triangle as u64, self.triangles);
+    }
+}
+
+/// Writes a stroke's vertices and triangles in order, each triangle turned counter-clockwise.
+struct Writer<'a, 'b> {
+    out: &'a mut MeshOut<'b>,
+    vertex: usize,
+    triangle: usize,
+}
+
+impl Writer<'_, '_> {
+    fn vertex(&mut self, p: [f64; 2], t: f64) -> usize {
+        let v = self.vertex;
+        let position: Vec3 = [p[0], p[1], 0.0];
+        self.out.points[3 * v..3 * v + 3].copy_from_slice(&position);
+        self.out.normals[3 * v..3 * v + 3].copy_from_slice(&[0.0, 0.0, 1.0]);
+        self.out.t[v] = t;
+        self.vertex += 1;
+        v
+    }
+
+    fn position(&self, v: usize) -> [f64; 2] {
+        [self.out.points[3 * v], self.out.points[3 * v + 1]]
+    }
+
+    fn triangle(&mut self, [a, b, c]: [usize; 3]) {
+        let (pa, pb, pc) = (self.position(a), self.position(b), self.position(c));
+        let area = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+        let [a, b, c] = [a, b, c].map(|v| u32::try_from(v).expect("counted within u32"));
+        self.out.triangles[self.triangle] = if area < 0.0 { [a, c, b] } else { [a, b, c] };
+        self.triangle += 1;
+    }
+
+    /// The fan of `chords` triangles about `c` (at `centre`) from vertex `from` round the arc
+    /// of radius `h` (angles `start` to `start + sweep`) to vertex `to`.
+    #[allow(clippy::too_many_arguments, reason = "one fan's whole description")]
+    fn fan(
+        &mut self,
+        c: usize,
+        centre: [f64; 2],
+        h: f64,
+        start: f64,
+        sweep: f64,
+        chords: u32,
+        from: usize,
+        to: usize,
+        t: f64,
+    ) {
+        let mut previous = from;
+        for k in 1..chords {
+            let angle = start + sweep * f64::from(k) / f64::from(chords);
+            let v = self.vertex(
+                [centre[0] + h * angle.cos(), centre[1] + h * angle.sin()],
+                t,
+            );
+            self.triangle([c, previous, v]);
+            previous = v;
+        }
+        self.triangle([c, previous, to]);
+    }
+}
