@@ -47,12 +47,15 @@ enum Command {
     /// w1-tol (w1's curves at 1e-3 of their extent), fit-1m, eval-at, cli-w1 (w1's document
     /// through tessellate into a temporary file), w1-x10 (100,000 curves made as w1's, for
     /// GPUs), s1 (1,000 bicubic bspline surfaces of 20 x 20 points, per_segment 8, normals:
-    /// 18.8 M vertices) and teapot (1,000 Utah teapots within 1e-3 of their extent, normals).
+    /// 18.8 M vertices) and teapot (1,000 Utah teapots within 1e-3 of their extent, normals),
+    /// tubes (10,000 closed 3-D loops, 8 sides, 16 rings a segment: 20.5 M vertices) and
+    /// strokes (10,000 open 2-D curves, round joins and caps, per_segment 16).
     /// Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit,
     /// plain-loop (on w1, w1-nurbs, w1-b, w1-x10, eval-at, fit-1m, s1 and teapot: a plain loop
     /// over the same work; the surfaces' from the control points with basis weights, into the
     /// memory cpu-all f32 fills); the surfaces' cpu-call (the whole call into new memory, every
-    /// plane of the output: (u, v), positions, normals, triangles);
+    /// plane of the output: (u, v), positions, normals, triangles); tubes' and strokes' cpu-all
+    /// (the planned job's meshes into new memory, f64) and cpu-call (planned and made);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64

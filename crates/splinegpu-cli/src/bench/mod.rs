@@ -8,6 +8,7 @@
 //! enough runs to miss most of a shared machine's stalls.
 
 mod anchors;
+mod geometry;
 mod measure;
 mod surfaces;
 mod workloads;
@@ -54,9 +55,9 @@ pub enum BenchError {
 const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 14] = [
+pub const WORKLOADS: [&str; 16] = [
     "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
-    "cli-w1", "w1-x10", "s1", "teapot",
+    "cli-w1", "w1-x10", "s1", "teapot", "tubes", "strokes",
 ];
 
 /// The output number type of a cli-w1 path.
@@ -111,6 +112,7 @@ pub fn run(
         match name {
             "fit-1m" => fit_1m(&mut report),
             "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
+            "tubes" | "strokes" => geometry::run(name, &mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(

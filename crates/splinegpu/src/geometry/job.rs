@@ -104,18 +104,45 @@ impl GeometryJob {
     ) -> Result<(), InputError> {
         let planned = plan(curve, geometry, sampling)?;
         let (vertices, triangles) = (planned.vertices, planned.triangles);
-        if vertices > u64::from(u32::MAX) {
-            return Err(InputError::field(
-                "sampling",
-                format!("makes a mesh of {vertices} vertices, more than 2^32 - 1"),
-            ));
-        }
+        check_mesh_size(vertices)?;
         let total_vertices = self.vertex_count() + vertices;
         let total_triangles = self.triangle_count() + triangles;
         self.check_fits(total_vertices, total_triangles)?;
         self.curves.push(planned);
         self.vertex_offsets.push(total_vertices);
         self.triangle_offsets.push(total_triangles);
+        Ok(())
+    }
+
+    /// [`GeometryJob::push`] for many curves, planned on every thread and added in order.
+    ///
+    /// # Errors
+    /// The first failing curve's error, placed at its index in the job
+    /// ([`InputError::in_curve`]); the job is then unchanged.
+    pub fn push_many(&mut self, curves: &[(Curve, Geometry, Sampling)]) -> Result<(), InputError> {
+        let first = self.len();
+        let planned: Vec<Result<Planned, InputError>> = curves
+            .par_iter()
+            .map(|(curve, geometry, sampling)| plan(curve, geometry, sampling))
+            .collect();
+        let mut plans = Vec::with_capacity(planned.len());
+        for (i, plan) in planned.into_iter().enumerate() {
+            plans.push(plan.map_err(|e| e.in_curve(first + i))?);
+        }
+        let (mut vertices, mut triangles) = (self.vertex_count(), self.triangle_count());
+        let (mut vertex_offsets, mut triangle_offsets) = (Vec::new(), Vec::new());
+        for (i, plan) in plans.iter().enumerate() {
+            check_mesh_size(plan.vertices).map_err(|e| e.in_curve(first + i))?;
+            vertices += plan.vertices;
+            triangles += plan.triangles;
+            vertex_offsets.push(vertices);
+            triangle_offsets.push(triangles);
+        }
+        self.check_fits(vertices, triangles)
+            .map_err(|e| e.in_curve(first + curves.len().saturating_sub(1)))?;
+        self.curves.extend(plans);
+        self.vertex_offsets.extend(vertex_offsets);
+        self.triangle_offsets.extend(triangle_offsets);
         Ok(())
     }
 
@@ -217,6 +244,17 @@ impl GeometryJob {
         }
         outs
     }
+}
+
+/// Refuses a mesh whose vertices u32 indices cannot reach.
+fn check_mesh_size(vertices: u64) -> Result<(), InputError> {
+    if vertices > u64::from(u32::MAX) {
+        return Err(InputError::field(
+            "sampling",
+            format!("makes a mesh of {vertices} vertices, more than 2^32 - 1"),
+        ));
+    }
+    Ok(())
 }
 
 /// Whether the curve closes on itself (its frames are then closed up and its mesh wraps).

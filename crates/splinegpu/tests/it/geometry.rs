@@ -628,3 +628,36 @@ fn bad_strokes_are_refused_by_name() {
         assert_eq!(error.field.as_deref(), Some(field), "{error}");
     }
 }
+
+#[test]
+fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.1),
+        caps: true,
+        ..Tube::default()
+    });
+    let ribbon = Geometry::Ribbon(Ribbon {
+        width: Width::Constant(0.2),
+        up: None,
+    });
+    let curves = vec![
+        (axis(), tube.clone(), Sampling::PerSegment(3)),
+        (trefoil(), ribbon, Sampling::ArcLength(50)),
+        (trefoil(), tube, Sampling::PerSegment(2)),
+    ];
+    let mut one_by_one = GeometryJob::new();
+    for (curve, geometry, sampling) in &curves {
+        one_by_one.push(curve, geometry, sampling).unwrap();
+    }
+    let mut many = GeometryJob::new();
+    many.push(&curves[0].0, &curves[0].1, &curves[0].2).unwrap();
+    many.push_many(&curves[1..]).unwrap();
+    assert_eq!(many.vertex_offsets(), one_by_one.vertex_offsets());
+    assert_eq!(many.evaluate_cpu(), one_by_one.evaluate_cpu());
+    // A bad curve among many is named by its index in the job.
+    let mut bad = curves.clone();
+    bad[1].2 = Sampling::At(vec![0.5]);
+    let error = many.push_many(&bad).unwrap_err().to_string();
+    assert!(error.starts_with("curve 4:"), "{error}");
+    assert_eq!(many.len(), 3);
+}
