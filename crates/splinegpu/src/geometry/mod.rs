@@ -5,7 +5,7 @@
 //! samples' t; arc_length m: m places evenly spaced by the length of the curve's position), the
 //! curve's rotation-minimizing frames orient them ([`frames`]), and the meshes are made from
 //! the frames ([`mesh`]). A width or radius given per point is one more coordinate of the same
-//! spline ([`widen`]), so every curve kind carries it as it carries its points.
+//! spline (the `widen` module), so every curve kind carries it as it carries its points.
 //!
 //! The counts of a mesh (vertices, triangles) are decided on the host when the curve is pushed
 //! into a [`GeometryJob`], before any work: a renderer sizes its buffers from them.
