@@ -17,7 +17,8 @@ use splinegpu::surface::{
 };
 use splinegpu::{Derivatives, EndCondition, Ends, InputError};
 
-use crate::{Context, available_memory, runtime_error, value_error};
+use crate::args::{runtime_error, value_error};
+use crate::context::{Context, available_memory};
 
 /// The surface fields, as the Python side normalises them: one value for every surface, or
 /// (per-surface arrays) a list with one entry per surface.
