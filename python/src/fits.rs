@@ -403,12 +403,14 @@ pub(crate) fn fit_splrep<'py>(
                     xb: xb[i],
                     xe: xe[i],
                 };
-                let named = |e: &str| e.replace("{i}", &i.to_string());
                 fitpack::check(&one, k, periodic).map_err(|e| series_error(&e.in_series(i)))?;
                 let t = given.as_ref().map(|g| g[i]);
                 let most = nest.unwrap_or(fitpack::default_nest(x.len(), k, periodic));
                 bsplines::fits::fitpack_fit(&one, k, s[i], t, most, periodic).map_err(|_| {
-                    named("series {i}: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
+                    format!(
+                        "series {i}: a least-squares system is singular (the knots and x \
+                         violate the Schoenberg-Whitney conditions)"
+                    )
                 })
             })
             .collect()
