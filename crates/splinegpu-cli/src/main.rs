@@ -55,7 +55,8 @@ enum Command {
     /// over the same work; the surfaces' from the control points with basis weights, into the
     /// memory cpu-all f32 fills); the surfaces' cpu-call (the whole call into new memory, every
     /// plane of the output: (u, v), positions, normals, triangles); tubes' and strokes' cpu-all
-    /// (the planned job's meshes into new memory, f64) and cpu-call (planned and made);
+    /// (the planned job's meshes into new memory, f64), cpu-into (into kept f32 buffers) and
+    /// cpu-call (planned and made);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64

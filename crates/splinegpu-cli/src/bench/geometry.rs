@@ -3,12 +3,13 @@
 //! (10,000 open Catmull-Rom curves of 16 2-D points, width 0.01 of the extent, round joins and
 //! caps; per_segment 16 until the certified tolerance sampling lands, where the contract asks
 //! a tolerance of 1e-4 of the extent). Paths: memset (the meshes' bytes), cpu-all (the job's
-//! meshes made into new memory on every thread) and cpu-call (the whole call: every curve
-//! planned on every thread, then made).
+//! meshes made into new memory on every thread, f64), cpu-into (into kept f32 buffers, a
+//! renderer's frame) and cpu-call (the whole call: every curve planned on every thread, then
+//! made).
 
 use std::hint::black_box;
 
-use splinegpu::geometry::{Cap, Geometry, GeometryJob, Join, Stroke, Tube, Width};
+use splinegpu::geometry::{Cap, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width};
 use splinegpu::{Basis, Curve, CurveKind, Ends, Points, Sampling};
 
 use crate::bench::measure::{Measurement, memset, time};
@@ -92,6 +93,27 @@ pub(crate) fn run(name: &'static str, report: &mut impl FnMut(&Measurement)) {
             None
         }),
     ));
+    // A renderer's frame: the same job's meshes into kept f32 buffers.
+    let (v, f) = (vertices as usize, triangles as usize);
+    let (mut points, mut normals) = (vec![0f32; 3 * v], vec![0f32; 3 * v]);
+    let (mut t, mut faces) = (vec![0.0; v], vec![[0u32; 3]; f]);
+    let f32_measure = |times| Measurement {
+        bytes: vertices * 6 * 4,
+        float: Some("f32"),
+        ..measure("cpu-into", times)
+    };
+    report(&f32_measure(time(|| {
+        let planes = MeshPlanes {
+            points: &mut points,
+            normals: &mut normals,
+            t: &mut t,
+            triangles: &mut faces,
+        };
+        job.evaluate_into(planes)
+            .expect("buffers sized for the job");
+        black_box(&points);
+        None
+    })));
     report(&measure(
         "cpu-call",
         time(|| {

@@ -13,6 +13,7 @@ use crate::curve::{Curve, CurveKind};
 use crate::error::InputError;
 use crate::fit::interp::EndCondition;
 use crate::job::Derivatives;
+use crate::job::samples::SampleFloat;
 use crate::memory;
 use crate::sampling::arc_length::DEFAULT_ARCLEN_ACCURACY;
 use crate::sampling::{SampleLoc, SamplePlan, Sampling};
@@ -26,6 +27,8 @@ pub const MAX_SECTIONS: usize = 1 << 20;
 #[derive(Clone, Debug)]
 struct Planned {
     table: SegmentTable,
+    geometry: Geometry,
+    sampling: Sampling,
     body: Body,
     vertices: u64,
     triangles: u64,
@@ -201,7 +204,7 @@ impl GeometryJob {
         &self.triangle_offsets
     }
 
-    /// Every curve's mesh, in f64 on every thread.
+    /// Every curve's mesh, in f64 on every thread, into new memory.
     #[must_use]
     pub fn evaluate_cpu(&self) -> Meshes {
         let vertices = usize::try_from(self.vertex_count()).expect("checked against memory");
@@ -214,18 +217,84 @@ impl GeometryJob {
             vertex_offsets: self.vertex_offsets.clone(),
             triangle_offsets: self.triangle_offsets.clone(),
         };
-        let outs = self.split(&mut meshes);
+        let planes = MeshPlanes {
+            points: &mut meshes.points,
+            normals: &mut meshes.normals,
+            t: &mut meshes.t,
+            triangles: &mut meshes.triangles,
+        };
+        self.evaluate_into(planes)
+            .expect("planes sized for the job");
+        meshes
+    }
+
+    /// Every curve's mesh into the caller's memory (a renderer's, kept from frame to frame),
+    /// in f32 or f64 on every thread: nothing is allocated but each stroke's positions.
+    ///
+    /// # Errors
+    /// A plane whose length is not the job's (3 values a vertex for points and normals, one t
+    /// a vertex, one entry a triangle); the error names "planes".
+    pub fn evaluate_into<F: SampleFloat>(
+        &self,
+        planes: MeshPlanes<'_, F>,
+    ) -> Result<(), InputError> {
+        let (v, f) = (self.vertex_count(), self.triangle_count());
+        for (name, len, want) in [
+            ("points", planes.points.len(), 3 * v),
+            ("normals", planes.normals.len(), 3 * v),
+            ("t", planes.t.len(), v),
+            ("triangles", planes.triangles.len(), f),
+        ] {
+            if len as u64 != want {
+                return Err(InputError::field(
+                    "planes",
+                    format!("\"{name}\" holds {len} entries, the job's meshes {want}"),
+                ));
+            }
+        }
+        let outs = self.split(planes);
         self.curves
             .par_iter()
             .zip(outs)
             .for_each(|(planned, mut out)| make(planned, &mut out));
-        meshes
+        Ok(())
     }
 
-    /// `meshes`' arrays cut into each curve's part.
-    fn split<'a>(&self, meshes: &'a mut Meshes) -> Vec<MeshOut<'a>> {
-        let (mut points, mut normals) = (&mut meshes.points[..], &mut meshes.normals[..]);
-        let (mut t, mut triangles) = (&mut meshes.t[..], &mut meshes.triangles[..]);
+    /// Fits curve c again from `curve` (its points moved; its geometry and sampling kept),
+    /// keeping its place: for a renderer's moving curves, refitted each frame and evaluated
+    /// into the same buffers.
+    ///
+    /// # Errors
+    /// The new curve's own errors (as [`GeometryJob::push`]'s), or a mesh of other counts
+    /// than curve c's (a stroke that gains or loses a corner, another number of segments):
+    /// the job is then unchanged and must be made again.
+    ///
+    /// # Panics
+    /// If c is not a curve of the job.
+    pub fn refit(&mut self, c: usize, curve: &Curve) -> Result<(), InputError> {
+        let old = &self.curves[c];
+        let planned = plan(curve, &old.geometry, &old.sampling)?;
+        if (planned.vertices, planned.triangles) != (old.vertices, old.triangles) {
+            return Err(InputError::field(
+                "curve",
+                format!(
+                    "makes {} vertices and {} triangles where the job holds {} and {}",
+                    planned.vertices, planned.triangles, old.vertices, old.triangles
+                ),
+            ));
+        }
+        self.curves[c] = planned;
+        Ok(())
+    }
+
+    /// The planes cut into each curve's part.
+    fn split<'a, F>(&self, planes: MeshPlanes<'a, F>) -> Vec<MeshOut<'a, F>> {
+        let MeshPlanes {
+            mut points,
+            mut normals,
+            mut t,
+            mut triangles,
+        } = planes;
         let mut outs = Vec::with_capacity(self.len());
         for c in 0..self.len() {
             let v = (self.vertex_offsets[c + 1] - self.vertex_offsets[c]) as usize;
@@ -244,6 +313,20 @@ impl GeometryJob {
         }
         outs
     }
+}
+
+/// A caller's memory for a job's meshes: positions and normals (3 values a vertex, f32 or
+/// f64), the t of each vertex, and the triangles (indices local to each mesh).
+#[derive(Debug)]
+pub struct MeshPlanes<'a, F> {
+    /// 3 values a vertex.
+    pub points: &'a mut [F],
+    /// 3 values a vertex.
+    pub normals: &'a mut [F],
+    /// One a vertex.
+    pub t: &'a mut [f64],
+    /// One a triangle.
+    pub triangles: &'a mut [[u32; 3]],
 }
 
 /// Refuses a mesh whose vertices u32 indices cannot reach.
@@ -338,6 +421,8 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         return Ok(Planned {
             vertices: stroke.vertices,
             triangles: stroke.triangles,
+            geometry: geometry.clone(),
+            sampling: sampling.clone(),
             table,
             body: Body::Stroke(stroke),
         });
@@ -353,6 +438,8 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
     let (vertices, triangles) = mesh::counts(shape, locs.len() as u64, closed);
     Ok(Planned {
         table,
+        geometry: geometry.clone(),
+        sampling: sampling.clone(),
         body: Body::Swept {
             locs,
             lengths,
@@ -399,7 +486,7 @@ fn section(table: &SegmentTable, loc: SampleLoc) -> Section {
 }
 
 /// Makes one curve's mesh into `out`.
-fn make(planned: &Planned, out: &mut MeshOut<'_>) {
+fn make<F: SampleFloat>(planned: &Planned, out: &mut MeshOut<'_, F>) {
     let (locs, lengths, shape, n0) = match &planned.body {
         Body::Stroke(stroke) => return stroke.write(&planned.table, out),
         Body::Swept {

@@ -23,6 +23,7 @@
 //! the normal is e.
 
 use super::frames::{Vec3, cross, dot, unit};
+use crate::job::samples::SampleFloat;
 
 /// What a mesh is made from at one cross-section: the curve parameter, the position and its
 /// first two derivatives in t, the width (or radius, clamped at 0) and its derivative, and
@@ -80,19 +81,21 @@ pub fn counts(shape: Shape, sections: u64, closed: bool) -> (u64, u64) {
     }
 }
 
-/// Where one mesh goes: 3 coordinates a vertex of points and normals, one t a vertex, and
-/// triangles of indices local to the mesh.
-pub(crate) struct MeshOut<'a> {
-    pub(crate) points: &'a mut [f64],
-    pub(crate) normals: &'a mut [f64],
+/// Where one mesh goes, in the caller's float type: 3 coordinates a vertex of points and
+/// normals, one t a vertex, and triangles of indices local to the mesh.
+pub(crate) struct MeshOut<'a, F> {
+    pub(crate) points: &'a mut [F],
+    pub(crate) normals: &'a mut [F],
     pub(crate) t: &'a mut [f64],
     pub(crate) triangles: &'a mut [[u32; 3]],
 }
 
-impl MeshOut<'_> {
-    fn vertex(&mut self, v: usize, position: Vec3, normal: Vec3, t: f64) {
-        self.points[3 * v..3 * v + 3].copy_from_slice(&position);
-        self.normals[3 * v..3 * v + 3].copy_from_slice(&normal);
+impl<F: SampleFloat> MeshOut<'_, F> {
+    pub(crate) fn vertex(&mut self, v: usize, position: Vec3, normal: Vec3, t: f64) {
+        for i in 0..3 {
+            self.points[3 * v + i] = F::from_f64(position[i]);
+            self.normals[3 * v + i] = F::from_f64(normal[i]);
+        }
         self.t[v] = t;
     }
 }
@@ -102,20 +105,35 @@ fn index(v: u64) -> u32 {
 }
 
 /// Writes the mesh of `sections` (with their frames) into `out`, sized by [`counts`].
-pub(crate) fn write(shape: Shape, sections: &[Section], closed: bool, out: &mut MeshOut<'_>) {
+pub(crate) fn write<F: SampleFloat>(
+    shape: Shape,
+    sections: &[Section],
+    closed: bool,
+    out: &mut MeshOut<'_, F>,
+) {
     match shape {
         Shape::Tube { sides, caps } => tube(sections, sides, caps && !closed, closed, out),
         Shape::Ribbon => ribbon(sections, closed, out),
     }
 }
 
-fn tube(sections: &[Section], sides: u32, caps: bool, closed: bool, out: &mut MeshOut<'_>) {
+fn tube(
+    sections: &[Section],
+    sides: u32,
+    caps: bool,
+    closed: bool,
+    out: &mut MeshOut<'_, impl SampleFloat>,
+) {
     let s = sides as usize;
     let rings = if closed {
         sections.len() - 1
     } else {
         sections.len()
     };
+    // The ring's directions, the same on every ring.
+    let turns: Vec<(f64, f64)> = (0..s)
+        .map(|k| (std::f64::consts::TAU * k as f64 / s as f64).sin_cos())
+        .collect();
     for (j, section) in sections[..rings].iter().enumerate() {
         let b = cross(section.tangent, section.normal);
         let speed = dot(section.d1, section.d1).sqrt();
@@ -129,9 +147,7 @@ fn tube(sections: &[Section], sides: u32, caps: bool, closed: bool, out: &mut Me
         } else {
             ([0.0; 3], 0.0)
         };
-        for k in 0..s {
-            let theta = std::f64::consts::TAU * k as f64 / s as f64;
-            let (sin, cos) = theta.sin_cos();
+        for (k, &(sin, cos)) in turns.iter().enumerate() {
             let e: Vec3 = std::array::from_fn(|i| cos * section.normal[i] + sin * b[i]);
             let position = std::array::from_fn(|i| section.position[i] + section.width * e[i]);
             let stretch = 1.0 - section.width * dot(bend, e);
@@ -171,7 +187,7 @@ fn tube(sections: &[Section], sides: u32, caps: bool, closed: bool, out: &mut Me
     }
 }
 
-fn ribbon(sections: &[Section], closed: bool, out: &mut MeshOut<'_>) {
+fn ribbon(sections: &[Section], closed: bool, out: &mut MeshOut<'_, impl SampleFloat>) {
     let pairs = if closed {
         sections.len() - 1
     } else {

@@ -38,7 +38,7 @@ pub mod mesh;
 mod stroke;
 mod widen;
 
-pub use job::{GeometryJob, MAX_SECTIONS, Meshes};
+pub use job::{GeometryJob, MAX_SECTIONS, MeshPlanes, Meshes};
 pub use stroke::{Cap, Join, Stroke};
 
 /// A width (ribbons, strokes) or radius (tubes): one value for the whole curve, or one per

@@ -20,6 +20,7 @@
 use super::frames::Vec3;
 use super::mesh::MeshOut;
 use crate::error::InputError;
+use crate::job::samples::SampleFloat;
 use crate::sampling::SampleLoc;
 use crate::segment::SegmentTable;
 
@@ -297,10 +298,10 @@ impl StrokePlan {
     }
 
     /// Writes the stroke's mesh into `out` (points with z = 0, normals +z).
-    pub(crate) fn write(&self, table: &SegmentTable, out: &mut MeshOut<'_>) {
+    pub(crate) fn write<F: SampleFloat>(&self, table: &SegmentTable, out: &mut MeshOut<'_, F>) {
         let mut mesh = Writer {
             out,
-            vertex: 0,
+            positions: Vec::with_capacity(self.vertices as usize),
             triangle: 0,
         };
         // Each section's left and right vertices, 2j and 2j + 1.
@@ -417,31 +418,30 @@ impl StrokePlan {
                 }
             }
         }
-        debug_assert_eq!(mesh.vertex as u64, self.vertices);
+        debug_assert_eq!(mesh.positions.len() as u64, self.vertices);
         debug_assert_eq!(mesh.triangle as u64, self.triangles);
     }
 }
 
-/// Writes a stroke's vertices and triangles in order, each triangle turned counter-clockwise.
-struct Writer<'a, 'b> {
-    out: &'a mut MeshOut<'b>,
-    vertex: usize,
+/// Writes a stroke's vertices and triangles in order, each triangle turned counter-clockwise
+/// (by its f64 positions, kept as they are written).
+struct Writer<'a, 'b, F> {
+    out: &'a mut MeshOut<'b, F>,
+    positions: Vec<[f64; 2]>,
     triangle: usize,
 }
 
-impl Writer<'_, '_> {
+impl<F: SampleFloat> Writer<'_, '_, F> {
     fn vertex(&mut self, p: [f64; 2], t: f64) -> usize {
-        let v = self.vertex;
+        let v = self.positions.len();
         let position: Vec3 = [p[0], p[1], 0.0];
-        self.out.points[3 * v..3 * v + 3].copy_from_slice(&position);
-        self.out.normals[3 * v..3 * v + 3].copy_from_slice(&[0.0, 0.0, 1.0]);
-        self.out.t[v] = t;
-        self.vertex += 1;
+        self.out.vertex(v, position, [0.0, 0.0, 1.0], t);
+        self.positions.push(p);
         v
     }
 
     fn position(&self, v: usize) -> [f64; 2] {
-        [self.out.points[3 * v], self.out.points[3 * v + 1]]
+        self.positions[v]
     }
 
     fn triangle(&mut self, [a, b, c]: [usize; 3]) {

@@ -661,3 +661,105 @@ fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
     assert!(error.starts_with("curve 4:"), "{error}");
     assert_eq!(many.len(), 3);
 }
+
+/// A renderer's buffers for a job's meshes.
+struct Buffers {
+    points: Vec<f32>,
+    normals: Vec<f32>,
+    t: Vec<f64>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Buffers {
+    fn planes(&mut self) -> splinegpu::geometry::MeshPlanes<'_, f32> {
+        splinegpu::geometry::MeshPlanes {
+            points: &mut self.points,
+            normals: &mut self.normals,
+            t: &mut self.t,
+            triangles: &mut self.triangles,
+        }
+    }
+}
+
+/// The renderer's path: meshes into the caller's f32 buffers are the f64 meshes rounded once;
+/// a moving curve refitted in place gives the meshes a new job of it gives; a refit that
+/// would change the counts, or buffers of the wrong size, are refused by name.
+#[test]
+fn meshes_go_into_the_callers_buffers_and_moving_curves_are_refitted_in_place() {
+    use splinegpu::geometry::{MeshPlanes, Stroke};
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.1),
+        ..Tube::default()
+    });
+    let mut job = GeometryJob::new();
+    job.push(&trefoil(), &tube, &Sampling::PerSegment(4))
+        .unwrap();
+    job.push(&axis(), &tube, &Sampling::ArcLength(7)).unwrap();
+    let (v, f) = (job.vertex_count() as usize, job.triangle_count() as usize);
+    let mut b = Buffers {
+        points: vec![0f32; 3 * v],
+        normals: vec![0f32; 3 * v],
+        t: vec![0.0; v],
+        triangles: vec![[0u32; 3]; f],
+    };
+    job.evaluate_into(b.planes()).unwrap();
+    let exact = job.evaluate_cpu();
+    let rounded: Vec<f32> = exact.points.iter().map(|&x| x as f32).collect();
+    assert_eq!(b.points, rounded);
+    assert_eq!(b.triangles, exact.triangles);
+    // The trefoil moves; refitted in place, its mesh is a fresh job's.
+    let moved = {
+        let p = trefoil()
+            .points()
+            .coords()
+            .iter()
+            .map(|x| 1.1 * x + 0.5)
+            .collect();
+        Curve::new(trefoil().kind().clone(), Points::new(3, p).unwrap()).unwrap()
+    };
+    job.refit(0, &moved).unwrap();
+    job.evaluate_into(b.planes()).unwrap();
+    let mut fresh = GeometryJob::new();
+    fresh.push(&moved, &tube, &Sampling::PerSegment(4)).unwrap();
+    fresh.push(&axis(), &tube, &Sampling::ArcLength(7)).unwrap();
+    let rounded: Vec<f32> = fresh
+        .evaluate_cpu()
+        .points
+        .iter()
+        .map(|&x| x as f32)
+        .collect();
+    assert_eq!(b.points, rounded);
+    // A buffer of the wrong length.
+    let error = job
+        .evaluate_into(MeshPlanes {
+            points: &mut vec![0f32; 3 * v - 3][..],
+            normals: &mut b.normals[..],
+            t: &mut b.t[..],
+            triangles: &mut b.triangles[..],
+        })
+        .unwrap_err();
+    assert!(error.message.contains("\"points\""), "{error}");
+    // A stroke that gains a corner when its points move changes its counts: refused.
+    let straight = |y: f64| {
+        Curve::new(
+            CurveKind::Bezier,
+            Points::new(
+                2,
+                vec![
+                    0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 3.0, 0.0, 4.0, y, 5.0, 0.0, 6.0, 0.0,
+                ],
+            )
+            .unwrap(),
+        )
+        .unwrap()
+    };
+    let mut strokes = GeometryJob::new();
+    let stroke = Geometry::Stroke(Stroke::default());
+    strokes
+        .push(&straight(0.0), &stroke, &Sampling::PerSegment(4))
+        .unwrap();
+    let before = strokes.vertex_offsets().to_vec();
+    let error = strokes.refit(0, &straight(2.0)).unwrap_err();
+    assert!(error.message.contains("vertices"), "{error}");
+    assert_eq!(strokes.vertex_offsets(), &before[..]);
+}
