@@ -86,6 +86,7 @@ fn main() -> std::process::ExitCode {
         surfaces::gpu_surfaces_of_every_kind_in_one_call_keep_the_promise,
         surfaces::gpu_surfaces_without_derivatives_give_positions_only,
         surfaces::a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_moving_net,
+        surfaces::a_vertex_between_two_patches_is_the_later_patchs_on_the_gpu,
         hermite::the_hermite_kinds_meet_the_gpu_promise,
         kochanek_bartels::per_point_tcb_on_uneven_keys_meets_the_gpu_promise,
         local_beta::the_gpu_keeps_the_promise_on_local_bias_and_tension_near_the_origin_and_at_1e6,

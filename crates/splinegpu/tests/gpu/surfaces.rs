@@ -326,3 +326,44 @@ pub(crate) fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_movi
     });
     assert!(recording.record_into(gpu, &mut encoder, &small, 0).is_err());
 }
+
+/// As on the CPU (tests/it/surface.rs): a vertex on the line between two patches is the later
+/// patch's, the last line the last patch's at 1; each patch here the constant corner point of
+/// its window, so the owner shows in the value.
+pub(crate) fn a_vertex_between_two_patches_is_the_later_patchs_on_the_gpu() {
+    let Some(gpu) = gpu() else {
+        return;
+    };
+    let mut rows = [[0.0; 4]; 4];
+    rows[3][0] = 1.0;
+    let coords: Vec<f64> = (0..25)
+        .flat_map(|p| {
+            [
+                f64::from(p / 5),
+                f64::from(p % 5),
+                f64::from(10 * (p / 5) + p % 5),
+            ]
+        })
+        .collect();
+    let kind = SurfaceKind::Uniform {
+        basis: Basis::Matrix(rows),
+        ends: [Ends::Control; 2],
+    };
+    let table = Surface::new(kind, Net::new(3, 5, 5, coords).unwrap())
+        .unwrap()
+        .fit();
+    let sampling = SurfaceSampling::PerSegment([2, 2]);
+    let job = surface_job(&[(&table, &sampling)], Derivatives::None, false);
+    let g = &gpu.evaluate_surfaces(&job).unwrap()[0];
+    let owner = [0.0, 0.0, 1.0, 1.0, 1.0];
+    for a in 0..5 {
+        for b in 0..5 {
+            let z = g.points[3 * (5 * a + b) + 2];
+            assert_eq!(
+                f64::from(z),
+                10.0 * owner[a] + owner[b],
+                "vertex ({a}, {b})"
+            );
+        }
+    }
+}
