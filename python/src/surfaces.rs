@@ -15,7 +15,7 @@ use pyo3::types::PyDict;
 use splinegpu::surface::{
     Net, Surface, SurfaceJob, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
 };
-use splinegpu::{Derivatives, EndCondition, Ends, InputError};
+use splinegpu::{Derivatives, EndCondition, Ends, InputError, SampleFloat};
 
 use crate::args::{runtime_error, value_error};
 use crate::context::{Context, available_memory};
@@ -349,6 +349,13 @@ pub(crate) fn tessellate_surfaces<'py>(
                 Ok(())
             })
             .map_err(runtime_error)?;
+            let planes: Vec<(&[f64], usize)> = slices
+                .iter()
+                .zip(&names)
+                .map(|(plane, name)| (&plane[..], width(name)))
+                .collect();
+            refuse_non_finite(&planes, &vertex_offsets)?;
+            drop(slices);
             drop(views);
             for (name, array) in names.iter().zip(arrays) {
                 result.set_item(*name, array)?;
@@ -358,6 +365,22 @@ pub(crate) fn tessellate_surfaces<'py>(
             let samples = py
                 .detach(|| gpu.evaluate_surfaces(&job))
                 .map_err(runtime_error)?;
+            for (s, sample) in samples.iter().enumerate() {
+                let mut planes = vec![(&sample.points[..], dim)];
+                for plane in [
+                    &sample.du,
+                    &sample.dv,
+                    &sample.duu,
+                    &sample.duv,
+                    &sample.dvv,
+                ] {
+                    planes.extend(plane.as_deref().map(|p| (p, dim)));
+                }
+                planes.extend(sample.normals.as_deref().map(|p| (p, 3)));
+                if let Some(v) = first_non_finite(&planes) {
+                    return Err(non_finite(s, v));
+                }
+            }
             for name in &names {
                 let target = array::<f32>(py, out.as_ref(), name, [n, width(name)])?;
                 {
@@ -384,6 +407,34 @@ pub(crate) fn tessellate_surfaces<'py>(
         }
     }
     Ok(result)
+}
+
+/// The first vertex of `planes` (values, values a vertex) with a value that is not finite.
+fn first_non_finite<F: SampleFloat>(planes: &[(&[F], usize)]) -> Option<usize> {
+    planes
+        .iter()
+        .filter_map(|(plane, width)| plane.iter().position(|v| !v.finite()).map(|i| i / width))
+        .min()
+}
+
+fn non_finite(surface: usize, vertex: usize) -> PyErr {
+    value_error(format!(
+        "surface {surface}: vertex {vertex} is not finite (the surface overflows the result's \
+         number type)"
+    ))
+}
+
+/// Refuses a result with a value that is not finite (a surface whose values overflow), naming
+/// the surface (by `vertex_offsets`) and its vertex, as the command line does.
+fn refuse_non_finite<F: SampleFloat>(
+    planes: &[(&[F], usize)],
+    vertex_offsets: &[i64],
+) -> PyResult<()> {
+    let Some(v) = first_non_finite(planes) else {
+        return Ok(());
+    };
+    let s = vertex_offsets.partition_point(|&o| o as usize <= v) - 1;
+    Err(non_finite(s, v - vertex_offsets[s] as usize))
 }
 
 /// The array `name` of shape `shape`: `out`'s (checked: dtype, shape, C order, writeable),

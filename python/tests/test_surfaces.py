@@ -197,3 +197,12 @@ def test_bad_input_is_named():
     # A field the kind does not take is refused, as the command line refuses it.
     with pytest.raises(ValueError, match=r"is not a field of a \"bezier\" surface"):
         CPU.tessellate_surfaces([np.zeros((4, 4, 3))], "bezier", tension=0.5)
+
+
+@pytest.mark.parametrize("backend", ["cpu", "gpu"])
+def test_a_surface_that_overflows_is_refused_by_name(backend, request):
+    """A net of cardinal tension 1e308 overflows float64 (and float32 on the GPU): refused with
+    the surface and the vertex, as the command line refuses it, never NaN returned."""
+    ctx = request.getfixturevalue(backend)
+    with pytest.raises(ValueError, match=r"surface 0: vertex \d+ is not finite"):
+        ctx.tessellate_surfaces([NETS[0]], "cardinal", tension=1e308, per_segment=2)

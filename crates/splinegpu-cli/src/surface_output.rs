@@ -150,8 +150,11 @@ pub type Evaluate<'a, F> =
 /// temporary files until their turn. A .glb holds its whole binary chunk after a header that
 /// gives its length: it is the one format written from every group at once.
 ///
+/// Every group is checked before any of it is written: a value that is not finite (a surface
+/// whose values overflow f64) is refused in every format, naming the surface and the vertex.
+///
 /// # Errors
-/// An I/O error of `out`, the evaluator's, or a value that is not finite (JSON, CSV).
+/// An I/O error of `out`, the evaluator's, or a value that is not finite.
 pub fn write<F: Number>(
     job: &SurfaceJob,
     format: SurfaceFormat,
@@ -159,6 +162,12 @@ pub fn write<F: Number>(
     evaluate: &mut Evaluate<'_, F>,
 ) -> Result<(), OutputError> {
     let groups = job.groups(group_vertices());
+    let evaluate: &mut Evaluate<'_, F> = &mut |group: Range<usize>| {
+        let first = group.start;
+        let samples = evaluate(group)?;
+        check_finite(&samples, first)?;
+        Ok(samples)
+    };
     match format {
         SurfaceFormat::Csv => write_csv(job, &groups, evaluate, out),
         SurfaceFormat::Json => write_json(&groups, evaluate, out),
@@ -223,7 +232,6 @@ fn write_csv<F: Number>(
     let mut line = Vec::new();
     for group in groups {
         let samples = evaluate(group.clone())?;
-        check_finite(&samples, group.start)?;
         for (i, s) in (group.start..).zip(&samples) {
             let planes = named_planes(s);
             for v in 0..s.len() {
@@ -283,7 +291,6 @@ fn write_json<F: Number>(
     out.write_all(b"{\"surfaces\": [")?;
     for group in groups {
         let samples = evaluate(group.clone())?;
-        check_finite(&samples, group.start)?;
         for (i, s) in (group.start..).zip(&samples) {
             out.write_all(if i > 0 {
                 b",\n{\"uv\": "

@@ -384,3 +384,27 @@ fn a_surface_over_the_process_memory_limit_exits_2_before_it_allocates() {
     );
     assert!(!output.exists());
 }
+
+/// A surface whose values overflow f64 (a cardinal net of tension 1e308) is refused in every
+/// format, exit 2 naming the surface and the vertex, and no output file appears (NPZ, .obj and
+/// .glb wrote its NaN vertices with exit 0 before).
+#[test]
+fn a_surface_that_overflows_is_refused_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let doc = format!(
+        r#"{{"sampling": {{"per_segment": 2}}, "surfaces": [
+  {{"kind": "bezier", "points": {PATCH_POINTS}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]]}},
+  {{"kind": "cardinal", "tension": 1e308, "points": [[[0,0,0],[0,1,0],[0,2,1],[0,3,0]],
+    [[1,0,1],[1,1,2],[1,2,0],[1,3,1]],[[2,0,0],[2,1,1],[2,2,1],[2,3,2]],[[3,0,0],[3,1,0],[3,2,1],[3,3,0]]]}}
+]}}"#
+    );
+    for name in ["out.npz", "out.obj", "out.glb", "out.csv", "out.json"] {
+        let (code, stderr) = tessellate(dir.path(), &doc, name, "cpu");
+        assert_eq!(code, 2, "{name}: {stderr}");
+        assert!(
+            stderr.contains("surface 1: vertex") && stderr.contains("not finite"),
+            "{name}: {stderr}"
+        );
+        assert!(!dir.path().join(name).exists(), "{name} was written");
+    }
+}
