@@ -125,6 +125,8 @@ class UnivariateSpline:
         ext = self.ext if ext is None else _ext(ext)
         x = np.asarray(x, dtype=np.float64)
         t, k = self._spline.t, self._spline.k
+        if not 0 <= nu <= k:
+            raise ValueError(f"0<=der={nu}<=k={k} must hold")
         lo, hi = t[k], t[len(t) - k - 1]
         outside = (x < lo) | (x > hi)
         if ext == 2 and np.any(outside):
@@ -155,7 +157,11 @@ class UnivariateSpline:
         return splint(a, b, self._spline.tck)
 
     def derivatives(self, x) -> np.ndarray:
-        """All derivatives (0 to k) at the point x."""
+        """All derivatives (0 to k) at the point x, which must lie within the knots (FITPACK's
+        spalde refuses it otherwise, with SciPy's TypeError)."""
+        t, k = self._spline.t, self._spline.k
+        if not t[k] <= float(x) <= t[len(t) - k - 1]:
+            raise TypeError("Invalid input data. t(k)<=x<=t(n-k+1) must hold.")
         return np.array([float(self._spline(np.array([float(x)]), nu=d)[0])
                          for d in range(self._spline.k + 1)])
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _bspl, _collocation
 from ._bsplines import BSpline, make_interp_spline
-from ._fitpack_repro import chord_lengths, make_splprep, make_splrep
+from ._fitpack_repro import chord_lengths, fpcheck, make_splprep, make_splrep
 from ._lsq import make_lsq_spline
 from ._ppoly import PPoly
 
@@ -96,6 +96,11 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         xe = x[-1] if xe is None else xe
         knots = np.concatenate([[xb] * (k + 1), np.asarray(t, dtype=np.float64),
                                 [xe] * (k + 1)])
+        try:
+            fpcheck(x, knots, k)
+        except ValueError as e:
+            # FITPACK's curfit refuses such knots before it fits; SciPy raises TypeError.
+            raise TypeError(f"t: {e}") from e
         spline = make_lsq_spline(x, y, knots, k, w=w)
     elif s == 0 and w is None and xb is None and xe is None:
         spline = make_interp_spline(x, y, k=k)

@@ -113,6 +113,9 @@ class interp1d:
         columns = self._columns.astype(np.complex128 if np.iscomplexobj(self._columns) else
                                        np.float64)
         if order <= 1:
+            # SciPy's make_interp_spline (these kinds' fit) refuses a repeated x.
+            if np.any(x[1:] == x[:-1]):
+                raise ValueError("Expect x to not have duplicates")
             knots = np.concatenate([x, x[-1:]] if order == 0 else [x[:1], x, x[-1:]])
             return BSpline.construct_fast(np.ascontiguousarray(knots, dtype=np.float64),
                                           np.ascontiguousarray(columns), order,

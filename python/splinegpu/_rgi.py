@@ -7,7 +7,7 @@ Methods, as SciPy 1.17 defines them:
   tensor-product evaluator, the identity being the degree-1 collocation);
 - "cubic", "quintic": the tensor-product not-a-knot B-spline of degree 3 or 5 through the
   values, fitted by separable banded solves along each axis (`_ndbspline.fit_grid`); the
-  "_fitpack_py" variants (SciPy: 1-D fits folded axis by axis at each point) are the same
+  "_legacy" variants (SciPy: 1-D fits folded axis by axis at each point) are the same
   interpolant and take the same path;
 - "pchip": PCHIP folded axis by axis, the last axis first (`_native.pchip_grid`);
 - "nearest": the nearest grid node per axis, half-way rounding down.
@@ -119,7 +119,11 @@ class RegularGridInterpolator:
                              f" {solver = } and with arguments {solver_args}.")
         self._spline = None
         if method in _DEGREES and method != "pchip":
-            self._spline = self._fit(method.removesuffix("_fitpack_py"), solver, solver_args or {})
+            # SciPy builds the legacy methods at each call, where it refuses values that are
+            # not finite: those wait for the call (`_tensor`) to be refused.
+            legacy = method.endswith("_legacy")
+            if not legacy or np.isfinite(np.asarray(self._values)).all():
+                self._spline = self._fit(method, solver, solver_args or {})
 
     @staticmethod
     def _checked_values(values):
@@ -147,8 +151,13 @@ class RegularGridInterpolator:
         return self._values
 
     def _fit(self, method: str, solver=None, solver_args=None) -> NdBSpline:
+        """The tensor B-spline of a spline method (a legacy one's is the same), refusing
+        values that are not finite with SciPy's message for the method."""
         k = (_DEGREES[method],) * len(self._grid)
         values = np.asarray(self._values)
+        if not np.isfinite(values).all():
+            raise ValueError("Array must not contain infs or nans." if method.endswith("_legacy")
+                             else "RHS must contain only finite numbers")
         if solver is None and not solver_args:
             t, c = fit_grid(self._grid, values, k)
         else:
@@ -227,7 +236,7 @@ class RegularGridInterpolator:
         method, else fitted now (not kept: a call does not change the interpolator)."""
         if method == self.method and self._spline is not None:
             return self._spline
-        return self._fit(method.removesuffix("_fitpack_py"))
+        return self._fit(method)
 
     def _linear_tensor(self):
         """The multilinear interpolant as a degree-1 tensor B-spline on the grid's nodes (its
@@ -297,6 +306,8 @@ class RegularGridInterpolator:
             raise ValueError("xi: a NaN coordinate in dimension 1 or later, which method "
                              "'pchip' refuses (as SciPy: `y` must contain only finite values)")
         values = np.asarray(self._values, dtype=np.float64)
+        if not np.isfinite(values).all():
+            raise ValueError("`y` must contain only finite values.")
         columns = np.require(values.reshape(int(np.prod(values.shape[:d])), -1), np.float64,
                              ["C", "A"])
         points = np.require(xi, np.float64, ["C", "A"])

@@ -191,3 +191,47 @@ def test_bad_ends_are_refused_by_name():
             splinegpu.CubicSpline(x, y, bc_type=bc)
     with pytest.raises(ValueError, match="must end where they start"):
         splinegpu.CubicSpline([0.0, 1.0], [0.0, 1.0], bc_type="periodic")
+
+
+def _raising_cases():
+    """Inputs SciPy refuses, each a function of the module (SciPy's or ours) to call."""
+    x = np.linspace(0, 10, 20)
+    y = np.sin(x)
+    xd, yd = np.array([0.0, 1.0, 1.0, 2.0, 3.0]), np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    grid = (np.linspace(0, 1, 7), np.linspace(0, 1, 8))
+    cases = {
+        "UnivariateSpline.derivatives outside the knots":
+            lambda m: m.UnivariateSpline(x, y).derivatives(-1e-9),
+        "UnivariateSpline called with nu > k": lambda m: m.UnivariateSpline(x, y)(x, nu=4),
+        "UnivariateSpline called with nu < 0": lambda m: m.UnivariateSpline(x, y)(x, nu=-1),
+        "splrep with an interior knot repeated": lambda m: m.splrep(x, y, t=[0.5] * 4),
+    }
+    for kind in ("zero", "slinear", 0, 1):
+        cases[f"interp1d {kind!r} on a repeated x"] = (
+            lambda m, kind=kind: m.interp1d(xd, yd, kind=kind)(0.5))
+    for bad in (np.nan, np.inf):
+        values = np.random.default_rng(0).normal(size=(7, 8))
+        values[2, 3] = bad
+        for method in ("slinear", "cubic", "quintic", "pchip", "cubic_legacy"):
+            cases[f"RegularGridInterpolator {method} with {bad} in values"] = (
+                lambda m, method=method, values=values:
+                m.RegularGridInterpolator(grid, values, method=method)([[0.5, 0.5]]))
+    return cases
+
+
+@pytest.mark.parametrize("case", list(_raising_cases()))
+def test_what_scipy_refuses_is_refused_with_its_exception(case):
+    """Where SciPy raises, so does this package, with the same exception type (the message
+    names the fault; SciPy's own words where it has some)."""
+    import warnings
+
+    import scipy.interpolate as scipy
+
+    import splinegpu.interpolate as ours
+    call = _raising_cases()[case]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(Exception) as theirs:
+            call(scipy)
+        with pytest.raises(theirs.type):
+            call(ours)
