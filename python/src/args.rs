@@ -3,7 +3,7 @@
 
 use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -133,4 +133,19 @@ pub(crate) fn ragged<'a>(
         out.push(&values[start * per..end * per]);
     }
     Ok(out)
+}
+
+/// `rows * width` zeros, allocated fallibly: a result too large for the memory the process may
+/// take (under a limit an estimate missed) is a MemoryError naming `what`, never an abort.
+pub(crate) fn zeros(rows: usize, width: usize, what: &str) -> PyResult<Vec<f64>> {
+    let refuse = || {
+        PyMemoryError::new_err(format!(
+            "{what}: {rows} x {width} values do not fit in the memory the process may take"
+        ))
+    };
+    let len = rows.checked_mul(width).ok_or_else(refuse)?;
+    let mut values = Vec::new();
+    values.try_reserve_exact(len).map_err(|_| refuse())?;
+    values.resize(len, 0.0);
+    Ok(values)
 }

@@ -8,7 +8,7 @@ use numpy::{
 
 use bsplines::{de_boor, pieces};
 
-use crate::args::value_error;
+use crate::args::{value_error, zeros};
 use pyo3::prelude::*;
 
 /// The piecewise polynomial's shape checked: breakpoints (P + 1) and c (k, P, m), both
@@ -41,7 +41,7 @@ pub(crate) fn evaluate_pieces<'py>(
     let breaks = breaks.as_slice()?;
     let (k, m) = piece_shape(breaks, &c)?;
     let (c, x) = (c.as_slice()?, x.as_slice()?);
-    let mut out = vec![0.0; x.len() * m];
+    let mut out = zeros(x.len(), m, "x")?;
     pieces::evaluate(breaks, c, k, m, x, nu, &mut out);
     PyArray1::from_vec(py, out).reshape([x.len(), m])
 }
@@ -99,7 +99,7 @@ pub(crate) fn evaluate_bspline<'py>(
         )));
     }
     let (c, x) = (c.as_slice()?, x.as_slice()?);
-    let mut out = vec![0.0; x.len() * m];
+    let mut out = zeros(x.len(), m, "x")?;
     let evaluate = |out: &mut [f64]| de_boor::evaluate(t, c, m, k, x, nu, ends_in_powers, out);
     if x.len() < 1024 {
         // A small call: releasing the GIL would cost more than the work.
@@ -149,7 +149,7 @@ pub(crate) fn bspline_basis<'py>(
         )));
     }
     let width = k + 1;
-    let mut out = vec![0.0; x.len() * width];
+    let mut out = zeros(x.len(), width, "x")?;
     py.detach(|| {
         let mut scratch = vec![0.0; width];
         for ((row, &xi), &l) in out.chunks_exact_mut(width).zip(x).zip(span) {

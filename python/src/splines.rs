@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use bsplines::roots;
 
-use crate::args::{Stack1, Stack2, runtime_error, threads, value_error};
+use crate::args::{Stack1, Stack2, runtime_error, threads, value_error, zeros};
 use crate::context::{Context, available_memory, on_threads};
 use crate::roots::{PendingRoots, TablePieces};
 use pyo3::exceptions::PyMemoryError;
@@ -445,7 +445,7 @@ impl Splines {
             .get(i)
             .ok_or_else(|| value_error(format!("spline {i} of {}", self.tables.len())))?;
         let (n, m) = (table.len(), table.dim());
-        let mut c = vec![0.0; 4 * n * m];
+        let mut c = zeros(4 * n, m, "the pieces")?;
         scipy_coefficients(table, &mut c, n, 0);
         PyArray1::from_vec(py, c).reshape([4, n, m])
     }
@@ -462,7 +462,7 @@ impl Splines {
                 self.tables[s].dim()
             )));
         }
-        let mut c = vec![0.0; 4 * total * m];
+        let mut c = zeros(4 * total, m, "the pieces")?;
         let (mut start, mut end) = (Vec::with_capacity(total), Vec::with_capacity(total));
         let mut offsets = vec![0i64];
         let mut at = 0;

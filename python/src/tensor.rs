@@ -7,7 +7,7 @@ use numpy::{
 
 use bsplines::grid;
 
-use crate::args::value_error;
+use crate::args::{value_error, zeros};
 use pyo3::prelude::*;
 
 /// The knots of each axis, checked against the degrees: at least 2 k + 2 each.
@@ -86,7 +86,7 @@ pub(crate) fn evaluate_tensor<'py>(
         m,
     };
     let rows = xi.len() / tensor.t.len();
-    let mut out = vec![0.0; rows * m];
+    let mut out = zeros(rows, m, "xi")?;
     if rows < 1024 {
         tensor.evaluate(xi, &nu, extrapolate, &mut out);
     } else {
@@ -158,7 +158,7 @@ pub(crate) fn evaluate_tensors<'py>(
         offsets[i + 1] = offsets[i] + (x.len() / tensor.t.len()) as i64;
     }
     let rows = usize::try_from(offsets[tensors.len()]).unwrap_or(0);
-    let mut out = vec![0.0; rows * m];
+    let mut out = zeros(rows, m, "xi")?;
     py.detach(|| {
         use rayon::prelude::*;
         let mut parts = Vec::with_capacity(tensors.len());
@@ -278,7 +278,7 @@ pub(crate) fn pchip_grid<'py>(
         m,
     };
     let rows = xi.len() / grid.axes.len();
-    let mut out = vec![0.0; rows * m];
+    let mut out = zeros(rows, m, "xi")?;
     if rows < 256 {
         grid.pchip(xi, &mut out);
     } else {

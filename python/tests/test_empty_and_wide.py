@@ -62,3 +62,32 @@ def test_slopes_past_float64_are_refused_as_scipy_refuses_them():
         si.CubicSpline([0, 1e-300, 1, 2], [0, 1e300, 0, 1])
     with pytest.raises(ValueError, match="slopes are not finite"):
         si.PchipInterpolator([0, 1e-300, 1, 2], [0, 1e300, 0, 1])
+
+
+_UNDER_A_LIMIT = """
+import resource, numpy as np
+import splinegpu.interpolate as si
+x = np.linspace(0, 1, 10)
+f = si.interp1d(x, np.sin(x), kind="cubic")
+at = np.linspace(0, 1, 50_000_000)  # 400 MB
+size = int(open("/proc/self/status").read().split("VmSize:")[1].split()[0]) * 1024
+resource.setrlimit(resource.RLIMIT_AS, (size + 200_000_000, resource.RLIM_INFINITY))
+try:
+    f(at)  # another 400 MB of values: past the limit
+except MemoryError as e:
+    print("MemoryError", e)
+"""
+
+
+def test_a_result_past_the_process_limit_is_a_memory_error_not_an_abort(tmp_path):
+    """Under an address-space limit (RLIMIT_AS, set in a child process of its own) that the
+    memory estimate does not see, the result's allocation fails as a MemoryError (it aborted
+    the interpreter with "memory allocation of ... bytes failed" before)."""
+    import subprocess
+    import sys
+
+    # From a folder of its own, so that the child imports the installed package.
+    done = subprocess.run([sys.executable, "-c", _UNDER_A_LIMIT], capture_output=True,
+                          text=True, timeout=120, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.startswith("MemoryError"), (done.stdout, done.stderr[-2000:])
