@@ -778,7 +778,10 @@ fn random_curves_make_the_meshes_they_announce() {
     for round in 0..40 {
         // The continuous families: a joint's t is located again below, and a matrix that
         // jumps there would be compared on the other side of the jump.
-        for basis in bases().into_iter().filter(|b| !matches!(b, Basis::Matrix(_))) {
+        for basis in bases()
+            .into_iter()
+            .filter(|b| !matches!(b, Basis::Matrix(_)))
+        {
             let ends = [Ends::Control, Ends::Repeat, Ends::Closed][round % 3];
             let kind = CurveKind::Uniform {
                 basis: basis.clone(),
@@ -831,7 +834,10 @@ fn random_curves_make_the_meshes_they_announce() {
                         let t = [d1[3 * v], d1[3 * v + 1], d1[3 * v + 2]];
                         let out = sub(vertex(&m, v), p);
                         let r = dot(out, out).sqrt();
-                        assert!((r - radius).abs() < 1e-9 * (1.0 + radius), "{kind:?} {sampling:?} {v}: {r} against {radius}");
+                        assert!(
+                            (r - radius).abs() < 1e-9 * (1.0 + radius),
+                            "{kind:?} {sampling:?} {v}: {r} against {radius}"
+                        );
                         if dot(t, t) > 1e-12 {
                             assert!(dot(out, t).abs() < 1e-9 * dot(t, t).sqrt());
                         }
