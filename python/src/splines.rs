@@ -77,56 +77,6 @@ pub(crate) fn condition(
     })
 }
 
-/// SciPy's periodic spline on 2 points: equal points give the constant (the one periodic
-/// cubic through them), which is the spline clamped to slopes zero; elsewhere the condition
-/// itself (the fit checks it).
-pub(crate) fn scipy_periodic(x: &[f64], y: &[f64], dim: usize) -> Result<EndCondition, InputError> {
-    if x.len() != 2 || y.len() != 2 * dim {
-        return Ok(EndCondition::Periodic);
-    }
-    if y[..dim] != y[dim..] {
-        return Err(InputError::field(
-            "points",
-            "of a periodic spline must end where they start (2 points: equal)",
-        ));
-    }
-    Ok(EndCondition::Clamped {
-        start: vec![0.0; dim],
-        end: vec![0.0; dim],
-    })
-}
-
-/// SciPy's not-a-knot condition at `x` for `y` (`dim` values a point). On 2 or 3 points SciPy
-/// gives the line or the parabola through them; each is the clamped spline with that
-/// polynomial's slopes at its ends (the one cubic spline that meets them). With divided
-/// differences d_i = (y_{i+1} − y_i)/h_i, the line's slope is d_0; the parabola's is d_0 at the
-/// middle of the first interval and changes by (d_1 − d_0)/((h_0 + h_1)/2) per unit of x, so
-/// at its ends it is d_0 − (d_1 − d_0)·h_0/(h_0 + h_1) and d_1 + (d_1 − d_0)·h_1/(h_0 + h_1).
-/// On 4 or more points, or where x and y disagree in length (the fit names that), the
-/// condition itself.
-pub(crate) fn scipy_not_a_knot(x: &[f64], y: &[f64], dim: usize) -> EndCondition {
-    if !matches!(x.len(), 2 | 3) || y.len() != x.len() * dim {
-        return EndCondition::NotAKnot;
-    }
-    let slope = |i: usize, k: usize| (y[(i + 1) * dim + k] - y[i * dim + k]) / (x[i + 1] - x[i]);
-    let (start, end) = if x.len() == 2 {
-        let line: Vec<f64> = (0..dim).map(|k| slope(0, k)).collect();
-        (line.clone(), line)
-    } else {
-        let (h0, h1) = (x[1] - x[0], x[2] - x[1]);
-        let bend = |k: usize| slope(1, k) - slope(0, k);
-        (
-            (0..dim)
-                .map(|k| slope(0, k) - bend(k) * h0 / (h0 + h1))
-                .collect(),
-            (0..dim)
-                .map(|k| slope(1, k) + bend(k) * h1 / (h0 + h1))
-                .collect(),
-        )
-    };
-    EndCondition::Clamped { start, end }
-}
-
 /// Fits one spline per (x, y) pair: y an (n, m) array at the n strictly increasing x.
 #[pyfunction]
 #[pyo3(signature = (xs, ys, bc_type, start = None, end = None))]
@@ -152,13 +102,9 @@ pub(crate) fn fit<'py>(
         .detach(|| {
             on_threads(xs.len(), |c| {
                 let (dim, y) = ys[c];
-                let condition = match condition {
-                    EndCondition::NotAKnot => scipy_not_a_knot(xs[c], y, dim),
-                    EndCondition::Periodic => {
-                        scipy_periodic(xs[c], y, dim).map_err(|e| e.in_curve(c))?
-                    }
-                    ref other => other.clone(),
-                };
+                let condition = condition
+                    .on_few_points_as_scipy(xs[c], y, dim)
+                    .map_err(|e| e.in_curve(c))?;
                 if dim == 0 || dim > splinegpu::MAX_DIM {
                     return Err(InputError::field(
                         "points",

@@ -887,3 +887,53 @@ fn a_power_form_that_breaks_a_rule_is_refused_by_name() {
     );
     refused(1, vec![0.0, 1.0], c, -1.0, "\"extent\"");
 }
+
+/// SciPy's CubicSpline on too few points for its condition: not-a-knot on 3 points is the
+/// parabola through them, on 2 the line; periodic on 2 equal points the constant, on 2 that
+/// differ refused by name.
+#[test]
+fn few_points_resolve_as_scipys_cubic_spline() {
+    use splinegpu::{Curve, CurveKind, EndCondition, Points};
+    let x = [0.0, 1.0, 3.0];
+    let y: Vec<f64> = x.iter().map(|&t| 2.0 * t * t - t + 1.0).collect();
+    let condition = EndCondition::NotAKnot
+        .on_few_points_as_scipy(&x, &y, 1)
+        .unwrap();
+    let kind = CurveKind::Interpolating {
+        condition,
+        t: Some(x.to_vec()),
+    };
+    let curve = Curve::new(kind, Points::new(1, y).unwrap()).unwrap();
+    let at: Vec<f64> = (0..=30).map(|i| f64::from(i) / 10.0).collect();
+    let samples = crate::support::cpu_at(&curve, &at);
+    for (i, &t) in at.iter().enumerate() {
+        let want = 2.0 * t * t - t + 1.0;
+        assert!((samples.curve(0).points[i] - want).abs() < 1e-12, "t = {t}");
+    }
+    let line = EndCondition::NotAKnot
+        .on_few_points_as_scipy(&[0.0, 2.0], &[1.0, 5.0], 1)
+        .unwrap();
+    assert_eq!(
+        line,
+        EndCondition::Clamped {
+            start: vec![2.0],
+            end: vec![2.0]
+        }
+    );
+    let constant = EndCondition::Periodic.on_few_points_as_scipy(&[0.0, 1.0], &[3.0, 3.0], 1);
+    assert_eq!(
+        constant.unwrap(),
+        EndCondition::Clamped {
+            start: vec![0.0],
+            end: vec![0.0]
+        }
+    );
+    let error = EndCondition::Periodic.on_few_points_as_scipy(&[0.0, 1.0], &[3.0, 4.0], 1);
+    assert_eq!(error.unwrap_err().field.as_deref(), Some("points"));
+    assert_eq!(
+        EndCondition::Natural
+            .on_few_points_as_scipy(&x, &[0.0; 3], 1)
+            .unwrap(),
+        EndCondition::Natural
+    );
+}
