@@ -285,3 +285,36 @@ def splder(tck, n: int = 1):
 def splantider(tck, n: int = 1):
     """`scipy.interpolate.splantider`: the tck (or BSpline) of the n-th antiderivative."""
     return _derived(tck, n, anti=True)
+
+
+def insert(x, tck, m: int = 1, per: int = 0):
+    """`scipy.interpolate.insert`: the knot x inserted m times (Boehm's rule; per=1 as FITPACK's
+    periodic insertion). A BSpline gives a BSpline (its values along any trailing axes); a tck
+    tuple a tck tuple (c padded to len(t)), a parametric one's c a list of arrays."""
+    if isinstance(tck, BSpline):
+        if not per:
+            return tck.insert_knot(x, m)
+        t, c = _inserted(tck.t, np.asarray(tck.c), tck.k, x, m, True)
+        return BSpline.construct_fast(t, c, tck.k, tck.extrapolate, tck.axis, tck.context)
+    t, c, k = tck
+    t, k = np.asarray(t, dtype=np.float64), int(k)
+    if m <= 0:
+        raise ValueError(f"`m` must be positive, got {m = }.")
+    n = len(t) - k - 1
+    new_t = _inserted(t, np.zeros(n), k, x, m, bool(per))[0]
+
+    def one(row: np.ndarray) -> np.ndarray:
+        return _padded(new_t, _inserted(t, row[:n], k, x, m, bool(per))[1])
+    # A parametric tck's c (a list of arrays), or an N-D c in the legacy layout (coefficients
+    # along its last axis): a (nested) list of the rows, as SciPy's.
+    return new_t, _each(np.asarray(c, dtype=np.float64), one), k
+
+
+def _inserted(t: np.ndarray, c: np.ndarray, k: int, x, m: int, periodic: bool):
+    """(t, c) with the knot x inserted m times, c its n coefficients (any trailing axes)."""
+    x = float(x)
+    if x < t[k] or x > t[len(t) - k - 1]:
+        raise ValueError(f"Cannot insert a knot at {x}.")
+    for _ in range(m):
+        t, c = _bspl.insert(t, c, k, x, periodic)
+    return t, c

@@ -41,7 +41,7 @@ from ._fitpack2 import (
     RectBivariateSpline,
     UnivariateSpline,
 )
-from ._fitpack_py import splantider, splder, splev, splint, splprep, splrep, sproot
+from ._fitpack_py import insert, splantider, splder, splev, splint, splprep, splrep, sproot
 from ._fitpack_repro import make_splprep, make_splrep
 from ._interp1d import interp1d
 from ._lsq import make_lsq_spline
@@ -58,8 +58,8 @@ __all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
            "InterpolatedUnivariateSpline", "LSQUnivariateSpline", "NdBSpline", "NdBSplines",
            "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators", "RectBivariateSpline",
            "RegularGridInterpolator", "RegularGridInterpolators", "UnivariateSpline",
-           "interp1d", "interpn", "make_interp_spline", "make_interp_splines", "make_lsq_spline",
-           "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines",
+           "insert", "interp1d", "interpn", "make_interp_spline", "make_interp_splines",
+           "make_lsq_spline", "make_lsq_splines", "make_smoothing_spline", "make_smoothing_splines",
            "make_splprep", "make_splpreps", "make_splrep", "make_splreps", "pchip",
            "pchip_interpolate", "splantider", "splder", "splev", "splint", "splprep", "splrep",
            "sproot"]

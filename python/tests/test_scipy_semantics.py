@@ -235,3 +235,30 @@ def test_what_scipy_refuses_is_refused_with_its_exception(case):
             call(scipy)
         with pytest.raises(theirs.type):
             call(ours)
+
+
+def test_insert_is_scipys_on_tck_parametric_periodic_and_bsplines():
+    """`insert` against SciPy's: the knots and coefficients of a tck (within its length: the
+    padding past it is FITPACK's scratch), a parametric tck's list, per=1, and a BSpline in
+    giving a BSpline out with the same values."""
+    import scipy.interpolate as scipy
+
+    import splinegpu.interpolate as ours
+    x = np.linspace(0, 10, 12)
+    cases = [(3.3, scipy.splrep(x, np.sin(x)), 0, 2),
+             (0.4, scipy.splprep([np.cos(x), np.sin(x)], s=0)[0], 0, 1)]
+    xp = np.linspace(0, 2 * np.pi, 20)
+    yp = np.sin(xp)
+    yp[-1] = yp[0]
+    cases.append((1.0, scipy.splrep(xp, yp, per=1), 1, 1))
+    for at, tck, per, m in cases:
+        theirs, mine = scipy.insert(at, tck, m=m, per=per), ours.insert(at, tck, m=m, per=per)
+        np.testing.assert_array_equal(mine[0], theirs[0])
+        n = len(theirs[0]) - theirs[2] - 1
+        for a, b in zip(np.atleast_2d(theirs[1]), np.atleast_2d(mine[1])):
+            np.testing.assert_allclose(b[:n], a[:n], rtol=0, atol=1e-14)
+        assert isinstance(mine, tuple) and mine[2] == theirs[2]
+    spline = ours.make_interp_spline(x, np.sin(x))
+    inserted = ours.insert(4.5, spline, m=2)
+    assert isinstance(inserted, ours.BSpline)
+    np.testing.assert_allclose(inserted(x), spline(x), rtol=0, atol=1e-14)
