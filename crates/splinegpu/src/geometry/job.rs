@@ -53,7 +53,7 @@ enum Body {
 /// it is pushed, the meshes made by [`GeometryJob::evaluate_cpu`]. Mesh c owns vertices
 /// `vertex_offsets()[c]..vertex_offsets()[c + 1]` and triangles likewise; its triangles'
 /// indices are local to it (a renderer draws mesh c with base vertex `vertex_offsets()[c]`).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct GeometryJob {
     curves: Vec<Planned>,
     vertex_offsets: Vec<u64>,
@@ -78,14 +78,22 @@ pub struct Meshes {
     pub triangle_offsets: Vec<u64>,
 }
 
+impl Default for GeometryJob {
+    /// [`GeometryJob::new`]: its offsets start at 0.
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl GeometryJob {
     /// An empty job.
     #[must_use]
     pub fn new() -> Self {
         Self {
+            curves: Vec::new(),
             vertex_offsets: vec![0],
             triangle_offsets: vec![0],
-            ..Self::default()
+            available: OnceLock::new(),
         }
     }
 
@@ -430,8 +438,14 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
     let lengths = closed.then(|| arc_lengths(&position, &locs));
     let first = section(&table, locs[0]);
     let t0 = frames::unit_tangent(first.d1, first.d2, false).unwrap_or_else(|| {
-        let d1: Vec<Vec3> = locs.iter().map(|&l| section(&table, l).d1).collect();
-        let d2: Vec<Vec3> = locs.iter().map(|&l| section(&table, l).d2).collect();
+        // No direction at the start: the first cross-section that has one lends it.
+        let (d1, d2): (Vec<Vec3>, Vec<Vec3>) = locs
+            .iter()
+            .map(|&l| {
+                let s = section(&table, l);
+                (s.d1, s.d2)
+            })
+            .unzip();
         frames::tangents(&d1, &d2)[0]
     });
     let n0 = frames::first_normal(t0, geometry.up())?;

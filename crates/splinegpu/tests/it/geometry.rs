@@ -649,7 +649,8 @@ fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
     for (curve, geometry, sampling) in &curves {
         one_by_one.push(curve, geometry, sampling).unwrap();
     }
-    let mut many = GeometryJob::new();
+    // A default job is an empty one, its offsets starting at 0.
+    let mut many = GeometryJob::default();
     many.push(&curves[0].0, &curves[0].1, &curves[0].2).unwrap();
     many.push_many(&curves[1..]).unwrap();
     assert_eq!(many.vertex_offsets(), one_by_one.vertex_offsets());
