@@ -14,6 +14,18 @@ use crate::sampling::{SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 use layout::JobLayout;
 
+/// `curve` fitted, its values checked against overflow for `derivatives`, and planned.
+fn fitted_and_planned(
+    curve: &Curve,
+    sampling: &Sampling,
+    derivatives: Derivatives,
+) -> Result<(SegmentTable, SamplePlan), InputError> {
+    let table = curve.fit();
+    table.check_range(derivatives)?;
+    let plan = SamplePlan::new(&table, sampling)?;
+    Ok((table, plan))
+}
+
 /// A plan of `samples` samples does not fit in a job that already indexes `before`.
 fn too_many_samples(samples: usize, before: usize) -> InputError {
     InputError::field(
@@ -85,9 +97,7 @@ impl EvalJob {
     /// overflow; the caller places the error in its curve with
     /// [`InputError::in_curve`].
     pub fn push(&mut self, curve: &Curve, sampling: &Sampling) -> Result<(), InputError> {
-        let table = curve.fit();
-        table.check_range(self.derivatives)?;
-        let plan = SamplePlan::new(&table, sampling)?;
+        let (table, plan) = fitted_and_planned(curve, sampling, self.derivatives)?;
         self.push_table(table, plan)
     }
 
@@ -102,12 +112,7 @@ impl EvalJob {
         let derivatives = self.derivatives;
         let made: Vec<Result<(SegmentTable, SamplePlan), InputError>> = curves
             .par_iter()
-            .map(|(curve, sampling)| {
-                let table = curve.fit();
-                table.check_range(derivatives)?;
-                let plan = SamplePlan::new(&table, sampling)?;
-                Ok((table, plan))
-            })
+            .map(|(curve, sampling)| fitted_and_planned(curve, sampling, derivatives))
             .collect();
         let mut parts = Vec::with_capacity(made.len());
         for (i, part) in made.into_iter().enumerate() {

@@ -328,42 +328,21 @@ pub(crate) fn a_renderer_records_surfaces_into_its_own_buffers_and_refits_a_movi
 }
 
 /// As on the CPU (tests/it/surface.rs): a vertex on the line between two patches is the later
-/// patch's, the last line the last patch's at 1; each patch here the constant corner point of
-/// its window, so the owner shows in the value.
+/// patch's, the last line the last patch's at 1; each patch of `constant_patches` shows its
+/// owner in the value.
 pub(crate) fn a_vertex_between_two_patches_is_the_later_patchs_on_the_gpu() {
+    use crate::shapes::{CONSTANT_PATCH_OWNERS, constant_patches};
     let Some(gpu) = gpu() else {
         return;
     };
-    let mut rows = [[0.0; 4]; 4];
-    rows[3][0] = 1.0;
-    let coords: Vec<f64> = (0..25)
-        .flat_map(|p| {
-            [
-                f64::from(p / 5),
-                f64::from(p % 5),
-                f64::from(10 * (p / 5) + p % 5),
-            ]
-        })
-        .collect();
-    let kind = SurfaceKind::Uniform {
-        basis: Basis::Matrix(rows),
-        ends: [Ends::Control; 2],
-    };
-    let table = Surface::new(kind, Net::new(3, 5, 5, coords).unwrap())
-        .unwrap()
-        .fit();
-    let sampling = SurfaceSampling::PerSegment([2, 2]);
+    let (table, sampling) = (constant_patches(), SurfaceSampling::PerSegment([2, 2]));
     let job = surface_job(&[(&table, &sampling)], Derivatives::None, false);
     let g = &gpu.evaluate_surfaces(&job).unwrap()[0];
-    let owner = [0.0, 0.0, 1.0, 1.0, 1.0];
+    let owner = CONSTANT_PATCH_OWNERS;
     for a in 0..5 {
         for b in 0..5 {
-            let z = g.points[3 * (5 * a + b) + 2];
-            assert_eq!(
-                f64::from(z),
-                10.0 * owner[a] + owner[b],
-                "vertex ({a}, {b})"
-            );
+            let z = f64::from(g.points[3 * (5 * a + b) + 2]);
+            assert_eq!(z, 10.0 * owner[a] + owner[b], "vertex ({a}, {b})");
         }
     }
 }

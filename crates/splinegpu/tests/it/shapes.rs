@@ -1,5 +1,5 @@
-//! Shapes more than one test binary uses: a weighted nurbs circle, a rational torus and the
-//! Utah teapot. Shared by path (`#[path = "../it/shapes.rs"]`) with the GPU harness.
+//! Shapes more than one test binary uses: a weighted nurbs circle, a rational torus, the Utah
+//! teapot and a net of constant patches. Shared by path (`#[path = "../it/shapes.rs"]`) with the GPU harness.
 #![allow(
     dead_code,
     reason = "each test binary uses a different subset of these shapes"
@@ -113,3 +113,31 @@ pub(crate) fn nurbs_circle() -> (Vec<f64>, Vec<f64>, Curve) {
     let curve = Curve::new(kind, Points::new(2, points).unwrap()).unwrap();
     (knots, weights, curve)
 }
+
+/// 2 x 2 patches whose basis holds each window's first point (U·M = [1 0 0 0] for every u),
+/// so that each patch is the constant corner point of its window, discontinuous at every
+/// joint: patch (i, j) has z = 10 i + j. A vertex's value names the patch that evaluated it.
+pub(crate) fn constant_patches() -> splinegpu::surface::PatchTable {
+    let mut rows = [[0.0; 4]; 4];
+    rows[3][0] = 1.0;
+    let coords: Vec<f64> = (0..25)
+        .flat_map(|p| {
+            [
+                f64::from(p / 5),
+                f64::from(p % 5),
+                f64::from(10 * (p / 5) + p % 5),
+            ]
+        })
+        .collect();
+    let kind = SurfaceKind::Uniform {
+        basis: splinegpu::Basis::Matrix(rows),
+        ends: [splinegpu::Ends::Control; 2],
+    };
+    Surface::new(kind, Net::new(3, 5, 5, coords).unwrap())
+        .unwrap()
+        .fit()
+}
+
+/// The patch row (and column) that owns each of the 5 lines of [`constant_patches`] at
+/// per_segment 2: lines 0 and 1 on patch 0; 2 (the joint), 3 and 4 (the end, at 1) on patch 1.
+pub(crate) const CONSTANT_PATCH_OWNERS: [f64; 5] = [0.0, 0.0, 1.0, 1.0, 1.0];

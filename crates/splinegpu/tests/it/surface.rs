@@ -632,40 +632,18 @@ fn bad_surfaces_are_named() {
 
 /// The contract's rule for a vertex on the line between two patches of a net: the patch that
 /// starts there evaluates it (as a curve's joint sample is), and the last line the last patch
-/// at 1. A basis that holds each window's first point (U·M = [1 0 0 0] for every u) makes each
-/// patch the constant net point of its window's corner, discontinuous at every joint, so the
-/// owner shows in the value.
+/// at 1; each patch of [`constant_patches`] shows its owner in the value.
 #[test]
 fn a_vertex_between_two_patches_is_the_later_patchs() {
-    use splinegpu::surface::{Net, Surface, SurfaceKind, SurfaceSampling};
-    use splinegpu::{Basis, Ends};
-    let mut rows = [[0.0; 4]; 4];
-    rows[3][0] = 1.0;
-    let coords: Vec<f64> = (0..25)
-        .flat_map(|p| {
-            [
-                f64::from(p / 5),
-                f64::from(p % 5),
-                f64::from(10 * (p / 5) + p % 5),
-            ]
-        })
-        .collect();
-    let kind = SurfaceKind::Uniform {
-        basis: Basis::Matrix(rows),
-        ends: [Ends::Control; 2],
-    };
-    // 5 x 5 points with control ends: 2 x 2 patches, each the corner point of its window.
-    let table = Surface::new(kind, Net::new(3, 5, 5, coords).unwrap())
-        .unwrap()
-        .fit();
+    use crate::shapes::{CONSTANT_PATCH_OWNERS, constant_patches};
+    use splinegpu::surface::SurfaceSampling;
     let samples = surface_samples(
-        &table,
+        &constant_patches(),
         &SurfaceSampling::PerSegment([2, 2]),
         splinegpu::Derivatives::None,
         false,
     );
-    // Lines 0, 1 on patch 0; lines 2 (the joint), 3 and 4 (the end, at 1) on patch 1.
-    let owner = [0.0, 0.0, 1.0, 1.0, 1.0];
+    let owner = CONSTANT_PATCH_OWNERS;
     for a in 0..5 {
         for b in 0..5 {
             let z = samples.points[3 * (5 * a + b) + 2];
