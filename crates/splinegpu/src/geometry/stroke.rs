@@ -133,6 +133,11 @@ fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], [f64;
 /// The unit tangent at (segment, u) approached from above (`below` false) or below.
 fn tangent(table: &SegmentTable, segment: usize, u: f64, below: bool) -> Option<[f64; 2]> {
     let (d1, d2) = derivatives(table, segment, u);
+    tangent_of(d1, d2, below)
+}
+
+/// The unit tangent from C' and C'' (C''s direction, reversed from below, where C' = 0).
+fn tangent_of(d1: [f64; 2], d2: [f64; 2], below: bool) -> Option<[f64; 2]> {
     unit2(d1).or_else(|| unit2(d2).map(|t| if below { [-t[0], -t[1]] } else { t }))
 }
 
@@ -221,7 +226,8 @@ impl StrokePlan {
         for (j, loc) in locs.iter().enumerate() {
             let loc = *loc;
             let at_end = j == last;
-            let here = tangent(table, loc.segment, loc.u, at_end && j > 0);
+            let (d1, d2) = derivatives(table, loc.segment, loc.u);
+            let here = tangent_of(d1, d2, at_end && j > 0);
             let leaving = here.unwrap_or(previous);
             let section = |tangent| Section {
                 segment: loc.segment,
@@ -229,7 +235,6 @@ impl StrokePlan {
                 t: loc.t,
                 tangent,
             };
-            let (d1, _) = derivatives(table, loc.segment, loc.u);
             let interior = j > 0 && !at_end;
             if interior && loc.u == 0.0 && loc.segment > 0 {
                 // A joint: the arriving side is the segment before at u = 1.
@@ -245,7 +250,7 @@ impl StrokePlan {
                 }
             } else if interior && d1 == [0.0, 0.0] && here.is_some() {
                 // A cusp inside a segment: arriving from below, leaving from above.
-                let arriving = tangent(table, loc.segment, loc.u, true).unwrap_or(previous);
+                let arriving = tangent_of(d1, d2, true).unwrap_or(previous);
                 sections.push(section(arriving));
                 corners.push((sections.len() - 1, join(arriving, leaving, true)));
             }
