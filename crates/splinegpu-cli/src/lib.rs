@@ -8,6 +8,8 @@
 
 pub mod bench;
 pub mod document;
+pub mod geometry_output;
+pub mod mesh_files;
 pub mod npz;
 pub mod output;
 pub mod plain;

@@ -7,7 +7,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
+use splinegpu::geometry::GeometryJob;
 use splinegpu::surface::SurfaceJob;
+use splinegpu_cli::document::geometry::GeometryDocument;
+use splinegpu_cli::geometry_output::{self, MeshFormat};
 use splinegpu_cli::output::{self, OutputError};
 use splinegpu_cli::surface_output::{self, SurfaceFormat};
 use splinegpu_cli::{Document, bench, stream};
@@ -23,7 +26,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Tessellate the curves or surfaces of a JSON document into CSV, JSON or NPZ samples, or
-    /// surfaces into .glb or .obj meshes.
+    /// surfaces and curves with "geometry" (strokes, tubes, ribbons) into meshes (every
+    /// format, .glb and .obj included).
     Tessellate {
         /// The input document, or `-` for standard input.
         input: String,
@@ -31,7 +35,7 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Output format; by default the extension of OUTPUT (.csv, .json, .npz, .glb, .obj),
-        /// else csv. glb and obj are meshes of a surface document.
+        /// else csv. glb and obj are meshes of a surface document or of curves with geometry.
         #[arg(long)]
         format: Option<Format>,
         /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
@@ -179,11 +183,17 @@ fn tessellate(
     let job = match read_document(input)? {
         Document::Curves(job) => job,
         Document::Surfaces(job) => return tessellate_surfaces(&job, output, format, backend),
+        Document::Geometry(GeometryDocument::Meshes(job)) => {
+            return tessellate_geometry(&job, output, format, backend);
+        }
+        Document::Geometry(GeometryDocument::Unsupported(what)) => {
+            return Err(Failure::other(format!("not supported yet: {}", what.0)));
+        }
     };
     if matches!(format, Format::Glb | Format::Obj) {
         return Err(Failure::input(
-            "document: \"curves\" make no mesh: .glb and .obj are written for \"surfaces\" \
-             (use csv, json or npz)",
+            "document: \"curves\" without \"geometry\" make no mesh: .glb and .obj are \
+             written for \"surfaces\" or curves with \"geometry\" (use csv, json or npz)",
         ));
     }
     if format == Format::Npz {
@@ -244,9 +254,14 @@ fn finish(result: Result<(), OutputError>, output: Option<&Path>) -> Result<(), 
     match (result, output) {
         (Ok(()), _) => Ok(()),
         (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        (Err(e @ (OutputError::NonFinite { .. } | OutputError::SurfaceNonFinite { .. })), _) => {
-            Err(Failure::input(e))
-        }
+        (
+            Err(
+                e @ (OutputError::NonFinite { .. }
+                | OutputError::SurfaceNonFinite { .. }
+                | OutputError::MeshNonFinite { .. }),
+            ),
+            _,
+        ) => Err(Failure::input(e)),
         (Err(OutputError::Io(e)), Some(path)) => Err(Failure::other(format!(
             "cannot write output \"{}\": {e}",
             path.display()
@@ -279,6 +294,43 @@ fn tessellate_surfaces(
         Some(gpu) => write_surfaces(job, format, output, &mut |range| {
             Ok(gpu.evaluate_surface_group(job, range)?)
         }),
+    };
+    finish(result, output)
+}
+
+/// A geometry document: checked for the format, its meshes made on the CPU group by group as
+/// they are written. The GPU kernel for meshes is not built yet: `--backend gpu` is refused
+/// (exit 1), auto makes them on the CPU.
+fn tessellate_geometry(
+    job: &GeometryJob,
+    output: Option<&Path>,
+    format: Format,
+    backend: Backend,
+) -> Result<(), Failure> {
+    let format = match format {
+        Format::Csv => MeshFormat::Csv,
+        Format::Json => MeshFormat::Json,
+        Format::Npz => MeshFormat::Npz,
+        Format::Glb => MeshFormat::Glb,
+        Format::Obj => MeshFormat::Obj,
+    };
+    geometry_output::check_format(job, format).map_err(Failure::input)?;
+    match backend {
+        Backend::Gpu => {
+            return Err(Failure::other(
+                "not supported yet: geometry on the gpu backend (use --backend cpu)",
+            ));
+        }
+        Backend::Auto => eprintln!("splinegpu: backend auto: cpu (geometry is made on the CPU)"),
+        Backend::Cpu => {}
+    }
+    let emit = |out: &mut dyn Write| geometry_output::write(job, format, out);
+    let result = match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_output(path, emit),
     };
     finish(result, output)
 }

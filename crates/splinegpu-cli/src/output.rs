@@ -38,6 +38,17 @@ pub enum OutputError {
         /// The vertex within the surface.
         vertex: usize,
     },
+    /// A mesh's value overflowed f64 (a width or radius so large): the input's fault.
+    #[error(
+        "curve {curve}: mesh vertex {vertex} is not finite (the mesh overflows the output's \
+         number type)"
+    )]
+    MeshNonFinite {
+        /// The curve.
+        curve: usize,
+        /// The vertex within the curve's mesh.
+        vertex: usize,
+    },
     /// NPZ holds one array of points: every curve needs the first one's dimension.
     #[error(
         "curve {curve}: \"points\" have {dim} coordinates but curve 0's have {first}: npz output \

@@ -1,18 +1,15 @@
 //! Writing a surface document's samples (contract: "Output of a surface document"): JSON, CSV
 //! (vertices), NPZ (streamed), and meshes a viewer opens as they are, Wavefront .obj and glTF
-//! 2.0 binary (.glb, through the gltf crate's schema types and container).
+//! 2.0 binary (.glb), through [`crate::mesh_files`].
 
-use std::borrow::Cow;
-use std::collections::BTreeMap;
 use std::io::{self, Write};
 use std::ops::Range;
 
-use gltf::json;
-use gltf::json::validation::{Checked::Valid, USize64};
 use splinegpu::surface::{SurfaceJob, SurfaceSamples};
 use splinegpu::{InputError, SampleFloat};
 
 use crate::document::surfaces::group_vertices;
+use crate::mesh_files::{Mesh, ObjWriter, write_glb};
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
 
@@ -178,7 +175,9 @@ pub fn write<F: Number>(
             for group in groups {
                 all.extend(evaluate(group)?);
             }
-            Ok(write_glb(&all, out)?)
+            let meshes: Vec<Mesh<'_, F>> =
+                all.iter().enumerate().map(|(i, s)| mesh_of(i, s)).collect();
+            Ok(write_glb(&meshes, out)?)
         }
     }
 }
@@ -398,182 +397,21 @@ fn write_obj<F: Number>(
     evaluate: &mut Evaluate<'_, F>,
     out: &mut dyn Write,
 ) -> Result<(), OutputError> {
-    writeln!(out, "# splinegpu surfaces: one object per surface")?;
-    let mut number = zmij::Buffer::new();
-    let mut first = 1u64;
+    let mut obj = ObjWriter::new(out, "surfaces: one object per surface")?;
     for group in groups {
         for (i, s) in (group.start..).zip(evaluate(group.clone())?) {
-            writeln!(out, "o surface-{i}")?;
-            for p in s.points.chunks_exact(3) {
-                out.write_all(b"v")?;
-                for x in p {
-                    out.write_all(b" ")?;
-                    out.write_all(number.format(*x).as_bytes())?;
-                }
-                out.write_all(b"\n")?;
-            }
-            if let Some(normals) = &s.normals {
-                for n in normals.chunks_exact(3) {
-                    out.write_all(b"vn")?;
-                    for x in n {
-                        out.write_all(b" ")?;
-                        out.write_all(number.format(*x).as_bytes())?;
-                    }
-                    out.write_all(b"\n")?;
-                }
-            }
-            for t in s.triangles.as_deref().unwrap_or_default() {
-                let [a, b, c] = t.map(|i| first + u64::from(i));
-                if s.normals.is_some() {
-                    writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}")?;
-                } else {
-                    writeln!(out, "f {a} {b} {c}")?;
-                }
-            }
-            first += s.len() as u64;
+            obj.mesh(&mesh_of(i, &s))?;
         }
     }
     Ok(())
 }
 
-/// glTF holds positions and normals as f32 and indices as u32: one buffer, a view per array,
-/// a mesh (one triangle primitive) and a node per surface, one scene.
-fn write_glb<F: Number>(samples: &[SurfaceSamples<F>], out: &mut dyn Write) -> io::Result<()> {
-    let mut root = json::Root::default();
-    let mut bin: Vec<u8> = Vec::new();
-    let mut nodes = Vec::new();
-    let buffer = json::Index::<json::Buffer>::new(0);
-    let view = |root: &mut json::Root,
-                bin: &mut Vec<u8>,
-                bytes: &[u8],
-                target: json::buffer::Target,
-                stride: Option<usize>| {
-        let offset = bin.len();
-        bin.extend_from_slice(bytes);
-        bin.resize(bin.len().next_multiple_of(4), 0);
-        root.push(json::buffer::View {
-            buffer,
-            byte_length: USize64(bytes.len() as u64),
-            byte_offset: Some(USize64(offset as u64)),
-            byte_stride: stride.map(json::buffer::Stride),
-            name: None,
-            target: Some(Valid(target)),
-            extensions: None,
-            extras: Default::default(),
-        })
-    };
-    let accessor = |root: &mut json::Root,
-                    view: json::Index<json::buffer::View>,
-                    count: usize,
-                    component: json::accessor::ComponentType,
-                    type_: json::accessor::Type,
-                    bounds: Option<([f32; 3], [f32; 3])>| {
-        root.push(json::Accessor {
-            buffer_view: Some(view),
-            byte_offset: Some(USize64(0)),
-            count: USize64(count as u64),
-            component_type: Valid(json::accessor::GenericComponentType(component)),
-            extensions: None,
-            extras: Default::default(),
-            type_: Valid(type_),
-            min: bounds.map(|b| json::Value::from(b.0.to_vec())),
-            max: bounds.map(|b| json::Value::from(b.1.to_vec())),
-            name: None,
-            normalized: false,
-            sparse: None,
-        })
-    };
-    for (i, s) in samples.iter().enumerate() {
-        let positions: Vec<f32> = s.points.iter().map(|&x| x.into() as f32).collect();
-        let (mut low, mut high) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for p in positions.chunks_exact(3) {
-            for k in 0..3 {
-                low[k] = low[k].min(p[k]);
-                high[k] = high[k].max(p[k]);
-            }
-        }
-        let f32_bytes = |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
-        let array = json::buffer::Target::ArrayBuffer;
-        let v = view(&mut root, &mut bin, &f32_bytes(&positions), array, Some(12));
-        let mut attributes = BTreeMap::new();
-        let f32_type = json::accessor::ComponentType::F32;
-        let vec3 = json::accessor::Type::Vec3;
-        let a = accessor(&mut root, v, s.len(), f32_type, vec3, Some((low, high)));
-        attributes.insert(Valid(json::mesh::Semantic::Positions), a);
-        if let Some(normals) = &s.normals {
-            let n: Vec<f32> = normals.iter().map(|&x| x.into() as f32).collect();
-            let v = view(&mut root, &mut bin, &f32_bytes(&n), array, Some(12));
-            let a = accessor(&mut root, v, s.len(), f32_type, vec3, None);
-            attributes.insert(Valid(json::mesh::Semantic::Normals), a);
-        }
-        let triangles = s.triangles.as_deref().unwrap_or_default();
-        let indices: Vec<u8> = triangles
-            .iter()
-            .flatten()
-            .flat_map(|i| i.to_le_bytes())
-            .collect();
-        let element = json::buffer::Target::ElementArrayBuffer;
-        let v = view(&mut root, &mut bin, &indices, element, None);
-        let u32_type = json::accessor::ComponentType::U32;
-        let indices = accessor(
-            &mut root,
-            v,
-            3 * triangles.len(),
-            u32_type,
-            json::accessor::Type::Scalar,
-            None,
-        );
-        let mesh = root.push(json::Mesh {
-            extensions: None,
-            extras: Default::default(),
-            name: Some(format!("surface-{i}")),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                extensions: None,
-                extras: Default::default(),
-                indices: Some(indices),
-                material: None,
-                mode: Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            }],
-            weights: None,
-        });
-        nodes.push(root.push(json::Node {
-            mesh: Some(mesh),
-            name: Some(format!("surface-{i}")),
-            ..Default::default()
-        }));
+/// A surface's mesh as the mesh files take it.
+fn mesh_of<F: Number>(i: usize, s: &SurfaceSamples<F>) -> Mesh<'_, F> {
+    Mesh {
+        name: format!("surface-{i}"),
+        positions: &s.points,
+        normals: s.normals.as_deref(),
+        triangles: s.triangles.as_deref().unwrap_or_default(),
     }
-    root.push(json::Buffer {
-        byte_length: USize64(bin.len() as u64),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
-    let scene = root.push(json::Scene {
-        extensions: None,
-        extras: Default::default(),
-        name: None,
-        nodes,
-    });
-    root.scene = Some(scene);
-    let text = json::serialize::to_vec(&root).map_err(io::Error::other)?;
-    let length = 12 + 8 + text.len().next_multiple_of(4) + 8 + bin.len();
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header {
-            magic: *b"glTF",
-            version: 2,
-            length: u32::try_from(length)
-                .map_err(|_| io::Error::other("a .glb file holds at most 4 GiB"))?,
-        },
-        json: Cow::Owned(text),
-        bin: Some(Cow::Owned(bin)),
-    };
-    // The writer's own error, kind and all (a closed pipe is `BrokenPipe`, which ends the run
-    // quietly, as for every other format).
-    glb.to_writer(out).map_err(|e| match e {
-        gltf::Error::Io(e) => e,
-        other => io::Error::other(other),
-    })
 }

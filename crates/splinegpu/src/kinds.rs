@@ -110,6 +110,7 @@ pub fn kind_fields(name: &str) -> Option<&'static [&'static str]> {
 pub fn not_a_field(name: &str, field: &str) -> InputError {
     let mut allowed = vec!["kind", "points", "sampling"];
     allowed.extend_from_slice(kind_fields(name).unwrap_or(&[]));
+    allowed.push("geometry");
     InputError::field(
         field,
         format!(

@@ -8,6 +8,7 @@ use splinegpu::kinds::{KindFields, kind_fields, not_a_field};
 use splinegpu::{Curve, CurveKind, Derivatives, EvalJob, InputError, PerPoint, Points};
 use splinegpu::{SamplePlan, Sampling, SegmentTable};
 
+use crate::document::geometry::{GeometrySpec, parse_geometry};
 use crate::document::values::{describe, number, number_array, parse_ends, parse_matrix};
 
 /// A curve object as read: its fields (keys in order), its points and its sampling, checked
@@ -19,10 +20,21 @@ pub(crate) struct ReadCurve {
     pub(crate) sampling: Option<Sampling>,
 }
 
-/// One fitted curve, with its own sampling if it has one.
+/// One fitted curve, with its own sampling and geometry if it has them. The curve itself is
+/// kept beside its table: a mesh's width is fitted as one more coordinate of it, and whether
+/// the document asks for meshes is known only once it is read whole.
 pub(crate) struct ParsedCurve {
+    pub(crate) curve: Curve,
     pub(crate) table: SegmentTable,
     pub(crate) sampling: Option<Sampling>,
+    pub(crate) geometry: Option<GeometrySpec>,
+}
+
+/// A curve object's fields made into its curve, fitted, and its "geometry" read.
+pub(crate) struct FittedCurve {
+    pub(crate) curve: Curve,
+    pub(crate) table: SegmentTable,
+    pub(crate) geometry: Option<GeometrySpec>,
 }
 
 /// A curve document's job: each curve's plan from its own sampling or the document's
@@ -131,7 +143,7 @@ pub(crate) fn fit_curve(
     fields: &Map<String, Value>,
     keys: &[String],
     points: Option<Points>,
-) -> Result<SegmentTable, InputError> {
+) -> Result<FittedCurve, InputError> {
     let kind = fields
         .get("kind")
         .ok_or_else(|| InputError::field("kind", "is missing"))?;
@@ -142,8 +154,9 @@ pub(crate) fn fit_curve(
         // CurveKind::named words the unknown name's error.
         return Err(CurveKind::named(kind, KindFields::default()).expect_err("unknown kind"));
     };
-    let key_ok =
-        |key: &str| ["kind", "points", "sampling"].contains(&key) || allowed.contains(&key);
+    let key_ok = |key: &str| {
+        ["kind", "points", "sampling", "geometry"].contains(&key) || allowed.contains(&key)
+    };
     if let Some(key) = keys.iter().find(|k| !key_ok(k)) {
         return Err(not_a_field(kind, key));
     }
@@ -179,7 +192,13 @@ pub(crate) fn fit_curve(
     };
     let kind = CurveKind::named(kind, kind_fields)?;
     let points = points.ok_or_else(|| InputError::field("points", "is missing"))?;
-    Ok(Curve::new(kind, points)?.fit())
+    let geometry = fields.get("geometry").map(parse_geometry).transpose()?;
+    let curve = Curve::new(kind, points)?;
+    Ok(FittedCurve {
+        table: curve.fit(),
+        curve,
+        geometry,
+    })
 }
 
 /// "tangents": an array of arrays of numbers, all of one length, flattened (their count and

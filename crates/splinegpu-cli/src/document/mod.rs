@@ -10,6 +10,7 @@
 //! serde's error type carries only text.
 
 mod curves;
+pub mod geometry;
 pub mod surfaces;
 mod values;
 mod walk;
@@ -21,6 +22,7 @@ use splinegpu::InputError;
 use splinegpu::surface::SurfaceJob;
 
 use crate::document::curves::curve_job;
+use crate::document::geometry::{GeometryDocument, geometry_job};
 use crate::document::surfaces::surface_job;
 use crate::document::walk::{ParsedDocument, parse, syntax};
 
@@ -31,6 +33,9 @@ pub enum Document {
     Curves(EvalJob),
     /// A surface document's job.
     Surfaces(SurfaceJob),
+    /// A curve document with "geometry": its meshes' job (or what it needs that this build
+    /// lacks).
+    Geometry(GeometryDocument),
 }
 
 /// Parses and checks a document held in memory, fits its curves and resolves their sampling.
@@ -51,13 +56,19 @@ pub fn parse_input(text: &str) -> Result<Document, InputError> {
     into_document(parse(&mut serde_json::Deserializer::from_str(text))?)
 }
 
-/// A curve document's job; a surface document is refused, naming "surfaces".
+/// A curve document's job; a surface document, or one of meshes, is refused, naming
+/// "surfaces" or "geometry".
 fn curves_only(document: Document) -> Result<EvalJob, InputError> {
     match document {
         Document::Curves(job) => Ok(job),
         Document::Surfaces(_) => Err(InputError::field(
             "surfaces",
             "are not curves (read the document with parse_input)",
+        )
+        .in_document()),
+        Document::Geometry(_) => Err(InputError::field(
+            "geometry",
+            "makes meshes, not samples (read the document with parse_input)",
         )
         .in_document()),
     }
@@ -107,6 +118,11 @@ fn into_document(parsed: ParsedDocument) -> Result<Document, InputError> {
             "cannot stand beside \"curves\": a document holds curves or surfaces",
         )
         .in_document()),
+        (None, Some(_)) if parsed.geometry.is_some() => Err(InputError::field(
+            "geometry",
+            "is a field of curves documents: surfaces make their own meshes",
+        )
+        .in_document()),
         (None, Some(surfaces)) => surface_job(
             surfaces,
             parsed.sampling.as_deref(),
@@ -121,6 +137,24 @@ fn into_document(parsed: ParsedDocument) -> Result<Document, InputError> {
                     "is a field of surface documents (\"surfaces\"), not of curves",
                 )
                 .in_document());
+            }
+            let meshes = parsed.geometry.is_some()
+                || curves
+                    .as_ref()
+                    .is_some_and(|c| c.iter().any(|c| c.geometry.is_some()));
+            if meshes {
+                let curves = curves
+                    .ok_or_else(|| InputError::field("curves", "is missing").in_document())?;
+                if curves.is_empty() {
+                    return Err(InputError::field("curves", "must not be empty").in_document());
+                }
+                return geometry_job(
+                    parsed.sampling.as_deref(),
+                    parsed.geometry.as_ref(),
+                    curves,
+                    parsed.derivatives,
+                )
+                .map(Document::Geometry);
             }
             curve_job(parsed.sampling.as_deref(), curves, parsed.derivatives).map(Document::Curves)
         }

@@ -19,8 +19,14 @@ use crate::document::surfaces::ReadSurface;
 use crate::document::values::describe;
 
 /// The document's top-level keys.
-pub(crate) const DOCUMENT_KEYS: [&str; 5] =
-    ["sampling", "derivatives", "curves", "surfaces", "normals"];
+pub(crate) const DOCUMENT_KEYS: [&str; 6] = [
+    "sampling",
+    "derivatives",
+    "curves",
+    "surfaces",
+    "normals",
+    "geometry",
+];
 
 /// The document `de` reads, walked whole (its end checked), or its first located error (a
 /// syntax error where none was located).
@@ -85,6 +91,8 @@ pub(crate) struct ParsedDocument {
     pub(crate) curves: Option<Vec<ParsedCurve>>,
     pub(crate) surfaces: Option<Vec<ReadSurface>>,
     pub(crate) normals: Option<bool>,
+    /// The document's "geometry", read by the geometry job (a surfaces document refuses it).
+    pub(crate) geometry: Option<Value>,
 }
 
 /// Methods for the JSON types a visitor does not expect: each reports the value it got.
@@ -181,6 +189,7 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
             curves: None,
             surfaces: None,
             normals: None,
+            geometry: None,
         };
         let mut seen = Vec::new();
         while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
@@ -199,6 +208,7 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
                     };
                 }
                 "curves" => doc.curves = Some(map.next_value_seed(CurvesSeed(located))?),
+                "geometry" => doc.geometry = Some(map.next_value()?),
                 "surfaces" => doc.surfaces = Some(map.next_value_seed(SurfacesSeed(located))?),
                 "normals" => {
                     let v: Value = map.next_value()?;
@@ -264,9 +274,11 @@ impl<'de> Visitor<'de> for CurvesSeed<'_> {
                     for curve in batch {
                         let i = fitted.len();
                         match fit_curve(&curve.fields, &curve.keys, curve.points) {
-                            Ok(table) => fitted.push(ParsedCurve {
-                                table,
+                            Ok(fit) => fitted.push(ParsedCurve {
+                                curve: fit.curve,
+                                table: fit.table,
                                 sampling: curve.sampling,
+                                geometry: fit.geometry,
                             }),
                             // Dropping the receiver tells the reader to stop.
                             Err(e) => return Err((i, e)),

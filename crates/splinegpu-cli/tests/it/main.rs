@@ -5,6 +5,7 @@
 mod cli;
 mod document_properties;
 mod failure_modes;
+mod geometry;
 mod stream;
 mod support;
 mod surfaces;

@@ -1,5 +1,6 @@
 //! `GeometryJob`: many curves' meshes, counted when each curve is pushed and made together.
 
+use std::ops::Range;
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
@@ -212,18 +213,67 @@ impl GeometryJob {
         &self.triangle_offsets
     }
 
+    /// The geometry mesh c is made of.
+    ///
+    /// # Panics
+    /// If c is not a curve of the job.
+    #[must_use]
+    pub fn geometry(&self, c: usize) -> &Geometry {
+        &self.curves[c].geometry
+    }
+
+    /// The job's curves cut into consecutive ranges of at most `vertices` vertices each (a
+    /// curve with more is a range of its own): what a writer evaluates at a time to bound
+    /// its memory.
+    #[must_use]
+    pub fn groups(&self, vertices: u64) -> Vec<Range<usize>> {
+        let mut groups = Vec::new();
+        let mut start = 0;
+        for c in 0..self.len() {
+            let held = self.vertex_offsets[c + 1] - self.vertex_offsets[start];
+            if c > start && held > vertices {
+                groups.push(start..c);
+                start = c;
+            }
+        }
+        groups.push(start..self.len());
+        groups
+    }
+
     /// Every curve's mesh, in f64 on every thread, into new memory.
     #[must_use]
     pub fn evaluate_cpu(&self) -> Meshes {
-        let vertices = usize::try_from(self.vertex_count()).expect("checked against memory");
-        let triangles = usize::try_from(self.triangle_count()).expect("checked against memory");
+        self.evaluate_cpu_group(0..self.len())
+    }
+
+    /// The meshes of the curves in `range`, in f64 on every thread, into new memory; the
+    /// offsets of the result start at 0 with the range's first curve.
+    ///
+    /// # Panics
+    /// If `range` is not within the job.
+    #[must_use]
+    pub fn evaluate_cpu_group(&self, range: Range<usize>) -> Meshes {
+        let first_vertex = self.vertex_offsets[range.start];
+        let first_triangle = self.triangle_offsets[range.start];
+        let vertex_offsets: Vec<u64> = self.vertex_offsets[range.start..=range.end]
+            .iter()
+            .map(|o| o - first_vertex)
+            .collect();
+        let triangle_offsets: Vec<u64> = self.triangle_offsets[range.start..=range.end]
+            .iter()
+            .map(|o| o - first_triangle)
+            .collect();
+        let vertices =
+            usize::try_from(vertex_offsets[range.len()]).expect("checked against memory");
+        let triangles =
+            usize::try_from(triangle_offsets[range.len()]).expect("checked against memory");
         let mut meshes = Meshes {
             points: vec![0.0; 3 * vertices],
             normals: vec![0.0; 3 * vertices],
             t: vec![0.0; vertices],
             triangles: vec![[0; 3]; triangles],
-            vertex_offsets: self.vertex_offsets.clone(),
-            triangle_offsets: self.triangle_offsets.clone(),
+            vertex_offsets,
+            triangle_offsets,
         };
         let planes = MeshPlanes {
             points: &mut meshes.points,
@@ -231,8 +281,11 @@ impl GeometryJob {
             t: &mut meshes.t,
             triangles: &mut meshes.triangles,
         };
-        self.evaluate_into(planes)
-            .expect("planes sized for the job");
+        let outs = self.split(range.clone(), planes);
+        self.curves[range]
+            .par_iter()
+            .zip(outs)
+            .for_each(|(planned, mut out)| make(planned, &mut out));
         meshes
     }
 
@@ -260,7 +313,7 @@ impl GeometryJob {
                 ));
             }
         }
-        let outs = self.split(planes);
+        let outs = self.split(0..self.len(), planes);
         self.curves
             .par_iter()
             .zip(outs)
@@ -295,16 +348,16 @@ impl GeometryJob {
         Ok(())
     }
 
-    /// The planes cut into each curve's part.
-    fn split<'a, F>(&self, planes: MeshPlanes<'a, F>) -> Vec<MeshOut<'a, F>> {
+    /// The planes, which hold the curves of `range`, cut into each curve's part.
+    fn split<'a, F>(&self, range: Range<usize>, planes: MeshPlanes<'a, F>) -> Vec<MeshOut<'a, F>> {
         let MeshPlanes {
             mut points,
             mut normals,
             mut t,
             mut triangles,
         } = planes;
-        let mut outs = Vec::with_capacity(self.len());
-        for c in 0..self.len() {
+        let mut outs = Vec::with_capacity(range.len());
+        for c in range {
             let v = (self.vertex_offsets[c + 1] - self.vertex_offsets[c]) as usize;
             let f = (self.triangle_offsets[c + 1] - self.triangle_offsets[c]) as usize;
             let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);

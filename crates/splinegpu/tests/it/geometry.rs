@@ -663,6 +663,65 @@ fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
     assert_eq!(many.len(), 3);
 }
 
+/// Groups of curves bounded by their vertices cover the job in order, each curve once (a
+/// curve larger than the bound a group of its own), and their meshes, made group by group,
+/// are the whole job's.
+#[test]
+fn meshes_made_group_by_group_are_the_whole_jobs() {
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.1),
+        caps: true,
+        ..Tube::default()
+    });
+    let stroke = Geometry::Stroke(splinegpu::geometry::Stroke {
+        width: Width::Constant(0.05),
+        ..Default::default()
+    });
+    let kind = CurveKind::Interpolating {
+        condition: EndCondition::Natural,
+        t: None,
+    };
+    let flat_points = Points::new(2, vec![0.0, 0.0, 1.0, 0.5, 2.0, -0.5, 3.0, 0.0]).unwrap();
+    let flat = Curve::new(kind, flat_points).unwrap();
+    let mut job = GeometryJob::new();
+    for (curve, geometry, k) in [
+        (axis(), &tube, 3),
+        (trefoil(), &tube, 2),
+        (flat, &stroke, 5),
+        (axis(), &tube, 1),
+    ] {
+        job.push(&curve, geometry, &Sampling::PerSegment(k))
+            .unwrap();
+    }
+    let whole = job.evaluate_cpu();
+    for bound in [1, 40, 100, 10_000] {
+        let groups = job.groups(bound);
+        assert_eq!(groups.first().unwrap().start, 0);
+        assert_eq!(groups.last().unwrap().end, job.len());
+        let (mut points, mut t, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+        for pair in groups.windows(2) {
+            assert_eq!(pair[0].end, pair[1].start);
+        }
+        for group in groups {
+            let first = group.start;
+            let held = job.vertex_offsets()[group.end] - job.vertex_offsets()[first];
+            assert!(group.len() == 1 || held <= bound, "{group:?} holds {held}");
+            let part = job.evaluate_cpu_group(group.clone());
+            for (c, curve) in group.enumerate() {
+                let base = job.vertex_offsets()[first];
+                assert_eq!(part.vertex_offsets[c] + base, job.vertex_offsets()[curve]);
+            }
+            points.extend(part.points);
+            t.extend(part.t);
+            triangles.extend(part.triangles);
+        }
+        assert_eq!(points, whole.points, "bound {bound}");
+        assert_eq!(t, whole.t);
+        assert_eq!(triangles, whole.triangles);
+    }
+    assert!(matches!(job.geometry(2), Geometry::Stroke(_)));
+}
+
 /// A renderer's buffers for a job's meshes.
 struct Buffers {
     points: Vec<f32>,

@@ -1,0 +1,328 @@
+//! Writing a geometry document's meshes (contract: "Output of a document with geometry"): JSON,
+//! CSV (vertices), NPZ (streamed) and the mesh files (.obj, .glb). Meshes are made on the CPU
+//! in f64, group by group ([`GeometryJob::groups`]), so that memory holds one group's meshes
+//! at a time in every format but .glb, whose header gives its whole length first.
+//!
+//! A stroke's mesh is 2-D: its points are written with 2 coordinates in JSON, CSV and NPZ, and
+//! with z = 0 in the mesh files; it has no normals. Tubes and ribbons are 3-D with normals.
+
+use std::io::{self, Write};
+use std::ops::Range;
+
+use splinegpu::InputError;
+use splinegpu::geometry::{Geometry, GeometryJob, Meshes};
+
+use crate::document::surfaces::group_vertices;
+use crate::mesh_files::{Mesh, ObjWriter, write_glb};
+use crate::npz::{Dtype, NpzWriter};
+use crate::output::OutputError;
+
+/// The formats a geometry document is written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// Vertices, one row each.
+    Csv,
+    /// Every mesh's points, t, normals and triangles.
+    Json,
+    /// numpy.load's arrays, the whole document's vertices in one array.
+    Npz,
+    /// Wavefront OBJ: an object per curve.
+    Obj,
+    /// glTF 2.0 binary: a mesh per curve, named `curve-<index>`.
+    Glb,
+}
+
+/// The dimension of mesh c's points: 2 for a stroke, 3 for a tube or ribbon.
+fn dim(job: &GeometryJob, c: usize) -> usize {
+    match job.geometry(c) {
+        Geometry::Stroke(_) => 2,
+        _ => 3,
+    }
+}
+
+/// Whether mesh c has normals (tubes and ribbons).
+fn has_normals(job: &GeometryJob, c: usize) -> bool {
+    dim(job, c) == 3
+}
+
+/// Checks that the job can be written as `format`: NPZ holds one array of points, so strokes
+/// (2-D) and tubes or ribbons (3-D) cannot share it.
+///
+/// # Errors
+/// The first curve whose dimension differs from curve 0's, naming "geometry".
+pub fn check_format(job: &GeometryJob, format: MeshFormat) -> Result<(), InputError> {
+    if format != MeshFormat::Npz {
+        return Ok(());
+    }
+    let first = dim(job, 0);
+    match (0..job.len()).find(|&c| dim(job, c) != first) {
+        None => Ok(()),
+        Some(c) => Err(InputError::field(
+            "geometry",
+            format!(
+                "a {} makes {}-D points but curve 0's {} makes {first}-D: npz output needs one \
+                 dimension for all curves",
+                job.geometry(c).name(),
+                dim(job, c),
+                job.geometry(0).name()
+            ),
+        )
+        .in_curve(c)),
+    }
+}
+
+/// One group's meshes, checked: every value finite (JSON and CSV have no infinities; a
+/// width that overflows f64 is the input's fault), naming the curve and the vertex.
+fn evaluate(job: &GeometryJob, group: Range<usize>) -> Result<Meshes, OutputError> {
+    let first = group.start;
+    let meshes = job.evaluate_cpu_group(group);
+    let finite = |plane: &[f64]| plane.iter().fold(true, |ok, v| ok & v.is_finite());
+    if finite(&meshes.points) && finite(&meshes.normals) {
+        return Ok(meshes);
+    }
+    for c in 0..meshes.vertex_offsets.len() - 1 {
+        let vertices = vertex_range(&meshes, c);
+        for plane in [&meshes.points, &meshes.normals] {
+            let values = &plane[3 * vertices.start..3 * vertices.end];
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(OutputError::MeshNonFinite {
+                    curve: first + c,
+                    vertex: i / 3,
+                });
+            }
+        }
+    }
+    unreachable!("a value that is not finite lies in some mesh")
+}
+
+fn vertex_range(meshes: &Meshes, c: usize) -> Range<usize> {
+    meshes.vertex_offsets[c] as usize..meshes.vertex_offsets[c + 1] as usize
+}
+
+fn triangle_range(meshes: &Meshes, c: usize) -> Range<usize> {
+    meshes.triangle_offsets[c] as usize..meshes.triangle_offsets[c + 1] as usize
+}
+
+/// Mesh c of a group as the mesh files take it (`curve` its index in the document).
+fn mesh_of<'a>(job: &GeometryJob, meshes: &'a Meshes, c: usize, curve: usize) -> Mesh<'a, f64> {
+    let (v, f) = (vertex_range(meshes, c), triangle_range(meshes, c));
+    let normals = &meshes.normals[3 * v.start..3 * v.end];
+    Mesh {
+        name: format!("curve-{curve}"),
+        positions: &meshes.points[3 * v.start..3 * v.end],
+        normals: has_normals(job, curve).then_some(normals),
+        triangles: &meshes.triangles[f],
+    }
+}
+
+/// Writes every mesh of `job` as `format`, group by group.
+///
+/// # Errors
+/// An I/O error of `out`, or a value that is not finite.
+pub fn write(
+    job: &GeometryJob,
+    format: MeshFormat,
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
+    // As surfaces': 2^20 vertices a group (7 f64 each, about 60 MB), or SPLINEGPU_CHUNK_SAMPLES.
+    let groups = job.groups(group_vertices() as u64);
+    match format {
+        MeshFormat::Csv => write_csv(job, &groups, out),
+        MeshFormat::Json => write_json(job, &groups, out),
+        MeshFormat::Npz => write_npz(job, &groups, out),
+        MeshFormat::Obj => {
+            let mut obj = ObjWriter::new(out, "geometry: one object per curve")?;
+            for group in groups {
+                let meshes = evaluate(job, group.clone())?;
+                for (c, curve) in group.enumerate() {
+                    obj.mesh(&mesh_of(job, &meshes, c, curve))?;
+                }
+            }
+            Ok(())
+        }
+        MeshFormat::Glb => {
+            let meshes = evaluate(job, 0..job.len())?;
+            let all: Vec<Mesh<'_, f64>> = (0..job.len())
+                .map(|c| mesh_of(job, &meshes, c, c))
+                .collect();
+            Ok(write_glb(&all, out)?)
+        }
+    }
+}
+
+/// A point's first `dim` coordinates as CSV fields or JSON numbers.
+fn put(line: &mut Vec<u8>, number: &mut zmij::Buffer, values: &[f64], separator: &[u8]) {
+    for (k, x) in values.iter().enumerate() {
+        if k > 0 {
+            line.extend_from_slice(separator);
+        }
+        line.extend_from_slice(number.format(*x).as_bytes());
+    }
+}
+
+fn write_csv(
+    job: &GeometryJob,
+    groups: &[Range<usize>],
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
+    let width = (0..job.len()).map(|c| dim(job, c)).max().unwrap_or(3);
+    let normals = (0..job.len()).any(|c| has_normals(job, c));
+    let mut header = String::from("curve,vertex,t");
+    for k in 0..width {
+        header.push_str(&format!(",x{k}"));
+    }
+    if normals {
+        header.push_str(",nx,ny,nz");
+    }
+    writeln!(out, "{header}")?;
+    let mut number = zmij::Buffer::new();
+    let mut line = Vec::new();
+    for group in groups {
+        let meshes = evaluate(job, group.clone())?;
+        for (c, curve) in group.clone().enumerate() {
+            let d = dim(job, curve);
+            for (v, vertex) in vertex_range(&meshes, c).enumerate() {
+                line.clear();
+                write!(line, "{curve},{v},")?;
+                line.extend_from_slice(number.format(meshes.t[vertex]).as_bytes());
+                line.push(b',');
+                put(
+                    &mut line,
+                    &mut number,
+                    &meshes.points[3 * vertex..3 * vertex + d],
+                    b",",
+                );
+                line.extend(std::iter::repeat_n(b',', width - d));
+                if normals {
+                    line.push(b',');
+                    if has_normals(job, curve) {
+                        let n = &meshes.normals[3 * vertex..3 * vertex + 3];
+                        put(&mut line, &mut number, n, b",");
+                    } else {
+                        line.extend_from_slice(b",,");
+                    }
+                }
+                line.push(b'\n');
+                out.write_all(&line)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn write_json(
+    job: &GeometryJob,
+    groups: &[Range<usize>],
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
+    let mut number = zmij::Buffer::new();
+    let mut text = Vec::new();
+    let rows = |text: &mut Vec<u8>, number: &mut zmij::Buffer, plane: &[f64], d: usize| {
+        text.push(b'[');
+        for (i, p) in plane.chunks_exact(3).enumerate() {
+            text.extend_from_slice(if i > 0 { b", [" } else { b"[" });
+            put(text, number, &p[..d], b", ");
+            text.push(b']');
+        }
+        text.push(b']');
+    };
+    out.write_all(b"{\"meshes\": [")?;
+    for group in groups {
+        let meshes = evaluate(job, group.clone())?;
+        for (c, curve) in group.clone().enumerate() {
+            let (v, f) = (vertex_range(&meshes, c), triangle_range(&meshes, c));
+            text.clear();
+            text.extend_from_slice(if curve > 0 { b",\n" } else { b"\n" });
+            text.extend_from_slice(b"{\"points\": ");
+            rows(
+                &mut text,
+                &mut number,
+                &meshes.points[3 * v.start..3 * v.end],
+                dim(job, curve),
+            );
+            text.extend_from_slice(b", \"t\": [");
+            put(&mut text, &mut number, &meshes.t[v.clone()], b", ");
+            text.push(b']');
+            if has_normals(job, curve) {
+                text.extend_from_slice(b", \"normals\": ");
+                rows(
+                    &mut text,
+                    &mut number,
+                    &meshes.normals[3 * v.start..3 * v.end],
+                    3,
+                );
+            }
+            text.extend_from_slice(b", \"triangles\": [");
+            for (i, [a, b, c]) in meshes.triangles[f].iter().enumerate() {
+                write!(text, "{}[{a}, {b}, {c}]", if i > 0 { ", " } else { "" })?;
+            }
+            text.extend_from_slice(b"]}");
+            out.write_all(&text)?;
+        }
+    }
+    out.write_all(b"\n]}\n")?;
+    Ok(())
+}
+
+/// A temporary file an NPZ array waits in for its turn.
+type Waiting = io::BufWriter<std::fs::File>;
+
+fn write_npz(
+    job: &GeometryJob,
+    groups: &[Range<usize>],
+    out: &mut dyn Write,
+) -> Result<(), OutputError> {
+    let mut npz = NpzWriter::new(out);
+    let d = dim(job, 0);
+    let normals = has_normals(job, 0);
+    let (vertices, triangles) = (job.vertex_count(), job.triangle_count());
+    // "t", "normals" and "triangles" wait in files while "points" is written.
+    let mut waiting: Vec<Waiting> = (0..3)
+        .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
+        .collect::<Result<_, _>>()?;
+    npz.begin("points", Dtype::F64, &[vertices, d as u64])?;
+    for group in groups {
+        let first = job.vertex_offsets()[group.start];
+        let meshes = evaluate(job, group.clone())?;
+        if d == 3 {
+            npz.write(bytemuck::cast_slice(&meshes.points))?;
+        } else {
+            let flat: Vec<f64> = meshes
+                .points
+                .chunks_exact(3)
+                .flat_map(|p| [p[0], p[1]])
+                .collect();
+            npz.write(bytemuck::cast_slice(&flat))?;
+        }
+        waiting[0].write_all(bytemuck::cast_slice(&meshes.t))?;
+        if normals {
+            waiting[1].write_all(bytemuck::cast_slice(&meshes.normals))?;
+        }
+        for c in 0..group.len() {
+            let base = (first + meshes.vertex_offsets[c]) as i64;
+            let shifted: Vec<i64> = meshes.triangles[triangle_range(&meshes, c)]
+                .iter()
+                .flatten()
+                .map(|&i| i64::from(i) + base)
+                .collect();
+            waiting[2].write_all(bytemuck::cast_slice(&shifted))?;
+        }
+    }
+    npz.end()?;
+    let [t, n, tri]: [Waiting; 3] = waiting.try_into().expect("three waiting arrays");
+    npz.array_from("t", Dtype::F64, &[vertices], t)?;
+    if normals {
+        npz.array_from("normals", Dtype::F64, &[vertices, 3], n)?;
+    }
+    npz.array_from("triangles", Dtype::I64, &[triangles, 3], tri)?;
+    let count = job.len() as u64 + 1;
+    let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };
+    npz.begin("curve_offsets", Dtype::I64, &[count])?;
+    npz.write(bytemuck::cast_slice(&signed(job.vertex_offsets())))?;
+    npz.end()?;
+    npz.begin("triangle_offsets", Dtype::I64, &[count])?;
+    npz.write(bytemuck::cast_slice(&signed(job.triangle_offsets())))?;
+    npz.end()?;
+    npz.finish()?;
+    Ok(())
+}
