@@ -92,7 +92,9 @@ impl<'w> ObjWriter<'w> {
 }
 
 /// glTF holds positions and normals as f32 and indices as u32: one buffer, a view per array,
-/// a mesh (one triangle primitive) and a node per mesh, one scene.
+/// a mesh (one triangle primitive) and a node per mesh, one scene. A mesh with no vertex (a
+/// dash pattern may leave a curve nothing) is left out: glTF's accessors hold at least one
+/// element.
 ///
 /// # Errors
 /// Any I/O error of `out` (a closed pipe keeps its kind, `BrokenPipe`), or a file over the
@@ -145,7 +147,7 @@ pub fn write_glb<F: Copy + Into<f64>>(
             sparse: None,
         })
     };
-    for mesh in meshes {
+    for mesh in meshes.iter().filter(|m| m.vertices() > 0) {
         let positions: Vec<f32> = mesh.positions.iter().map(|&x| x.into() as f32).collect();
         let (mut low, mut high) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for p in positions.chunks_exact(3) {

@@ -8,8 +8,9 @@ use splinegpu::kinds::{KindFields, kind_fields, not_a_field};
 use splinegpu::{Curve, CurveKind, Derivatives, EvalJob, InputError, PerPoint, Points};
 use splinegpu::{SamplePlan, Sampling, SegmentTable};
 
-use crate::document::geometry::{GeometrySpec, parse_geometry};
+use crate::document::geometry::parse_geometry;
 use crate::document::values::{describe, number, number_array, parse_ends, parse_matrix};
+use splinegpu::geometry::Geometry;
 
 /// A curve object as read: its fields (keys in order), its points and its sampling, checked
 /// and fitted by [`fit_curve`].
@@ -27,14 +28,14 @@ pub(crate) struct ParsedCurve {
     pub(crate) curve: Curve,
     pub(crate) table: SegmentTable,
     pub(crate) sampling: Option<Sampling>,
-    pub(crate) geometry: Option<GeometrySpec>,
+    pub(crate) geometry: Option<Geometry>,
 }
 
 /// A curve object's fields made into its curve, fitted, and its "geometry" read.
 pub(crate) struct FittedCurve {
     pub(crate) curve: Curve,
     pub(crate) table: SegmentTable,
-    pub(crate) geometry: Option<GeometrySpec>,
+    pub(crate) geometry: Option<Geometry>,
 }
 
 /// A curve document's job: each curve's plan from its own sampling or the document's

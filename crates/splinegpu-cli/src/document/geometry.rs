@@ -2,25 +2,17 @@
 //! into the library's [`Geometry`], every field's error naming the field and its value, and
 //! the curves' meshes planned into a [`GeometryJob`].
 //!
-//! What this build does not make yet (dashes, tolerance cross-sections) is read and checked
-//! like the rest, then reported as [`Unsupported`]: the command line exits 1 for it, after
-//! every rule of the document has been checked (exit 2 comes first).
+//! What this build does not make yet (tolerance cross-sections) is read and checked like the
+//! rest, then reported as [`Unsupported`]: the command line exits 1 for it, after every rule
+//! of the document has been checked (exit 2 comes first).
 
 use serde_json::{Map, Value};
 
-use splinegpu::geometry::{Cap, Geometry, GeometryJob, Join, Ribbon, Stroke, Tube, Width};
+use splinegpu::geometry::{Cap, Dash, Geometry, GeometryJob, Join, Ribbon, Stroke, Tube, Width};
 use splinegpu::{Curve, Derivatives, InputError, Sampling};
 
 use crate::document::curves::{ParsedCurve, sampling_spec};
 use crate::document::values::{describe, number, number_array};
-
-/// A geometry object as read: the mesh to make and its dash pattern, if any.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct GeometrySpec {
-    pub(crate) geometry: Geometry,
-    /// (on and off lengths, offset): checked, not made yet.
-    pub(crate) dash: Option<(Vec<f64>, f64)>,
-}
 
 /// A feature of the contract that this build does not have yet, named for the message
 /// "not supported yet: ...".
@@ -54,7 +46,7 @@ const RIBBON_FIELDS: [&str; 4] = ["width", "up", "dash", "dash_offset"];
 ///
 /// # Errors
 /// The rule broken, naming the field ("geometry" or the inner key) and the value.
-pub(crate) fn parse_geometry(value: &Value) -> Result<GeometrySpec, InputError> {
+pub(crate) fn parse_geometry(value: &Value) -> Result<Geometry, InputError> {
     let wrong = |why: String| InputError::field("geometry", why);
     let object = value.as_object().ok_or_else(|| {
         wrong(format!(
@@ -94,23 +86,21 @@ pub(crate) fn parse_geometry(value: &Value) -> Result<GeometrySpec, InputError> 
             ),
         ));
     }
-    let geometry = match key.as_str() {
+    Ok(match key.as_str() {
         "stroke" => Geometry::Stroke(stroke(fields)?),
         "tube" => Geometry::Tube(tube(fields)?),
         _ => Geometry::Ribbon(Ribbon {
             width: width(fields, "width")?,
             up: up(fields)?,
+            dash: dash(fields)?,
         }),
-    };
-    Ok(GeometrySpec {
-        geometry,
-        dash: dash(fields)?,
     })
 }
 
 fn stroke(fields: &Map<String, Value>) -> Result<Stroke, InputError> {
     let mut stroke = Stroke {
         width: width(fields, "width")?,
+        dash: dash(fields)?,
         ..Stroke::default()
     };
     if let Some(v) = fields.get("cap") {
@@ -142,6 +132,7 @@ fn tube(fields: &Map<String, Value>) -> Result<Tube, InputError> {
     let mut tube = Tube {
         radius: width(fields, "radius")?,
         up: up(fields)?,
+        dash: dash(fields)?,
         ..Tube::default()
     };
     if let Some(v) = fields.get("sides") {
@@ -188,45 +179,24 @@ fn up(fields: &Map<String, Value>) -> Result<Option<[f64; 3]>, InputError> {
     }
 }
 
-/// "dash" and "dash_offset": an even number of lengths >= 0 with a sum > 0, and a finite
-/// offset (0 by default); an offset without a pattern is refused.
-fn dash(fields: &Map<String, Value>) -> Result<Option<(Vec<f64>, f64)>, InputError> {
+/// "dash" and "dash_offset": an array of numbers and a number (the pattern's rules are the
+/// library's to check); an offset without a pattern is refused.
+fn dash(fields: &Map<String, Value>) -> Result<Option<Dash>, InputError> {
     let offset = fields
         .get("dash_offset")
         .map(|v| number(v, "dash_offset"))
         .transpose()?;
-    let Some(v) = fields.get("dash") else {
-        return match offset {
-            Some(_) => Err(InputError::field(
-                "dash_offset",
-                "needs a \"dash\" pattern beside it",
-            )),
-            None => Ok(None),
-        };
-    };
-    let lengths = number_array(v, "dash")?;
-    if lengths.len() % 2 == 1 {
-        return Err(InputError::field(
-            "dash",
-            format!(
-                "must hold an even number of lengths (on, off, ...), got {}",
-                lengths.len()
-            ),
-        ));
+    match (fields.get("dash"), offset) {
+        (None, None) => Ok(None),
+        (None, Some(_)) => Err(InputError::field(
+            "dash_offset",
+            "needs a \"dash\" pattern beside it",
+        )),
+        (Some(v), offset) => Ok(Some(Dash {
+            lengths: number_array(v, "dash")?,
+            offset: offset.unwrap_or(0.0),
+        })),
     }
-    if let Some((i, x)) = lengths.iter().enumerate().find(|(_, x)| **x < 0.0) {
-        return Err(InputError::field(
-            "dash",
-            format!("lengths must be >= 0: dash[{i}] = {x}"),
-        ));
-    }
-    if lengths.iter().sum::<f64>() <= 0.0 || lengths.is_empty() {
-        return Err(InputError::field(
-            "dash",
-            format!("lengths must have a sum > 0, got {}", describe(v)),
-        ));
-    }
-    Ok(Some((lengths, offset.unwrap_or(0.0))))
 }
 
 /// A curves document whose curves carry geometry (their own, or `document`'s): every curve's
@@ -263,7 +233,7 @@ pub(crate) fn geometry_job(
     let mut unsupported = None;
     let mut meshes: Vec<(Curve, Geometry, Sampling)> = Vec::with_capacity(curves.len());
     for (i, curve) in curves.into_iter().enumerate() {
-        let spec = curve.geometry.or_else(|| document.clone()).ok_or_else(|| {
+        let geometry = curve.geometry.or_else(|| document.clone()).ok_or_else(|| {
             InputError::field(
                 "geometry",
                 "is missing: when the document or any curve has geometry, every curve needs one",
@@ -271,20 +241,15 @@ pub(crate) fn geometry_job(
             .in_curve(i)
         })?;
         let mut sampling = curve.sampling.unwrap_or_else(|| sampling.clone());
-        let needs = match (&spec.dash, &sampling) {
-            (Some(_), _) => Some("dashes (\"dash\")"),
-            (None, Sampling::Tolerance(_)) => Some("tolerance cross-sections with geometry"),
-            _ => None,
-        };
-        if let Some(needs) = needs {
-            unsupported.get_or_insert_with(|| Unsupported(format!("curve {i}: {needs}")));
+        if let Sampling::Tolerance(_) = sampling {
+            unsupported.get_or_insert_with(|| {
+                Unsupported(format!("curve {i}: tolerance cross-sections with geometry"))
+            });
             // Everything else the mesh asks is still checked: planned with a sampling it
             // takes, in its place among the others.
-            if matches!(sampling, Sampling::Tolerance(_)) {
-                sampling = Sampling::PerSegment(1);
-            }
+            sampling = Sampling::PerSegment(1);
         }
-        meshes.push((curve.curve, spec.geometry, sampling));
+        meshes.push((curve.curve, geometry, sampling));
     }
     let mut job = GeometryJob::new();
     // Errors are placed at the curve's index in the job, which is the document's.

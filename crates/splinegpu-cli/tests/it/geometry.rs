@@ -90,10 +90,12 @@ fn library_meshes() -> Meshes {
         sides: 6,
         up: None,
         caps: true,
+        dash: None,
     });
     let ribbon_geometry = Geometry::Ribbon(Ribbon {
         width: Width::PerPoint(vec![0.1, 0.2, 0.3, 0.2]),
         up: Some([0.0, 0.0, 1.0]),
+        dash: None,
     });
     job.push(&tube, &tube_geometry, &sampling).unwrap();
     job.push(&ribbon, &ribbon_geometry, &sampling).unwrap();
@@ -424,11 +426,11 @@ fn bad_geometry_exits_2_naming_the_curve_the_field_and_the_value() {
         ),
         (
             tube(r#", "dash": [1, -1]"#),
-            "curve 1: \"dash\" lengths must be >= 0: dash[1] = -1",
+            "curve 1: \"dash\" lengths must be finite and >= 0: dash[1] = -1",
         ),
         (
             tube(r#", "dash": [0, 0]"#),
-            "curve 1: \"dash\" lengths must have a sum > 0, got [0,0]",
+            "curve 1: \"dash\" lengths must have a finite sum > 0, got 0",
         ),
         (
             tube(r#", "dash_offset": 1"#),
@@ -519,32 +521,20 @@ fn strokes_and_tubes_share_every_format_but_npz() {
 /// but only once the whole document is valid (a later curve's bad value is still exit 2).
 #[test]
 fn what_is_not_built_yet_exits_1_after_the_input_is_checked() {
-    let dashed = |more: &str| {
+    let tolerance = |more: &str| {
         doc(
-            "",
-            &format!(r#"{LINE3}, "geometry": {{"tube": {{"radius": 0.1, "dash": [1, 1]{more}}}}}"#),
+            r#""sampling": {"tolerance": 0.001},"#,
+            &format!(r#"{LINE3}, "geometry": {{"ribbon": {{"width": 0.1{more}}}}}"#),
         )
     };
-    let tolerance = doc(r#""sampling": {"tolerance": 0.001},"#, LINE3);
-    let tolerance = tolerance.replace(
-        &format!("{{{LINE3}}}"),
-        &format!(r#"{{{LINE3}, "geometry": {{"ribbon": {{"width": 0.1}}}}}}"#),
-    );
     let cases = [
-        (dashed(""), "cpu", 1, "not supported yet: curve 1: dashes"),
         (
-            dashed(r#", "dash_offset": 0.5"#),
-            "cpu",
-            1,
-            "not supported yet: curve 1: dashes",
-        ),
-        (dashed(r#", "sides": 2"#), "cpu", 2, "curve 1: \"sides\""),
-        (
-            tolerance,
+            tolerance(""),
             "cpu",
             1,
             "not supported yet: curve 0: tolerance cross-sections",
         ),
+        (tolerance(r#", "up": [1, 2]"#), "cpu", 2, "curve 1: \"up\""),
         (
             document(),
             "gpu",
@@ -559,4 +549,43 @@ fn what_is_not_built_yet_exits_1_after_the_input_is_checked() {
         assert!(stderr.contains(want), "{doc}: {stderr}");
         assert!(!dir.path().join("out.json").exists());
     }
+}
+
+/// A dashed tube through the command line is the library's dashed mesh (its pattern and
+/// offset read from "dash" and "dash_offset").
+#[test]
+fn dashes_are_read_into_the_library_pattern() {
+    let text = format!(
+        r#"{{"sampling": {{"arc_length": 33}}, "curves": [{{"kind": "catmull-rom",
+            "points": {}, "geometry": {{"tube": {{"radius": 0.1, "caps": true,
+            "dash": [0.5, 0.25], "dash_offset": 0.1}}}}}}]}}"#,
+        serde_json::to_string(&TUBE_POINTS).unwrap()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (status, stderr) = tessellate(dir.path(), &text, "out.json", "cpu");
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out.json")).unwrap())
+            .unwrap();
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Control,
+    };
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(0.1),
+        caps: true,
+        dash: Some(splinegpu::geometry::Dash {
+            lengths: vec![0.5, 0.25],
+            offset: 0.1,
+        }),
+        ..Tube::default()
+    });
+    let mut job = GeometryJob::new();
+    job.push(&curve(kind, &TUBE_POINTS), &tube, &Sampling::ArcLength(33))
+        .unwrap();
+    let want = job.evaluate_cpu();
+    let mesh = &json["meshes"][0];
+    assert_eq!(numbers(&mesh["points"]), want.points);
+    assert_eq!(numbers(&mesh["t"]), want.t);
+    assert!(want.triangles.len() > 100);
 }

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::frames::{self, Vec3};
 use super::mesh::{self, MeshOut, Section, Shape};
 use super::stroke::StrokePlan;
-use super::{Geometry, widen};
+use super::{Cap, Geometry, dash, widen};
 use crate::conventions::Ends;
 use crate::curve::{Curve, CurveKind};
 use crate::error::InputError;
@@ -16,7 +16,6 @@ use crate::fit::interp::EndCondition;
 use crate::job::Derivatives;
 use crate::job::samples::SampleFloat;
 use crate::memory;
-use crate::sampling::arc_length::DEFAULT_ARCLEN_ACCURACY;
 use crate::sampling::{SampleLoc, SamplePlan, Sampling};
 use crate::segment::SegmentTable;
 
@@ -40,14 +39,19 @@ struct Planned {
 enum Body {
     /// A tube or ribbon swept along the curve's frames.
     Swept {
+        /// Where the frames are carried: the cross-sections in order of t (a dashed curve's:
+        /// the undashed curve's and every dash's).
         locs: Vec<SampleLoc>,
         /// The arc length to each cross-section (closed curves, whose frames are closed up).
         lengths: Option<Vec<f64>>,
         shape: Shape,
         n0: Vec3,
+        /// A dashed curve's pieces, each the indices of its cross-sections in `locs`; `None`:
+        /// the whole curve is one piece (closed when the curve is).
+        dashes: Option<Vec<Vec<usize>>>,
     },
-    /// A 2-D stroke.
-    Stroke(StrokePlan),
+    /// A 2-D stroke: one piece, or one a dash, each planned as an open stroke of its own.
+    Stroke(Vec<StrokePlan>),
 }
 
 /// Many curves' meshes: each curve's geometry and sampling checked and its counts known when
@@ -474,21 +478,50 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
     }
     let locs: Vec<SampleLoc> = (0..plan.len()).map(|i| plan.loc(i)).collect();
     let closed = is_closed(curve.kind());
+    let pieces = match geometry.dash() {
+        None => None,
+        Some(pattern) => {
+            pattern.check()?;
+            let map = dash::ArcMap::new(&position);
+            let mut intervals = pattern.intervals(map.length())?;
+            // A dash of length 0 makes a stroke's cap shapes and nothing else.
+            let flat_caps = matches!(geometry, Geometry::Stroke(s) if s.cap != Cap::Butt);
+            if !flat_caps {
+                intervals.retain(|(a, b)| b > a);
+            }
+            let pieces = dash::places(&map, &intervals, &locs, sampling);
+            let sections: usize = pieces.iter().map(Vec::len).sum();
+            if sections + locs.len() > MAX_SECTIONS {
+                return Err(InputError::field(
+                    "dash",
+                    format!("places {sections} cross-sections in its dashes, more than 2^20"),
+                ));
+            }
+            Some(pieces)
+        }
+    };
     let Some(shape) = shape else {
         let Geometry::Stroke(style) = geometry else {
             unreachable!("a shape for every swept geometry")
         };
-        let stroke = StrokePlan::new(&table, &locs, style, closed)?;
+        let strokes = match &pieces {
+            None => vec![StrokePlan::new(&table, &locs, style, closed)?],
+            Some(pieces) => pieces
+                .iter()
+                .map(|piece| StrokePlan::new(&table, piece, style, false))
+                .collect::<Result<_, _>>()?,
+        };
+        let vertices = strokes.iter().map(|s| s.vertices).sum();
+        let triangles = strokes.iter().map(|s| s.triangles).sum();
         return Ok(Planned {
-            vertices: stroke.vertices,
-            triangles: stroke.triangles,
+            vertices,
+            triangles,
             geometry: geometry.clone(),
             sampling: sampling.clone(),
             table,
-            body: Body::Stroke(stroke),
+            body: Body::Stroke(strokes),
         });
     };
-    let lengths = closed.then(|| arc_lengths(&position, &locs));
     let first = section(&table, locs[0]);
     let t0 = frames::unit_tangent(first.d1, first.d2, false).unwrap_or_else(|| {
         // No direction at the start: the first cross-section that has one lends it.
@@ -502,7 +535,23 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         frames::tangents(&d1, &d2)[0]
     });
     let n0 = frames::first_normal(t0, geometry.up())?;
-    let (vertices, triangles) = mesh::counts(shape, locs.len() as u64, closed);
+    let (locs, dashes, vertices, triangles) = match pieces {
+        None => {
+            let (vertices, triangles) = mesh::counts(shape, locs.len() as u64, closed);
+            (locs, None, vertices, triangles)
+        }
+        Some(pieces) => {
+            let (mut vertices, mut triangles) = (0, 0);
+            for piece in &pieces {
+                let (v, f) = mesh::counts(shape, piece.len() as u64, false);
+                vertices += v;
+                triangles += f;
+            }
+            let (merged, indices) = merge_by_t(locs, pieces);
+            (merged, Some(indices), vertices, triangles)
+        }
+    };
+    let lengths = closed.then(|| arc_lengths(&position, &locs));
     Ok(Planned {
         table,
         geometry: geometry.clone(),
@@ -512,24 +561,44 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             lengths,
             shape,
             n0,
+            dashes,
         },
         vertices,
         triangles,
     })
 }
 
+/// The undashed curve's places and every dash's, in one list in order of t (the frames are
+/// carried through all of them), and each dash's places as indices into it.
+fn merge_by_t(
+    undashed: Vec<SampleLoc>,
+    pieces: Vec<Vec<SampleLoc>>,
+) -> (Vec<SampleLoc>, Vec<Vec<usize>>) {
+    let mut tagged: Vec<(SampleLoc, Option<(usize, usize)>)> =
+        undashed.into_iter().map(|loc| (loc, None)).collect();
+    for (d, piece) in pieces.iter().enumerate() {
+        tagged.extend(
+            piece
+                .iter()
+                .enumerate()
+                .map(|(i, &loc)| (loc, Some((d, i)))),
+        );
+    }
+    // Stable: at equal t the undashed place comes first, a dash's in their own order.
+    tagged.sort_by(|a, b| a.0.t.total_cmp(&b.0.t));
+    let mut indices: Vec<Vec<usize>> = pieces.iter().map(|p| vec![0; p.len()]).collect();
+    for (k, (_, tag)) in tagged.iter().enumerate() {
+        if let Some((d, i)) = tag {
+            indices[*d][*i] = k;
+        }
+    }
+    (tagged.into_iter().map(|(loc, _)| loc).collect(), indices)
+}
+
 /// The arc length from the curve's start to each place.
 fn arc_lengths(position: &SegmentTable, locs: &[SampleLoc]) -> Vec<f64> {
-    let tables = position.arc_tables(DEFAULT_ARCLEN_ACCURACY, false);
-    let mut before = Vec::with_capacity(tables.len() + 1);
-    let mut sum = 0.0;
-    for table in &tables {
-        before.push(sum);
-        sum += table.length();
-    }
-    locs.iter()
-        .map(|loc| before[loc.segment] + tables[loc.segment].length_to(loc.u))
-        .collect()
+    let map = dash::ArcMap::new(position);
+    locs.iter().map(|&loc| map.length_to(loc)).collect()
 }
 
 /// The widened table at one place: position, derivatives and width (its frame not yet set).
@@ -554,14 +623,22 @@ fn section(table: &SegmentTable, loc: SampleLoc) -> Section {
 
 /// Makes one curve's mesh into `out`.
 fn make<F: SampleFloat>(planned: &Planned, out: &mut MeshOut<'_, F>) {
-    let (locs, lengths, shape, n0) = match &planned.body {
-        Body::Stroke(stroke) => return stroke.write(&planned.table, out),
+    let (locs, lengths, shape, n0, dashes) = match &planned.body {
+        Body::Stroke(strokes) => {
+            let mut pieces = out.pieces();
+            for stroke in strokes {
+                let (v, f) = (stroke.vertices as usize, stroke.triangles as usize);
+                pieces.next_piece(v, f, |piece| stroke.write(&planned.table, piece));
+            }
+            return;
+        }
         Body::Swept {
             locs,
             lengths,
             shape,
             n0,
-        } => (locs, lengths, *shape, *n0),
+            dashes,
+        } => (locs, lengths, *shape, *n0, dashes),
     };
     let mut sections: Vec<Section> = locs
         .iter()
@@ -579,5 +656,15 @@ fn make<F: SampleFloat>(planned: &Planned, out: &mut MeshOut<'_, F>) {
         section.tangent = tangent;
         section.normal = normal;
     }
-    mesh::write(shape, &sections, lengths.is_some(), out);
+    let Some(dashes) = dashes else {
+        return mesh::write(shape, &sections, lengths.is_some(), out);
+    };
+    let mut pieces = out.pieces();
+    for dash in dashes {
+        let own: Vec<Section> = dash.iter().map(|&k| sections[k]).collect();
+        let (v, f) = mesh::counts(shape, own.len() as u64, false);
+        pieces.next_piece(v as usize, f as usize, |piece| {
+            mesh::write(shape, &own, false, piece);
+        });
+    }
 }

@@ -100,6 +100,66 @@ impl<F: SampleFloat> MeshOut<'_, F> {
     }
 }
 
+impl<F> MeshOut<'_, F> {
+    /// This output written piece after piece (a dashed curve's dashes), each piece's
+    /// triangles indexing the whole mesh's vertices.
+    pub(crate) fn pieces(&mut self) -> Pieces<'_, F> {
+        Pieces {
+            rest: MeshOut {
+                points: &mut *self.points,
+                normals: &mut *self.normals,
+                t: &mut *self.t,
+                triangles: &mut *self.triangles,
+            },
+            base: 0,
+        }
+    }
+}
+
+/// What is left of a [`MeshOut`] after the pieces written so far, and where the next piece's
+/// vertices start.
+pub(crate) struct Pieces<'a, F> {
+    rest: MeshOut<'a, F>,
+    base: u32,
+}
+
+impl<F> Pieces<'_, F> {
+    /// The next `vertices` and `triangles` of the output, written by `write` as a mesh of its
+    /// own (indices from 0) and then moved to their place in the whole.
+    pub(crate) fn next_piece(
+        &mut self,
+        vertices: usize,
+        triangles: usize,
+        write: impl FnOnce(&mut MeshOut<'_, F>),
+    ) {
+        let (points, rest_points) =
+            std::mem::take(&mut self.rest.points).split_at_mut(3 * vertices);
+        let (normals, rest_normals) =
+            std::mem::take(&mut self.rest.normals).split_at_mut(3 * vertices);
+        let (t, rest_t) = std::mem::take(&mut self.rest.t).split_at_mut(vertices);
+        let (tri, rest_tri) = std::mem::take(&mut self.rest.triangles).split_at_mut(triangles);
+        let mut piece = MeshOut {
+            points,
+            normals,
+            t,
+            triangles: tri,
+        };
+        write(&mut piece);
+        for triangle in piece.triangles.iter_mut() {
+            for i in triangle {
+                *i += self.base;
+            }
+        }
+        self.rest = MeshOut {
+            points: rest_points,
+            normals: rest_normals,
+            t: rest_t,
+            triangles: rest_tri,
+        };
+        self.base += index(vertices as u64);
+    }
+}
+
 fn index(v: u64) -> u32 {
     u32::try_from(v).expect("a mesh's vertices were counted within u32 when it was pushed")
 }

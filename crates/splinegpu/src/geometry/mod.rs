@@ -10,8 +10,8 @@
 //! The counts of a mesh (vertices, triangles) are decided on the host when the curve is pushed
 //! into a [`GeometryJob`], before any work: a renderer sizes its buffers from them.
 //!
-//! Built so far: strokes (joins and caps), tubes and ribbons, per_segment and arc_length
-//! cross-sections, on the CPU in f64. Dashes, the certified tolerance sampling and the GPU
+//! Built so far: strokes (joins and caps), tubes and ribbons, dashes, per_segment and
+//! arc_length cross-sections, on the CPU in f64. The certified tolerance sampling and the GPU
 //! kernel are the stages to come (issue 45).
 //!
 //! ```
@@ -32,12 +32,14 @@
 //! assert_eq!(meshes.points.len(), 3 * 64 * 8);
 //! ```
 
+mod dash;
 pub mod frames;
 mod job;
 pub mod mesh;
 mod stroke;
 mod widen;
 
+pub use dash::Dash;
 pub use job::{GeometryJob, MAX_SECTIONS, MeshPlanes, Meshes};
 pub use stroke::{Cap, Join, Stroke};
 
@@ -71,6 +73,8 @@ pub struct Tube {
     pub up: Option<[f64; 3]>,
     /// Discs closing an open tube's ends (a vertex at each end and a fan of `sides` triangles).
     pub caps: bool,
+    /// A dash pattern: each on interval an open tube of its own (capped with `caps`).
+    pub dash: Option<Dash>,
 }
 
 impl Default for Tube {
@@ -80,6 +84,7 @@ impl Default for Tube {
             sides: 8,
             up: None,
             caps: false,
+            dash: None,
         }
     }
 }
@@ -92,6 +97,8 @@ pub struct Ribbon {
     pub width: Width,
     /// As [`Tube::up`].
     pub up: Option<[f64; 3]>,
+    /// A dash pattern: each on interval an open ribbon of its own.
+    pub dash: Option<Dash>,
 }
 
 /// What to make of a curve.
@@ -122,6 +129,15 @@ impl Geometry {
             Geometry::Stroke(stroke) => (&stroke.width, "width"),
             Geometry::Tube(tube) => (&tube.radius, "radius"),
             Geometry::Ribbon(ribbon) => (&ribbon.width, "width"),
+        }
+    }
+
+    /// The dash pattern, if any.
+    pub(crate) fn dash(&self) -> Option<&Dash> {
+        match self {
+            Geometry::Stroke(stroke) => stroke.dash.as_ref(),
+            Geometry::Tube(tube) => tube.dash.as_ref(),
+            Geometry::Ribbon(ribbon) => ribbon.dash.as_ref(),
         }
     }
 

@@ -61,6 +61,8 @@ pub struct Stroke {
     pub miter_limit: f64,
     /// Chords per full turn of round joins and caps (>= 4; the contract's 16).
     pub sides: u32,
+    /// A dash pattern: each on interval an open stroke of its own, capped at both ends.
+    pub dash: Option<super::Dash>,
 }
 
 impl Default for Stroke {
@@ -71,6 +73,7 @@ impl Default for Stroke {
             join: Join::Miter,
             miter_limit: 4.0,
             sides: 16,
+            dash: None,
         }
     }
 }
@@ -147,10 +150,16 @@ fn turn(a: [f64; 2], b: [f64; 2]) -> f64 {
         .abs()
 }
 
-/// `locs` with a place at every joint where the curve turns a corner that they do not already
-/// hold (arc-length places seldom fall on one): every corner gets its join.
+/// `locs` with a place at every joint between their first and their last where the curve
+/// turns a corner that they do not already hold (arc-length places seldom fall on one, nor a
+/// dash's): every corner gets its join.
 fn with_corner_joints(table: &SegmentTable, locs: &[SampleLoc]) -> Vec<SampleLoc> {
+    let (first, last) = (locs[0].t, locs[locs.len() - 1].t);
     let joints = (1..table.len()).filter(|&s| {
+        let t = table.segment(s).t0();
+        if t <= first || t >= last {
+            return false;
+        }
         let arriving = tangent(table, s - 1, 1.0, true);
         let leaving = tangent(table, s, 0.0, false);
         matches!((arriving, leaving), (Some(a), Some(b)) if turn(a, b) > CORNER)

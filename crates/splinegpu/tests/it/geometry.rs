@@ -205,6 +205,7 @@ fn a_ribbon_spans_its_width_across_the_curve_facing_its_normal() {
     let ribbon = Geometry::Ribbon(Ribbon {
         width: Width::Constant(0.5),
         up: Some([0.0, 0.0, 1.0]),
+        dash: None,
     });
     let (job, m) = meshes(&trefoil(), &ribbon, &Sampling::PerSegment(4));
     let pairs = 24 * 4;
@@ -286,6 +287,7 @@ fn bad_geometry_is_refused_by_name() {
             Geometry::Ribbon(Ribbon {
                 width: Width::Constant(1.0),
                 up: Some([0.0, 0.0, -3.0]),
+                dash: None,
             }),
             per_segment,
             "up",
@@ -369,6 +371,8 @@ mod strokes {
 
     use super::*;
     use splinegpu::geometry::{Cap, Join, Stroke};
+
+    mod dashes;
 
     /// The polyline through `corners` as cubic Bezier pieces with their control points a third
     /// and two thirds along each side (straight, at constant speed).
@@ -463,6 +467,7 @@ mod strokes {
             join,
             miter_limit,
             sides: 16,
+            dash: None,
         })
     }
 
@@ -639,6 +644,7 @@ fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
     let ribbon = Geometry::Ribbon(Ribbon {
         width: Width::Constant(0.2),
         up: None,
+        dash: None,
     });
     let curves = vec![
         (axis(), tube.clone(), Sampling::PerSegment(3)),
@@ -866,6 +872,7 @@ fn random_curves_make_the_meshes_they_announce() {
             let ribbon = Geometry::Ribbon(Ribbon {
                 width: Width::Constant(0.1),
                 up: None,
+                dash: None,
             });
             for geometry in [tube, ribbon] {
                 let mut job = GeometryJob::new();
