@@ -45,6 +45,21 @@ class SurfaceTessellation:
     def surface(self, s: int) -> dict[str, Any]: ...
     def trimesh(self, s: int | None = None) -> Any: ...
 
+class Meshes:
+    """The meshes of `Context.strokes`, `.tubes` and `.ribbons`, by the NPZ's names."""
+
+    points: npt.NDArray[np.float64]
+    t: npt.NDArray[np.float64]
+    normals: npt.NDArray[np.float64] | None
+    triangles: npt.NDArray[np.int64]
+    curve_offsets: npt.NDArray[np.int64]
+    triangle_offsets: npt.NDArray[np.int64]
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+    def curve(self, c: int) -> dict[str, Any]: ...
+    def trimesh(self, c: int | None = None) -> Any: ...
+
 class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
@@ -78,6 +93,59 @@ class Context:
         derivatives: int = 0,
         out: Tessellation | None = None,
     ) -> Tessellation: ...
+    def strokes(
+        self,
+        points: _Batch,
+        kind: str = "catmull-rom",
+        *,
+        width: float | _Batch,
+        cap: str = "butt",
+        join: str = "miter",
+        miter_limit: float = 4.0,
+        sides: int = 16,
+        dash: _ArrayLike | None = None,
+        dash_offset: float | None = None,
+        per_segment: int | None = None,
+        at: _Batch | None = None,
+        arc_length: int | None = None,
+        tolerance: float | None = None,
+        out: Meshes | None = None,
+        **fields: Any,
+    ) -> Meshes: ...
+    def tubes(
+        self,
+        points: _Batch,
+        kind: str = "catmull-rom",
+        *,
+        radius: float | _Batch,
+        sides: int = 8,
+        up: _ArrayLike | None = None,
+        caps: bool = False,
+        dash: _ArrayLike | None = None,
+        dash_offset: float | None = None,
+        per_segment: int | None = None,
+        at: _Batch | None = None,
+        arc_length: int | None = None,
+        tolerance: float | None = None,
+        out: Meshes | None = None,
+        **fields: Any,
+    ) -> Meshes: ...
+    def ribbons(
+        self,
+        points: _Batch,
+        kind: str = "catmull-rom",
+        *,
+        width: float | _Batch,
+        up: _ArrayLike | None = None,
+        dash: _ArrayLike | None = None,
+        dash_offset: float | None = None,
+        per_segment: int | None = None,
+        at: _Batch | None = None,
+        arc_length: int | None = None,
+        tolerance: float | None = None,
+        out: Meshes | None = None,
+        **fields: Any,
+    ) -> Meshes: ...
     def tessellate_surfaces(
         self,
         nets: _Batch,

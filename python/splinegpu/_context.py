@@ -8,17 +8,8 @@ import threading
 import numpy as np
 
 from . import _native
-from ._helpers import (
-    _count,
-    _curves,
-    _float64,
-    _matrix,
-    _one_sampling,
-    _order,
-    _per_curve,
-    _per_point,
-    _rows,
-)
+from ._geometry import Meshes, meshes
+from ._helpers import _curve_fields, _curve_sampling, _curves, _order
 from ._surfaces import tessellate_surfaces
 
 
@@ -109,29 +100,13 @@ class Context:
         Raises ValueError naming the curve, field and value for bad input.
         """
         curves = _curves(points)
-        name, value = _one_sampling({"per_segment": per_segment, "at": at,
-                                     "arc_length": arc_length, "tolerance": tolerance},
-                                    ("per_segment", 16))
-        if name == "at":
-            value = _rows("at", value, len(curves))
-        elif name in ("per_segment", "arc_length"):
-            value = _count(name, value)
-        else:
-            value = float(_float64(value, "tolerance"))
-        fields = {
-            "ends": ends,
-            **_per_point("tension", tension, len(curves)),
-            **_per_point("continuity", continuity, len(curves)),
-            **_per_point("bias", bias, len(curves)),
-            "matrix": None if matrix is None else _matrix(matrix),
-            "t": _per_curve("t", t, len(curves), 1),
-            "start_derivative": _per_curve("start_derivative", start_derivative, len(curves), 1),
-            "end_derivative": _per_curve("end_derivative", end_derivative, len(curves), 1),
-            "tangents": _per_curve("tangents", tangents, len(curves), 2),
-            "method": None if method is None else str(method),
-            "knots": _per_curve("knots", knots, len(curves), 1),
-            "weights": _per_curve("weights", weights, len(curves), 1),
-        }
+        sampling = _curve_sampling(len(curves), per_segment=per_segment, at=at,
+                                   arc_length=arc_length, tolerance=tolerance)
+        fields = _curve_fields(len(curves), ends=ends, tension=tension, bias=bias,
+                               continuity=continuity, matrix=matrix, t=t,
+                               start_derivative=start_derivative,
+                               end_derivative=end_derivative, tangents=tangents, method=method,
+                               knots=knots, weights=weights)
         derivatives = _order("derivatives", derivatives, 2)
         reuse = None
         if out is not None:
@@ -141,8 +116,72 @@ class Context:
                     raise ValueError(f"out: {what} must be a 1-D {np.dtype(dtype)} array, got "
                                      f"{getattr(array, 'dtype', type(array).__name__)}")
             reuse = (out.t, out.points, out.d1, out.d2, out.curve_offsets)
-        result = self._native.tessellate(curves, kind, fields, (name, value), derivatives, reuse)
+        result = self._native.tessellate(curves, kind, fields, sampling, derivatives, reuse)
         return Tessellation(*result)
+
+    def strokes(self, points, kind: str = "catmull-rom", *, width, cap: str = "butt",
+                join: str = "miter", miter_limit: float = 4.0, sides: int = 16, dash=None,
+                dash_offset: float | None = None, per_segment: int | None = None, at=None,
+                arc_length: int | None = None, tolerance: float | None = None,
+                out: Meshes | None = None, **fields) -> Meshes:
+        """Strokes of a batch of 2-D curves of one kind: the area a pen of width w(t) sweeps
+        along each curve, with joins at its corners and caps at its ends, as triangles.
+
+        `points` and `kind` as `tessellate` takes them, and the kind's fields (`ends=`,
+        `tension=`, `t=`, `knots=`, ...) as keywords. `width`: a number, or one value per point
+        (an (n,) array for every curve, a (C, n) array or a list), interpolated as one more
+        coordinate of the same spline. `cap`: "butt", "round" or "square"; `join`: "miter",
+        "round" or "bevel", a miter beyond `miter_limit` (1 / sin(φ/2), φ the interior angle)
+        drawn as a bevel; `sides`: chords per full turn of round joins and caps (>= 4). `dash`:
+        on and off lengths by arc length (an even count, >= 0, a sum > 0), `dash_offset` how
+        far into the pattern each curve starts; each dash is an open stroke with its caps.
+        Cross-sections: `per_segment=k` (default 16) or `arc_length=m`; a corner always gets
+        its join. Meshes are made on the CPU in float64 (a context opened as "gpu" raises
+        NotImplementedError, as `tolerance=` does: neither is built yet). `out`: an earlier
+        result of the same shapes, whose arrays are filled again.
+
+        Raises ValueError naming the curve, field and value for bad input.
+        """
+        return meshes(self, "stroke", points, kind, width=width, width_name="width", cap=cap,
+                      join=join, miter_limit=miter_limit, sides=sides, dash=dash,
+                      dash_offset=dash_offset, per_segment=per_segment, at=at,
+                      arc_length=arc_length, tolerance=tolerance, out=out, fields=fields)
+
+    def tubes(self, points, kind: str = "catmull-rom", *, radius, sides: int = 8, up=None,
+              caps: bool = False, dash=None, dash_offset: float | None = None,
+              per_segment: int | None = None, at=None, arc_length: int | None = None,
+              tolerance: float | None = None, out: Meshes | None = None, **fields) -> Meshes:
+        """Tubes about a batch of 3-D curves of one kind: rings of `sides` vertices at radius
+        r(t) about each curve, in its rotation-minimizing frames (closed up on closed curves),
+        with the exact surface's unit normals.
+
+        `radius`: a number or one value per point, as `strokes`' width. `up`: 3 numbers, the
+        first frame's normal before it is made perpendicular to the first tangent (default:
+        the axis least aligned with it). `caps`: discs closing an open tube's ends. `dash`,
+        `dash_offset`, the sampling, `out` and the kind's fields as for `strokes`; a dashed
+        tube's frames are carried through its gaps, not restarted.
+
+        Raises ValueError naming the curve, field and value for bad input.
+        """
+        return meshes(self, "tube", points, kind, width=radius, width_name="radius",
+                      sides=sides, up=up, caps=caps, dash=dash, dash_offset=dash_offset,
+                      per_segment=per_segment, at=at, arc_length=arc_length,
+                      tolerance=tolerance, out=out, fields=fields)
+
+    def ribbons(self, points, kind: str = "catmull-rom", *, width, up=None, dash=None,
+                dash_offset: float | None = None, per_segment: int | None = None, at=None,
+                arc_length: int | None = None, tolerance: float | None = None,
+                out: Meshes | None = None, **fields) -> Meshes:
+        """Ribbons along a batch of 3-D curves of one kind: the strip C(t) + s B(t), |s| <=
+        w(t)/2, facing the rotation-minimizing normal N(t), which is each vertex's normal.
+        `width`, `up`, `dash`, `dash_offset`, the sampling, `out` and the kind's fields as for
+        `tubes`.
+
+        Raises ValueError naming the curve, field and value for bad input.
+        """
+        return meshes(self, "ribbon", points, kind, width=width, width_name="width", up=up,
+                      dash=dash, dash_offset=dash_offset, per_segment=per_segment, at=at,
+                      arc_length=arc_length, tolerance=tolerance, out=out, fields=fields)
 
     def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
                             bias=None, matrix=None, patches=None, conditions=None, u=None,

@@ -185,6 +185,42 @@ def _one_sampling(options: dict, default: tuple) -> tuple:
     return given[0] if given else default
 
 
+def _curve_fields(curves: int, *, ends=None, tension=None, bias=None, continuity=None,
+                  matrix=None, t=None, start_derivative=None, end_derivative=None, tangents=None,
+                  method=None, knots=None, weights=None) -> dict:
+    """A curve kind's fields for the native side, each normalised for `curves` curves (see
+    `Context.tessellate`)."""
+    return {
+        "ends": ends,
+        **_per_point("tension", tension, curves),
+        **_per_point("continuity", continuity, curves),
+        **_per_point("bias", bias, curves),
+        "matrix": None if matrix is None else _matrix(matrix),
+        "t": _per_curve("t", t, curves, 1),
+        "start_derivative": _per_curve("start_derivative", start_derivative, curves, 1),
+        "end_derivative": _per_curve("end_derivative", end_derivative, curves, 1),
+        "tangents": _per_curve("tangents", tangents, curves, 2),
+        "method": None if method is None else str(method),
+        "knots": _per_curve("knots", knots, curves, 1),
+        "weights": _per_curve("weights", weights, curves, 1),
+    }
+
+
+def _curve_sampling(curves: int, *, per_segment, at, arc_length, tolerance) -> tuple:
+    """The one sampling of a curve call as (name, value) for the native side: per_segment=16
+    by default; `at` one row per curve."""
+    name, value = _one_sampling({"per_segment": per_segment, "at": at,
+                                 "arc_length": arc_length, "tolerance": tolerance},
+                                ("per_segment", 16))
+    if name == "at":
+        value = _rows("at", value, curves)
+    elif name in ("per_segment", "arc_length"):
+        value = _count(name, value)
+    else:
+        value = float(_float64(value, "tolerance"))
+    return name, value
+
+
 def _end_to_end(arrays, name: str) -> tuple:
     """A batch's arrays (a list of (n_i, ...) arrays, or one (S, n, ...) array) laid end to
     end as one aligned float64 array (sum n_i, ...), and the (S + 1,) int64 offsets where each

@@ -1,10 +1,14 @@
 //! NumPy arguments as the crate takes them (stacked or ragged curves, per-curve fields), the
 //! errors Python sees, the threads a call uses.
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
+use numpy::{
+    PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
 
 use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -148,4 +152,39 @@ pub(crate) fn zeros(rows: usize, width: usize, what: &str) -> PyResult<Vec<f64>>
     values.try_reserve_exact(len).map_err(|_| refuse())?;
     values.resize(len, 0.0);
     Ok(values)
+}
+
+/// The array `name` of shape `shape`: `out`'s (checked: dtype, shape, C order, writeable),
+/// or a new one of zeros.
+pub(crate) fn array<'py, F: numpy::Element>(
+    py: Python<'py>,
+    out: Option<&Bound<'py, PyDict>>,
+    name: &str,
+    shape: [usize; 2],
+) -> PyResult<Bound<'py, PyArray2<F>>> {
+    let Some(given) = out.map(|o| o.get_item(name)).transpose()?.flatten() else {
+        return Ok(PyArray2::<F>::zeros(py, shape, false));
+    };
+    let wrong = |what: String| value_error(format!("out: \"{name}\" {what}"));
+    let Ok(given) = given.cast_into::<PyArray2<F>>() else {
+        return Err(wrong(format!(
+            "must be a 2-D {} array",
+            numpy::dtype::<F>(py)
+        )));
+    };
+    if given.shape() != shape {
+        return Err(wrong(format!(
+            "has shape {:?}, this result {shape:?}",
+            given.shape()
+        )));
+    }
+    if !given.is_c_contiguous() {
+        return Err(wrong("must be C-contiguous".into()));
+    }
+    if given.try_readwrite().is_err() {
+        return Err(wrong(
+            "must be writeable (and not borrowed elsewhere)".into(),
+        ));
+    }
+    Ok(given)
 }

@@ -13,6 +13,7 @@
 mod args;
 mod context;
 mod fits;
+mod geometry;
 mod pieces;
 mod roots;
 mod splines;
@@ -47,6 +48,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tensor::column_ranges, m)?)?;
     m.add_function(wrap_pyfunction!(pieces::bspline_basis, m)?)?;
     m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
+    m.add_function(wrap_pyfunction!(geometry::geometry_meshes, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
 }

@@ -17,7 +17,7 @@ use splinegpu::surface::{
 };
 use splinegpu::{Derivatives, EndCondition, Ends, InputError, SampleFloat};
 
-use crate::args::{runtime_error, value_error};
+use crate::args::{array, runtime_error, value_error};
 use crate::context::{Context, available_memory};
 
 /// The surface fields, as the Python side normalises them: one value for every surface, or
@@ -435,39 +435,4 @@ fn refuse_non_finite<F: SampleFloat>(
     };
     let s = vertex_offsets.partition_point(|&o| o as usize <= v) - 1;
     Err(non_finite(s, v - vertex_offsets[s] as usize))
-}
-
-/// The array `name` of shape `shape`: `out`'s (checked: dtype, shape, C order, writeable),
-/// or a new one of zeros.
-fn array<'py, F: numpy::Element>(
-    py: Python<'py>,
-    out: Option<&Bound<'py, PyDict>>,
-    name: &str,
-    shape: [usize; 2],
-) -> PyResult<Bound<'py, PyArray2<F>>> {
-    let Some(given) = out.map(|o| o.get_item(name)).transpose()?.flatten() else {
-        return Ok(PyArray2::<F>::zeros(py, shape, false));
-    };
-    let wrong = |what: String| value_error(format!("out: \"{name}\" {what}"));
-    let Ok(given) = given.cast_into::<PyArray2<F>>() else {
-        return Err(wrong(format!(
-            "must be a 2-D {} array",
-            numpy::dtype::<F>(py)
-        )));
-    };
-    if given.shape() != shape {
-        return Err(wrong(format!(
-            "has shape {:?}, this result {shape:?}",
-            given.shape()
-        )));
-    }
-    if !given.is_c_contiguous() {
-        return Err(wrong("must be C-contiguous".into()));
-    }
-    if given.try_readwrite().is_err() {
-        return Err(wrong(
-            "must be writeable (and not borrowed elsewhere)".into(),
-        ));
-    }
-    Ok(given)
 }

@@ -517,6 +517,26 @@ fn strokes_and_tubes_share_every_format_but_npz() {
     }
 }
 
+/// A mesh whose vertices overflow f64 (rings of radius 1e308 about a line at x = 1e308, whose
+/// fit is exact) is refused in every format, naming the curve and the vertex, with nothing
+/// written.
+#[test]
+fn a_mesh_that_overflows_is_refused_in_every_format() {
+    let doc = r#"{"sampling": {"per_segment": 2}, "geometry": {"tube": {"radius": 1e308}},
+        "curves": [{"kind": "natural", "points": [[0,0,0],[1,0,0],[1,1,0],[0,1,1]]},
+                   {"kind": "natural", "points": [[1e308,0,0],[1e308,1,0],[1e308,2,0],[1e308,3,0]]}]}"#;
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["out.npz", "out.obj", "out.glb", "out.csv", "out.json"] {
+        let (status, stderr) = tessellate(dir.path(), doc, name, "cpu");
+        assert_eq!(status, 2, "{name}: {stderr}");
+        assert!(
+            stderr.contains("curve 1: mesh vertex 0 is not finite"),
+            "{name}: {stderr}"
+        );
+        assert!(!dir.path().join(name).exists(), "{name} was written");
+    }
+}
+
 /// What this build does not make yet is exit 1, "not supported yet", with nothing written;
 /// but only once the whole document is valid (a later curve's bad value is still exit 2).
 #[test]
