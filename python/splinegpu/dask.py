@@ -9,7 +9,8 @@
     >>> r.points[:1000].compute()
 
 Each partition (a block of whole curves of a dask.array, or a partition of a dask.bag of (n_i, D)
-arrays) is tessellated by the package in its worker, on one `Context` per worker process made
+arrays) is tessellated (or made into meshes: `strokes`, `tubes`, `ribbons`) by the package in its
+worker, on one `Context` per worker process made
 once. Curves are independent, so throughput grows with workers. The partitions are computed once
 and kept on the workers (`persist`); the result's dask arrays (t, points, d1, d2) have their real
 chunk sizes, and `curve_offsets` is stitched across partitions into offsets of the whole batch.
@@ -66,6 +67,71 @@ def tessellate(curves, *, backend: str = "auto", **kwargs) -> DaskTessellation:
     (n_i, D) arrays, partition by partition on the cluster. `kwargs` are those of
     `splinegpu.Context.tessellate` (per-curve arrays such as `at` must be one array for all).
     """
+    parts, meta = _persisted(curves, _block, backend, kwargs)
+    t, points, d1, d2 = (_concatenated(parts, meta, index) for index in range(4))
+    return DaskTessellation(t, points, d1, d2, _offsets(parts, meta, 4, 0))
+
+
+def _mesh_block(curves, backend: str, method: str, kwargs: dict[str, Any]):
+    """One partition's meshes: (points, t, normals, triangles, curve_offsets,
+    triangle_offsets), its triangles and offsets counted from its own first vertex."""
+    if not isinstance(curves, np.ndarray):
+        curves = list(curves)
+    m = getattr(worker_context(backend), method)(curves, **kwargs)
+    return m.points, m.t, m.normals, m.triangles, m.curve_offsets, m.triangle_offsets
+
+
+class DaskMeshes:
+    """`splinegpu.Meshes`' arrays as dask arrays over the whole batch: points, t, normals (None
+    for strokes), triangles indexing the whole vertex array, curve_offsets and
+    triangle_offsets. Each partition's mesh arrays are one chunk."""
+
+    def __init__(self, arrays: dict):
+        self.points, self.t, self.normals = arrays["points"], arrays["t"], arrays["normals"]
+        self.triangles = arrays["triangles"]
+        self.curve_offsets = arrays["curve_offsets"]
+        self.triangle_offsets = arrays["triangle_offsets"]
+
+    def compute(self) -> splinegpu.Meshes:
+        """Everything, gathered into one `splinegpu.Meshes` in this process."""
+        import dask
+
+        names = ("points", "t", "normals", "triangles", "curve_offsets", "triangle_offsets")
+        arrays = dask.compute(*(getattr(self, name) for name in names))
+        return splinegpu.Meshes(dict(zip(names, arrays)))
+
+
+def _meshes(method: str, curves, backend: str, kwargs: dict[str, Any]) -> DaskMeshes:
+    parts, meta = _persisted(curves, _mesh_block, backend, method, kwargs)
+    points, t, normals = (_concatenated(parts, meta, index) for index in range(3))
+    # Each partition's triangles moved by the vertices before it.
+    vertex_starts = np.concatenate([[0], np.cumsum([m["shapes"][0][0] for m in meta])])
+    triangles = _concatenated(parts, meta, 3, vertex_starts)
+    return DaskMeshes({"points": points, "t": t, "normals": normals, "triangles": triangles,
+                       "curve_offsets": _offsets(parts, meta, 4, 0),
+                       "triangle_offsets": _offsets(parts, meta, 5, 3)})
+
+
+def strokes(curves, *, backend: str = "auto", **kwargs) -> DaskMeshes:
+    """`splinegpu.Context.strokes` on a dask.array or dask.bag of curves, as `tessellate`
+    takes them, partition by partition on the cluster: one mesh array per partition."""
+    return _meshes("strokes", curves, backend, kwargs)
+
+
+def tubes(curves, *, backend: str = "auto", **kwargs) -> DaskMeshes:
+    """`splinegpu.Context.tubes` on a dask.array or dask.bag of curves, as `strokes`."""
+    return _meshes("tubes", curves, backend, kwargs)
+
+
+def ribbons(curves, *, backend: str = "auto", **kwargs) -> DaskMeshes:
+    """`splinegpu.Context.ribbons` on a dask.array or dask.bag of curves, as `strokes`."""
+    return _meshes("ribbons", curves, backend, kwargs)
+
+
+def _persisted(curves, block, *args):
+    """The partitions of `curves` (a dask.array (C, n, D) chunked along its first axis only,
+    or a dask.bag) made by `block(partition, *args)` on the workers and kept there, and each
+    one's arrays' shapes and types (small, gathered here)."""
     import dask
     import dask.array as da
 
@@ -77,41 +143,58 @@ def tessellate(curves, *, backend: str = "auto", **kwargs) -> DaskTessellation:
         partitions = curves.to_delayed().ravel().tolist()
     else:
         partitions = curves.to_delayed()
-    parts = [dask.delayed(_block)(p, backend, kwargs) for p in partitions]
-    parts = dask.persist(*parts)
-    # Sizes and types of each partition's arrays: small, gathered here.
+    parts = dask.persist(*[dask.delayed(block)(p, *args) for p in partitions])
     meta = dask.compute(*[dask.delayed(_meta)(p) for p in parts])
-    starts = np.concatenate([[0], np.cumsum([m["rows"] for m in meta])])
-    # The partitions as delayed tuples again (persisted), one getter per array.
-    arrays: list[Any] = []
-    for index in range(4):
-        blocks = []
-        for p, m in zip(parts, meta):
-            shape, dtype = m["shapes"][index], m["dtypes"][index]
-            if shape is None:
-                break
-            blocks.append(da.from_delayed(dask.delayed(_item)(p, index), shape=shape, dtype=dtype))
-        arrays.append(da.concatenate(blocks) if len(blocks) == len(parts) and blocks else None)
+    return parts, meta
+
+
+def _concatenated(parts, meta, index: int, starts=None):
+    """Array `index` of every partition as one dask array (None where the partitions hold
+    None there), each partition's values plus its entry of `starts` where given."""
+    import dask
+    import dask.array as da
+
+    blocks = []
+    for k, (p, m) in enumerate(zip(parts, meta)):
+        shape, dtype = m["shapes"][index], m["dtypes"][index]
+        if shape is None:
+            return None
+        item = dask.delayed(_item)(p, index) if starts is None else \
+            dask.delayed(_plus)(p, index, int(starts[k]))
+        blocks.append(da.from_delayed(item, shape=shape, dtype=dtype))
+    return da.concatenate(blocks) if blocks else None
+
+
+def _offsets(parts, meta, index: int, rows_of: int):
+    """Offsets array `index` of every partition stitched into the whole batch's: each
+    partition's but its last, moved by the rows of array `rows_of` before it, then the total."""
+    import dask
+    import dask.array as da
+
+    starts = np.concatenate([[0], np.cumsum([m["shapes"][rows_of][0] for m in meta])])
     offsets = [
-        da.from_delayed(dask.delayed(_shifted)(p, int(start)), shape=(m["curves"],),
-                        dtype=np.int64)
+        da.from_delayed(dask.delayed(_shifted)(p, index, int(start)),
+                        shape=(m["shapes"][index][0] - 1,), dtype=np.int64)
         for p, m, start in zip(parts, meta, starts[:-1])
     ]
     offsets.append(da.from_array(np.array([starts[-1]], dtype=np.int64)))
-    t, points, d1, d2 = arrays
-    return DaskTessellation(t, points, d1, d2, da.concatenate(offsets))
+    return da.concatenate(offsets)
 
 
 def _meta(part):
-    shapes = [None if a is None else a.shape for a in part[:4]]
-    dtypes = [None if a is None else a.dtype for a in part[:4]]
-    return {"rows": len(part[0]), "curves": len(part[4]) - 1, "shapes": shapes, "dtypes": dtypes}
+    shapes = [None if a is None else a.shape for a in part]
+    dtypes = [None if a is None else a.dtype for a in part]
+    return {"shapes": shapes, "dtypes": dtypes}
 
 
 def _item(part, index):
     return part[index]
 
 
-def _shifted(part, start):
-    """A partition's curve offsets but its last, moved to the batch's rows."""
-    return part[4][:-1] + start
+def _plus(part, index, start):
+    return part[index] + start
+
+
+def _shifted(part, index, start):
+    """A partition's offsets (array `index`) but its last, moved to the batch's rows."""
+    return part[index][:-1] + start

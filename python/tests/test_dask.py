@@ -65,6 +65,29 @@ def test_bag_of_ragged_curves(client):
     np.testing.assert_array_equal(got.curve_offsets, want.curve_offsets)
 
 
+def test_meshes_by_partition_equal_one_process(client, curves):
+    cpu = splinegpu.Context("cpu")
+    kw = {"kind": "catmull-rom", "ends": "closed", "radius": 0.05, "sides": 6, "per_segment": 4}
+    want = cpu.tubes(curves[:2000], **kw)
+    lazy = splinegpu.dask.tubes(da.from_array(curves[:2000], chunks=(700, 12, 3)),
+                                backend="cpu", **kw)
+    # One mesh chunk per partition: 12 segments of 4 rings of 6 (closed: the last is the first).
+    assert lazy.points.chunks[0] == (700 * 288, 700 * 288, 600 * 288)
+    got = lazy.compute()
+    for name, array in want.arrays().items():
+        np.testing.assert_array_equal(getattr(got, name), array, err_msg=name)
+    rng = np.random.default_rng(2)
+    ragged = [rng.uniform(-1, 1, (int(n), 2)) for n in rng.integers(4, 20, 300)]
+    kw = {"kind": "natural", "width": 0.02, "join": "round", "dash": [0.3, 0.1],
+          "arc_length": 30}
+    want = cpu.strokes(ragged, **kw)
+    got = splinegpu.dask.strokes(db.from_sequence(ragged, npartitions=5), backend="cpu",
+                                 **kw).compute()
+    assert got.normals is None
+    for name, array in want.arrays().items():
+        np.testing.assert_array_equal(getattr(got, name), array, err_msg=name)
+
+
 def test_a_killed_worker_is_retried(client, curves, single):
     victim = sorted(client.scheduler_info()["workers"])[0]
     # The worker process of this test's own cluster, killed hard from here.
