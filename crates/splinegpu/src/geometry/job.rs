@@ -34,6 +34,19 @@ struct Planned {
     triangles: u64,
 }
 
+/// A tube's or ribbon's plan, undashed, as the GPU packer reads it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SweptPlan<'a> {
+    /// The widened table (the width its last coordinate).
+    pub(crate) table: &'a SegmentTable,
+    /// The cross-sections.
+    pub(crate) locs: &'a [SampleLoc],
+    /// The arc length to each (closed curves).
+    pub(crate) lengths: Option<&'a [f64]>,
+    pub(crate) shape: Shape,
+    pub(crate) n0: Vec3,
+}
+
 /// How a planned mesh is made.
 #[derive(Clone, Debug)]
 enum Body {
@@ -66,13 +79,14 @@ pub struct GeometryJob {
     available: OnceLock<Option<u64>>,
 }
 
-/// The meshes of a [`GeometryJob`], every curve's in order.
+/// The meshes of a [`GeometryJob`], every curve's in order: f64 from the CPU, f32 from the
+/// GPU ([`GpuContext::evaluate_geometry`](crate::GpuContext::evaluate_geometry)).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Meshes {
+pub struct Meshes<F = f64> {
     /// 3 coordinates a vertex.
-    pub points: Vec<f64>,
+    pub points: Vec<F>,
     /// The unit normal at each vertex, 3 coordinates a vertex.
-    pub normals: Vec<f64>,
+    pub normals: Vec<F>,
     /// The curve parameter each vertex was made at (a cap's centre: its end's).
     pub t: Vec<f64>,
     /// Counter-clockwise triangles, indices local to their mesh.
@@ -224,6 +238,33 @@ impl GeometryJob {
     #[must_use]
     pub fn geometry(&self, c: usize) -> &Geometry {
         &self.curves[c].geometry
+    }
+
+    /// Curve c's plan as the GPU kernel takes it: a tube or ribbon without dashes (strokes and
+    /// dashed curves are made on the host), else `None`.
+    pub(crate) fn swept(&self, c: usize) -> Option<SweptPlan<'_>> {
+        let planned = &self.curves[c];
+        match &planned.body {
+            Body::Swept {
+                locs,
+                lengths,
+                shape,
+                n0,
+                dashes: None,
+            } => Some(SweptPlan {
+                table: &planned.table,
+                locs,
+                lengths: lengths.as_deref(),
+                shape: *shape,
+                n0: *n0,
+            }),
+            _ => None,
+        }
+    }
+
+    /// Curve c's mesh made on the CPU into `out` (sized by its counts).
+    pub(crate) fn make_into<F: SampleFloat>(&self, c: usize, out: &mut MeshOut<'_, F>) {
+        make(&self.curves[c], out);
     }
 
     /// The job's curves cut into consecutive ranges of at most `vertices` vertices each (a

@@ -216,32 +216,38 @@ fn tube(
             out.vertex(j * s + k, position, n, section.t);
         }
     }
-    let ring = |j: usize| (j % rings) as u64 * s as u64;
+    if caps {
+        let (first, last) = (&sections[0], &sections[sections.len() - 1]);
+        let start = rings * s;
+        out.vertex(start, first.position, first.tangent.map(|x| -x), first.t);
+        out.vertex(start + 1, last.position, last.tangent, last.t);
+    }
+    tube_triangles(sections.len(), sides, caps, closed, out.triangles);
+}
+
+/// A tube's triangles: rings j and j + 1 joined by quads of two triangles (a closed curve's
+/// last ring its first), and with `caps` a fan onto each end's centre.
+fn tube_triangles(sections: usize, sides: u32, caps: bool, closed: bool, out: &mut [[u32; 3]]) {
+    let s = u64::from(sides);
+    let rings = if closed { sections - 1 } else { sections } as u64;
+    let ring = |j: u64| (j % rings) * s;
     let mut triangle = 0;
-    for j in 0..sections.len() - 1 {
+    for j in 0..sections as u64 - 1 {
         let (a, b) = (ring(j), ring(j + 1));
-        for k in 0..s as u64 {
-            let k1 = (k + 1) % s as u64;
-            out.triangles[triangle] = [index(a + k), index(a + k1), index(b + k1)];
-            out.triangles[triangle + 1] = [index(a + k), index(b + k1), index(b + k)];
+        for k in 0..s {
+            let k1 = (k + 1) % s;
+            out[triangle] = [index(a + k), index(a + k1), index(b + k1)];
+            out[triangle + 1] = [index(a + k), index(b + k1), index(b + k)];
             triangle += 2;
         }
     }
     if caps {
-        let (first, last) = (&sections[0], &sections[sections.len() - 1]);
-        let (start, end) = ((rings * s) as u64, (rings * s + 1) as u64);
-        out.vertex(
-            start as usize,
-            first.position,
-            first.tangent.map(|x| -x),
-            first.t,
-        );
-        out.vertex(end as usize, last.position, last.tangent, last.t);
+        let (start, end) = (rings * s, rings * s + 1);
         let end_ring = ring(rings - 1);
-        for k in 0..s as u64 {
-            let k1 = (k + 1) % s as u64;
-            out.triangles[triangle] = [index(start), index(k1), index(k)];
-            out.triangles[triangle + 1] = [index(end), index(end_ring + k), index(end_ring + k1)];
+        for k in 0..s {
+            let k1 = (k + 1) % s;
+            out[triangle] = [index(start), index(k1), index(k)];
+            out[triangle + 1] = [index(end), index(end_ring + k), index(end_ring + k1)];
             triangle += 2;
         }
     }
@@ -261,10 +267,49 @@ fn ribbon(sections: &[Section], closed: bool, out: &mut MeshOut<'_, impl SampleF
         out.vertex(2 * j, left, section.normal, section.t);
         out.vertex(2 * j + 1, right, section.normal, section.t);
     }
+    ribbon_triangles(sections.len(), closed, out.triangles);
+}
+
+/// A ribbon's triangles: pair j and pair j + 1 joined by two (a closed curve's last pair its
+/// first).
+fn ribbon_triangles(sections: usize, closed: bool, out: &mut [[u32; 3]]) {
+    let pairs = if closed { sections - 1 } else { sections };
     let pair = |j: usize| 2 * (j % pairs) as u64;
-    for j in 0..sections.len() - 1 {
+    for j in 0..sections - 1 {
         let (a, b) = (pair(j), pair(j + 1));
-        out.triangles[2 * j] = [index(a), index(a + 1), index(b)];
-        out.triangles[2 * j + 1] = [index(a + 1), index(b + 1), index(b)];
+        out[2 * j] = [index(a), index(a + 1), index(b)];
+        out[2 * j + 1] = [index(a + 1), index(b + 1), index(b)];
+    }
+}
+
+/// What a mesh of `shape` at cross-sections of parameters `ts` has whatever its positions:
+/// each vertex's t (a cap's its end's) and the triangles, as [`write`] makes them.
+pub(crate) fn topology(
+    shape: Shape,
+    ts: &[f64],
+    closed: bool,
+    t: &mut [f64],
+    triangles: &mut [[u32; 3]],
+) {
+    let kept = if closed { ts.len() - 1 } else { ts.len() };
+    match shape {
+        Shape::Tube { sides, caps } => {
+            let s = sides as usize;
+            for (j, &tj) in ts[..kept].iter().enumerate() {
+                t[j * s..(j + 1) * s].fill(tj);
+            }
+            let caps = caps && !closed;
+            if caps {
+                t[kept * s] = ts[0];
+                t[kept * s + 1] = ts[ts.len() - 1];
+            }
+            tube_triangles(ts.len(), sides, caps, closed, triangles);
+        }
+        Shape::Ribbon => {
+            for (j, &tj) in ts[..kept].iter().enumerate() {
+                t[2 * j..2 * j + 2].fill(tj);
+            }
+            ribbon_triangles(ts.len(), closed, triangles);
+        }
     }
 }

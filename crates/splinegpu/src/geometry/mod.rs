@@ -34,7 +34,7 @@
 
 mod dash;
 pub mod frames;
-mod job;
+pub(crate) mod job;
 pub mod mesh;
 mod stroke;
 mod widen;

@@ -7,6 +7,8 @@
 #[cfg(feature = "profiling")]
 pub(crate) mod ceiling;
 pub(crate) mod curves;
+pub(crate) mod geometry;
+pub(crate) mod kernel;
 // The kernel's f32 twin on the CPU: the tests check the packer and every kernel shape with it
 // where no GPU is needed.
 pub(crate) mod pool;
@@ -112,7 +114,8 @@ pub struct GpuContext {
     /// Host-side packings kept between calls, for the same reason (one per concurrent call).
     packings: std::sync::Mutex<Vec<curves::pack::Packed>>,
     /// The surface kernel, compiled on first use.
-    surface: std::sync::OnceLock<surfaces::pipeline::SurfacePipeline>,
+    surface: std::sync::OnceLock<kernel::Kernel>,
+    geometry: std::sync::OnceLock<kernel::Kernel>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -239,6 +242,7 @@ impl GpuContext {
             pool: std::sync::Mutex::default(),
             packings: std::sync::Mutex::default(),
             surface: std::sync::OnceLock::new(),
+            geometry: std::sync::OnceLock::new(),
         }
     }
 

@@ -67,7 +67,10 @@ fn every_wgsl_file_validates() {
             files += 1;
         }
     }
-    assert_eq!(files, 3, "eval.wgsl, store_only.wgsl and surface.wgsl");
+    assert_eq!(
+        files, 4,
+        "eval.wgsl, store_only.wgsl, surface.wgsl and geometry.wgsl"
+    );
 }
 
 #[test]
@@ -221,4 +224,82 @@ fn surface_structs_match_their_rust_twins_and_the_workgroup_size() {
         .find(|e| e.name == "main")
         .expect("entry point main");
     assert_eq!(entry.workgroup_size, [SURFACE_WG_SIZE, 1, 1]);
+}
+
+/// `shaders/geometry.wgsl`: its structs match their Rust twins, its workgroup size is
+/// `GEOMETRY_WG_SIZE`, and its bindings are `GEOMETRY_BINDINGS` in order.
+#[test]
+fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
+    use crate::gpu::geometry::abi::{
+        GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, GpuMeshCurve,
+        GpuSection,
+    };
+    let module = naga::front::wgsl::parse_str(GEOMETRY_WGSL).expect("geometry.wgsl parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .expect("geometry.wgsl validates");
+    assert_twin!(
+        &module,
+        "GeometryParams",
+        GeometryParams,
+        [curve_count, row_width, out_base]
+    );
+    assert_twin!(
+        &module,
+        "GpuMeshCurve",
+        GpuMeshCurve,
+        [
+            first_block,
+            block_vec4s,
+            rational,
+            first_section,
+            sections,
+            shape,
+            sides,
+            caps,
+            closed,
+            first_vertex,
+            origin_hi,
+            origin_lo,
+            n0,
+            t_first
+        ]
+    );
+    assert_twin!(&module, "GpuSection", GpuSection, [segment, u, along]);
+    let entry = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == "main")
+        .expect("entry point main");
+    assert_eq!(entry.workgroup_size, [GEOMETRY_WG_SIZE, 1, 1]);
+    let mut spaces: Vec<(u32, naga::AddressSpace)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, var)| Some((var.binding.as_ref()?.binding, var.space)))
+        .collect();
+    spaces.sort_by_key(|b| b.0);
+    let want: Vec<(u32, naga::AddressSpace)> = GEOMETRY_BINDINGS
+        .iter()
+        .enumerate()
+        .map(|(i, ty)| {
+            let space = match ty {
+                wgpu::BufferBindingType::Uniform => naga::AddressSpace::Uniform,
+                wgpu::BufferBindingType::Storage { read_only: true } => {
+                    naga::AddressSpace::Storage {
+                        access: naga::StorageAccess::LOAD,
+                    }
+                }
+                wgpu::BufferBindingType::Storage { read_only: false } => {
+                    naga::AddressSpace::Storage {
+                        access: naga::StorageAccess::LOAD | naga::StorageAccess::STORE,
+                    }
+                }
+            };
+            (i as u32, space)
+        })
+        .collect();
+    assert_eq!(spaces, want);
 }

@@ -10,6 +10,16 @@ pub(crate) const SURFACE_WGSL: &str = include_str!("../../../shaders/surface.wgs
 /// The kernel's workgroup size; `const WG_SIZE` in `shaders/surface.wgsl` (checked by a test).
 pub(crate) const SURFACE_WG_SIZE: u32 = 64;
 
+/// The kernel's bindings, in order: the uniform, then patches, coefficients, vertices (read)
+/// and the output (read-write).
+pub(crate) const SURFACE_BINDINGS: [wgpu::BufferBindingType; 5] = [
+    wgpu::BufferBindingType::Uniform,
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: false },
+];
+
 /// Per-dispatch uniforms. WGSL twin: `SurfaceParams` in `shaders/surface.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]

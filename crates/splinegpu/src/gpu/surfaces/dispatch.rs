@@ -7,9 +7,11 @@ use std::ops::Range;
 
 use crate::error::GpuError;
 use crate::gpu::GpuContext;
-use crate::gpu::surfaces::abi::{GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
+use crate::gpu::kernel::Kernel;
+use crate::gpu::surfaces::abi::{
+    GpuVertex, SURFACE_BINDINGS, SURFACE_WG_SIZE, SURFACE_WGSL, SurfaceParams,
+};
 use crate::gpu::surfaces::pack::{NORMAL_NET_FLOATS, PackedPatches};
-use crate::gpu::surfaces::pipeline::SurfacePipeline;
 use crate::gpu::timing::Timestamps;
 #[cfg(feature = "profiling")]
 use crate::gpu::timing::{DeviceTime, TimingMethod};
@@ -27,9 +29,15 @@ pub(crate) fn plane_count(derivatives: Derivatives, normals: bool) -> usize {
 }
 
 impl GpuContext {
-    pub(crate) fn surface_pipeline(&self) -> &SurfacePipeline {
-        self.surface
-            .get_or_init(|| SurfacePipeline::new(&self.device))
+    pub(crate) fn surface_pipeline(&self) -> &Kernel {
+        self.surface.get_or_init(|| {
+            Kernel::new(
+                &self.device,
+                "surface.wgsl",
+                SURFACE_WGSL,
+                &SURFACE_BINDINGS,
+            )
+        })
     }
 
     /// Evaluates every surface of `job` on the GPU in f32, in dispatches that fit the
@@ -380,7 +388,7 @@ pub(crate) fn evaluate_group_with(
 }
 
 /// `items`, or one default element where there is none (a binding needs at least one).
-fn nonempty<T: Copy + Default>(items: &[T]) -> Vec<T> {
+pub(crate) fn nonempty<T: Copy + Default>(items: &[T]) -> Vec<T> {
     if items.is_empty() {
         vec![T::default()]
     } else {

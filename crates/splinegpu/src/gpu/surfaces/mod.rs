@@ -5,14 +5,12 @@
 //! where its values go. The pipeline is compiled on first use, so that curve-only callers never
 //! pay for it.
 //!
-//! The kernel's ABI (`abi`), the patches packed for it (`pack`), its
-//! pipeline (`pipeline`), evaluation in dispatches within the device's limits (`dispatch`), the
+//! The kernel's ABI (`abi`), the patches packed for it (`pack`), evaluation in dispatches within the device's limits (`dispatch`), the
 //! renderer's recording (`record`), and the kernel's f32 CPU twin (`twin`, tests only).
 
 pub(crate) mod abi;
 pub(crate) mod dispatch;
 pub(crate) mod pack;
-pub(crate) mod pipeline;
 pub(crate) mod record;
 #[cfg(test)]
 mod twin;

@@ -1,27 +1,23 @@
-//! The surface kernel compiled once per context: its pipeline and bind group layout.
+//! A kernel of one entry point ("main") and one bind group, compiled once per context on first
+//! use: the surface and geometry kernels' pipelines and bind group layouts.
 
-use crate::gpu::surfaces::abi::SURFACE_WGSL;
-
-/// The surface pipeline and its bind group layout.
+/// A compiled kernel and its bind group layout.
 #[derive(Debug)]
-pub(crate) struct SurfacePipeline {
+pub(crate) struct Kernel {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
 }
 
-/// The kernel's bindings, in order: the uniform, then patches, coefficients, vertices (read)
-/// and the output (read-write).
-const BINDINGS: [wgpu::BufferBindingType; 5] = [
-    wgpu::BufferBindingType::Uniform,
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: true },
-    wgpu::BufferBindingType::Storage { read_only: false },
-];
-
-impl SurfacePipeline {
-    pub(crate) fn new(device: &wgpu::Device) -> Self {
-        let entries: Vec<_> = BINDINGS
+impl Kernel {
+    /// Compiles the WGSL `source` (named `label`) whose bindings, in group 0, are `bindings`
+    /// in order.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        label: &str,
+        source: &str,
+        bindings: &[wgpu::BufferBindingType],
+    ) -> Self {
+        let entries: Vec<_> = bindings
             .iter()
             .enumerate()
             .map(|(i, ty)| wgpu::BindGroupLayoutEntry {
@@ -36,20 +32,20 @@ impl SurfacePipeline {
             })
             .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("surface"),
+            label: Some(label),
             entries: &entries,
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("surface.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SURFACE_WGSL.into()),
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("surface"),
+            label: Some(label),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("surface"),
+            label: Some(label),
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some("main"),
@@ -59,7 +55,7 @@ impl SurfacePipeline {
         Self { layout, pipeline }
     }
 
-    /// The bind group layout of [`BINDINGS`].
+    /// The bind group layout of its bindings.
     pub(crate) fn layout(&self) -> &wgpu::BindGroupLayout {
         &self.layout
     }

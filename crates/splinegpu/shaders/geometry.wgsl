@@ -1,0 +1,268 @@
+// Makes tubes' and ribbons' vertices and unit normals from curves whose width (or radius) is a
+// fourth coordinate of the same spline (src/geometry/widen.rs), one invocation per curve.
+// Rust twins of the structs: src/gpu/geometry/abi.rs. CPU twin, line by line in f32 (same
+// names, loop order and arithmetic): src/gpu/geometry/twin.rs. The f64 reference this follows:
+// src/geometry/frames.rs (the frames) and src/geometry/mesh.rs (rings, strips, normals).
+//
+// Why one invocation per curve: a curve's frames are a chain (each normal carried from the one
+// before by a double reflection, and a closed curve's closing angle known only once the chain
+// has gone around), so an invocation walks its curve's cross-sections in order, carrying the
+// frame, and writes each ring as it passes it; a closed curve is walked twice, the first time
+// for its closing angle alone. Nothing is stored between cross-sections but the last frame.
+
+// Rust twin: gpu::geometry::abi::GeometryParams.
+struct GeometryParams {
+    // Curves in this dispatch.
+    curve_count: u32,
+    // Invocations per row of the 2-D dispatch (workgroups in x times WG_SIZE).
+    row_width: u32,
+    // The float the curves' `out` count from in the bound output.
+    out_base: u32,
+    _padding0: u32,
+}
+
+// Rust twin: gpu::geometry::abi::GpuMeshCurve. Its segments' blocks start at vec4 `first_block`,
+// `block_vec4s` each: a, b, c, d (x, y, z and the width; d's x, y, z relative to the curve's
+// origin, o_hi + o_lo in f64), then (1/Δ, W's a, b, c) and (W's d, 0, 0, 0) for a rational
+// segment: P(u) = d + ((a u + b) u + c) u, or d + ((a u + b) u + c) u / W(u).
+struct GpuMeshCurve {
+    first_block: u32,
+    block_vec4s: u32,
+    rational: u32,
+    first_section: u32,
+    sections: u32,
+    // 0: a tube, 1: a ribbon.
+    shape: u32,
+    sides: u32,
+    // 1: an open tube's end discs.
+    caps: u32,
+    // 1: a closed curve (frames closed up, the last cross-section the first's).
+    closed: u32,
+    // Its first vertex, counted from params.out_base in 6 floats (position, normal) a vertex.
+    first_vertex: u32,
+    _padding0: u32,
+    _padding1: u32,
+    origin_hi: vec4<f32>,
+    origin_lo: vec4<f32>,
+    // N_0, made on the host in f64 from `up` or the axis least aligned with T_0.
+    n0: vec4<f32>,
+    // The tangent a cross-section without one takes before any has one.
+    t_first: vec4<f32>,
+}
+
+// Rust twin: gpu::geometry::abi::GpuSection. A cross-section: its segment (of its curve), local
+// u, and (closed curves) its arc length over the curve's, s_j / L.
+struct GpuSection {
+    segment: u32,
+    u: f32,
+    along: f32,
+    _padding0: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: GeometryParams;
+@group(0) @binding(1) var<storage, read> curves: array<GpuMeshCurve>;
+@group(0) @binding(2) var<storage, read> blocks: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> sections: array<GpuSection>;
+@group(0) @binding(4) var<storage, read_write> out: array<f32>;
+
+// Rust twin: gpu::geometry::abi::GEOMETRY_WG_SIZE.
+const WG_SIZE: u32 = 64u;
+
+const TAU: f32 = 6.283185307179586;
+
+// What a cross-section is made from: the position relative to the curve's origin, C' and C''
+// (in t), the width (clamped at 0) and its derivative (0 where clamped).
+struct Place {
+    position: vec3<f32>,
+    d1: vec3<f32>,
+    d2: vec3<f32>,
+    width: f32,
+    width_d1: f32,
+}
+
+fn place(curve: GpuMeshCurve, s: GpuSection) -> Place {
+    let at = curve.first_block + s.segment * curve.block_vec4s;
+    let a = blocks[at];
+    let b = blocks[at + 1u];
+    let c = blocks[at + 2u];
+    let d = blocks[at + 3u];
+    let e = blocks[at + 4u];
+    let u = s.u;
+    let inv = e.x;
+    var value = d + ((a * u + b) * u + c) * u;
+    var first = ((3.0 * a * u + 2.0 * b) * u + c) * inv;
+    var second = (6.0 * a * u + 2.0 * b) * (inv * inv);
+    if curve.rational == 1u {
+        let wd = blocks[at + 5u].x;
+        let w = ((e.y * u + e.z) * u + e.w) * u + wd;
+        let w1 = (3.0 * e.y * u + 2.0 * e.z) * u + e.w;
+        let w2 = 6.0 * e.y * u + 2.0 * e.z;
+        let r = ((a * u + b) * u + c) * u / w;
+        let r1 = (((3.0 * a * u + 2.0 * b) * u + c) - r * w1) / w;
+        let r2 = ((6.0 * a * u + 2.0 * b) - 2.0 * r1 * w1 - r * w2) / w;
+        value = d + r;
+        first = r1 * inv;
+        second = r2 * (inv * inv);
+    }
+    let clamped = value.w < 0.0;
+    return Place(value.xyz, first.xyz, second.xyz, max(value.w, 0.0), select(first.w, 0.0, clamped));
+}
+
+// v / |v|, or 0 where |v| is 0 (or not finite).
+fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let length = sqrt(dot(v, v));
+    if length > 0.0 && length < 3.4e38 {
+        return v / length;
+    }
+    return vec3<f32>(0.0);
+}
+
+fn is_zero(v: vec3<f32>) -> bool {
+    return all(v == vec3<f32>(0.0));
+}
+
+// The unit tangent from C' and C'' (C''s direction, reversed at the end of the range, where
+// C' = 0), or `previous` where both vanish.
+fn tangent(p: Place, at_end: bool, previous: vec3<f32>) -> vec3<f32> {
+    let t = unit_or_zero(p.d1);
+    if !is_zero(t) {
+        return t;
+    }
+    let bend = unit_or_zero(p.d2);
+    if !is_zero(bend) {
+        return select(bend, -bend, at_end);
+    }
+    return previous;
+}
+
+// The coordinate axis least aligned with `t` (the first of equals) made perpendicular to it.
+fn axis_normal(t: vec3<f32>) -> vec3<f32> {
+    var e = vec3<f32>(1.0, 0.0, 0.0);
+    if abs(t.y) < abs(t.x) && abs(t.y) <= abs(t.z) {
+        e = vec3<f32>(0.0, 1.0, 0.0);
+    } else if abs(t.z) < abs(t.x) && abs(t.z) < abs(t.y) {
+        e = vec3<f32>(0.0, 0.0, 1.0);
+    }
+    return unit_or_zero(e - dot(e, t) * t);
+}
+
+// One double-reflection step from (x0, t0, n0) to (x1, t1), made perpendicular to t1.
+fn reflected_twice(x0: vec3<f32>, x1: vec3<f32>, t0: vec3<f32>, t1: vec3<f32>, n0: vec3<f32>) -> vec3<f32> {
+    let v1 = x1 - x0;
+    let c1 = dot(v1, v1);
+    var r = n0;
+    var t = t0;
+    if c1 > 0.0 {
+        r = n0 - (2.0 / c1 * dot(v1, n0)) * v1;
+        t = t0 - (2.0 / c1 * dot(v1, t0)) * v1;
+    }
+    let v2 = t1 - t;
+    let c2 = dot(v2, v2);
+    var n1 = r;
+    if c2 > 0.0 {
+        n1 = r - (2.0 / c2 * dot(v2, r)) * v2;
+    }
+    let kept = unit_or_zero(n1 - dot(n1, t1) * t1);
+    if !is_zero(kept) {
+        return kept;
+    }
+    let old = unit_or_zero(n0 - dot(n0, t1) * t1);
+    if !is_zero(old) {
+        return old;
+    }
+    return axis_normal(t1);
+}
+
+// `v` (perpendicular to the unit `axis`) turned by `angle` about it.
+fn turned(v: vec3<f32>, axis: vec3<f32>, angle: f32) -> vec3<f32> {
+    return v * cos(angle) + cross(axis, v) * sin(angle);
+}
+
+fn write_vertex(curve: GpuMeshCurve, v: u32, position: vec3<f32>, normal: vec3<f32>) {
+    let at = params.out_base + 6u * (curve.first_vertex + v);
+    let p = curve.origin_hi.xyz + (curve.origin_lo.xyz + position);
+    out[at] = p.x;
+    out[at + 1u] = p.y;
+    out[at + 2u] = p.z;
+    out[at + 3u] = normal.x;
+    out[at + 4u] = normal.y;
+    out[at + 5u] = normal.z;
+}
+
+// Cross-section j's ring (tube) or pair (ribbon) with the frame (t, n).
+fn write_section(curve: GpuMeshCurve, j: u32, p: Place, t: vec3<f32>, n: vec3<f32>) {
+    let b = cross(t, n);
+    if curve.shape == 1u {
+        let half = 0.5 * p.width;
+        write_vertex(curve, 2u * j, p.position - half * b, n);
+        write_vertex(curve, 2u * j + 1u, p.position + half * b, n);
+        return;
+    }
+    let speed = sqrt(dot(p.d1, p.d1));
+    var bend = vec3<f32>(0.0);
+    var slope = 0.0;
+    if speed > 0.0 {
+        let along = dot(p.d2, t);
+        bend = (p.d2 - along * t) / (speed * speed);
+        slope = p.width_d1 / speed;
+    }
+    for (var k = 0u; k < curve.sides; k++) {
+        let angle = TAU * f32(k) / f32(curve.sides);
+        let e = cos(angle) * n + sin(angle) * b;
+        let stretch = 1.0 - p.width * dot(bend, e);
+        var normal = unit_or_zero(stretch * e - slope * t);
+        if is_zero(normal) {
+            normal = e;
+        }
+        write_vertex(curve, j * curve.sides + k, p.position + p.width * e, normal);
+    }
+}
+
+// Walks the curve's cross-sections carrying the frame; with `write`, writes each (the
+// closed-up normal: turned by -alpha s_j / L), else only carries. Returns the last normal.
+fn walk(curve: GpuMeshCurve, alpha: f32, write: bool) -> vec3<f32> {
+    let last = curve.sections - 1u;
+    let rings = select(curve.sections, last, curve.closed == 1u);
+    var previous_t = curve.t_first.xyz;
+    var previous_x = vec3<f32>(0.0);
+    var n = curve.n0.xyz;
+    for (var j = 0u; j < curve.sections; j++) {
+        let s = sections[curve.first_section + j];
+        let p = place(curve, s);
+        let t = tangent(p, j == last && j > 0u, previous_t);
+        if j > 0u {
+            n = reflected_twice(previous_x, p.position, previous_t, t, n);
+        }
+        if write && j < rings {
+            write_section(curve, j, p, t, turned(n, t, -alpha * s.along));
+        }
+        if write && j == 0u && curve.caps == 1u {
+            write_vertex(curve, rings * curve.sides, p.position, -t);
+        }
+        if write && j == last && curve.caps == 1u {
+            write_vertex(curve, rings * curve.sides + 1u, p.position, t);
+        }
+        previous_t = t;
+        previous_x = p.position;
+    }
+    return n;
+}
+
+@compute @workgroup_size(WG_SIZE)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = id.y * params.row_width + id.x;
+    if index >= params.curve_count {
+        return;
+    }
+    let curve = curves[index];
+    var alpha = 0.0;
+    if curve.closed == 1u {
+        // The angle about T_0 from N_0 to the normal carried once around.
+        let carried = walk(curve, 0.0, false);
+        let first = place(curve, sections[curve.first_section]);
+        let t0 = tangent(first, false, curve.t_first.xyz);
+        let n0 = curve.n0.xyz;
+        alpha = atan2(dot(cross(n0, carried), t0), dot(n0, carried));
+    }
+    walk(curve, alpha, true);
+}

@@ -1,0 +1,223 @@
+//! A geometry job's meshes on the GPU: tubes and ribbons (undashed) through
+//! `shaders/geometry.wgsl` in groups whose every binding fits the device's limits, strokes and
+//! dashed curves made on the host (their kernel is to come) and rounded to f32 once; every
+//! vertex's t and the triangles made on the host, as the CPU makes them.
+
+use crate::error::GpuError;
+use crate::geometry::job::SweptPlan;
+use crate::geometry::mesh::{MeshOut, topology};
+use crate::geometry::{GeometryJob, Meshes};
+use crate::gpu::GpuContext;
+use crate::gpu::geometry::abi::{
+    GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, VERTEX_FLOATS,
+};
+use crate::gpu::geometry::pack::{PackedGeometry, binding_bytes};
+use crate::gpu::kernel::Kernel;
+use crate::gpu::surfaces::dispatch::nonempty;
+
+impl GpuContext {
+    fn geometry_kernel(&self) -> &Kernel {
+        self.geometry.get_or_init(|| {
+            Kernel::new(
+                &self.device,
+                "geometry.wgsl",
+                GEOMETRY_WGSL,
+                &GEOMETRY_BINDINGS,
+            )
+        })
+    }
+
+    /// Every mesh of `job` with f32 positions and normals: tubes and ribbons made on the GPU
+    /// (one invocation a curve carrying its frame along its cross-sections), strokes and
+    /// dashed curves on the host (their kernel is not built yet); t and the triangles as the
+    /// CPU makes them, bit for bit. Positions within the curve's GPU position bound plus
+    /// 1e-5 of the radius or width of [`GeometryJob::evaluate_cpu`]'s, normals within 1e-3
+    /// radians (the contract's promise, tested on lavapipe).
+    ///
+    /// # Errors
+    /// [`GpuError`] when the device is lost or a buffer cannot be mapped,
+    /// [`GpuError::OutOfRange`] for a curve whose coefficients do not fit f32, or
+    /// [`GpuError::TooLarge`] for one curve whose tables alone exceed a storage binding.
+    pub fn evaluate_geometry(&self, job: &GeometryJob) -> Result<Meshes<f32>, GpuError> {
+        let v = usize::try_from(job.vertex_count()).expect("checked against memory");
+        let f = usize::try_from(job.triangle_count()).expect("checked against memory");
+        let mut meshes = Meshes {
+            points: vec![0.0f32; 3 * v],
+            normals: vec![0.0f32; 3 * v],
+            t: vec![0.0; v],
+            triangles: vec![[0; 3]; f],
+            vertex_offsets: job.vertex_offsets().to_vec(),
+            triangle_offsets: job.triangle_offsets().to_vec(),
+        };
+        let mut swept = Vec::new();
+        for c in 0..job.len() {
+            let (vs, ts) = (
+                range(job.vertex_offsets(), c),
+                range(job.triangle_offsets(), c),
+            );
+            let mut out = MeshOut {
+                points: &mut meshes.points[3 * vs.start..3 * vs.end],
+                normals: &mut meshes.normals[3 * vs.start..3 * vs.end],
+                t: &mut meshes.t[vs.clone()],
+                triangles: &mut meshes.triangles[ts],
+            };
+            match job.swept(c) {
+                Some(plan) => {
+                    let places: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
+                    let closed = plan.lengths.is_some();
+                    topology(plan.shape, &places, closed, out.t, out.triangles);
+                    swept.push((c, plan));
+                }
+                None => job.make_into(c, &mut out),
+            }
+        }
+        let limits = self.device.limits();
+        let binding = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        for group in binding_groups(&swept, binding)? {
+            let packed = PackedGeometry::new(group)?;
+            let values = self.dispatch_geometry(&packed)?;
+            let mut at = 0;
+            for (c, _) in group {
+                let vs = range(job.vertex_offsets(), *c);
+                for (v, vertex) in vs.zip(values[at..].chunks_exact(VERTEX_FLOATS)) {
+                    meshes.points[3 * v..3 * v + 3].copy_from_slice(&vertex[..3]);
+                    meshes.normals[3 * v..3 * v + 3].copy_from_slice(&vertex[3..]);
+                    at += VERTEX_FLOATS;
+                }
+            }
+        }
+        Ok(meshes)
+    }
+
+    /// One dispatch of `packed`'s curves: their vertices' positions and normals, interleaved.
+    fn dispatch_geometry(&self, packed: &PackedGeometry) -> Result<Vec<f32>, GpuError> {
+        use wgpu::util::DeviceExt;
+        let device = &self.device;
+        let kernel = self.geometry_kernel();
+        let groups = (packed.curves.len() as u32)
+            .div_ceil(GEOMETRY_WG_SIZE)
+            .max(1);
+        let across = groups.min(device.limits().max_compute_workgroups_per_dimension);
+        let params = GeometryParams {
+            curve_count: packed.curves.len() as u32,
+            row_width: across * GEOMETRY_WG_SIZE,
+            out_base: 0,
+            _padding0: 0,
+        };
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE;
+        let uniform = init(
+            "geometry params",
+            bytemuck::bytes_of(&params),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let curves = init(
+            "geometry curves",
+            bytemuck::cast_slice(&nonempty(&packed.curves)),
+            storage,
+        );
+        let blocks = init(
+            "geometry blocks",
+            bytemuck::cast_slice(&nonempty(&packed.blocks)),
+            storage,
+        );
+        let sections = init(
+            "geometry sections",
+            bytemuck::cast_slice(&nonempty(&packed.sections)),
+            storage,
+        );
+        let floats = VERTEX_FLOATS * packed.vertices;
+        let bytes = (4 * floats).max(4) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("geometry vertices"),
+            size: bytes,
+            usage: storage | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let download = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("geometry download"),
+            size: bytes,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("geometry"),
+            layout: kernel.layout(),
+            entries: &[&uniform, &curves, &blocks, &sections, &output]
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect::<Vec<_>>(),
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("geometry"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(kernel.pipeline());
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
+        self.queue.submit([encoder.finish()]);
+        crate::gpu::readback::map_read(device, &download, |bytes| {
+            bytemuck::cast_slice::<u8, f32>(bytes)[..floats].to_vec()
+        })
+    }
+}
+
+fn range(offsets: &[u64], c: usize) -> std::ops::Range<usize> {
+    offsets[c] as usize..offsets[c + 1] as usize
+}
+
+/// The swept curves cut into consecutive groups whose every binding (curve records, blocks,
+/// sections, output) fits `binding` bytes.
+///
+/// # Errors
+/// [`GpuError::TooLarge`] for a curve that alone does not fit.
+fn binding_groups<'p, 'a>(
+    swept: &'p [(usize, SweptPlan<'a>)],
+    binding: u64,
+) -> Result<Vec<&'p [(usize, SweptPlan<'a>)]>, GpuError> {
+    const TABLES: [&str; 4] = [
+        "geometry curve records",
+        "geometry blocks",
+        "geometry sections",
+        "geometry output",
+    ];
+    let mut groups = Vec::new();
+    let (mut start, mut held) = (0, [0u64; 4]);
+    for (i, (_, plan)) in swept.iter().enumerate() {
+        let bytes = binding_bytes(plan);
+        if let Some(k) = (0..4).find(|&k| bytes[k] > binding) {
+            return Err(GpuError::TooLarge {
+                table: TABLES[k],
+                bytes: bytes[k],
+                limit: binding,
+            });
+        }
+        if (0..4).any(|k| held[k] + bytes[k] > binding) {
+            groups.push(&swept[start..i]);
+            (start, held) = (i, [0; 4]);
+        }
+        for k in 0..4 {
+            held[k] += bytes[k];
+        }
+    }
+    if start < swept.len() {
+        groups.push(&swept[start..]);
+    }
+    Ok(groups)
+}
