@@ -136,9 +136,10 @@ class Context:
         on and off lengths by arc length (an even count, >= 0, a sum > 0), `dash_offset` how
         far into the pattern each curve starts; each dash is an open stroke with its caps.
         Cross-sections: `per_segment=k` (default 16) or `arc_length=m`; a corner always gets
-        its join. Meshes are made on the CPU in float64 (a context opened as "gpu" raises
-        NotImplementedError, as `tolerance=` does: neither is built yet). `out`: an earlier
-        result of the same shapes, whose arrays are filled again.
+        its join (`tolerance=` raises NotImplementedError: not built yet). Meshes are made on
+        the context's backend: float64 on the CPU; on the GPU tubes and ribbons in float32,
+        strokes and dashed curves on the host rounded to float32. `out`: an earlier result of
+        the same shapes, whose arrays are filled again.
 
         Raises ValueError naming the curve, field and value for bad input.
         """

@@ -16,8 +16,9 @@ _ARRAYS = ("points", "t", "normals", "triangles", "curve_offsets", "triangle_off
 class Meshes:
     """The meshes of a `Context.strokes`, `.tubes` or `.ribbons` call, one per curve, as the
     command line's NPZ holds them: `points` (N, 2) for strokes, (N, 3) for tubes and ribbons,
-    float64; `t` (N,) float64, the curve parameter each vertex was made at; `normals` (N, 3)
-    unit normals of the exact surface for tubes and ribbons, None for strokes; `triangles`
+    float64 from the CPU and float32 from the GPU; `t` (N,) float64, the curve parameter each
+    vertex was made at; `normals` (N, 3) unit normals of the exact surface for tubes and
+    ribbons (as `points`), None for strokes; `triangles`
     (M, 3) int64, counter-clockwise, indexing the whole vertex array; `curve_offsets` and
     `triangle_offsets` (C + 1,) int64 (curve c owns vertices curve_offsets[c]:curve_offsets[c+1]
     and likewise triangles)."""
@@ -118,11 +119,6 @@ def meshes(context, shape: str, points, kind: str, *, width, width_name: str, ca
            dash_offset=None, per_segment=None, at=None, arc_length=None, tolerance=None,
            out: Meshes | None = None, fields: dict) -> Meshes:
     """See `Context.strokes`, `Context.tubes` and `Context.ribbons`."""
-    if context._requested == "gpu":
-        raise NotImplementedError(
-            "not supported yet: meshes on the gpu backend (the GPU kernel for strokes, tubes "
-            "and ribbons is not built; use a 'cpu' or 'auto' context, which makes them on the "
-            "CPU in float64)")
     if tolerance is not None:
         raise NotImplementedError("not supported yet: tolerance cross-sections with geometry "
                                   "(use per_segment= or arc_length=)")
@@ -147,5 +143,5 @@ def meshes(context, shape: str, points, kind: str, *, width, width_name: str, ca
         "dash_offset": offset,
     }
     reuse = None if out is None else out.arrays()
-    return Meshes(_native.geometry_meshes(curves, str(kind), kind_fields, sampling, geometry,
-                                          reuse))
+    return Meshes(_native.geometry_meshes(context._native, curves, str(kind), kind_fields,
+                                          sampling, geometry, reuse))

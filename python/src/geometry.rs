@@ -13,7 +13,7 @@ use splinegpu::geometry::{Tube, Width};
 use splinegpu::{Curve, InputError, Points};
 
 use crate::args::{PerCurve, Stack2, array, runtime_error, value_error};
-use crate::context::{CurveFields, KindSource, SamplingArg, on_threads};
+use crate::context::{Context, CurveFields, KindSource, SamplingArg, on_threads};
 
 /// The geometry's fields as the Python side normalises them: the shape's name, its width or
 /// radius (a number for every curve, or one array per curve), and the shape's own fields.
@@ -96,17 +96,22 @@ impl GeometryFields<'_> {
     }
 }
 
-/// Fits a batch of curves of one kind and makes their meshes on the CPU in f64 (see
-/// `splinegpu.Context.tubes`; the GPU kernel is not built yet, and the Python side refuses a
-/// context opened as "gpu"): a dict of the NPZ's arrays, filled into `out`'s (an earlier
-/// result of the same shapes) where given.
+/// Fits a batch of curves of one kind and makes their meshes (see `splinegpu.Context.tubes`)
+/// on the context's backend: f64 on the CPU, f32 points and normals from the GPU (strokes and
+/// dashed curves made on the host there, rounded once). A dict of the NPZ's arrays, filled
+/// into `out`'s (an earlier result of the same shapes) where given.
 #[pyfunction]
 #[expect(
     clippy::needless_pass_by_value,
     reason = "PyO3 extracts the Python call's arguments by value"
 )]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the Python call's arguments, one each"
+)]
 pub(crate) fn geometry_meshes<'py>(
     py: Python<'py>,
+    context: PyRef<'py, Context>,
     points: Stack2<'py>,
     kind: &str,
     fields: CurveFields<'py>,
@@ -165,7 +170,15 @@ pub(crate) fn geometry_meshes<'py>(
                 value_error(e)
             }
         })?;
-    write(py, &job, &geometry.shape, out.as_ref())
+    match &context.gpu {
+        None => write(py, &job, &geometry.shape, out.as_ref()),
+        Some(gpu) => {
+            let meshes = py
+                .detach(|| gpu.evaluate_geometry(&job))
+                .map_err(runtime_error)?;
+            write_f32(py, &job, &meshes, &geometry.shape, out.as_ref())
+        }
+    }
 }
 
 fn width_name(shape: &str) -> &'static str {
@@ -185,27 +198,7 @@ fn write<'py>(
     let flat = shape == "stroke";
     let dim = if flat { 2 } else { 3 };
     let points = array::<f64>(py, out, "points", [v, dim])?;
-    let t = match out.map(|o| o.get_item("t")).transpose()?.flatten() {
-        Some(given) => {
-            let given = given
-                .cast_into::<PyArray1<f64>>()
-                .map_err(|_| value_error("out: \"t\" must be a 1-D float64 array"))?;
-            if given.shape() != [v] {
-                return Err(value_error(format!(
-                    "out: \"t\" has shape {:?}, this result [{v}]",
-                    given.shape()
-                )));
-            }
-            if !given.is_c_contiguous() || given.try_readwrite().is_err() {
-                return Err(value_error(
-                    "out: \"t\" must be C-contiguous and writeable (and not borrowed elsewhere)",
-                ));
-            }
-            given
-        }
-        None => PyArray1::<f64>::zeros(py, v, false),
-    };
-    let triangles = array::<i64>(py, out, "triangles", [m, 3])?;
+    let t = t_array(py, out, v)?;
     let normals = if flat {
         None
     } else {
@@ -248,11 +241,83 @@ fn write<'py>(
             }
         }
     }
-    let offsets = job.vertex_offsets();
+    let triangles = triangle_array(py, job, &local, out, m)?;
+    refuse_non_finite(job, points.readonly().as_slice()?, dim)?;
+    if let Some(normals) = &normals {
+        refuse_non_finite(job, normals.readonly().as_slice()?, 3)?;
+    }
+    result(py, job, points, t, normals, triangles)
+}
+
+/// The result's dict: the arrays by the NPZ's names, with the job's offsets.
+fn result<'py, F: numpy::Element>(
+    py: Python<'py>,
+    job: &GeometryJob,
+    points: Bound<'py, numpy::PyArray2<F>>,
+    t: Bound<'py, PyArray1<f64>>,
+    normals: Option<Bound<'py, numpy::PyArray2<F>>>,
+    triangles: Bound<'py, numpy::PyArray2<i64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let signed = |o: &[u64]| -> Vec<i64> { o.iter().map(|&x| x as i64).collect() };
+    let result = PyDict::new(py);
+    result.set_item("points", points)?;
+    result.set_item("t", t)?;
+    result.set_item("normals", normals)?;
+    result.set_item("triangles", triangles)?;
+    result.set_item(
+        "curve_offsets",
+        PyArray1::from_vec(py, signed(job.vertex_offsets())),
+    )?;
+    result.set_item(
+        "triangle_offsets",
+        PyArray1::from_vec(py, signed(job.triangle_offsets())),
+    )?;
+    Ok(result)
+}
+
+/// The "t" array: `out`'s (checked) or a new one.
+fn t_array<'py>(
+    py: Python<'py>,
+    out: Option<&Bound<'py, PyDict>>,
+    v: usize,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    Ok(match out.map(|o| o.get_item("t")).transpose()?.flatten() {
+        Some(given) => {
+            let given = given
+                .cast_into::<PyArray1<f64>>()
+                .map_err(|_| value_error("out: \"t\" must be a 1-D float64 array"))?;
+            if given.shape() != [v] {
+                return Err(value_error(format!(
+                    "out: \"t\" has shape {:?}, this result [{v}]",
+                    given.shape()
+                )));
+            }
+            if !given.is_c_contiguous() || given.try_readwrite().is_err() {
+                return Err(value_error(
+                    "out: \"t\" must be C-contiguous and writeable (and not borrowed elsewhere)",
+                ));
+            }
+            given
+        }
+        None => PyArray1::<f64>::zeros(py, v, false),
+    })
+}
+
+/// The triangles indexing the whole vertex array: each mesh's local indices moved by its
+/// first vertex, into `out`'s array (checked) or a new one.
+fn triangle_array<'py>(
+    py: Python<'py>,
+    job: &GeometryJob,
+    local: &[[u32; 3]],
+    out: Option<&Bound<'py, PyDict>>,
+    m: usize,
+) -> PyResult<Bound<'py, numpy::PyArray2<i64>>> {
+    let triangles = array::<i64>(py, out, "triangles", [m, 3])?;
     {
         let mut view = triangles.readwrite();
         let whole = view.as_slice_mut()?;
         let mut next = 0;
+        let offsets = job.vertex_offsets();
         for (base, ends) in offsets.iter().zip(job.triangle_offsets().windows(2)) {
             let count = (ends[1] - ends[0]) as usize;
             for (target, tri) in whole[3 * next..3 * (next + count)]
@@ -266,22 +331,53 @@ fn write<'py>(
             next += count;
         }
     }
-    refuse_non_finite(job, points.readonly().as_slice()?, dim)?;
-    if let Some(normals) = &normals {
-        refuse_non_finite(job, normals.readonly().as_slice()?, 3)?;
+    Ok(triangles)
+}
+
+/// The GPU's meshes as the NPZ's arrays: f32 points (a stroke's x and y) and normals, t and
+/// the triangles as the CPU's.
+fn write_f32<'py>(
+    py: Python<'py>,
+    job: &GeometryJob,
+    meshes: &splinegpu::geometry::Meshes<f32>,
+    shape: &str,
+    out: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (v, m) = (meshes.t.len(), meshes.triangles.len());
+    let flat = shape == "stroke";
+    let dim = if flat { 2 } else { 3 };
+    let points = array::<f32>(py, out, "points", [v, dim])?;
+    {
+        let mut view = points.readwrite();
+        let target = view.as_slice_mut()?;
+        if flat {
+            for (xy, p) in target
+                .chunks_exact_mut(2)
+                .zip(meshes.points.chunks_exact(3))
+            {
+                xy.copy_from_slice(&p[..2]);
+            }
+        } else {
+            target.copy_from_slice(&meshes.points);
+        }
     }
-    let signed = |o: &[u64]| -> Vec<i64> { o.iter().map(|&x| x as i64).collect() };
-    let result = PyDict::new(py);
-    result.set_item("points", points)?;
-    result.set_item("t", t)?;
-    result.set_item("normals", normals)?;
-    result.set_item("triangles", triangles)?;
-    result.set_item("curve_offsets", PyArray1::from_vec(py, signed(offsets)))?;
-    result.set_item(
-        "triangle_offsets",
-        PyArray1::from_vec(py, signed(job.triangle_offsets())),
-    )?;
-    Ok(result)
+    let t = t_array(py, out, v)?;
+    t.readwrite().as_slice_mut()?.copy_from_slice(&meshes.t);
+    let triangles = triangle_array(py, job, &meshes.triangles, out, m)?;
+    let finite = |values: &[f32]| values.iter().map(|&x| f64::from(x)).collect::<Vec<f64>>();
+    refuse_non_finite(job, &finite(points.readonly().as_slice()?), dim)?;
+    let normals = if flat {
+        None
+    } else {
+        let normals = array::<f32>(py, out, "normals", [v, 3])?;
+        normals
+            .readwrite()
+            .as_slice_mut()?
+            .copy_from_slice(&meshes.normals);
+        refuse_non_finite(job, &finite(&meshes.normals), 3)?;
+        Some(normals)
+    };
+    result(py, job, points, t, normals, triangles)
 }
 
 /// A mesh whose values overflow f64 (a radius near the largest float) is refused, naming the

@@ -133,13 +133,28 @@ def test_bad_input_is_named(cpu, call, kwargs, error, match):
         getattr(cpu, call)(LOOPS, **kwargs)
 
 
-def test_stroke_fields_and_a_gpu_context_are_named(cpu, gpu):
+def test_stroke_fields_are_named(cpu):
     with pytest.raises(ValueError, match='cap: must be "butt", "round" or "square"'):
         cpu.strokes(PATHS, width=0.1, cap="flat")
     with pytest.raises(ValueError, match='curve 0: "miter_limit" must be a number >= 1'):
         cpu.strokes(PATHS, width=0.1, miter_limit=0.5)
-    with pytest.raises(NotImplementedError, match="meshes on the gpu backend"):
-        gpu.tubes(LOOPS, radius=0.1)
+
+
+@pytest.mark.parametrize("method, keywords", [
+    ("tubes", {"radius": 0.05, "ends": "closed", "caps": True}),
+    ("ribbons", {"width": 0.1, "kind": "natural", "arc_length": 50}),
+    ("tubes", {"radius": 0.05, "dash": [0.4, 0.1]}),
+])
+def test_a_gpu_context_makes_float32_meshes_beside_the_cpus(cpu, gpu, method, keywords):
+    want = getattr(cpu, method)(LOOPS, **keywords)
+    got = getattr(gpu, method)(LOOPS, **keywords)
+    for name in ("t", "triangles", "curve_offsets", "triangle_offsets"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(want, name), err_msg=name)
+    for name in ("points", "normals"):
+        assert getattr(got, name).dtype == np.float32
+        np.testing.assert_allclose(getattr(got, name), getattr(want, name), atol=1e-5)
+    flat = gpu.strokes(PATHS, width=0.05)
+    assert flat.points.dtype == np.float32 and flat.points.shape[1] == 2
 
 
 def test_a_mesh_that_overflows_is_refused_by_name(cpu):

@@ -1,7 +1,8 @@
 //! Writing a geometry document's meshes (contract: "Output of a document with geometry"): JSON,
-//! CSV (vertices), NPZ (streamed) and the mesh files (.obj, .glb). Meshes are made on the CPU
-//! in f64, group by group ([`GeometryJob::groups`]), so that memory holds one group's meshes
-//! at a time in every format but .glb, whose header gives its whole length first.
+//! CSV (vertices), NPZ (streamed) and the mesh files (.obj, .glb). Meshes are made group by
+//! group ([`GeometryJob::groups`]: f64 on the CPU, f32 on the GPU), so that memory holds one
+//! group's meshes at a time in every format but .glb, whose header gives its whole length
+//! first.
 //!
 //! A stroke's mesh is 2-D: its points are written with 2 coordinates in JSON, CSV and NPZ, and
 //! with z = 0 in the mesh files; it has no normals. Tubes and ribbons are 3-D with normals.
@@ -16,6 +17,11 @@ use crate::document::surfaces::group_vertices;
 use crate::mesh_files::{Mesh, ObjWriter, write_glb};
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
+use crate::surface_output::Number;
+
+/// Makes the meshes of a range of a job's curves (f64 on the CPU, f32 on the GPU), their
+/// offsets from 0.
+pub type Make<'a, F> = dyn FnMut(Range<usize>) -> Result<Meshes<F>, OutputError> + 'a;
 
 /// The formats a geometry document is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,12 +77,16 @@ pub fn check_format(job: &GeometryJob, format: MeshFormat) -> Result<(), InputEr
     }
 }
 
-/// One group's meshes, checked: every value finite (JSON and CSV have no infinities; a
-/// width that overflows f64 is the input's fault), naming the curve and the vertex.
-fn evaluate(job: &GeometryJob, group: Range<usize>) -> Result<Meshes, OutputError> {
+/// One group's meshes made by `make`, checked: every value finite (JSON and CSV have no
+/// infinities; a width that overflows the number type is the input's fault), naming the curve
+/// and the vertex.
+fn evaluate<F: Number>(
+    make: &mut Make<'_, F>,
+    group: Range<usize>,
+) -> Result<Meshes<F>, OutputError> {
     let first = group.start;
-    let meshes = job.evaluate_cpu_group(group);
-    let finite = |plane: &[f64]| plane.iter().fold(true, |ok, v| ok & v.is_finite());
+    let meshes = make(group)?;
+    let finite = |plane: &[F]| plane.iter().fold(true, |ok, v| ok & v.finite());
     if finite(&meshes.points) && finite(&meshes.normals) {
         return Ok(meshes);
     }
@@ -84,7 +94,7 @@ fn evaluate(job: &GeometryJob, group: Range<usize>) -> Result<Meshes, OutputErro
         let vertices = vertex_range(&meshes, c);
         for plane in [&meshes.points, &meshes.normals] {
             let values = &plane[3 * vertices.start..3 * vertices.end];
-            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            if let Some(i) = values.iter().position(|v| !v.finite()) {
                 return Err(OutputError::MeshNonFinite {
                     curve: first + c,
                     vertex: i / 3,
@@ -95,16 +105,16 @@ fn evaluate(job: &GeometryJob, group: Range<usize>) -> Result<Meshes, OutputErro
     unreachable!("a value that is not finite lies in some mesh")
 }
 
-fn vertex_range(meshes: &Meshes, c: usize) -> Range<usize> {
+fn vertex_range<F>(meshes: &Meshes<F>, c: usize) -> Range<usize> {
     meshes.vertex_offsets[c] as usize..meshes.vertex_offsets[c + 1] as usize
 }
 
-fn triangle_range(meshes: &Meshes, c: usize) -> Range<usize> {
+fn triangle_range<F>(meshes: &Meshes<F>, c: usize) -> Range<usize> {
     meshes.triangle_offsets[c] as usize..meshes.triangle_offsets[c + 1] as usize
 }
 
 /// Mesh c of a group as the mesh files take it (`curve` its index in the document).
-fn mesh_of<'a>(job: &GeometryJob, meshes: &'a Meshes, c: usize, curve: usize) -> Mesh<'a, f64> {
+fn mesh_of<'a, F>(job: &GeometryJob, meshes: &'a Meshes<F>, c: usize, curve: usize) -> Mesh<'a, F> {
     let (v, f) = (vertex_range(meshes, c), triangle_range(meshes, c));
     let normals = &meshes.normals[3 * v.start..3 * v.end];
     Mesh {
@@ -115,25 +125,26 @@ fn mesh_of<'a>(job: &GeometryJob, meshes: &'a Meshes, c: usize, curve: usize) ->
     }
 }
 
-/// Writes every mesh of `job` as `format`, group by group.
+/// Writes every mesh of `job` as `format`, group by group, each group made by `make`.
 ///
 /// # Errors
-/// An I/O error of `out`, or a value that is not finite.
-pub fn write(
+/// An I/O error of `out`, `make`'s, or a value that is not finite.
+pub fn write<F: Number>(
     job: &GeometryJob,
     format: MeshFormat,
     out: &mut dyn Write,
+    make: &mut Make<'_, F>,
 ) -> Result<(), OutputError> {
     // As surfaces': 2^20 vertices a group (7 f64 each, about 60 MB), or SPLINEGPU_CHUNK_SAMPLES.
     let groups = job.groups(group_vertices() as u64);
     match format {
-        MeshFormat::Csv => write_csv(job, &groups, out),
-        MeshFormat::Json => write_json(job, &groups, out),
-        MeshFormat::Npz => write_npz(job, &groups, out),
+        MeshFormat::Csv => write_csv(job, &groups, out, make),
+        MeshFormat::Json => write_json(job, &groups, out, make),
+        MeshFormat::Npz => write_npz(job, &groups, out, make),
         MeshFormat::Obj => {
             let mut obj = ObjWriter::new(out, "geometry: one object per curve")?;
             for group in groups {
-                let meshes = evaluate(job, group.clone())?;
+                let meshes = evaluate(make, group.clone())?;
                 for (c, curve) in group.enumerate() {
                     obj.mesh(&mesh_of(job, &meshes, c, curve))?;
                 }
@@ -141,8 +152,8 @@ pub fn write(
             Ok(())
         }
         MeshFormat::Glb => {
-            let meshes = evaluate(job, 0..job.len())?;
-            let all: Vec<Mesh<'_, f64>> = (0..job.len())
+            let meshes = evaluate(make, 0..job.len())?;
+            let all: Vec<Mesh<'_, F>> = (0..job.len())
                 .map(|c| mesh_of(job, &meshes, c, c))
                 .collect();
             Ok(write_glb(&all, out)?)
@@ -150,8 +161,13 @@ pub fn write(
     }
 }
 
-/// A point's first `dim` coordinates as CSV fields or JSON numbers.
-fn put(line: &mut Vec<u8>, number: &mut zmij::Buffer, values: &[f64], separator: &[u8]) {
+/// Numbers as CSV fields or JSON numbers, `separator` between them.
+fn put<F: zmij::Float + Copy>(
+    line: &mut Vec<u8>,
+    number: &mut zmij::Buffer,
+    values: &[F],
+    separator: &[u8],
+) {
     for (k, x) in values.iter().enumerate() {
         if k > 0 {
             line.extend_from_slice(separator);
@@ -160,10 +176,11 @@ fn put(line: &mut Vec<u8>, number: &mut zmij::Buffer, values: &[f64], separator:
     }
 }
 
-fn write_csv(
+fn write_csv<F: Number>(
     job: &GeometryJob,
     groups: &[Range<usize>],
     out: &mut dyn Write,
+    make: &mut Make<'_, F>,
 ) -> Result<(), OutputError> {
     let width = (0..job.len()).map(|c| dim(job, c)).max().unwrap_or(3);
     let normals = (0..job.len()).any(|c| has_normals(job, c));
@@ -178,7 +195,7 @@ fn write_csv(
     let mut number = zmij::Buffer::new();
     let mut line = Vec::new();
     for group in groups {
-        let meshes = evaluate(job, group.clone())?;
+        let meshes = evaluate(make, group.clone())?;
         for (c, curve) in group.clone().enumerate() {
             let d = dim(job, curve);
             for (v, vertex) in vertex_range(&meshes, c).enumerate() {
@@ -210,14 +227,15 @@ fn write_csv(
     Ok(())
 }
 
-fn write_json(
+fn write_json<F: Number>(
     job: &GeometryJob,
     groups: &[Range<usize>],
     out: &mut dyn Write,
+    make: &mut Make<'_, F>,
 ) -> Result<(), OutputError> {
     let mut number = zmij::Buffer::new();
     let mut text = Vec::new();
-    let rows = |text: &mut Vec<u8>, number: &mut zmij::Buffer, plane: &[f64], d: usize| {
+    let rows = |text: &mut Vec<u8>, number: &mut zmij::Buffer, plane: &[F], d: usize| {
         text.push(b'[');
         for (i, p) in plane.chunks_exact(3).enumerate() {
             text.extend_from_slice(if i > 0 { b", [" } else { b"[" });
@@ -228,7 +246,7 @@ fn write_json(
     };
     out.write_all(b"{\"meshes\": [")?;
     for group in groups {
-        let meshes = evaluate(job, group.clone())?;
+        let meshes = evaluate(make, group.clone())?;
         for (c, curve) in group.clone().enumerate() {
             let (v, f) = (vertex_range(&meshes, c), triangle_range(&meshes, c));
             text.clear();
@@ -267,10 +285,11 @@ fn write_json(
 /// A temporary file an NPZ array waits in for its turn.
 type Waiting = io::BufWriter<std::fs::File>;
 
-fn write_npz(
+fn write_npz<F: Number>(
     job: &GeometryJob,
     groups: &[Range<usize>],
     out: &mut dyn Write,
+    make: &mut Make<'_, F>,
 ) -> Result<(), OutputError> {
     let mut npz = NpzWriter::new(out);
     let d = dim(job, 0);
@@ -280,14 +299,14 @@ fn write_npz(
     let mut waiting: Vec<Waiting> = (0..3)
         .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
         .collect::<Result<_, _>>()?;
-    npz.begin("points", Dtype::F64, &[vertices, d as u64])?;
+    npz.begin("points", Dtype::of::<F>(), &[vertices, d as u64])?;
     for group in groups {
         let first = job.vertex_offsets()[group.start];
-        let meshes = evaluate(job, group.clone())?;
+        let meshes = evaluate(make, group.clone())?;
         if d == 3 {
             npz.write(bytemuck::cast_slice(&meshes.points))?;
         } else {
-            let flat: Vec<f64> = meshes
+            let flat: Vec<F> = meshes
                 .points
                 .chunks_exact(3)
                 .flat_map(|p| [p[0], p[1]])
@@ -312,7 +331,7 @@ fn write_npz(
     let [t, n, tri]: [Waiting; 3] = waiting.try_into().expect("three waiting arrays");
     npz.array_from("t", Dtype::F64, &[vertices], t)?;
     if normals {
-        npz.array_from("normals", Dtype::F64, &[vertices, 3], n)?;
+        npz.array_from("normals", Dtype::of::<F>(), &[vertices, 3], n)?;
     }
     npz.array_from("triangles", Dtype::I64, &[triangles, 3], tri)?;
     let count = job.len() as u64 + 1;

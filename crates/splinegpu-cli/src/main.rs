@@ -298,9 +298,9 @@ fn tessellate_surfaces(
     finish(result, output)
 }
 
-/// A geometry document: checked for the format, its meshes made on the CPU group by group as
-/// they are written. The GPU kernel for meshes is not built yet: `--backend gpu` is refused
-/// (exit 1), auto makes them on the CPU.
+/// A geometry document: checked for the format, its meshes made on the backend group by group
+/// as they are written (the GPU makes tubes and ribbons; strokes and dashed curves are made
+/// on the host whatever the backend, rounded to f32 on the GPU's).
 fn tessellate_geometry(
     job: &GeometryJob,
     output: Option<&Path>,
@@ -315,24 +315,34 @@ fn tessellate_geometry(
         Format::Obj => MeshFormat::Obj,
     };
     geometry_output::check_format(job, format).map_err(Failure::input)?;
-    match backend {
-        Backend::Gpu => {
-            return Err(Failure::other(
-                "not supported yet: geometry on the gpu backend (use --backend cpu)",
-            ));
-        }
-        Backend::Auto => eprintln!("splinegpu: backend auto: cpu (geometry is made on the CPU)"),
-        Backend::Cpu => {}
-    }
-    let emit = |out: &mut dyn Write| geometry_output::write(job, format, out);
-    let result = match output {
+    let context = choose_backend(backend)?;
+    let result = match &context {
+        None => write_meshes(job, format, output, &mut |range| {
+            Ok(job.evaluate_cpu_group(range))
+        }),
+        Some(gpu) => write_meshes(job, format, output, &mut |range| {
+            Ok(gpu.evaluate_geometry_group(job, range)?)
+        }),
+    };
+    finish(result, output)
+}
+
+/// The job's meshes written as `format` to `output` (standard output when none), each group
+/// made by `make`.
+fn write_meshes<F: surface_output::Number>(
+    job: &GeometryJob,
+    format: MeshFormat,
+    output: Option<&Path>,
+    make: &mut geometry_output::Make<'_, F>,
+) -> Result<(), OutputError> {
+    let mut emit = |out: &mut dyn Write| geometry_output::write(job, format, out, make);
+    match output {
         None => {
             let mut out = io::BufWriter::new(io::stdout().lock());
             emit(&mut out).and_then(|()| Ok(out.flush()?))
         }
         Some(path) => output::write_output(path, emit),
-    };
-    finish(result, output)
+    }
 }
 
 /// The job written as `format` to `output` (standard output when none), its surfaces

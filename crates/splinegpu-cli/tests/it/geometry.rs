@@ -537,6 +537,43 @@ fn a_mesh_that_overflows_is_refused_in_every_format() {
     }
 }
 
+/// `--backend gpu`: the same triangles, t and offsets, float32 points and normals near the
+/// CPU's (the promise itself is the library's GPU tests'), a stroke among the tubes made on the
+/// host and rounded once.
+#[test]
+fn the_gpu_backend_writes_float32_meshes_beside_the_cpus() {
+    if !crate::shared::gpu_tests_run() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut arrays = Vec::new();
+    for (name, backend) in [("cpu.npz", "cpu"), ("gpu.npz", "gpu")] {
+        let (status, stderr) = tessellate(dir.path(), &document(), name, backend);
+        assert_eq!(status, 0, "{backend}: {stderr}");
+        arrays.push(crate::stream::read_npz(
+            &std::fs::read(dir.path().join(name)).unwrap(),
+        ));
+    }
+    let (cpu, gpu) = (&arrays[0], &arrays[1]);
+    for name in ["t", "triangles", "curve_offsets", "triangle_offsets"] {
+        assert_eq!(cpu[name], gpu[name], "{name}");
+    }
+    for name in ["points", "normals"] {
+        assert_eq!(gpu[name].0, "<f4", "{name}");
+        let want: Vec<f64> = bytemuck::pod_collect_to_vec(&cpu[name].2);
+        let got: Vec<f32> = bytemuck::pod_collect_to_vec(&gpu[name].2);
+        for (w, g) in want.iter().zip(&got) {
+            assert!((w - f64::from(*g)).abs() < 1e-4, "{name}: {w} against {g}");
+        }
+    }
+    let doc = doc(
+        "",
+        &format!(r#"{LINE2}, "geometry": {{"stroke": {{"width": 0.1}}}}"#),
+    );
+    let (status, stderr) = tessellate(dir.path(), &doc, "mixed.json", "gpu");
+    assert_eq!(status, 0, "{stderr}");
+}
+
 /// What this build does not make yet is exit 1, "not supported yet", with nothing written;
 /// but only once the whole document is valid (a later curve's bad value is still exit 2).
 #[test]
@@ -555,12 +592,6 @@ fn what_is_not_built_yet_exits_1_after_the_input_is_checked() {
             "not supported yet: curve 0: tolerance cross-sections",
         ),
         (tolerance(r#", "up": [1, 2]"#), "cpu", 2, "curve 1: \"up\""),
-        (
-            document(),
-            "gpu",
-            1,
-            "not supported yet: geometry on the gpu backend",
-        ),
     ];
     let dir = tempfile::tempdir().unwrap();
     for (doc, backend, code, want) in cases {

@@ -203,4 +203,12 @@ pub(crate) fn tubes_and_ribbons_of_many_kinds_in_one_call_keep_the_promise() {
     let cpu = job.evaluate_cpu();
     let made = gpu.evaluate_geometry(&job).unwrap();
     check(&cases, &cpu, &made);
+    // Group by group (as the command line writes them), the same meshes.
+    let (mut points, mut normals) = (Vec::new(), Vec::new());
+    for group in job.groups(500) {
+        let part = gpu.evaluate_geometry_group(&job, group).unwrap();
+        points.extend(part.points);
+        normals.extend(part.normals);
+    }
+    assert!(points == made.points && normals == made.normals);
 }

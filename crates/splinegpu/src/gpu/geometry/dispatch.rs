@@ -39,21 +39,46 @@ impl GpuContext {
     /// [`GpuError::OutOfRange`] for a curve whose coefficients do not fit f32, or
     /// [`GpuError::TooLarge`] for one curve whose tables alone exceed a storage binding.
     pub fn evaluate_geometry(&self, job: &GeometryJob) -> Result<Meshes<f32>, GpuError> {
-        let v = usize::try_from(job.vertex_count()).expect("checked against memory");
-        let f = usize::try_from(job.triangle_count()).expect("checked against memory");
+        self.evaluate_geometry_group(job, 0..job.len())
+    }
+
+    /// [`GpuContext::evaluate_geometry`] of the curves of `curves` (a group of
+    /// [`GeometryJob::groups`], made and written one at a time): their offsets start at 0.
+    ///
+    /// # Errors
+    /// As [`GpuContext::evaluate_geometry`].
+    ///
+    /// # Panics
+    /// If `curves` is not within the job.
+    pub fn evaluate_geometry_group(
+        &self,
+        job: &GeometryJob,
+        curves: std::ops::Range<usize>,
+    ) -> Result<Meshes<f32>, GpuError> {
+        let from = |offsets: &[u64]| -> Vec<u64> {
+            offsets[curves.start..=curves.end]
+                .iter()
+                .map(|o| o - offsets[curves.start])
+                .collect()
+        };
+        let (vertex_offsets, triangle_offsets) =
+            (from(job.vertex_offsets()), from(job.triangle_offsets()));
+        let v = usize::try_from(vertex_offsets[curves.len()]).expect("checked against memory");
+        let f = usize::try_from(triangle_offsets[curves.len()]).expect("checked against memory");
         let mut meshes = Meshes {
             points: vec![0.0f32; 3 * v],
             normals: vec![0.0f32; 3 * v],
             t: vec![0.0; v],
             triangles: vec![[0; 3]; f],
-            vertex_offsets: job.vertex_offsets().to_vec(),
-            triangle_offsets: job.triangle_offsets().to_vec(),
+            vertex_offsets,
+            triangle_offsets,
         };
-        let mut swept = Vec::new();
-        for c in 0..job.len() {
+        // The swept curves (their index in the job and their plan) and their place in `range`.
+        let (mut swept, mut places) = (Vec::new(), Vec::new());
+        for (i, c) in curves.clone().enumerate() {
             let (vs, ts) = (
-                range(job.vertex_offsets(), c),
-                range(job.triangle_offsets(), c),
+                range(&meshes.vertex_offsets, i),
+                range(&meshes.triangle_offsets, i),
             );
             let mut out = MeshOut {
                 points: &mut meshes.points[3 * vs.start..3 * vs.end],
@@ -63,10 +88,11 @@ impl GpuContext {
             };
             match job.swept(c) {
                 Some(plan) => {
-                    let places: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
+                    let ts: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
                     let closed = plan.lengths.is_some();
-                    topology(plan.shape, &places, closed, out.t, out.triangles);
+                    topology(plan.shape, &ts, closed, out.t, out.triangles);
                     swept.push((c, plan));
+                    places.push(i);
                 }
                 None => job.make_into(c, &mut out),
             }
@@ -75,12 +101,14 @@ impl GpuContext {
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
+        let mut place = places.into_iter();
         for group in binding_groups(&swept, binding)? {
             let packed = PackedGeometry::new(group)?;
             let values = self.dispatch_geometry(&packed)?;
             let mut at = 0;
-            for (c, _) in group {
-                let vs = range(job.vertex_offsets(), *c);
+            for _ in group {
+                let i = place.next().expect("a place for every swept curve");
+                let vs = range(&meshes.vertex_offsets, i);
                 for (v, vertex) in vs.zip(values[at..].chunks_exact(VERTEX_FLOATS)) {
                     meshes.points[3 * v..3 * v + 3].copy_from_slice(&vertex[..3]);
                     meshes.normals[3 * v..3 * v + 3].copy_from_slice(&vertex[3..]);
