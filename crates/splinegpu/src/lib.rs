@@ -141,8 +141,8 @@ pub use fit::interp::{End, EndCondition, EndKind, Fitter};
 pub use fit::shape::pchip_slopes_into;
 pub use fit::tcb::{PerPoint, Tcb};
 pub use gpu::{
-    GpuContext, OutputLayout, SurfaceOutputLayout, SurfaceRecording, adapters, hardware_adapter,
-    new_instance,
+    GeometryOutputLayout, GeometryRecording, GpuContext, OutputLayout, SurfaceOutputLayout,
+    SurfaceRecording, adapters, hardware_adapter, new_instance,
 };
 pub use job::layout::JobLayout;
 pub use job::planes::Planes;

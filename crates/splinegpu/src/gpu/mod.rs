@@ -17,6 +17,7 @@ pub(crate) mod surfaces;
 pub(crate) mod timing;
 
 pub use curves::record::OutputLayout;
+pub use geometry::record::{GeometryOutputLayout, GeometryRecording};
 pub use surfaces::record::{SurfaceOutputLayout, SurfaceRecording};
 
 use crate::error::GpuError;

@@ -212,3 +212,134 @@ pub(crate) fn tubes_and_ribbons_of_many_kinds_in_one_call_keep_the_promise() {
     }
     assert!(points == made.points && normals == made.normals);
 }
+
+/// Reads `bytes` of `buffer` back (the test's own readback; the renderer path reads nothing).
+fn read_back(
+    gpu: &splinegpu::GpuContext,
+    buffer: &splinegpu::wgpu::Buffer,
+    bytes: u64,
+) -> Vec<f32> {
+    use splinegpu::wgpu;
+    let download = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("test download"),
+        size: bytes,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &download, 0, bytes);
+    gpu.queue().submit([encoder.finish()]);
+    download
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, |r| r.unwrap());
+    gpu.device()
+        .poll(wgpu::PollType::wait_indefinitely())
+        .unwrap();
+    let view = download.slice(..).get_mapped_range().unwrap();
+    bytemuck::cast_slice::<u8, f32>(&view).to_vec()
+}
+
+/// The renderer's path: the recording writes what `evaluate_geometry` gives, bit for bit, into
+/// the renderer's vertex buffer (position and normal interleaved), its indices are the
+/// triangles over all vertices, a moving curve refitted in place is recorded as a new job of
+/// it evaluates; strokes, unusable targets and a refit of another shape are refused by name.
+pub(crate) fn a_renderer_records_tubes_into_its_own_buffers_and_refits_moving_curves() {
+    use splinegpu::wgpu;
+    let Some(gpu) = gpu() else { return };
+    // The GPU's cases without the host-made ones (the dashed tube and the stroke).
+    let mut cases = cases();
+    cases.truncate(cases.len() - 2);
+    let mut job = GeometryJob::new();
+    for (curve, geometry, sampling, _) in &cases {
+        job.push(curve, geometry, sampling).unwrap();
+    }
+    let mut recording = gpu.geometry_recording(&job).unwrap();
+    let layout = recording.layout().clone();
+    assert_eq!(layout.stride, 24);
+    assert_eq!(layout.bytes, 24 * job.vertex_count());
+    let target = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("renderer vertices"),
+        size: 256 + layout.bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::VERTEX
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let record = |recording: &splinegpu::GeometryRecording| -> Vec<f32> {
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        recording
+            .record_into(gpu, &mut encoder, &target, 256)
+            .unwrap();
+        gpu.queue().submit([encoder.finish()]);
+        read_back(gpu, &target, 256 + layout.bytes)[64..].to_vec()
+    };
+    let interleaved = |m: &Meshes<f32>| -> Vec<f32> {
+        m.points
+            .chunks_exact(3)
+            .zip(m.normals.chunks_exact(3))
+            .flat_map(|(p, n)| p.iter().chain(n).copied())
+            .collect()
+    };
+    let made = gpu.evaluate_geometry(&job).unwrap();
+    assert!(
+        record(&recording) == interleaved(&made),
+        "recorded vertices differ"
+    );
+    let whole: Vec<u32> = (0..job.len())
+        .flat_map(|c| {
+            let first = made.vertex_offsets[c] as u32;
+            made.triangles[range(&made.triangle_offsets, c)]
+                .iter()
+                .flatten()
+                .map(move |&i| first + i)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(recording.indices(), whole.as_slice());
+    // Curve 0 moves: refitted on the host, its tables uploaded in place.
+    let moved: Vec<f64> = cases[0]
+        .0
+        .points()
+        .coords()
+        .iter()
+        .map(|x| x * 1.1 + 0.3)
+        .collect();
+    let moved = Curve::new(cases[0].0.kind().clone(), Points::new(3, moved).unwrap()).unwrap();
+    job.refit(0, &moved).unwrap();
+    recording.refit(gpu, &job).unwrap();
+    let again = gpu.evaluate_geometry(&job).unwrap();
+    assert!(
+        record(&recording) == interleaved(&again),
+        "refitted vertices differ"
+    );
+    assert!(again.points != made.points);
+    // Refused: another job's shape, strokes, targets it cannot write.
+    let mut other = GeometryJob::new();
+    other.push(&cases[1].0, &cases[1].1, &cases[1].2).unwrap();
+    let error = recording.refit(gpu, &other).unwrap_err();
+    assert_eq!(error.field.as_deref(), Some("job"));
+    let all = cases_job(&self::cases());
+    let error = gpu.geometry_recording(&all).unwrap_err().to_string();
+    assert!(error.contains("is made on the host"), "{error}");
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
+    let small = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 64,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    assert!(recording.record_into(gpu, &mut encoder, &small, 0).is_err());
+    assert!(
+        recording
+            .record_into(gpu, &mut encoder, &target, 4)
+            .is_err()
+    );
+}
+
+fn cases_job(cases: &[(Curve, Geometry, Sampling, f64)]) -> GeometryJob {
+    let mut job = GeometryJob::new();
+    for (curve, geometry, sampling, _) in cases {
+        job.push(curve, geometry, sampling).unwrap();
+    }
+    job
+}

@@ -16,7 +16,7 @@ use crate::gpu::kernel::Kernel;
 use crate::gpu::surfaces::dispatch::nonempty;
 
 impl GpuContext {
-    fn geometry_kernel(&self) -> &Kernel {
+    pub(crate) fn geometry_kernel(&self) -> &Kernel {
         self.geometry.get_or_init(|| {
             Kernel::new(
                 &self.device,

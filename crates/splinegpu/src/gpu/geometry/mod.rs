@@ -7,10 +7,12 @@
 //! triangles, which do not depend on the positions.
 //!
 //! The kernel's ABI (`abi`), the curves packed for it (`pack`), evaluation in dispatches within
-//! the device's limits (`dispatch`), and the kernel's f32 CPU twin (`twin`, tests only).
+//! the device's limits (`dispatch`), the renderer's recording (`record`), and the kernel's f32
+//! CPU twin (`twin`, tests only).
 
 pub(crate) mod abi;
 pub(crate) mod dispatch;
 pub(crate) mod pack;
+pub(crate) mod record;
 #[cfg(test)]
 mod twin;
