@@ -18,12 +18,12 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BIN=.device/bin
-# The library's GPU tests, which need no source tree at run time: its integration tests (GPU
-# against the f64 reference, geometric samplings, the renderer path) and its unit tests (the
-# kernel's twin, its ABI).
-TESTS=(splinegpu-it splinegpu-unit)
+# The library's GPU tests, which need no source tree at run time: the GPU harness (every
+# kernel against the f64 reference, the renderer paths), its integration tests and its unit
+# tests (the kernels' twins, their ABI).
+TESTS=(splinegpu-gpu splinegpu-it splinegpu-unit)
 # Most telling first: a run cut short by the time limit still has them.
-WORKLOADS=(w1 w1-x10 eval-at w1-d fit-1m w1-tol w1-arc cli-w1)
+WORKLOADS=(w1 tubes w1-x10 eval-at w1-d fit-1m w1-tol w1-arc cli-w1)
 
 if [[ "${1:-}" == "--prepare" ]]; then
     set -e
@@ -31,16 +31,16 @@ if [[ "${1:-}" == "--prepare" ]]; then
     cargo build --release --quiet
     cp target/release/splinegpu "$BIN/"
     # The test binaries cargo builds, by name (their file names carry a hash).
-    cargo test --release -p splinegpu --features profiling --lib --test it --no-run \
+    cargo test --release -p splinegpu --features profiling --lib --test it --test gpu --no-run \
         --message-format=json 2>/dev/null |
         python3 -c '
 import json, sys, shutil
-names = {"test": "splinegpu-it", "lib": "splinegpu-unit"}
+names = {"it": "splinegpu-it", "gpu": "splinegpu-gpu", "splinegpu": "splinegpu-unit"}
 for line in sys.stdin:
     m = json.loads(line)
     if m.get("reason") == "compiler-artifact" and m.get("executable") \
-            and m["profile"]["test"] and m["target"]["kind"][0] in names:
-        shutil.copy(m["executable"], ".device/bin/" + names[m["target"]["kind"][0]])
+            and m["profile"]["test"] and m["target"]["name"] in names:
+        shutil.copy(m["executable"], ".device/bin/" + names[m["target"]["name"]])
 '
 
     strip "$BIN"/*

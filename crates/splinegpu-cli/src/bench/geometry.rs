@@ -3,14 +3,19 @@
 //! (10,000 open Catmull-Rom curves of 16 2-D points, width 0.01 of the extent, round joins and
 //! caps; per_segment 16 until the certified tolerance sampling lands, where the contract asks
 //! a tolerance of 1e-4 of the extent). Paths: memset (the meshes' bytes), cpu-all (the job's
-//! meshes made into new memory on every thread, f64), cpu-into (into kept f32 buffers, a
-//! renderer's frame) and cpu-call (the whole call: every curve planned on every thread, then
-//! made).
+//! meshes made into new memory on every thread, f64), cpu-1t (the same on one thread),
+//! cpu-into (into kept f32 buffers, a renderer's frame), cpu-call (the whole call: every curve
+//! planned on every thread, then made); for tubes also plain-loop (the same rings hand-written
+//! into the same f32 buffers as cpu-into, on every thread: Catmull-Rom from its points,
+//! parallel-transport frames, radial normals), gpu-device (the renderer's recording of the job
+//! into kept vertex buffers, from submission to completion: no packing, no readback) and
+//! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back).
 
 use std::hint::black_box;
 
+use rayon::prelude::*;
 use splinegpu::geometry::{Cap, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width};
-use splinegpu::{Basis, Curve, CurveKind, Ends, Points, Sampling};
+use splinegpu::{Basis, Curve, CurveKind, Ends, GpuContext, GpuError, Points, Sampling};
 
 use crate::bench::measure::{Measurement, memset, time};
 use crate::bench::workloads::Rng;
@@ -42,7 +47,14 @@ fn curves(count: usize, dim: usize, ends: Ends, seed: u64) -> Vec<Curve> {
 }
 
 /// Runs "tubes" or "strokes", reporting each path.
-pub(crate) fn run(name: &'static str, report: &mut impl FnMut(&Measurement)) {
+///
+/// # Errors
+/// A GPU failure.
+pub(crate) fn run(
+    name: &'static str,
+    gpu: Option<&GpuContext>,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), GpuError> {
     let extent = 2.0;
     let work: Vec<(Curve, Geometry, Sampling)> = if name == "tubes" {
         let tube = Geometry::Tube(Tube {
@@ -93,6 +105,17 @@ pub(crate) fn run(name: &'static str, report: &mut impl FnMut(&Measurement)) {
             None
         }),
     ));
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread");
+    report(&measure(
+        "cpu-1t",
+        time(|| {
+            one_thread.install(|| black_box(job.evaluate_cpu()));
+            None
+        }),
+    ));
     // A renderer's frame: the same job's meshes into kept f32 buffers.
     let (v, f) = (vertices as usize, triangles as usize);
     let (mut points, mut normals) = (vec![0f32; 3 * v], vec![0f32; 3 * v]);
@@ -114,6 +137,19 @@ pub(crate) fn run(name: &'static str, report: &mut impl FnMut(&Measurement)) {
         black_box(&points);
         None
     })));
+    if name == "tubes" {
+        let curves: Vec<&Curve> = work.iter().map(|(c, _, _)| c).collect();
+        let rings = 16 * 16;
+        report(&f32_measure_as(
+            "plain-loop",
+            f32_measure,
+            time(|| {
+                plain_tubes(&curves, rings, 8, 0.02 * extent, &mut points, &mut normals);
+                black_box(&points);
+                None
+            }),
+        ));
+    }
     report(&measure(
         "cpu-call",
         time(|| {
@@ -121,4 +157,191 @@ pub(crate) fn run(name: &'static str, report: &mut impl FnMut(&Measurement)) {
             None
         }),
     ));
+    if let (Some(gpu), "tubes") = (gpu, name) {
+        gpu_paths(gpu, &work, &job, report)?;
+    }
+    Ok(())
+}
+
+/// A measurement of `path` in f32 as `f32_measure` makes them.
+fn f32_measure_as(
+    path: &'static str,
+    f32_measure: impl Fn((f64, f64, f64)) -> Measurement,
+    times: (f64, f64, f64),
+) -> Measurement {
+    Measurement {
+        path,
+        ..f32_measure(times)
+    }
+}
+
+/// gpu-device and gpu-end-to-end for the tubes: the job cut into recordings that each fit a
+/// storage binding (lavapipe binds 128 MiB), recorded into kept vertex buffers in one
+/// submission; and the whole evaluation with its readback.
+fn gpu_paths(
+    gpu: &GpuContext,
+    work: &[(Curve, Geometry, Sampling)],
+    job: &GeometryJob,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), GpuError> {
+    let limits = gpu.device().limits();
+    let binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let mut recordings = Vec::new();
+    let mut start = 0;
+    for group in job.groups(binding / 24) {
+        let mut part = GeometryJob::new();
+        part.push_many(&work[group.clone()])
+            .expect("the workload's curves");
+        let recording = gpu.geometry_recording(&part)?;
+        let target = gpu
+            .device()
+            .create_buffer(&splinegpu::wgpu::BufferDescriptor {
+                label: Some("bench tube vertices"),
+                size: recording.layout().bytes.max(4),
+                usage: splinegpu::wgpu::BufferUsages::STORAGE
+                    | splinegpu::wgpu::BufferUsages::VERTEX,
+                mapped_at_creation: false,
+            });
+        recordings.push((recording, target));
+        start = group.end;
+    }
+    debug_assert_eq!(start, job.len());
+    let (vertices, mut failure) = (job.vertex_count(), None);
+    let device = time(|| {
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        for (recording, target) in &recordings {
+            if let Err(e) = recording.record_into(gpu, &mut encoder, target, 0) {
+                failure.get_or_insert(e);
+            }
+        }
+        gpu.queue().submit([encoder.finish()]);
+        gpu.device()
+            .poll(splinegpu::wgpu::PollType::wait_indefinitely())
+            .expect("the device finishes");
+        None
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    let measure = |path, times: (f64, f64, f64)| Measurement {
+        workload: "tubes",
+        path,
+        seconds: times.0,
+        min_seconds: times.1,
+        max_seconds: times.2,
+        samples: vertices,
+        bytes: vertices * 6 * 4,
+        float: Some("f32"),
+    };
+    report(&measure("gpu-device", device));
+    let mut failure = None;
+    let end_to_end = time(|| {
+        if let Err(e) = gpu.evaluate_geometry(job).map(black_box) {
+            failure.get_or_insert(e);
+        }
+        None
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    report(&measure("gpu-end-to-end", end_to_end));
+    Ok(())
+}
+
+/// The floor for the tubes: closed uniform Catmull-Rom loops evaluated from their points with
+/// the basis written out, `per_segment` rings a segment, frames by parallel transport (the
+/// normal projected onto each new tangent's plane, the cheapest form), `sides` vertices a ring at
+/// `radius` with radial normals, into the same f32 buffers (the closing twist left in: a plain
+/// loop that a renderer might write).
+fn plain_tubes(
+    curves: &[&Curve],
+    rings: usize,
+    sides: usize,
+    radius: f64,
+    points: &mut [f32],
+    normals: &mut [f32],
+) {
+    let per_curve = 3 * rings * sides;
+    let turns: Vec<(f64, f64)> = (0..sides)
+        .map(|k| (std::f64::consts::TAU * k as f64 / sides as f64).sin_cos())
+        .collect();
+    points
+        .par_chunks_mut(per_curve)
+        .zip(normals.par_chunks_mut(per_curve))
+        .zip(curves.par_iter())
+        .for_each(|((points, normals), curve)| {
+            let p = curve.points();
+            let n = p.len();
+            let at = |i: usize| -> [f64; 3] {
+                let q = p.point(i % n);
+                [q[0], q[1], q[2]]
+            };
+            let per_segment = rings / n;
+            let mut normal = [0.0f64; 3];
+            for j in 0..rings {
+                let (s, u) = (
+                    j / per_segment,
+                    (j % per_segment) as f64 / per_segment as f64,
+                );
+                let (p0, p1, p2, p3) = (at(s + n - 1), at(s), at(s + 1), at(s + 2));
+                let (u2, u3) = (u * u, u * u * u);
+                let mut c = [0.0; 3];
+                let mut d = [0.0; 3];
+                for k in 0..3 {
+                    c[k] = 0.5
+                        * (2.0 * p1[k]
+                            + (p2[k] - p0[k]) * u
+                            + (2.0 * p0[k] - 5.0 * p1[k] + 4.0 * p2[k] - p3[k]) * u2
+                            + (3.0 * p1[k] - p0[k] - 3.0 * p2[k] + p3[k]) * u3);
+                    d[k] = 0.5
+                        * ((p2[k] - p0[k])
+                            + 2.0 * (2.0 * p0[k] - 5.0 * p1[k] + 4.0 * p2[k] - p3[k]) * u
+                            + 3.0 * (3.0 * p1[k] - p0[k] - 3.0 * p2[k] + p3[k]) * u2);
+                }
+                let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let t = d.map(|x| x / length);
+                if j == 0 {
+                    // The axis least aligned with the tangent, made perpendicular.
+                    let e = if t[0].abs() <= t[1].abs() && t[0].abs() <= t[2].abs() {
+                        [1.0, 0.0, 0.0]
+                    } else if t[1].abs() <= t[2].abs() {
+                        [0.0, 1.0, 0.0]
+                    } else {
+                        [0.0, 0.0, 1.0]
+                    };
+                    let along = e[0] * t[0] + e[1] * t[1] + e[2] * t[2];
+                    normal = [
+                        e[0] - along * t[0],
+                        e[1] - along * t[1],
+                        e[2] - along * t[2],
+                    ];
+                } else {
+                    // Parallel transport: remove the new tangent's part.
+                    let along = normal[0] * t[0] + normal[1] * t[1] + normal[2] * t[2];
+                    normal = [
+                        normal[0] - along * t[0],
+                        normal[1] - along * t[1],
+                        normal[2] - along * t[2],
+                    ];
+                }
+                let size =
+                    (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
+                normal = normal.map(|x| x / size);
+                let b = [
+                    t[1] * normal[2] - t[2] * normal[1],
+                    t[2] * normal[0] - t[0] * normal[2],
+                    t[0] * normal[1] - t[1] * normal[0],
+                ];
+                for (k, &(sin, cos)) in turns.iter().enumerate() {
+                    let v = 3 * (j * sides + k);
+                    for i in 0..3 {
+                        let e = cos * normal[i] + sin * b[i];
+                        points[v + i] = (c[i] + radius * e) as f32;
+                        normals[v + i] = e as f32;
+                    }
+                }
+            }
+        });
 }

@@ -112,7 +112,7 @@ pub fn run(
         match name {
             "fit-1m" => fit_1m(&mut report),
             "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
-            "tubes" | "strokes" => geometry::run(name, &mut report),
+            "tubes" | "strokes" => geometry::run(name, gpu, &mut report)?,
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(

@@ -3,6 +3,8 @@
 //! dashed curves made on the host (their kernel is to come) and rounded to f32 once; every
 //! vertex's t and the triangles made on the host, as the CPU makes them.
 
+use rayon::prelude::*;
+
 use crate::error::GpuError;
 use crate::geometry::job::SweptPlan;
 use crate::geometry::mesh::{MeshOut, topology};
@@ -73,49 +75,61 @@ impl GpuContext {
             vertex_offsets,
             triangle_offsets,
         };
-        // The swept curves (their index in the job and their plan) and their place in `range`.
-        let (mut swept, mut places) = (Vec::new(), Vec::new());
-        for (i, c) in curves.clone().enumerate() {
-            let (vs, ts) = (
-                range(&meshes.vertex_offsets, i),
-                range(&meshes.triangle_offsets, i),
-            );
-            let mut out = MeshOut {
-                points: &mut meshes.points[3 * vs.start..3 * vs.end],
-                normals: &mut meshes.normals[3 * vs.start..3 * vs.end],
-                t: &mut meshes.t[vs.clone()],
-                triangles: &mut meshes.triangles[ts],
-            };
-            match job.swept(c) {
+        // Every curve's t and triangles, and the host-made meshes, on every thread; the swept
+        // curves' plans kept in order for the kernel.
+        let swept: Vec<Option<(usize, SweptPlan<'_>)>> = curves
+            .clone()
+            .into_par_iter()
+            .zip(split(&mut meshes))
+            .map(|(c, mut out)| match job.swept(c) {
                 Some(plan) => {
                     let ts: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
                     let closed = plan.lengths.is_some();
                     topology(plan.shape, &ts, closed, out.t, out.triangles);
-                    swept.push((c, plan));
-                    places.push(i);
+                    Some((c, plan))
                 }
-                None => job.make_into(c, &mut out),
-            }
-        }
+                None => {
+                    job.make_into(c, &mut out);
+                    None
+                }
+            })
+            .collect();
+        let on_device: Vec<(usize, SweptPlan<'_>)> = swept.iter().flatten().copied().collect();
         let limits = self.device.limits();
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let mut place = places.into_iter();
-        for group in binding_groups(&swept, binding)? {
-            let packed = PackedGeometry::new(group)?;
-            let values = self.dispatch_geometry(&packed)?;
-            let mut at = 0;
-            for _ in group {
-                let i = place.next().expect("a place for every swept curve");
-                let vs = range(&meshes.vertex_offsets, i);
-                for (v, vertex) in vs.zip(values[at..].chunks_exact(VERTEX_FLOATS)) {
-                    meshes.points[3 * v..3 * v + 3].copy_from_slice(&vertex[..3]);
-                    meshes.normals[3 * v..3 * v + 3].copy_from_slice(&vertex[3..]);
-                    at += VERTEX_FLOATS;
-                }
-            }
+        let mut values = Vec::new();
+        for group in binding_groups(&on_device, binding)? {
+            values.extend(self.dispatch_geometry(&PackedGeometry::new(group)?)?);
         }
+        // Each swept curve's part of the values, in order, then every curve's vertices
+        // de-interleaved on every thread.
+        let mut parts = Vec::with_capacity(curves.len());
+        let mut rest = values.as_slice();
+        for (i, s) in swept.iter().enumerate() {
+            let floats = match s {
+                Some(_) => VERTEX_FLOATS * range(&meshes.vertex_offsets, i).len(),
+                None => 0,
+            };
+            let (part, tail) = rest.split_at(floats);
+            parts.push(part);
+            rest = tail;
+        }
+        split(&mut meshes)
+            .into_par_iter()
+            .zip(parts)
+            .for_each(|(out, part)| {
+                for ((p, n), vertex) in out
+                    .points
+                    .chunks_exact_mut(3)
+                    .zip(out.normals.chunks_exact_mut(3))
+                    .zip(part.chunks_exact(VERTEX_FLOATS))
+                {
+                    p.copy_from_slice(&vertex[..3]);
+                    n.copy_from_slice(&vertex[3..]);
+                }
+            });
         Ok(meshes)
     }
 
@@ -208,6 +222,30 @@ impl GpuContext {
 
 fn range(offsets: &[u64], c: usize) -> std::ops::Range<usize> {
     offsets[c] as usize..offsets[c + 1] as usize
+}
+
+/// `meshes`' planes cut into each curve's part.
+fn split(meshes: &mut Meshes<f32>) -> Vec<MeshOut<'_, f32>> {
+    let count = meshes.vertex_offsets.len() - 1;
+    let (mut points, mut normals) = (&mut meshes.points[..], &mut meshes.normals[..]);
+    let (mut t, mut triangles) = (&mut meshes.t[..], &mut meshes.triangles[..]);
+    let mut outs = Vec::with_capacity(count);
+    for c in 0..count {
+        let v = range(&meshes.vertex_offsets, c).len();
+        let f = range(&meshes.triangle_offsets, c).len();
+        let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
+        let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
+        let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
+        let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
+        (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
+        outs.push(MeshOut {
+            points: p,
+            normals: n,
+            t: tt,
+            triangles: tri,
+        });
+    }
+    outs
 }
 
 /// The swept curves cut into consecutive groups whose every binding (curve records, blocks,
