@@ -15,6 +15,7 @@ use crate::gpu::geometry::abi::{
 };
 use crate::gpu::geometry::pack::{PackedGeometry, binding_bytes};
 use crate::gpu::kernel::Kernel;
+use crate::gpu::pool::Lease;
 use crate::gpu::surfaces::dispatch::nonempty;
 
 impl GpuContext {
@@ -76,12 +77,14 @@ impl GpuContext {
             triangle_offsets,
         };
         // Every curve's t and triangles, and the host-made meshes, on every thread; the swept
-        // curves' plans kept in order for the kernel.
+        // curves' plans kept in order for the kernel, with their place in `curves`.
+        let vertex_offsets = meshes.vertex_offsets.clone();
+        let mut outs = split(&mut meshes);
         let swept: Vec<Option<(usize, SweptPlan<'_>)>> = curves
             .clone()
             .into_par_iter()
-            .zip(split(&mut meshes))
-            .map(|(c, mut out)| match job.swept(c) {
+            .zip(outs.par_iter_mut())
+            .map(|(c, out)| match job.swept(c) {
                 Some(plan) => {
                     let ts: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
                     let closed = plan.lengths.is_some();
@@ -89,52 +92,56 @@ impl GpuContext {
                     Some((c, plan))
                 }
                 None => {
-                    job.make_into(c, &mut out);
+                    job.make_into(c, out);
                     None
                 }
             })
             .collect();
+        let places: Vec<usize> = (0..swept.len()).filter(|&i| swept[i].is_some()).collect();
         let on_device: Vec<(usize, SweptPlan<'_>)> = swept.iter().flatten().copied().collect();
         let limits = self.device.limits();
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let mut values = Vec::new();
+        let mut done = 0;
         for group in binding_groups(&on_device, binding)? {
-            values.extend(self.dispatch_geometry(&PackedGeometry::new(group)?)?);
-        }
-        // Each swept curve's part of the values, in order, then every curve's vertices
-        // de-interleaved on every thread.
-        let mut parts = Vec::with_capacity(curves.len());
-        let mut rest = values.as_slice();
-        for (i, s) in swept.iter().enumerate() {
-            let floats = match s {
-                Some(_) => VERTEX_FLOATS * range(&meshes.vertex_offsets, i).len(),
-                None => 0,
-            };
-            let (part, tail) = rest.split_at(floats);
-            parts.push(part);
-            rest = tail;
-        }
-        split(&mut meshes)
-            .into_par_iter()
-            .zip(parts)
-            .for_each(|(out, part)| {
-                for ((p, n), vertex) in out
-                    .points
-                    .chunks_exact_mut(3)
-                    .zip(out.normals.chunks_exact_mut(3))
-                    .zip(part.chunks_exact(VERTEX_FLOATS))
-                {
-                    p.copy_from_slice(&vertex[..3]);
-                    n.copy_from_slice(&vertex[3..]);
+            let mine = &places[done..done + group.len()];
+            done += group.len();
+            // The group's curves' outputs (disjoint), and where each one's values start.
+            let mut targets: Vec<&mut MeshOut<'_, f32>> = Vec::with_capacity(mine.len());
+            let mut wanted = mine.iter().peekable();
+            for (i, out) in outs.iter_mut().enumerate() {
+                if wanted.peek() == Some(&&i) {
+                    targets.push(out);
+                    wanted.next();
                 }
-            });
+            }
+            let starts: Vec<usize> = mine
+                .iter()
+                .scan(0, |at, &i| {
+                    let start = *at;
+                    *at += VERTEX_FLOATS * range(&vertex_offsets, i).len();
+                    Some(start)
+                })
+                .collect();
+            self.dispatch_geometry(&PackedGeometry::new(group)?, &mut |values| {
+                targets
+                    .par_iter_mut()
+                    .zip(&starts)
+                    .for_each(|(out, &start)| deinterleave(&values[start..], out));
+            })?;
+        }
         Ok(meshes)
     }
 
-    /// One dispatch of `packed`'s curves: their vertices' positions and normals, interleaved.
-    fn dispatch_geometry(&self, packed: &PackedGeometry) -> Result<Vec<f32>, GpuError> {
+    /// One dispatch of `packed`'s curves, their vertices' positions and normals (interleaved)
+    /// handed to `consume` from the mapped read-back buffer; its buffers leased from the
+    /// context's pool (fresh pages are what a large call pays most for on a CPU adapter).
+    fn dispatch_geometry(
+        &self,
+        packed: &PackedGeometry,
+        consume: &mut dyn FnMut(&[f32]),
+    ) -> Result<(), GpuError> {
         use wgpu::util::DeviceExt;
         let device = &self.device;
         let kernel = self.geometry_kernel();
@@ -161,35 +168,40 @@ impl GpuContext {
             bytemuck::bytes_of(&params),
             wgpu::BufferUsages::UNIFORM,
         );
-        let curves = init(
+        let mut lease = Lease::new(&self.pool, device);
+        let mut table = |role: &'static str, contents: &[u8]| {
+            let buffer = lease.take(
+                (role, 0),
+                contents.len() as u64,
+                storage | wgpu::BufferUsages::COPY_DST,
+            );
+            self.queue.write_buffer(&buffer, 0, contents);
+            buffer
+        };
+        let curves = table(
             "geometry curves",
             bytemuck::cast_slice(&nonempty(&packed.curves)),
-            storage,
         );
-        let blocks = init(
+        let blocks = table(
             "geometry blocks",
             bytemuck::cast_slice(&nonempty(&packed.blocks)),
-            storage,
         );
-        let sections = init(
+        let sections = table(
             "geometry sections",
             bytemuck::cast_slice(&nonempty(&packed.sections)),
-            storage,
         );
         let floats = VERTEX_FLOATS * packed.vertices;
         let bytes = (4 * floats).max(4) as u64;
-        let output = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("geometry vertices"),
-            size: bytes,
-            usage: storage | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let download = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("geometry download"),
-            size: bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let output = lease.take(
+            ("geometry vertices", 0),
+            bytes,
+            storage | wgpu::BufferUsages::COPY_SRC,
+        );
+        let download = lease.take(
+            ("geometry download", 0),
+            bytes,
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        );
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("geometry"),
             layout: kernel.layout(),
@@ -215,13 +227,26 @@ impl GpuContext {
         encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
         self.queue.submit([encoder.finish()]);
         crate::gpu::readback::map_read(device, &download, |bytes| {
-            bytemuck::cast_slice::<u8, f32>(bytes)[..floats].to_vec()
+            consume(&bytemuck::cast_slice::<u8, f32>(bytes)[..floats]);
         })
     }
 }
 
 fn range(offsets: &[u64], c: usize) -> std::ops::Range<usize> {
     offsets[c] as usize..offsets[c + 1] as usize
+}
+
+/// Interleaved vertices (position, normal) from the start of `values` into `out`'s planes.
+fn deinterleave(values: &[f32], out: &mut MeshOut<'_, f32>) {
+    for ((p, n), vertex) in out
+        .points
+        .chunks_exact_mut(3)
+        .zip(out.normals.chunks_exact_mut(3))
+        .zip(values.chunks_exact(VERTEX_FLOATS))
+    {
+        p.copy_from_slice(&vertex[..3]);
+        n.copy_from_slice(&vertex[3..]);
+    }
 }
 
 /// `meshes`' planes cut into each curve's part.
