@@ -289,6 +289,35 @@ impl GpuContext {
         self.shape
     }
 
+    /// Whether `target` can take `needed` bytes from byte `offset` on as a storage binding:
+    /// the renderer paths' one check of a caller's buffer.
+    ///
+    /// # Errors
+    /// [`TargetError`]: no `STORAGE` usage, an offset not a multiple of the device's
+    /// storage-offset alignment, or too few bytes from the offset on.
+    pub(crate) fn check_target(
+        &self,
+        target: &wgpu::Buffer,
+        offset: u64,
+        needed: u64,
+    ) -> Result<(), crate::error::TargetError> {
+        use crate::error::TargetError;
+        let alignment = u64::from(self.device.limits().min_storage_buffer_offset_alignment);
+        if !target.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(TargetError::MissingStorageUsage);
+        }
+        if !offset.is_multiple_of(alignment) {
+            return Err(TargetError::MisalignedOffset { offset, alignment });
+        }
+        if offset.saturating_add(needed) > target.size() {
+            return Err(TargetError::TooSmall {
+                available: target.size().saturating_sub(offset),
+                needed,
+            });
+        }
+        Ok(())
+    }
+
     /// The device.
     #[must_use]
     pub fn device(&self) -> &wgpu::Device {

@@ -6,6 +6,7 @@
 //! them. Run under the GPU harness (lavapipe in CI).
 
 use crate::support::{Rng, gpu};
+use crate::surfaces::read_back;
 use splinegpu::accuracy::gpu_bound;
 use splinegpu::geometry::{Dash, Geometry, GeometryJob, Meshes, Ribbon, Stroke, Tube, Width};
 use splinegpu::{Basis, Curve, CurveKind, EndCondition, Ends, Points, Sampling};
@@ -211,32 +212,6 @@ pub(crate) fn tubes_and_ribbons_of_many_kinds_in_one_call_keep_the_promise() {
         normals.extend(part.normals);
     }
     assert!(points == made.points && normals == made.normals);
-}
-
-/// Reads `bytes` of `buffer` back (the test's own readback; the renderer path reads nothing).
-fn read_back(
-    gpu: &splinegpu::GpuContext,
-    buffer: &splinegpu::wgpu::Buffer,
-    bytes: u64,
-) -> Vec<f32> {
-    use splinegpu::wgpu;
-    let download = gpu.device().create_buffer(&wgpu::BufferDescriptor {
-        label: Some("test download"),
-        size: bytes,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device().create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &download, 0, bytes);
-    gpu.queue().submit([encoder.finish()]);
-    download
-        .slice(..)
-        .map_async(wgpu::MapMode::Read, |r| r.unwrap());
-    gpu.device()
-        .poll(wgpu::PollType::wait_indefinitely())
-        .unwrap();
-    let view = download.slice(..).get_mapped_range().unwrap();
-    bytemuck::cast_slice::<u8, f32>(&view).to_vec()
 }
 
 /// The renderer's path: the recording writes what `evaluate_geometry` gives, bit for bit, into

@@ -216,7 +216,7 @@ pub(crate) fn gpu_surfaces_without_derivatives_give_positions_only() {
 }
 
 /// Reads `bytes` of `buffer` back (the test's own readback; the renderer path reads nothing).
-fn read_back(
+pub(crate) fn read_back(
     gpu: &splinegpu::GpuContext,
     buffer: &splinegpu::wgpu::Buffer,
     bytes: u64,

@@ -5,7 +5,7 @@ use wgpu::util::DeviceExt;
 
 use super::dispatch::{F32, Tables, Target};
 use super::pack::{self, check_size};
-use crate::error::{GpuError, TargetError};
+use crate::error::GpuError;
 use crate::gpu::GpuContext;
 use crate::job::EvalJob;
 
@@ -43,20 +43,7 @@ impl GpuContext {
             layout.bytes,
             limits.max_storage_buffer_binding_size,
         )?;
-        let alignment = u64::from(limits.min_storage_buffer_offset_alignment);
-        if !buffer.usage().contains(wgpu::BufferUsages::STORAGE) {
-            return Err(TargetError::MissingStorageUsage.into());
-        }
-        if !offset.is_multiple_of(alignment) {
-            return Err(TargetError::MisalignedOffset { offset, alignment }.into());
-        }
-        if offset.saturating_add(layout.bytes) > buffer.size() {
-            return Err(TargetError::TooSmall {
-                available: buffer.size().saturating_sub(offset),
-                needed: layout.bytes,
-            }
-            .into());
-        }
+        self.check_target(buffer, offset, layout.bytes)?;
         if layout.bytes == 0 {
             return Ok(layout);
         }

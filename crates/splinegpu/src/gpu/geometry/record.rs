@@ -7,7 +7,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::error::{GpuError, InputError, TargetError};
+use crate::error::{GpuError, InputError};
 use crate::geometry::{Geometry, GeometryJob};
 use crate::gpu::GpuContext;
 use crate::gpu::geometry::abi::{GEOMETRY_WG_SIZE, GeometryParams, VERTEX_FLOATS};
@@ -244,18 +244,8 @@ impl GeometryRecording {
         target: &wgpu::Buffer,
         offset: u64,
     ) -> Result<(), GpuError> {
-        let alignment = u64::from(gpu.device.limits().min_storage_buffer_offset_alignment);
         let needed = self.layout.bytes.max(4);
-        if !target.usage().contains(wgpu::BufferUsages::STORAGE) {
-            return Err(TargetError::MissingStorageUsage.into());
-        }
-        if !offset.is_multiple_of(alignment) {
-            return Err(TargetError::MisalignedOffset { offset, alignment }.into());
-        }
-        if target.size() < offset + needed {
-            let available = target.size().saturating_sub(offset);
-            return Err(TargetError::TooSmall { available, needed }.into());
-        }
+        gpu.check_target(target, offset, needed)?;
         if self.curve_count == 0 {
             return Ok(());
         }
