@@ -154,7 +154,8 @@ pub(crate) fn geometry_meshes<'py>(
         .detach(|| -> Result<GeometryJob, InputError> {
             let curves = on_threads(n, |c| {
                 let (dim, coords) = points[c];
-                let curve = Curve::new(kinds.kind(c)?, Points::new(dim, coords.to_vec())?)
+                let curve = Points::new(dim, coords.to_vec())
+                    .and_then(|points| Curve::new(kinds.kind(c)?, points))
                     .map_err(|e| e.in_curve(c))?;
                 Ok((curve, shapes[c].clone(), samplings[c].clone()))
             })?;

@@ -157,6 +157,14 @@ def test_a_gpu_context_makes_float32_meshes_beside_the_cpus(cpu, gpu, method, ke
     assert flat.points.dtype == np.float32 and flat.points.shape[1] == 2
 
 
+def test_curves_that_cannot_be_made_are_named_by_their_index(cpu):
+    bad = [LOOPS[0], np.full((5, 3), np.nan)]
+    with pytest.raises(ValueError, match='curve 1: "points" must be finite'):
+        cpu.tubes(bad, radius=0.1)
+    with pytest.raises(ValueError, match='curve 1: "points" needs at least 4 points'):
+        cpu.tubes([LOOPS[0], LOOPS[0][:1]], radius=0.1)
+
+
 def test_a_mesh_that_overflows_is_refused_by_name(cpu):
     # A natural spline along x = 1e308 (its fit exact: the differences are 0): rings of
     # radius 1e308 reach past the largest float64 along x.
