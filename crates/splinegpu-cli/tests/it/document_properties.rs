@@ -3,7 +3,9 @@
 //!
 //! For every input: the parser never panics; a rejection is an input error placed at the
 //! document or at a curve (the CLI exits 2 with it); parsing from memory and from a reader agree; and an accepted document
-//! evaluates to finite samples.
+//! evaluates to finite samples. Documents with "geometry" (strokes, tubes, ribbons with fields
+//! right, wrong or random) are read the same way, and an accepted one makes the meshes it
+//! announces, finite.
 //!
 //! Each property runs 10,000 cases; `PROPTEST_CASES=1000000 cargo test --release --test
 //! document_properties` is the longer run.
@@ -222,6 +224,208 @@ fn document() -> impl Strategy<Value = Json> {
         })
 }
 
+/// A "geometry" value: one of the three keys (sometimes two, none or another) whose object
+/// holds fields of the contract with sensible, awkward or random values.
+fn geometry() -> impl Strategy<Value = Json> {
+    const FIELDS: &[&str] = &[
+        "width",
+        "radius",
+        "cap",
+        "join",
+        "miter_limit",
+        "sides",
+        "up",
+        "caps",
+        "dash",
+        "dash_offset",
+    ];
+    let value = prop_oneof![
+        3 => (1u32..40).prop_map(|v| Json::Number(format!("0.0{v}"))),
+        2 => (0u32..20).prop_map(|v| Json::Number(v.to_string())),
+        2 => prop::collection::vec((1u32..9).prop_map(|v| Json::Number(format!("0.{v}"))), 0..8)
+            .prop_map(Json::Array),
+        1 => proptest::sample::select(&["butt", "round", "square", "miter", "bevel", "x"][..])
+            .prop_map(|w| Json::Str(w.to_string())),
+        1 => any::<bool>().prop_map(Json::Bool),
+        1 => json(),
+    ];
+    let fields =
+        prop::collection::vec((proptest::sample::select(FIELDS), value), 0..5).prop_map(|fields| {
+            Json::Object(
+                fields
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v))
+                    .collect(),
+            )
+        });
+    let key = prop_oneof![
+        4 => proptest::sample::select(&["stroke", "tube", "ribbon"][..]).prop_map(str::to_string),
+        1 => word(),
+    ];
+    prop_oneof![
+        8 => (key, fields).prop_map(|(k, f)| Json::Object(vec![(k, f)])),
+        1 => prop::collection::vec((word(), json()), 0..3).prop_map(Json::Object),
+        1 => json(),
+    ]
+}
+
+/// A curves document with "geometry" at the top, on its curves, or both, and small samplings.
+fn geometry_document() -> impl Strategy<Value = Json> {
+    let sampling = prop_oneof![
+        (1u32..5).prop_map(|k| Json::Object(vec![(
+            "per_segment".to_string(),
+            Json::Number(k.to_string())
+        )])),
+        (2u32..12).prop_map(|m| Json::Object(vec![(
+            "arc_length".to_string(),
+            Json::Number(m.to_string())
+        )])),
+        sampling(),
+    ];
+    let curve = (curve(), prop::option::of(geometry())).prop_map(|(curve, geometry)| {
+        let Json::Object(mut entries) = curve else {
+            unreachable!("curve() makes objects")
+        };
+        entries.extend(geometry.map(|g| ("geometry".to_string(), g)));
+        Json::Object(entries)
+    });
+    (
+        prop::option::of(sampling),
+        prop::option::of(geometry()),
+        prop::collection::vec(curve, 0..4),
+    )
+        .prop_map(|(sampling, geometry, curves)| {
+            let mut entries = Vec::new();
+            entries.extend(sampling.map(|s| ("sampling".to_string(), s)));
+            entries.extend(geometry.map(|g| ("geometry".to_string(), g)));
+            entries.push(("curves".to_string(), Json::Array(curves)));
+            Json::Object(entries)
+        })
+}
+
+/// Documents of valid curves (catmull-rom, bspline, natural, bezier; 2-D with strokes, 3-D
+/// with tubes and ribbons) whose geometry fields are mostly valid: meshes to make.
+fn valid_geometry_document() -> impl Strategy<Value = String> {
+    let curve = (
+        0usize..4,
+        any::<bool>(),
+        4usize..9,
+        prop::collection::vec(-10.0f64..10.0, 3 * 9),
+        0usize..3,
+        0.001f64..0.5,
+        any::<bool>(),
+        0usize..3,
+        prop::option::of((0.0f64..2.0, 0.0f64..1.0, -3.0f64..3.0)),
+    )
+        .prop_map(
+            |(kind, flat, n, pool, shape, width, per_point, style, dash)| {
+                let kind = ["catmull-rom", "bspline", "natural", "bezier"][kind];
+                let n = if kind == "bezier" { 3 * (n / 3) + 1 } else { n };
+                let dim = if flat { 2 } else { 3 };
+                let points: Vec<String> = (0..n)
+                    .map(|i| {
+                        let p: Vec<String> =
+                            (0..dim).map(|k| format!("{:?}", pool[3 * i + k])).collect();
+                        format!("[{}]", p.join(","))
+                    })
+                    .collect();
+                let width = if per_point {
+                    let w: Vec<String> = (0..n)
+                        .map(|i| format!("{:?}", width * (1.0 + 0.1 * i as f64)))
+                        .collect();
+                    format!("[{}]", w.join(","))
+                } else {
+                    format!("{width:?}")
+                };
+                let dash = dash.map_or(String::new(), |(on, off, offset)| {
+                    format!(r#", "dash": [{on:?}, {off:?}], "dash_offset": {offset:?}"#)
+                });
+                let geometry = if flat {
+                    let cap = ["butt", "round", "square"][style];
+                    let join = ["miter", "round", "bevel"][shape];
+                    format!(
+                        r#"{{"stroke": {{"width": {width}, "cap": "{cap}", "join": "{join}"{dash}}}}}"#
+                    )
+                } else if shape == 0 {
+                    format!(r#"{{"ribbon": {{"width": {width}{dash}}}}}"#)
+                } else {
+                    let caps = style == 1;
+                    format!(
+                        r#"{{"tube": {{"radius": {width}, "sides": {}, "caps": {caps}{dash}}}}}"#,
+                        3 + style * 4
+                    )
+                };
+                format!(
+                    r#"{{"kind": "{kind}", "points": [{}], "geometry": {geometry}}}"#,
+                    points.join(",")
+                )
+            },
+        );
+    let sampling = prop_oneof![
+        (1u32..5).prop_map(|k| format!(r#"{{"per_segment": {k}}}"#)),
+        (2u32..24).prop_map(|m| format!(r#"{{"arc_length": {m}}}"#)),
+    ];
+    (sampling, prop::collection::vec(curve, 1..4)).prop_map(|(sampling, curves)| {
+        format!(
+            r#"{{"sampling": {sampling}, "curves": [{}]}}"#,
+            curves.join(",")
+        )
+    })
+}
+
+/// The properties of a document that may hold geometry: parsed or refused with a located
+/// error the same way from memory and from a reader; an accepted geometry document's meshes
+/// are what it announced, finite (small jobs). Returns whether it made meshes.
+fn check_input(text: &str) -> bool {
+    use splinegpu_cli::Document;
+    use splinegpu_cli::document::geometry::GeometryDocument;
+    let from_memory = splinegpu_cli::parse_input(text);
+    let from_reader = splinegpu_cli::parse_input_from_reader(text.as_bytes());
+    let meshes = |d: &Document| match d {
+        Document::Geometry(GeometryDocument::Meshes(job)) => {
+            Some((job.vertex_count(), job.triangle_count()))
+        }
+        _ => None,
+    };
+    match (&from_memory, &from_reader) {
+        (Ok(a), Ok(b)) => assert_eq!(meshes(a), meshes(b), "the two entry points agree"),
+        (Err(a), Err(b)) if is_syntax(a) => assert!(is_syntax(b), "{a} / {b}"),
+        (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "the two agree"),
+        _ => panic!("one entry point accepted, the other refused: {text}"),
+    }
+    match from_memory {
+        Ok(Document::Geometry(GeometryDocument::Meshes(job))) => {
+            if job.vertex_count() > 200_000 {
+                return true;
+            }
+            let m = job.evaluate_cpu();
+            assert_eq!(m.t.len() as u64, job.vertex_count());
+            assert_eq!(m.triangles.len() as u64, job.triangle_count());
+            assert!(m.points.iter().chain(&m.normals).all(|v| v.is_finite()));
+            for c in 0..job.len() {
+                let vertices = (m.vertex_offsets[c + 1] - m.vertex_offsets[c]) as u32;
+                let triangles = m.triangle_offsets[c] as usize..m.triangle_offsets[c + 1] as usize;
+                assert!(
+                    m.triangles[triangles]
+                        .iter()
+                        .flatten()
+                        .all(|&i| i < vertices)
+                );
+            }
+            true
+        }
+        Ok(_) => false,
+        Err(e) => {
+            let message = e.to_string();
+            assert!(
+                message.starts_with("document: ") || message.starts_with("curve "),
+                "{message}"
+            );
+            false
+        }
+    }
+}
+
 /// Random curves of every family that satisfy the contract.
 fn valid_document() -> impl Strategy<Value = String> {
     let coordinate = -1.0e6f64..1.0e6;
@@ -418,6 +622,18 @@ proptest! {
         if let Some(job) = check(&mutated(doc, edits)) {
             evaluates_finite(&job);
         }
+    }
+
+    #[test]
+    fn geometry_documents_are_parsed_or_refused_with_a_located_error(doc in geometry_document()) {
+        check_input(&doc.text());
+    }
+
+    #[test]
+    fn valid_geometry_documents_make_the_meshes_they_announce(doc in valid_geometry_document()) {
+        // Refusals stay possible (a curve whose points coincide has no tangent for its
+        // frame: "up" is then parallel to nothing), but are located.
+        check_input(&doc);
     }
 
     #[test]
