@@ -1,7 +1,9 @@
 //! Thousands of animated tubes (strands swaying on a grid) made on the GPU straight into a
 //! renderer's vertex buffer by a `GeometryRecording`, moving curves refitted each frame without
 //! reallocating, drawn with a depth buffer and lit by the crate's exact surface normals, off
-//! screen; the last frame is saved as a PNG and the frame time printed.
+//! screen; above them a panel of 2-D strokes (every join and cap, a width per point, dashes and
+//! dots) made on the host into the same vertex layout. The last frame is saved as a PNG and the
+//! frame time printed.
 //!
 //! `cargo run --release -p splinegpu --example tubes -- docs/tubes.png` (lavapipe works).
 
@@ -10,8 +12,12 @@ use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use splinegpu::geometry::{Geometry, GeometryJob, Tube, Width};
-use splinegpu::{Curve, CurveKind, EndCondition, GeometryRecording, GpuContext, Points, Sampling};
+use splinegpu::geometry::{
+    Cap, Dash, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width,
+};
+use splinegpu::{
+    Basis, Curve, CurveKind, EndCondition, Ends, GeometryRecording, GpuContext, Points, Sampling,
+};
 use wgpu::util::DeviceExt;
 
 const SIZE: u32 = 768;
@@ -68,9 +74,201 @@ struct Scene {
     indices: wgpu::Buffer,
     index_count: u32,
     pipeline: wgpu::RenderPipeline,
+    camera_layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
     color: wgpu::Texture,
     depth: wgpu::Texture,
+    panel: Option<Panel>,
+}
+
+/// The strokes panel: its meshes in the tubes' vertex layout, and its orthographic camera.
+struct Panel {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    bind_group: wgpu::BindGroup,
+}
+
+/// The panel's stroke space, [0, 12] x [0, PANEL_HEIGHT], drawn across the image's top.
+const PANEL_WIDTH: f32 = 12.0;
+const PANEL_HEIGHT: f32 = 3.36;
+
+/// A polyline through `corners` as cubic Bezier pieces with their control points a third and
+/// two thirds along each side (straight: its corners are the stroke's joints).
+fn polyline(corners: &[[f64; 2]]) -> Curve {
+    let mut points = vec![corners[0][0], corners[0][1]];
+    for pair in corners.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        for k in 1..=3 {
+            let s = f64::from(k) / 3.0;
+            points.extend([a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]);
+        }
+    }
+    Curve::new(CurveKind::Bezier, Points::new(2, points).expect("points")).expect("a polyline")
+}
+
+/// The panel's strokes: a zigzag for each join (miter, round, bevel) with each cap (butt,
+/// round, square); a wave whose width grows point by point; a dashed curve; a dotted one.
+fn panel_strokes() -> Vec<(Curve, Geometry, Sampling)> {
+    let stroke = |width, cap, join, dash| {
+        Geometry::Stroke(Stroke {
+            width,
+            cap,
+            join,
+            dash,
+            ..Stroke::default()
+        })
+    };
+    let mut out = Vec::new();
+    for (i, (join, cap)) in [
+        (Join::Miter, Cap::Butt),
+        (Join::Round, Cap::Round),
+        (Join::Bevel, Cap::Square),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        // Interior angles of 39 degrees: a miter ratio of 3, within the limit of 4.
+        let x = 0.4 + 2.0 * i as f64;
+        let zigzag = polyline(&[[x, 2.5], [x + 0.6, 0.8], [x + 1.2, 2.5], [x + 1.8, 0.8]]);
+        out.push((
+            zigzag,
+            stroke(Width::Constant(0.28), cap, join, None),
+            Sampling::PerSegment(4),
+        ));
+    }
+    let wave = |x0: f64, n: usize, amplitude: f64| -> Vec<f64> {
+        (0..n)
+            .flat_map(|k| {
+                let x = x0 + 1.6 * k as f64 / (n - 1) as f64;
+                [x, 1.7 + amplitude * (2.4 * k as f64).sin()]
+            })
+            .collect()
+    };
+    let catmull = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Repeat,
+    };
+    let curve = |points: Vec<f64>| {
+        Curve::new(catmull.clone(), Points::new(2, points).expect("points")).expect("a wave")
+    };
+    out.push((
+        curve(wave(6.6, 7, 0.8)),
+        stroke(
+            Width::PerPoint((0..7).map(|k| 0.05 + 0.07 * f64::from(k)).collect()),
+            Cap::Round,
+            Join::Round,
+            None,
+        ),
+        Sampling::PerSegment(12),
+    ));
+    let dashes = |lengths: Vec<f64>| {
+        Some(Dash {
+            lengths,
+            offset: 0.0,
+        })
+    };
+    out.push((
+        curve(wave(8.5, 7, 0.9)),
+        stroke(
+            Width::Constant(0.16),
+            Cap::Round,
+            Join::Round,
+            dashes(vec![0.35, 0.2]),
+        ),
+        Sampling::ArcLength(200),
+    ));
+    out.push((
+        curve(wave(10.35, 7, 0.9)),
+        stroke(
+            Width::Constant(0.2),
+            Cap::Round,
+            Join::Round,
+            dashes(vec![0.0, 0.3]),
+        ),
+        Sampling::ArcLength(200),
+    ));
+    out
+}
+
+impl Panel {
+    /// The strokes made on the host into f32 buffers, laid out as the tubes' vertices
+    /// (position, normal +z), uploaded once.
+    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> Result<Self, Box<dyn Error>> {
+        let mut job = GeometryJob::new();
+        job.push_many(&panel_strokes())?;
+        let (v, f) = (job.vertex_count() as usize, job.triangle_count() as usize);
+        let (mut points, mut normals) = (vec![0f32; 3 * v], vec![0f32; 3 * v]);
+        let (mut t, mut triangles) = (vec![0.0; v], vec![[0u32; 3]; f]);
+        job.evaluate_into(MeshPlanes {
+            points: &mut points,
+            normals: &mut normals,
+            t: &mut t,
+            triangles: &mut triangles,
+        })?;
+        let interleaved: Vec<f32> = points
+            .chunks_exact(3)
+            .zip(normals.chunks_exact(3))
+            .flat_map(|(p, n)| p.iter().chain(n).copied())
+            .collect();
+        let indices: Vec<u32> = (0..job.len())
+            .flat_map(|c| {
+                let first = job.vertex_offsets()[c] as u32;
+                let range =
+                    job.triangle_offsets()[c] as usize..job.triangle_offsets()[c + 1] as usize;
+                triangles[range]
+                    .iter()
+                    .flatten()
+                    .map(move |&i| first + i)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        // Stroke space onto the panel's viewport, at depth 0: in front of every tube.
+        let projection = Mat4::from_cols(
+            glam::Vec4::new(2.0 / PANEL_WIDTH, 0.0, 0.0, 0.0),
+            glam::Vec4::new(0.0, 2.0 / PANEL_HEIGHT, 0.0, 0.0),
+            glam::Vec4::ZERO,
+            glam::Vec4::new(-1.0, -1.0, 0.0, 1.0),
+        );
+        let light = Vec3::new(0.3, -0.3, 0.9).normalize();
+        let camera = Camera {
+            view_proj: projection.to_cols_array_2d(),
+            light: [light.x, light.y, light.z, 0.0],
+        };
+        let init = |label, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        let uniform = init(
+            "panel camera",
+            bytemuck::bytes_of(&camera),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        Ok(Self {
+            vertices: init(
+                "panel vertices",
+                bytemuck::cast_slice(&interleaved),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            indices: init(
+                "panel indices",
+                bytemuck::cast_slice(&indices),
+                wgpu::BufferUsages::INDEX,
+            ),
+            index_count: indices.len() as u32,
+            bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("panel camera"),
+                layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                }],
+            }),
+        })
+    }
 }
 
 impl Scene {
@@ -199,10 +397,18 @@ impl Scene {
             vertices,
             indices,
             pipeline,
+            camera_layout: layout,
             bind_group,
             color: target("color", FORMAT, attachment | wgpu::TextureUsages::COPY_SRC),
             depth: target("depth", DEPTH, attachment),
+            panel: None,
         })
+    }
+
+    /// Adds the strokes panel across the image's top.
+    fn add_panel(&mut self, gpu: &GpuContext) -> Result<(), Box<dyn Error>> {
+        self.panel = Some(Panel::new(gpu.device(), &self.camera_layout)?);
+        Ok(())
     }
 
     /// One frame at `time`: the strands refitted on the host and uploaded in place, the
@@ -249,6 +455,21 @@ impl Scene {
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
+            if let Some(panel) = &self.panel {
+                let width = self.color.width() as f32;
+                pass.set_viewport(
+                    0.0,
+                    0.0,
+                    width,
+                    width * PANEL_HEIGHT / PANEL_WIDTH,
+                    0.0,
+                    1.0,
+                );
+                pass.set_bind_group(0, &panel.bind_group, &[]);
+                pass.set_vertex_buffer(0, panel.vertices.slice(..));
+                pass.set_index_buffer(panel.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..panel.index_count, 0, 0..1);
+            }
         }
         gpu.queue().submit([encoder.finish()]);
         gpu.device().poll(wgpu::PollType::wait_indefinitely())?;
@@ -340,6 +561,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     // 2,500 strands: 5 segments of 12 rings of 8 a strand, capped: 1.22 M vertices.
     let grid = 50;
     let mut scene = Scene::new(&gpu, grid, &camera(grid), SIZE)?;
+    scene.add_panel(&gpu)?;
     let frames = 6;
     scene.frame(&gpu, grid, 0.0)?;
     let start = Instant::now();
