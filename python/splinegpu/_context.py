@@ -138,7 +138,7 @@ class Context:
         Cross-sections: `per_segment=k` (default 16) or `arc_length=m`; a corner always gets
         its join (`tolerance=` raises NotImplementedError: not built yet). Meshes are made on
         the context's backend: float64 on the CPU; on the GPU tubes and ribbons in float32,
-        strokes and dashed curves on the host rounded to float32. `out`: an earlier result of
+        strokes on the host rounded to float32. `out`: an earlier result of
         the same shapes, whose arrays are filled again.
 
         Raises ValueError naming the curve, field and value for bad input.

@@ -97,8 +97,8 @@ impl GeometryFields<'_> {
 }
 
 /// Fits a batch of curves of one kind and makes their meshes (see `splinegpu.Context.tubes`)
-/// on the context's backend: f64 on the CPU, f32 points and normals from the GPU (strokes and
-/// dashed curves made on the host there, rounded once). A dict of the NPZ's arrays, filled
+/// on the context's backend: f64 on the CPU, f32 points and normals from the GPU (strokes made
+/// on the host there, rounded once). A dict of the NPZ's arrays, filled
 /// into `out`'s (an earlier result of the same shapes) where given.
 #[pyfunction]
 #[expect(

@@ -299,7 +299,7 @@ fn tessellate_surfaces(
 }
 
 /// A geometry document: checked for the format, its meshes made on the backend group by group
-/// as they are written (the GPU makes tubes and ribbons; strokes and dashed curves are made
+/// as they are written (the GPU makes tubes and ribbons, dashed or not; strokes are made
 /// on the host whatever the backend, rounded to f32 on the GPU's).
 fn tessellate_geometry(
     job: &GeometryJob,

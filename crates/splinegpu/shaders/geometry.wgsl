@@ -34,9 +34,8 @@ struct GpuMeshCurve {
     // 0: a tube, 1: a ribbon.
     shape: u32,
     sides: u32,
-    // 1: an open tube's end discs.
-    caps: u32,
-    // 1: a closed curve (frames closed up, the last cross-section the first's).
+    _padding2: u32,
+    // 1: a closed curve (its frames closed up).
     closed: u32,
     // Its first vertex, counted from params.out_base in 6 floats (position, normal) a vertex.
     first_vertex: u32,
@@ -51,12 +50,19 @@ struct GpuMeshCurve {
 }
 
 // Rust twin: gpu::geometry::abi::GpuSection. A cross-section: its segment (of its curve), local
-// u, and (closed curves) its arc length over the curve's, s_j / L.
+// u, (closed curves) its arc length over the curve's, s_j / L, and what is made there: its
+// ring's (or pair's) first vertex of the curve's, and a cap's vertex facing -T (cap_sign -1, a
+// piece's start) or T (+1, its end). NONE where nothing is: a closed curve's last
+// cross-section (its ring is the first's), a place that only carries a dashed curve's frame.
 struct GpuSection {
     segment: u32,
     u: f32,
     along: f32,
+    first_vertex: u32,
+    cap_vertex: u32,
+    cap_sign: i32,
     _padding0: u32,
+    _padding1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: GeometryParams;
@@ -67,6 +73,9 @@ struct GpuSection {
 
 // Rust twin: gpu::geometry::abi::GEOMETRY_WG_SIZE.
 const WG_SIZE: u32 = 64u;
+
+// Rust twin: gpu::geometry::abi::NONE.
+const NONE: u32 = 0xffffffffu;
 
 const TAU: f32 = 6.283185307179586;
 
@@ -189,13 +198,13 @@ fn write_vertex(curve: GpuMeshCurve, v: u32, position: vec3<f32>, normal: vec3<f
     out[at + 5u] = normal.z;
 }
 
-// Cross-section j's ring (tube) or pair (ribbon) with the frame (t, n).
-fn write_section(curve: GpuMeshCurve, j: u32, p: Place, t: vec3<f32>, n: vec3<f32>) {
+// A cross-section's ring (tube) or pair (ribbon) from vertex `first` on, with the frame (t, n).
+fn write_section(curve: GpuMeshCurve, first: u32, p: Place, t: vec3<f32>, n: vec3<f32>) {
     let b = cross(t, n);
     if curve.shape == 1u {
         let half = 0.5 * p.width;
-        write_vertex(curve, 2u * j, p.position - half * b, n);
-        write_vertex(curve, 2u * j + 1u, p.position + half * b, n);
+        write_vertex(curve, first, p.position - half * b, n);
+        write_vertex(curve, first + 1u, p.position + half * b, n);
         return;
     }
     let speed = sqrt(dot(p.d1, p.d1));
@@ -214,15 +223,14 @@ fn write_section(curve: GpuMeshCurve, j: u32, p: Place, t: vec3<f32>, n: vec3<f3
         if is_zero(normal) {
             normal = e;
         }
-        write_vertex(curve, j * curve.sides + k, p.position + p.width * e, normal);
+        write_vertex(curve, first + k, p.position + p.width * e, normal);
     }
 }
 
-// Walks the curve's cross-sections carrying the frame; with `write`, writes each (the
-// closed-up normal: turned by -alpha s_j / L), else only carries. Returns the last normal.
+// Walks the curve's cross-sections carrying the frame; with `write`, writes what each holds
+// (the closed-up normal: turned by -alpha s_j / L), else only carries. Returns the last normal.
 fn walk(curve: GpuMeshCurve, alpha: f32, write: bool) -> vec3<f32> {
     let last = curve.sections - 1u;
-    let rings = select(curve.sections, last, curve.closed == 1u);
     var previous_t = curve.t_first.xyz;
     var previous_x = vec3<f32>(0.0);
     var n = curve.n0.xyz;
@@ -233,14 +241,11 @@ fn walk(curve: GpuMeshCurve, alpha: f32, write: bool) -> vec3<f32> {
         if j > 0u {
             n = reflected_twice(previous_x, p.position, previous_t, t, n);
         }
-        if write && j < rings {
-            write_section(curve, j, p, t, turned(n, t, -alpha * s.along));
+        if write && s.first_vertex != NONE {
+            write_section(curve, s.first_vertex, p, t, turned(n, t, -alpha * s.along));
         }
-        if write && j == 0u && curve.caps == 1u {
-            write_vertex(curve, rings * curve.sides, p.position, -t);
-        }
-        if write && j == last && curve.caps == 1u {
-            write_vertex(curve, rings * curve.sides + 1u, p.position, t);
+        if write && s.cap_sign != 0 {
+            write_vertex(curve, s.cap_vertex, p.position, f32(s.cap_sign) * t);
         }
         previous_t = t;
         previous_x = p.position;

@@ -45,6 +45,78 @@ pub(crate) struct SweptPlan<'a> {
     pub(crate) lengths: Option<&'a [f64]>,
     pub(crate) shape: Shape,
     pub(crate) n0: Vec3,
+    /// A dashed curve's pieces: each the indices of its cross-sections in `locs`.
+    pub(crate) dashes: Option<&'a [Vec<usize>]>,
+}
+
+impl SweptPlan<'_> {
+    /// Whether its frames are closed up (a closed curve's).
+    pub(crate) fn closed(&self) -> bool {
+        self.lengths.is_some()
+    }
+
+    /// Each vertex's t and the triangles of its mesh, as [`make`] writes them (a dashed
+    /// curve's pieces one after the other, their triangles indexing the whole mesh).
+    pub(crate) fn topology(&self, t: &mut [f64], triangles: &mut [[u32; 3]]) {
+        let Some(pieces) = self.dashes else {
+            let all: Vec<f64> = self.locs.iter().map(|l| l.t).collect();
+            return mesh::topology(self.shape, &all, self.closed(), t, triangles);
+        };
+        let (mut v0, mut f0) = (0, 0);
+        for piece in pieces {
+            let (v, f) = mesh::counts(self.shape, piece.len() as u64, false);
+            let (v, f) = (v as usize, f as usize);
+            let own: Vec<f64> = piece.iter().map(|&k| self.locs[k].t).collect();
+            let part = &mut triangles[f0..f0 + f];
+            mesh::topology(self.shape, &own, false, &mut t[v0..v0 + v], part);
+            for i in part.iter_mut().flatten() {
+                *i += v0 as u32;
+            }
+            (v0, f0) = (v0 + v, f0 + f);
+        }
+    }
+
+    /// Where each cross-section's vertices go: (its ring's or pair's first vertex, its cap's
+    /// vertex and which way the cap faces: -1 a piece's start, +1 its end), `None` for a
+    /// cross-section nothing is made at (a closed curve's last, whose ring is the first's; a
+    /// place a dash does not hold). The vertices are laid out as [`mesh::write`] lays them, a
+    /// dashed curve's pieces one after the other.
+    pub(crate) fn slots(&self) -> Vec<Option<(u32, Option<(u32, i32)>)>> {
+        let (per, caps) = match self.shape {
+            Shape::Tube { sides, caps } => (sides, caps),
+            Shape::Ribbon => (2, false),
+        };
+        let mut slots = vec![None; self.locs.len()];
+        let mut place = |piece: &[usize], closed: bool, base: u32| -> u32 {
+            let rings = if closed { piece.len() - 1 } else { piece.len() };
+            let caps = caps && !closed;
+            for (j, &k) in piece.iter().take(rings).enumerate() {
+                slots[k] = Some((base + j as u32 * per, None));
+            }
+            let end = base + rings as u32 * per;
+            if caps {
+                let first = piece[0];
+                let last = piece[piece.len() - 1];
+                slots[first] = slots[first].map(|(v, _)| (v, Some((end, -1))));
+                slots[last] = slots[last].map(|(v, _)| (v, Some((end + 1, 1))));
+                return end + 2;
+            }
+            end
+        };
+        match self.dashes {
+            None => {
+                let all: Vec<usize> = (0..self.locs.len()).collect();
+                place(&all, self.closed(), 0);
+            }
+            Some(pieces) => {
+                let mut base = 0;
+                for piece in pieces {
+                    base = place(piece, false, base);
+                }
+            }
+        }
+        slots
+    }
 }
 
 /// How a planned mesh is made.
@@ -240,8 +312,8 @@ impl GeometryJob {
         &self.curves[c].geometry
     }
 
-    /// Curve c's plan as the GPU kernel takes it: a tube or ribbon without dashes (strokes and
-    /// dashed curves are made on the host), else `None`.
+    /// Curve c's plan as the GPU kernel takes it: a tube or ribbon, dashed or not (strokes are
+    /// made on the host), else `None`.
     pub(crate) fn swept(&self, c: usize) -> Option<SweptPlan<'_>> {
         let planned = &self.curves[c];
         match &planned.body {
@@ -250,15 +322,16 @@ impl GeometryJob {
                 lengths,
                 shape,
                 n0,
-                dashes: None,
+                dashes,
             } => Some(SweptPlan {
                 table: &planned.table,
                 locs,
                 lengths: lengths.as_deref(),
                 shape: *shape,
                 n0: *n0,
+                dashes: dashes.as_deref(),
             }),
-            _ => None,
+            Body::Stroke(_) => None,
         }
     }
 

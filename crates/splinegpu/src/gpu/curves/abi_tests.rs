@@ -259,7 +259,6 @@ fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
             sections,
             shape,
             sides,
-            caps,
             closed,
             first_vertex,
             origin_hi,
@@ -268,13 +267,25 @@ fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
             t_first
         ]
     );
-    assert_twin!(&module, "GpuSection", GpuSection, [segment, u, along]);
+    assert_twin!(
+        &module,
+        "GpuSection",
+        GpuSection,
+        [segment, u, along, first_vertex, cap_vertex, cap_sign]
+    );
     let entry = module
         .entry_points
         .iter()
         .find(|e| e.name == "main")
         .expect("entry point main");
     assert_eq!(entry.workgroup_size, [GEOMETRY_WG_SIZE, 1, 1]);
+    assert!(
+        GEOMETRY_WGSL.contains(&format!(
+            "const NONE: u32 = 0x{:x}u;",
+            crate::gpu::geometry::abi::NONE
+        )),
+        "NONE is the Rust twin's"
+    );
     let mut spaces: Vec<(u32, naga::AddressSpace)> = module
         .global_variables
         .iter()

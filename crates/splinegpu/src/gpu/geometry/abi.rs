@@ -44,7 +44,7 @@ pub(crate) struct GpuMeshCurve {
     pub sections: u32,
     pub shape: u32,
     pub sides: u32,
-    pub caps: u32,
+    pub _padding2: u32,
     pub closed: u32,
     pub first_vertex: u32,
     pub _padding0: u32,
@@ -60,12 +60,20 @@ pub(crate) const SHAPE_TUBE: u32 = 0;
 /// [`GpuMeshCurve::shape`] of a ribbon.
 pub(crate) const SHAPE_RIBBON: u32 = 1;
 
-/// One cross-section. WGSL twin: `GpuSection`.
+/// One cross-section and what is made there. WGSL twin: `GpuSection` (its fields' meaning
+/// there).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
 pub(crate) struct GpuSection {
     pub segment: u32,
     pub u: f32,
     pub along: f32,
+    pub first_vertex: u32,
+    pub cap_vertex: u32,
+    pub cap_sign: i32,
     pub _padding0: u32,
+    pub _padding1: u32,
 }
+
+/// [`GpuSection::first_vertex`] and `cap_vertex` where nothing is made. WGSL twin: `NONE`.
+pub(crate) const NONE: u32 = u32::MAX;

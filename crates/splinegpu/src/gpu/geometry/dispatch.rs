@@ -1,13 +1,13 @@
-//! A geometry job's meshes on the GPU: tubes and ribbons (undashed) through
-//! `shaders/geometry.wgsl` in groups whose every binding fits the device's limits, strokes and
-//! dashed curves made on the host (their kernel is to come) and rounded to f32 once; every
-//! vertex's t and the triangles made on the host, as the CPU makes them.
+//! A geometry job's meshes on the GPU: tubes and ribbons, dashed or not, through
+//! `shaders/geometry.wgsl` in groups whose every binding fits the device's limits, strokes made
+//! on the host (their kernel is to come) and rounded to f32 once; every vertex's t and the
+//! triangles made on the host, as the CPU makes them.
 
 use rayon::prelude::*;
 
 use crate::error::GpuError;
 use crate::geometry::job::SweptPlan;
-use crate::geometry::mesh::{MeshOut, topology};
+use crate::geometry::mesh::MeshOut;
 use crate::geometry::{GeometryJob, Meshes};
 use crate::gpu::GpuContext;
 use crate::gpu::geometry::abi::{
@@ -30,9 +30,9 @@ impl GpuContext {
         })
     }
 
-    /// Every mesh of `job` with f32 positions and normals: tubes and ribbons made on the GPU
-    /// (one invocation a curve carrying its frame along its cross-sections), strokes and
-    /// dashed curves on the host (their kernel is not built yet); t and the triangles as the
+    /// Every mesh of `job` with f32 positions and normals: tubes and ribbons, dashed or not,
+    /// made on the GPU (one invocation a curve carrying its frame along its cross-sections),
+    /// strokes on the host (their kernel is not built yet); t and the triangles as the
     /// CPU makes them, bit for bit. Positions within the curve's GPU position bound plus
     /// 1e-5 of the radius or width of [`GeometryJob::evaluate_cpu`]'s, normals within 1e-3
     /// radians (the contract's promise, tested on lavapipe).
@@ -86,9 +86,7 @@ impl GpuContext {
             .zip(outs.par_iter_mut())
             .map(|(c, out)| match job.swept(c) {
                 Some(plan) => {
-                    let ts: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
-                    let closed = plan.lengths.is_some();
-                    topology(plan.shape, &ts, closed, out.t, out.triangles);
+                    plan.topology(out.t, out.triangles);
                     Some((c, plan))
                 }
                 None => {

@@ -7,7 +7,7 @@ use crate::geometry::frames::unit_tangent;
 use crate::geometry::job::SweptPlan;
 use crate::geometry::mesh::{Shape, counts};
 use crate::gpu::geometry::abi::{
-    GpuMeshCurve, GpuSection, SHAPE_RIBBON, SHAPE_TUBE, VERTEX_FLOATS,
+    GpuMeshCurve, GpuSection, NONE, SHAPE_RIBBON, SHAPE_TUBE, VERTEX_FLOATS,
 };
 
 /// Many curves' tables for one dispatch.
@@ -25,11 +25,21 @@ fn block_vec4s(rational: bool) -> usize {
     if rational { 6 } else { 5 }
 }
 
+/// The vertices of a plan's mesh: its pieces' (open), or the whole curve's.
+pub(crate) fn plan_vertices(plan: &SweptPlan<'_>) -> u64 {
+    match plan.dashes {
+        Some(pieces) => pieces
+            .iter()
+            .map(|p| counts(plan.shape, p.len() as u64, false).0)
+            .sum(),
+        None => counts(plan.shape, plan.locs.len() as u64, plan.closed()).0,
+    }
+}
+
 /// The bytes a plan takes in each binding: its curve record, blocks, sections and output.
 pub(crate) fn binding_bytes(plan: &SweptPlan<'_>) -> [u64; 4] {
     let blocks = plan.table.len() * block_vec4s(plan.table.is_rational()) * 16;
-    let closed = plan.lengths.is_some();
-    let (vertices, _) = counts(plan.shape, plan.locs.len() as u64, closed);
+    let vertices = plan_vertices(plan);
     [
         std::mem::size_of::<GpuMeshCurve>() as u64,
         blocks as u64,
@@ -100,16 +110,22 @@ impl PackedGeometry {
         let first_section = self.sections.len();
         let last = plan.locs.len() - 1;
         let mut t_first = None;
-        for (j, loc) in plan.locs.iter().enumerate() {
+        for ((j, loc), slot) in plan.locs.iter().enumerate().zip(plan.slots()) {
             let along = match (plan.lengths, length) {
                 (Some(s), Some(l)) if l > 0.0 && l.is_finite() => (s[j] / l) as f32,
                 _ => 0.0,
             };
+            let (first_vertex, cap) = slot.unwrap_or((NONE, None));
+            let (cap_vertex, cap_sign) = cap.unwrap_or((NONE, 0));
             self.sections.push(GpuSection {
                 segment: loc.segment as u32,
                 u: loc.u as f32,
                 along,
+                first_vertex,
+                cap_vertex,
+                cap_sign,
                 _padding0: 0,
+                _padding1: 0,
             });
             if t_first.is_none() {
                 let segment = table.segment(loc.segment);
@@ -121,11 +137,11 @@ impl PackedGeometry {
             }
         }
         let t_first = t_first.unwrap_or([1.0, 0.0, 0.0]);
-        let (shape, sides, caps) = match plan.shape {
-            Shape::Tube { sides, caps } => (SHAPE_TUBE, sides, caps && !closed),
-            Shape::Ribbon => (SHAPE_RIBBON, 0, false),
+        let (shape, sides) = match plan.shape {
+            Shape::Tube { sides, .. } => (SHAPE_TUBE, sides),
+            Shape::Ribbon => (SHAPE_RIBBON, 0),
         };
-        let (vertices, _) = counts(plan.shape, plan.locs.len() as u64, closed);
+        let vertices = plan_vertices(plan);
         let four = |v: [f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32, 0.0];
         self.curves.push(GpuMeshCurve {
             first_block: first_block as u32,
@@ -135,7 +151,7 @@ impl PackedGeometry {
             sections: plan.locs.len() as u32,
             shape,
             sides,
-            caps: u32::from(caps),
+            _padding2: 0,
             closed: u32::from(closed),
             first_vertex: self.vertices as u32,
             _padding0: 0,

@@ -53,7 +53,7 @@ fn packed(job: &GeometryJob) -> Result<PackedGeometry, GpuError> {
             None => {
                 let what = match job.geometry(c) {
                     Geometry::Stroke(_) => "a stroke",
-                    _ => "a dashed tube or ribbon",
+                    _ => unreachable!("every tube and ribbon is swept"),
                 };
                 return Err(GpuError::NotRecordable { curve: c, what });
             }
@@ -116,14 +116,7 @@ impl GpuContext {
                 range(job.vertex_offsets(), c),
                 range(job.triangle_offsets(), c),
             );
-            let places: Vec<f64> = plan.locs.iter().map(|l| l.t).collect();
-            crate::geometry::mesh::topology(
-                plan.shape,
-                &places,
-                plan.lengths.is_some(),
-                &mut t[v.clone()],
-                &mut triangles[f.clone()],
-            );
+            plan.topology(&mut t[v.clone()], &mut triangles[f.clone()]);
             let first = v.start as u32;
             indices.extend(triangles[f].iter().flatten().map(|&i| first + i));
         }

@@ -2,7 +2,7 @@
 //! names, loop order and arithmetic), run on the packed tables, so that the packer and the
 //! kernel's arithmetic are held to the contract's promise without a GPU.
 
-use crate::gpu::geometry::abi::{GpuMeshCurve, GpuSection, VERTEX_FLOATS};
+use crate::gpu::geometry::abi::{GpuMeshCurve, GpuSection, NONE, VERTEX_FLOATS};
 use crate::gpu::geometry::pack::PackedGeometry;
 
 type V3 = [f32; 3];
@@ -163,12 +163,12 @@ impl Kernel<'_> {
         self.out[at + 3..at + 6].copy_from_slice(&normal);
     }
 
-    fn write_section(&mut self, curve: &GpuMeshCurve, j: u32, p: &Place, t: V3, n: V3) {
+    fn write_section(&mut self, curve: &GpuMeshCurve, first: u32, p: &Place, t: V3, n: V3) {
         let b = cross(t, n);
         if curve.shape == 1 {
             let half = 0.5 * p.width;
-            self.write_vertex(curve, 2 * j, sub(p.position, scale(half, b)), n);
-            self.write_vertex(curve, 2 * j + 1, add(p.position, scale(half, b)), n);
+            self.write_vertex(curve, first, sub(p.position, scale(half, b)), n);
+            self.write_vertex(curve, first + 1, add(p.position, scale(half, b)), n);
             return;
         }
         let speed = dot(p.d1, p.d1).sqrt();
@@ -188,17 +188,12 @@ impl Kernel<'_> {
                 normal = e;
             }
             let position = add(p.position, scale(p.width, e));
-            self.write_vertex(curve, j * curve.sides + k, position, normal);
+            self.write_vertex(curve, first + k, position, normal);
         }
     }
 
     fn walk(&mut self, curve: &GpuMeshCurve, alpha: f32, write: bool) -> V3 {
         let last = curve.sections - 1;
-        let rings = if curve.closed == 1 {
-            last
-        } else {
-            curve.sections
-        };
         let mut previous_t = xyz(curve.t_first);
         let mut previous_x = [0.0; 3];
         let mut n = xyz(curve.n0);
@@ -209,14 +204,11 @@ impl Kernel<'_> {
             if j > 0 {
                 n = reflected_twice(previous_x, p.position, previous_t, t, n);
             }
-            if write && j < rings {
-                self.write_section(curve, j, &p, t, turned(n, t, -alpha * s.along));
+            if write && s.first_vertex != NONE {
+                self.write_section(curve, s.first_vertex, &p, t, turned(n, t, -alpha * s.along));
             }
-            if write && j == 0 && curve.caps == 1 {
-                self.write_vertex(curve, rings * curve.sides, p.position, scale(-1.0, t));
-            }
-            if write && j == last && curve.caps == 1 {
-                self.write_vertex(curve, rings * curve.sides + 1, p.position, t);
+            if write && s.cap_sign != 0 {
+                self.write_vertex(curve, s.cap_vertex, p.position, scale(s.cap_sign as f32, t));
             }
             previous_t = t;
             previous_x = p.position;
@@ -277,7 +269,7 @@ mod tests {
     /// The twin's meshes against the f64 reference under the contract's promise: positions
     /// within the curve's GPU position bound plus 1e-5 r, normals within 1e-3 rad; closed
     /// loops near the origin and at 1e6, caps, uneven knots with per-point radii, a rational
-    /// ribbon.
+    /// ribbon, a dashed closed tube with caps on every dash.
     #[test]
     fn the_twin_keeps_the_promise() {
         let closed = CurveKind::Uniform {
@@ -326,6 +318,23 @@ mod tests {
                 0.1,
             ),
             (nurbs, wobbly(6, 5.0, 2.1), ribbon, 0.2),
+            (
+                CurveKind::Uniform {
+                    basis: Basis::BSpline,
+                    ends: Ends::Closed,
+                },
+                wobbly(9, -2.0, 0.4),
+                Geometry::Tube(Tube {
+                    radius: Width::Constant(0.05),
+                    caps: true,
+                    dash: Some(crate::geometry::Dash {
+                        lengths: vec![0.8, 0.3],
+                        offset: 0.1,
+                    }),
+                    ..Tube::default()
+                }),
+                0.05,
+            ),
         ];
         let mut job = GeometryJob::new();
         let mut tables = Vec::new();
