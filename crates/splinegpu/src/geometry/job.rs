@@ -49,6 +49,14 @@ pub(crate) struct SweptPlan<'a> {
     pub(crate) dashes: Option<&'a [Vec<usize>]>,
 }
 
+/// What is made at one cross-section: its ring's (or ribbon pair's) first vertex, and a cap's
+/// vertex with the way it faces (-1: a piece's start, -T; +1: its end, T).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Slot {
+    pub(crate) first_vertex: u32,
+    pub(crate) cap: Option<(u32, i32)>,
+}
+
 impl SweptPlan<'_> {
     /// Whether its frames are closed up (a closed curve's).
     pub(crate) fn closed(&self) -> bool {
@@ -76,12 +84,11 @@ impl SweptPlan<'_> {
         }
     }
 
-    /// Where each cross-section's vertices go: (its ring's or pair's first vertex, its cap's
-    /// vertex and which way the cap faces: -1 a piece's start, +1 its end), `None` for a
-    /// cross-section nothing is made at (a closed curve's last, whose ring is the first's; a
-    /// place a dash does not hold). The vertices are laid out as [`mesh::write`] lays them, a
-    /// dashed curve's pieces one after the other.
-    pub(crate) fn slots(&self) -> Vec<Option<(u32, Option<(u32, i32)>)>> {
+    /// Where each cross-section's vertices go, `None` for a cross-section nothing is made at
+    /// (a closed curve's last, whose ring is the first's; a place a dash does not hold). The
+    /// vertices are laid out as [`mesh::write`] lays them, a dashed curve's pieces one after
+    /// the other.
+    pub(crate) fn slots(&self) -> Vec<Option<Slot>> {
         let (per, caps) = match self.shape {
             Shape::Tube { sides, caps } => (sides, caps),
             Shape::Ribbon => (2, false),
@@ -91,14 +98,19 @@ impl SweptPlan<'_> {
             let rings = if closed { piece.len() - 1 } else { piece.len() };
             let caps = caps && !closed;
             for (j, &k) in piece.iter().take(rings).enumerate() {
-                slots[k] = Some((base + j as u32 * per, None));
+                slots[k] = Some(Slot {
+                    first_vertex: base + j as u32 * per,
+                    cap: None,
+                });
             }
             let end = base + rings as u32 * per;
             if caps {
-                let first = piece[0];
-                let last = piece[piece.len() - 1];
-                slots[first] = slots[first].map(|(v, _)| (v, Some((end, -1))));
-                slots[last] = slots[last].map(|(v, _)| (v, Some((end + 1, 1))));
+                let (first, last) = (piece[0], piece[piece.len() - 1]);
+                for (k, cap) in [(first, (end, -1)), (last, (end + 1, 1))] {
+                    if let Some(slot) = &mut slots[k] {
+                        slot.cap = Some(cap);
+                    }
+                }
                 return end + 2;
             }
             end

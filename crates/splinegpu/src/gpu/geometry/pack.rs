@@ -115,8 +115,8 @@ impl PackedGeometry {
                 (Some(s), Some(l)) if l > 0.0 && l.is_finite() => (s[j] / l) as f32,
                 _ => 0.0,
             };
-            let (first_vertex, cap) = slot.unwrap_or((NONE, None));
-            let (cap_vertex, cap_sign) = cap.unwrap_or((NONE, 0));
+            let first_vertex = slot.map_or(NONE, |s| s.first_vertex);
+            let (cap_vertex, cap_sign) = slot.and_then(|s| s.cap).unwrap_or((NONE, 0));
             self.sections.push(GpuSection {
                 segment: loc.segment as u32,
                 u: loc.u as f32,
