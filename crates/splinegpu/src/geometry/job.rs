@@ -480,30 +480,43 @@ impl GeometryJob {
 
     /// The planes, which hold the curves of `range`, cut into each curve's part.
     fn split<'a, F>(&self, range: Range<usize>, planes: MeshPlanes<'a, F>) -> Vec<MeshOut<'a, F>> {
-        let MeshPlanes {
-            mut points,
-            mut normals,
-            mut t,
-            mut triangles,
-        } = planes;
-        let mut outs = Vec::with_capacity(range.len());
-        for c in range {
-            let v = (self.vertex_offsets[c + 1] - self.vertex_offsets[c]) as usize;
-            let f = (self.triangle_offsets[c + 1] - self.triangle_offsets[c]) as usize;
-            let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
-            let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
-            let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
-            let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
-            (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
-            outs.push(MeshOut {
-                points: p,
-                normals: n,
-                t: tt,
-                triangles: tri,
-            });
-        }
-        outs
+        split_planes(
+            planes,
+            &self.vertex_offsets[range.start..=range.end],
+            &self.triangle_offsets[range.start..=range.end],
+        )
     }
+}
+
+/// `planes` cut into each mesh's part, mesh c owning the vertices and triangles between
+/// entries c and c + 1 of the offsets (counted from any start).
+pub(crate) fn split_planes<'a, F>(
+    planes: MeshPlanes<'a, F>,
+    vertex_offsets: &[u64],
+    triangle_offsets: &[u64],
+) -> Vec<MeshOut<'a, F>> {
+    let MeshPlanes {
+        mut points,
+        mut normals,
+        mut t,
+        mut triangles,
+    } = planes;
+    let mut outs = Vec::with_capacity(vertex_offsets.len().saturating_sub(1));
+    for (v, f) in vertex_offsets.windows(2).zip(triangle_offsets.windows(2)) {
+        let (v, f) = ((v[1] - v[0]) as usize, (f[1] - f[0]) as usize);
+        let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
+        let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
+        let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
+        let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
+        (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
+        outs.push(MeshOut {
+            points: p,
+            normals: n,
+            t: tt,
+            triangles: tri,
+        });
+    }
+    outs
 }
 
 /// A caller's memory for a job's meshes: positions and normals (3 values a vertex, f32 or

@@ -55,13 +55,45 @@ impl Kernel {
         Self { layout, pipeline }
     }
 
-    /// The bind group layout of its bindings.
-    pub(crate) fn layout(&self) -> &wgpu::BindGroupLayout {
-        &self.layout
+    /// Records one pass of the kernel into `encoder`: binding i is `resources[i]`, and
+    /// `workgroups` (x, y) of them run (see [`workgroup_grid`]), with `timestamps` around the
+    /// pass where given.
+    pub(crate) fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        resources: Vec<wgpu::BindingResource<'_>>,
+        workgroups: (u32, u32),
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+            .into_iter()
+            .enumerate()
+            .map(|(i, resource)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource,
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(workgroups.0, workgroups.1, 1);
     }
+}
 
-    /// The compute pipeline.
-    pub(crate) fn pipeline(&self) -> &wgpu::ComputePipeline {
-        &self.pipeline
-    }
+/// The workgroups (x, y) that run `invocations` in groups of `size`, x within the device's
+/// per-dimension limit (at least one workgroup): the kernel's row width is x · size.
+pub(crate) fn workgroup_grid(device: &wgpu::Device, invocations: u32, size: u32) -> (u32, u32) {
+    let groups = invocations.div_ceil(size).max(1);
+    let across = groups.min(device.limits().max_compute_workgroups_per_dimension);
+    (across, groups.div_ceil(across))
 }

@@ -7,14 +7,15 @@ use rayon::prelude::*;
 
 use crate::error::GpuError;
 use crate::geometry::job::SweptPlan;
+use crate::geometry::job::split_planes;
 use crate::geometry::mesh::MeshOut;
-use crate::geometry::{GeometryJob, Meshes};
+use crate::geometry::{GeometryJob, MeshPlanes, Meshes};
 use crate::gpu::GpuContext;
 use crate::gpu::geometry::abi::{
     GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, VERTEX_FLOATS,
 };
 use crate::gpu::geometry::pack::{PackedGeometry, binding_bytes};
-use crate::gpu::kernel::Kernel;
+use crate::gpu::kernel::{Kernel, workgroup_grid};
 use crate::gpu::pool::Lease;
 use crate::gpu::surfaces::dispatch::nonempty;
 
@@ -143,13 +144,10 @@ impl GpuContext {
         use wgpu::util::DeviceExt;
         let device = &self.device;
         let kernel = self.geometry_kernel();
-        let groups = (packed.curves.len() as u32)
-            .div_ceil(GEOMETRY_WG_SIZE)
-            .max(1);
-        let across = groups.min(device.limits().max_compute_workgroups_per_dimension);
+        let grid = workgroup_grid(device, packed.curves.len() as u32, GEOMETRY_WG_SIZE);
         let params = GeometryParams {
             curve_count: packed.curves.len() as u32,
-            row_width: across * GEOMETRY_WG_SIZE,
+            row_width: grid.0 * GEOMETRY_WG_SIZE,
             out_base: 0,
             _padding0: 0,
         };
@@ -200,28 +198,12 @@ impl GpuContext {
             bytes,
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         );
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("geometry"),
-            layout: kernel.layout(),
-            entries: &[&uniform, &curves, &blocks, &sections, &output]
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
         let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("geometry"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(kernel.pipeline());
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
-        }
+        let resources = [&uniform, &curves, &blocks, &sections, &output]
+            .iter()
+            .map(|b| b.as_entire_binding())
+            .collect();
+        kernel.record(device, &mut encoder, "geometry", resources, grid, None);
         encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
         self.queue.submit([encoder.finish()]);
         crate::gpu::readback::map_read(device, &download, |bytes| {
@@ -249,26 +231,13 @@ fn deinterleave(values: &[f32], out: &mut MeshOut<'_, f32>) {
 
 /// `meshes`' planes cut into each curve's part.
 fn split(meshes: &mut Meshes<f32>) -> Vec<MeshOut<'_, f32>> {
-    let count = meshes.vertex_offsets.len() - 1;
-    let (mut points, mut normals) = (&mut meshes.points[..], &mut meshes.normals[..]);
-    let (mut t, mut triangles) = (&mut meshes.t[..], &mut meshes.triangles[..]);
-    let mut outs = Vec::with_capacity(count);
-    for c in 0..count {
-        let v = range(&meshes.vertex_offsets, c).len();
-        let f = range(&meshes.triangle_offsets, c).len();
-        let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
-        let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
-        let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
-        let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
-        (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
-        outs.push(MeshOut {
-            points: p,
-            normals: n,
-            t: tt,
-            triangles: tri,
-        });
-    }
-    outs
+    let planes = MeshPlanes {
+        points: &mut meshes.points,
+        normals: &mut meshes.normals,
+        t: &mut meshes.t,
+        triangles: &mut meshes.triangles,
+    };
+    split_planes(planes, &meshes.vertex_offsets, &meshes.triangle_offsets)
 }
 
 /// The swept curves cut into consecutive groups whose every binding (curve records, blocks,

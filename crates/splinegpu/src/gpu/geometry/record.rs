@@ -12,6 +12,7 @@ use crate::geometry::{Geometry, GeometryJob};
 use crate::gpu::GpuContext;
 use crate::gpu::geometry::abi::{GEOMETRY_WG_SIZE, GeometryParams, VERTEX_FLOATS};
 use crate::gpu::geometry::pack::PackedGeometry;
+use crate::gpu::kernel::workgroup_grid;
 use crate::gpu::surfaces::dispatch::nonempty;
 
 /// Where a geometry recording writes: `stride` bytes a vertex (position x, y, z, then normal
@@ -96,13 +97,10 @@ impl GpuContext {
                 });
             }
         }
-        let groups = (packed.curves.len() as u32)
-            .div_ceil(GEOMETRY_WG_SIZE)
-            .max(1);
-        let across = groups.min(limits.max_compute_workgroups_per_dimension);
+        let grid = workgroup_grid(&self.device, packed.curves.len() as u32, GEOMETRY_WG_SIZE);
         let params = GeometryParams {
             curve_count: packed.curves.len() as u32,
-            row_width: across * GEOMETRY_WG_SIZE,
+            row_width: grid.0 * GEOMETRY_WG_SIZE,
             out_base: 0,
             _padding0: 0,
         };
@@ -242,35 +240,26 @@ impl GeometryRecording {
         if self.curve_count == 0 {
             return Ok(());
         }
-        let kernel = gpu.geometry_kernel();
-        let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("geometry recording"),
-            layout: kernel.layout(),
-            entries: &[
-                entry(0, self.params.as_entire_binding()),
-                entry(1, self.curves.as_entire_binding()),
-                entry(2, self.blocks.as_entire_binding()),
-                entry(3, self.sections.as_entire_binding()),
-                entry(
-                    4,
-                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: target,
-                        offset,
-                        size: std::num::NonZeroU64::new(needed),
-                    }),
-                ),
-            ],
-        });
-        let groups = self.curve_count.div_ceil(GEOMETRY_WG_SIZE);
-        let across = groups.min(gpu.device.limits().max_compute_workgroups_per_dimension);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("geometry recording"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(kernel.pipeline());
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        let resources = vec![
+            self.params.as_entire_binding(),
+            self.curves.as_entire_binding(),
+            self.blocks.as_entire_binding(),
+            self.sections.as_entire_binding(),
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: target,
+                offset,
+                size: std::num::NonZeroU64::new(needed),
+            }),
+        ];
+        let grid = workgroup_grid(&gpu.device, self.curve_count, GEOMETRY_WG_SIZE);
+        gpu.geometry_kernel().record(
+            &gpu.device,
+            encoder,
+            "geometry recording",
+            resources,
+            grid,
+            None,
+        );
         Ok(())
     }
 }

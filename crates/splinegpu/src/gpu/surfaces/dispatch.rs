@@ -7,7 +7,7 @@ use std::ops::Range;
 
 use crate::error::GpuError;
 use crate::gpu::GpuContext;
-use crate::gpu::kernel::Kernel;
+use crate::gpu::kernel::{Kernel, workgroup_grid};
 use crate::gpu::surfaces::abi::{
     GpuVertex, SURFACE_BINDINGS, SURFACE_WG_SIZE, SURFACE_WGSL, SurfaceParams,
 };
@@ -199,8 +199,7 @@ impl GpuContext {
         use wgpu::util::DeviceExt;
         let device = &self.device;
         let pipeline = self.surface_pipeline();
-        let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE);
-        let across = groups.min(self.device.limits().max_compute_workgroups_per_dimension);
+        let (across, rows) = workgroup_grid(&self.device, vertices.len() as u32, SURFACE_WG_SIZE);
         let params = SurfaceParams::new(
             vertices.len(),
             across * SURFACE_WG_SIZE,
@@ -246,30 +245,21 @@ impl GpuContext {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("surface"),
-            layout: pipeline.layout(),
-            entries: &[&uniform, &patches, &coeffs, &vertex_buffer, &output]
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect::<Vec<_>>(),
-        });
         let has_timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let stamps = (timed && has_timestamps).then(|| Timestamps::new(device, 1));
         let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("surfaces"),
-                timestamp_writes: stamps.as_ref().map(|s| s.writes(0)),
-            });
-            pass.set_pipeline(pipeline.pipeline());
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
-        }
+        let resources = [&uniform, &patches, &coeffs, &vertex_buffer, &output]
+            .iter()
+            .map(|b| b.as_entire_binding())
+            .collect();
+        pipeline.record(
+            device,
+            &mut encoder,
+            "surfaces",
+            resources,
+            (across, rows),
+            stamps.as_ref().map(|s| s.writes(0)),
+        );
         encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
         if let Some(stamps) = &stamps {
             stamps.resolve(&mut encoder);

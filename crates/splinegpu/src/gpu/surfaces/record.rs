@@ -11,6 +11,7 @@ use crate::error::{GpuError, InputError};
 use crate::surface::{PatchTable, SurfaceJob, SurfacePlan};
 
 use crate::gpu::GpuContext;
+use crate::gpu::kernel::workgroup_grid;
 use crate::gpu::surfaces::abi::{GpuVertex, SURFACE_WG_SIZE, SurfaceParams};
 use crate::gpu::surfaces::pack::PackedPatches;
 
@@ -105,8 +106,7 @@ impl GpuContext {
                 });
             }
         }
-        let groups = (vertices.len() as u32).div_ceil(SURFACE_WG_SIZE).max(1);
-        let across = groups.min(limits.max_compute_workgroups_per_dimension);
+        let (across, _) = workgroup_grid(&self.device, vertices.len() as u32, SURFACE_WG_SIZE);
         let params =
             SurfaceParams::new(vertices.len(), across * SURFACE_WG_SIZE, floats, 0, normals);
         let init = |label: &str, contents: &[u8], usage| {
@@ -211,41 +211,29 @@ impl SurfaceRecording {
     ) -> Result<(), GpuError> {
         let needed = self.layout.bytes.max(4);
         gpu.check_target(target, offset, needed)?;
-        let pipeline = gpu.surface_pipeline();
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("surface recording"),
-            layout: pipeline.layout(),
-            entries: &[
-                entry(0, self.params.as_entire_binding()),
-                entry(1, self.patches.as_entire_binding()),
-                entry(2, self.coeffs.as_entire_binding()),
-                entry(3, self.vertices.as_entire_binding()),
-                entry(
-                    4,
-                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: target,
-                        offset,
-                        size: std::num::NonZeroU64::new(needed),
-                    }),
-                ),
-            ],
-        });
-        let groups = self.vertex_count.div_ceil(SURFACE_WG_SIZE);
-        if groups == 0 {
+        if self.vertex_count == 0 {
             return Ok(());
         }
-        let across = groups.min(gpu.device.limits().max_compute_workgroups_per_dimension);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("surface recording"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(pipeline.pipeline());
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(across, groups.div_ceil(across), 1);
+        let resources = vec![
+            self.params.as_entire_binding(),
+            self.patches.as_entire_binding(),
+            self.coeffs.as_entire_binding(),
+            self.vertices.as_entire_binding(),
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: target,
+                offset,
+                size: std::num::NonZeroU64::new(needed),
+            }),
+        ];
+        let grid = workgroup_grid(&gpu.device, self.vertex_count, SURFACE_WG_SIZE);
+        gpu.surface_pipeline().record(
+            &gpu.device,
+            encoder,
+            "surface recording",
+            resources,
+            grid,
+            None,
+        );
         Ok(())
     }
-}
-
-fn entry(binding: u32, resource: wgpu::BindingResource<'_>) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry { binding, resource }
 }
