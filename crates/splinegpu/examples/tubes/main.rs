@@ -2,8 +2,9 @@
 //! renderer's vertex buffer by a `GeometryRecording`, moving curves refitted each frame without
 //! reallocating, drawn with a depth buffer and lit by the crate's exact surface normals, off
 //! screen; above them a panel of 2-D strokes (every join and cap, a width per point, dashes and
-//! dots) made on the host into the same vertex layout. The last frame is saved as a PNG and the
-//! frame time printed.
+//! dots) made on the host into the same vertex layout, and among them the Utah teapot, its
+//! certified mesh written into its own vertex buffer by a `SurfaceRecording`. The last frame is
+//! saved as a PNG and the frame time printed.
 //!
 //! `cargo run --release -p splinegpu --example tubes -- docs/tubes.png` (lavapipe works).
 
@@ -15,8 +16,10 @@ use glam::{Mat4, Vec3};
 use splinegpu::geometry::{
     Cap, Dash, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width,
 };
+use splinegpu::surface::{Net, Surface, SurfaceJob, SurfaceKind, SurfaceSampling};
 use splinegpu::{
-    Basis, Curve, CurveKind, EndCondition, Ends, GeometryRecording, GpuContext, Points, Sampling,
+    Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, GeometryRecording, GpuContext,
+    Points, Sampling,
 };
 use wgpu::util::DeviceExt;
 
@@ -79,6 +82,45 @@ struct Scene {
     color: wgpu::Texture,
     depth: wgpu::Texture,
     panel: Option<Panel>,
+    teapot: Option<Teapot>,
+}
+
+/// The teapot: its certified mesh's positions and normals (two planes of one buffer, as the
+/// surface recording lays them out), its indices, a camera with its model transform, and a
+/// pipeline that reads the two planes and lights both sides.
+struct Teapot {
+    vertices: wgpu::Buffer,
+    normals_at: u64,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    bind_group: wgpu::BindGroup,
+    pipeline: wgpu::RenderPipeline,
+}
+
+/// The teapot of the command line's example document (Newell's 32 Bezier patches, z up).
+fn teapot_surface() -> Result<Surface, Box<dyn Error>> {
+    let text = include_str!("../../../splinegpu-cli/examples/teapot.json");
+    let doc: serde_json::Value = serde_json::from_str(text)?;
+    let surface = &doc["surfaces"][0];
+    let coords: Vec<f64> = surface["points"]
+        .as_array()
+        .ok_or("points")?
+        .iter()
+        .flat_map(|p| {
+            p.as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(serde_json::Value::as_f64)
+        })
+        .collect();
+    let patches = surface["patches"]
+        .as_array()
+        .ok_or("patches")?
+        .iter()
+        .map(|p| std::array::from_fn(|k| p[k].as_u64().unwrap_or(0) as usize))
+        .collect();
+    let net = Net::new(3, coords.len() / 3, 1, coords)?;
+    Ok(Surface::new(SurfaceKind::BezierPatches { patches }, net)?)
 }
 
 /// The strokes panel: its meshes in the tubes' vertex layout, and its orthographic camera.
@@ -402,7 +444,111 @@ impl Scene {
             color: target("color", FORMAT, attachment | wgpu::TextureUsages::COPY_SRC),
             depth: target("depth", DEPTH, attachment),
             panel: None,
+            teapot: None,
         })
+    }
+
+    /// Adds the teapot, `scale` times its size at `at`: meshed within 1e-3 of its extent and
+    /// recorded into its vertex buffer once (it does not move).
+    fn add_teapot(
+        &mut self,
+        gpu: &GpuContext,
+        camera: &Camera,
+        scale: f32,
+        at: Vec3,
+    ) -> Result<(), Box<dyn Error>> {
+        let device = gpu.device();
+        let surface = teapot_surface()?;
+        let tolerance = 1e-3 * surface.net().extent();
+        let mut job = SurfaceJob::new(Derivatives::None, true);
+        job.push(surface.fit(), SurfaceSampling::Tolerance(tolerance))?;
+        let recording = gpu.surface_recording(&job)?;
+        let layout = recording.layout();
+        let vertices = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("teapot vertices"),
+            size: layout.bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        recording.record_into(gpu, &mut encoder, &vertices, 0)?;
+        gpu.queue().submit([encoder.finish()]);
+        let model = Mat4::from_translation(at) * Mat4::from_scale(Vec3::splat(scale));
+        let placed = Camera {
+            view_proj: (Mat4::from_cols_array_2d(&camera.view_proj) * model).to_cols_array_2d(),
+            light: camera.light,
+        };
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("teapot camera"),
+            contents: bytemuck::bytes_of(&placed),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("teapot camera"),
+            layout: &self.camera_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            }],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("tubes.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("tubes.wgsl").into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("teapot"),
+            bind_group_layouts: &[Some(&self.camera_layout)],
+            immediate_size: 0,
+        });
+        let plane = |location| wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: if location == 0 {
+                &wgpu::vertex_attr_array![0 => Float32x3]
+            } else {
+                &wgpu::vertex_attr_array![1 => Float32x3]
+            },
+        };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("teapot"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(plane(0)), Some(plane(1))],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_two_sided"),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.teapot = Some(Teapot {
+            normals_at: layout.normals.ok_or("the teapot's normals")?,
+            index_count: recording.indices().len() as u32,
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("teapot indices"),
+                contents: bytemuck::cast_slice(recording.indices()),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            vertices,
+            bind_group,
+            pipeline,
+        });
+        Ok(())
     }
 
     /// Adds the strokes panel across the image's top.
@@ -455,6 +601,15 @@ impl Scene {
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
+            if let Some(teapot) = &self.teapot {
+                pass.set_pipeline(&teapot.pipeline);
+                pass.set_bind_group(0, &teapot.bind_group, &[]);
+                pass.set_vertex_buffer(0, teapot.vertices.slice(..teapot.normals_at));
+                pass.set_vertex_buffer(1, teapot.vertices.slice(teapot.normals_at..));
+                pass.set_index_buffer(teapot.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..teapot.index_count, 0, 0..1);
+                pass.set_pipeline(&self.pipeline);
+            }
             if let Some(panel) = &self.panel {
                 let width = self.color.width() as f32;
                 pass.set_viewport(
@@ -562,6 +717,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let grid = 50;
     let mut scene = Scene::new(&gpu, grid, &camera(grid), SIZE)?;
     scene.add_panel(&gpu)?;
+    scene.add_teapot(&gpu, &camera(grid), 3.2, Vec3::new(4.0, -8.0, 0.0))?;
     let frames = 6;
     scene.frame(&gpu, grid, 0.0)?;
     let start = Instant::now();

@@ -22,6 +22,15 @@ fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> 
     return Lit(camera.view_proj * vec4<f32>(position, 1.0), normal, position);
 }
 
+// Lit from both sides, for a surface whose patches do not all face out (the teapot's), in
+// porcelain white.
+@fragment
+fn fs_two_sided(in: Lit) -> @location(0) vec4<f32> {
+    let n = normalize(in.normal);
+    let diffuse = abs(dot(n, camera.light.xyz));
+    return vec4<f32>(vec3<f32>(0.92, 0.9, 0.85) * (0.15 + 0.85 * diffuse), 1.0);
+}
+
 @fragment
 fn fs_main(in: Lit) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
