@@ -365,8 +365,7 @@ fn write_f32<'py>(
     let t = t_array(py, out, v)?;
     t.readwrite().as_slice_mut()?.copy_from_slice(&meshes.t);
     let triangles = triangle_array(py, job, &meshes.triangles, out, m)?;
-    let finite = |values: &[f32]| values.iter().map(|&x| f64::from(x)).collect::<Vec<f64>>();
-    refuse_non_finite(job, &finite(points.readonly().as_slice()?), dim)?;
+    refuse_non_finite(job, points.readonly().as_slice()?, dim)?;
     let normals = if flat {
         None
     } else {
@@ -375,23 +374,27 @@ fn write_f32<'py>(
             .readwrite()
             .as_slice_mut()?
             .copy_from_slice(&meshes.normals);
-        refuse_non_finite(job, &finite(&meshes.normals), 3)?;
+        refuse_non_finite(job, &meshes.normals, 3)?;
         Some(normals)
     };
     result(py, job, points, t, normals, triangles)
 }
 
-/// A mesh whose values overflow f64 (a radius near the largest float) is refused, naming the
-/// curve and the vertex, rather than returned with NaN.
-fn refuse_non_finite(job: &GeometryJob, values: &[f64], width: usize) -> PyResult<()> {
-    let Some(i) = values.iter().position(|x| !x.is_finite()) else {
+/// A mesh whose values overflow their float type (a radius near the largest float) is
+/// refused, naming the curve and the vertex, rather than returned with NaN.
+fn refuse_non_finite<F: splinegpu::SampleFloat>(
+    job: &GeometryJob,
+    values: &[F],
+    width: usize,
+) -> PyResult<()> {
+    let Some(i) = values.iter().position(|x| !x.finite()) else {
         return Ok(());
     };
     let vertex = (i / width) as u64;
     let offsets = job.vertex_offsets();
     let c = offsets.partition_point(|&o| o <= vertex) - 1;
     Err(value_error(format!(
-        "curve {c}: mesh vertex {} is not finite (the mesh overflows float64)",
+        "curve {c}: mesh vertex {} is not finite (the mesh overflows the result's number type)",
         vertex - offsets[c]
     )))
 }

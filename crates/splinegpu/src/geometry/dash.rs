@@ -229,10 +229,11 @@ pub(crate) fn places(
                     locs
                 }
                 _ => {
-                    let inside = undashed
-                        .iter()
-                        .filter(|l| l.t > start.t && l.t < end.t)
-                        .copied();
+                    // The undashed places are in order of t: those strictly inside, found by
+                    // two binary searches rather than a pass over all of them per dash.
+                    let from = undashed.partition_point(|l| l.t <= start.t);
+                    let to = undashed.partition_point(|l| l.t < end.t).max(from);
+                    let inside = undashed[from..to].iter().copied();
                     std::iter::once(start)
                         .chain(inside)
                         .chain(std::iter::once(end))

@@ -617,18 +617,19 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
     }
     let locs: Vec<SampleLoc> = (0..plan.len()).map(|i| plan.loc(i)).collect();
     let closed = is_closed(curve.kind());
-    let pieces = match geometry.dash() {
-        None => None,
-        Some(pattern) => {
+    // The arc length, where dashes are laid by it or a closed tube's frames closed up by it.
+    let map = (geometry.dash().is_some() || (closed && shape.is_some()))
+        .then(|| dash::ArcMap::new(&position));
+    let pieces = match (geometry.dash(), &map) {
+        (Some(pattern), Some(map)) => {
             pattern.check()?;
-            let map = dash::ArcMap::new(&position);
             let mut intervals = pattern.intervals(map.length())?;
             // A dash of length 0 makes a stroke's cap shapes and nothing else.
             let flat_caps = matches!(geometry, Geometry::Stroke(s) if s.cap != Cap::Butt);
             if !flat_caps {
                 intervals.retain(|(a, b)| b > a);
             }
-            let pieces = dash::places(&map, &intervals, &locs, sampling);
+            let pieces = dash::places(map, &intervals, &locs, sampling);
             let sections: usize = pieces.iter().map(Vec::len).sum();
             if sections + locs.len() > MAX_SECTIONS {
                 return Err(InputError::field(
@@ -638,6 +639,7 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             }
             Some(pieces)
         }
+        _ => None,
     };
     let Some(shape) = shape else {
         let Geometry::Stroke(style) = geometry else {
@@ -690,7 +692,10 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             (merged, Some(indices), vertices, triangles)
         }
     };
-    let lengths = closed.then(|| arc_lengths(&position, &locs));
+    // The arc length to each cross-section of a closed curve, whose frames are closed up.
+    let lengths = map
+        .filter(|_| closed)
+        .map(|map| locs.iter().map(|&loc| map.length_to(loc)).collect());
     Ok(Planned {
         table,
         geometry: geometry.clone(),
@@ -732,12 +737,6 @@ fn merge_by_t(
         }
     }
     (tagged.into_iter().map(|(loc, _)| loc).collect(), indices)
-}
-
-/// The arc length from the curve's start to each place.
-fn arc_lengths(position: &SegmentTable, locs: &[SampleLoc]) -> Vec<f64> {
-    let map = dash::ArcMap::new(position);
-    locs.iter().map(|&loc| map.length_to(loc)).collect()
 }
 
 /// The widened table at one place: position, derivatives and width (its frame not yet set).
