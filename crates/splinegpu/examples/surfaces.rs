@@ -11,6 +11,11 @@ use std::error::Error;
 use splinegpu::Derivatives;
 use splinegpu::surface::{Net, Surface, SurfaceJob, SurfaceKind, SurfaceSamples, SurfaceSampling};
 
+#[path = "common/teapot.rs"]
+mod teapot;
+
+use teapot::teapot;
+
 /// The picture's size in pixels, and the supersampling per axis.
 const WIDTH: usize = 960;
 const HEIGHT: usize = 420;
@@ -61,32 +66,6 @@ fn tessellate(
     let mut job = SurfaceJob::new(Derivatives::None, true);
     job.push(surface.fit(), sampling.clone())?;
     Ok(job.evaluate_cpu().remove(0))
-}
-
-/// The teapot of the command line's example document.
-fn teapot() -> Result<Surface, Box<dyn Error>> {
-    let text = include_str!("../../splinegpu-cli/examples/teapot.json");
-    let doc: serde_json::Value = serde_json::from_str(text)?;
-    let surface = &doc["surfaces"][0];
-    let coords: Vec<f64> = surface["points"]
-        .as_array()
-        .ok_or("points")?
-        .iter()
-        .flat_map(|p| {
-            p.as_array()
-                .into_iter()
-                .flatten()
-                .filter_map(serde_json::Value::as_f64)
-        })
-        .collect();
-    let patches = surface["patches"]
-        .as_array()
-        .ok_or("patches")?
-        .iter()
-        .map(|p| std::array::from_fn(|k| p[k].as_u64().unwrap_or(0) as usize))
-        .collect();
-    let net = Net::new(3, coords.len() / 3, 1, coords)?;
-    Ok(Surface::new(SurfaceKind::BezierPatches { patches }, net)?)
 }
 
 /// A torus of radii `big` and `small` as a rational bicubic: the tensor product of two

@@ -16,16 +16,32 @@ use glam::{Mat4, Vec3};
 use splinegpu::geometry::{
     Cap, Dash, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width,
 };
-use splinegpu::surface::{Net, Surface, SurfaceJob, SurfaceKind, SurfaceSampling};
+use splinegpu::surface::{SurfaceJob, SurfaceSampling};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, GeometryRecording, GpuContext,
     Points, Sampling,
 };
 use wgpu::util::DeviceExt;
 
+#[path = "../common/teapot.rs"]
+mod teapot;
+
+use teapot::teapot;
+
 const SIZE: u32 = 768;
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The depth test every pipeline of the scene draws with: nearer wins, written.
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
 
 /// The uniform. WGSL twin: `Camera` in tubes.wgsl.
 #[derive(Clone, Copy, Debug, Zeroable, Pod)]
@@ -95,32 +111,6 @@ struct Teapot {
     index_count: u32,
     bind_group: wgpu::BindGroup,
     pipeline: wgpu::RenderPipeline,
-}
-
-/// The teapot of the command line's example document (Newell's 32 Bezier patches, z up).
-fn teapot_surface() -> Result<Surface, Box<dyn Error>> {
-    let text = include_str!("../../../splinegpu-cli/examples/teapot.json");
-    let doc: serde_json::Value = serde_json::from_str(text)?;
-    let surface = &doc["surfaces"][0];
-    let coords: Vec<f64> = surface["points"]
-        .as_array()
-        .ok_or("points")?
-        .iter()
-        .flat_map(|p| {
-            p.as_array()
-                .into_iter()
-                .flatten()
-                .filter_map(serde_json::Value::as_f64)
-        })
-        .collect();
-    let patches = surface["patches"]
-        .as_array()
-        .ok_or("patches")?
-        .iter()
-        .map(|p| std::array::from_fn(|k| p[k].as_u64().unwrap_or(0) as usize))
-        .collect();
-    let net = Net::new(3, coords.len() / 3, 1, coords)?;
-    Ok(Surface::new(SurfaceKind::BezierPatches { patches }, net)?)
 }
 
 /// The strokes panel: its meshes in the tubes' vertex layout, and its orthographic camera.
@@ -404,13 +394,7 @@ impl Scene {
                 cull_mode: Some(wgpu::Face::Back),
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(depth_test()),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
@@ -458,7 +442,7 @@ impl Scene {
         at: Vec3,
     ) -> Result<(), Box<dyn Error>> {
         let device = gpu.device();
-        let surface = teapot_surface()?;
+        let surface = teapot()?;
         let tolerance = 1e-3 * surface.net().extent();
         let mut job = SurfaceJob::new(Derivatives::None, true);
         job.push(surface.fit(), SurfaceSampling::Tolerance(tolerance))?;
@@ -525,13 +509,7 @@ impl Scene {
                 targets: &[Some(FORMAT.into())],
             }),
             primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(depth_test()),
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
