@@ -119,6 +119,7 @@ mod locator;
 mod memory;
 mod parallel;
 mod points;
+pub mod query;
 mod rational;
 mod sampling;
 mod segment;

@@ -18,6 +18,7 @@ mod kochanek_bartels;
 mod local_beta;
 mod nurbs;
 mod properties;
+mod query;
 mod scipy_fixture;
 mod shapes;
 mod support;

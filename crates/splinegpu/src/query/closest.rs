@@ -1,0 +1,350 @@
+//! The closest point of a set of curves to many query points, certified (docs/queries.md).
+//!
+//! For a query point q and one segment P(u) = D + R(u), R = N / W (W ≡ 1 on a polynomial
+//! segment), written relative to the segment's origin with r = q − D, the squared distance
+//! g(u) = |R(u) − r|² has
+//!
+//! ```text
+//! g'(u) / 2 = (R − r)·R' = (N − r W)·(N' W − N W') / W³
+//! ```
+//!
+//! whose numerator h(u) = Σ_k (N_k − r_k W)(N_k' W − N_k W') is a polynomial of degree 5
+//! (polynomial segment: Σ (A u³ + B u² + C u − r)(3A u² + 2B u + C)) or at most 8 (rational;
+//! W > 0 on [0, 1], so h and g' share their signs). g's minimum over [0, 1] is at 0, at 1, or
+//! where g' changes sign from − to +, so among the ends and the sign-changing roots of h, which
+//! [`roots::sign_change_roots`] isolates one by one between the roots of h'. The breakpoints
+//! (h' 's roots) are tried too, where a pair of roots too close to tell apart would be.
+//!
+//! Over the whole set, the box tree ([`tree::BoxTree`]) gives the segments nearest first and
+//! leaves every box farther than the best distance found: a segment lies in its control
+//! points' box, so no segment left out could be nearer.
+
+use crate::error::InputError;
+use crate::parallel::{even_ranges, fan_out_map};
+use crate::query::roots::{Poly, sign_change_roots};
+use crate::query::tree::BoxTree;
+use crate::segment::{Segment, SegmentTable};
+
+/// The closest point of the set to one query point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClosestPoint {
+    /// The curve's index in the set.
+    pub curve: usize,
+    /// The curve's parameter there.
+    pub t: f64,
+    /// The curve at `t` (D values).
+    pub point: Vec<f64>,
+    /// |point − q|.
+    pub distance: f64,
+}
+
+/// Closest points for many query points, as arrays (query i's answer at row i).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ClosestPoints {
+    /// The number of coordinates of each point.
+    pub dim: usize,
+    /// Per query, the curve's index in the set.
+    pub curve: Vec<usize>,
+    /// Per query, the curve's parameter.
+    pub t: Vec<f64>,
+    /// Per query, the closest point (D values, flat).
+    pub points: Vec<f64>,
+    /// Per query, the distance.
+    pub distance: Vec<f64>,
+}
+
+impl ClosestPoints {
+    /// How many queries were answered.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there were none.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}
+
+/// A set of curves (fitted, as [`SegmentTable`]s of one dimension) behind a box tree over
+/// their segments, for closest-point queries.
+///
+/// ```
+/// use splinegpu::{Basis, Curve, CurveKind, Ends, Points, query::CurveIndex};
+///
+/// let points = Points::new(2, vec![0.0, 0.0, 1.0, 1.0, 2.0, 0.0, 3.0, 1.0])?;
+/// let curve = Curve::new(CurveKind::Uniform { basis: Basis::CatmullRom, ends: Ends::Repeat }, points)?;
+/// let tables = [curve.fit()];
+/// let index = CurveIndex::new(&tables)?;
+/// let hit = index.closest(&[1.0, 2.0])?;
+/// assert_eq!(hit.curve, 0);
+/// assert!((hit.distance - 1.0).abs() < 1e-12); // the top of the first bump, (1, 1)
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct CurveIndex<'a> {
+    tables: &'a [SegmentTable],
+    dim: usize,
+    /// Per item of the tree, its (curve, segment).
+    items: Vec<(u32, u32)>,
+    tree: BoxTree,
+}
+
+impl<'a> CurveIndex<'a> {
+    /// The index over every segment of `tables`.
+    ///
+    /// # Errors
+    /// No curves; a curve whose dimension differs from the first's (named by its index).
+    pub fn new(tables: &'a [SegmentTable]) -> Result<Self, InputError> {
+        let Some(first) = tables.first() else {
+            return Err(InputError::field("curves", "must not be empty"));
+        };
+        let dim = first.dim();
+        let mut items = Vec::new();
+        let mut boxes = Vec::new();
+        for (c, table) in tables.iter().enumerate() {
+            if table.dim() != dim {
+                return Err(InputError::field(
+                    "points",
+                    format!(
+                        "must have {dim} coordinates like curve 0's, got {}",
+                        table.dim()
+                    ),
+                )
+                .in_curve(c));
+            }
+            for s in 0..table.len() {
+                items.push((c as u32, s as u32));
+                push_segment_box(&table.segment(s), &mut boxes);
+            }
+        }
+        Ok(Self {
+            tables,
+            dim,
+            tree: BoxTree::new(dim, &boxes),
+            items,
+        })
+    }
+
+    /// The number of coordinates of the curves (and of every query point).
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The point of the set nearest to `q` (D values).
+    ///
+    /// # Errors
+    /// `q` of another length than D, or with a coordinate that is not finite.
+    pub fn closest(&self, q: &[f64]) -> Result<ClosestPoint, InputError> {
+        check_query(q, self.dim, 0)?;
+        let (curve, t, d2) = self.nearest(q);
+        let mut point = vec![0.0; self.dim];
+        self.point_at(curve, t, &mut point);
+        Ok(ClosestPoint {
+            curve,
+            t,
+            point,
+            distance: d2.sqrt(),
+        })
+    }
+
+    /// [`CurveIndex::closest`] for every point of `queries` (D values each, flat), on every
+    /// thread.
+    ///
+    /// # Errors
+    /// A length that is not a multiple of D; a coordinate that is not finite (named by its
+    /// query's index).
+    pub fn closest_many(&self, queries: &[f64]) -> Result<ClosestPoints, InputError> {
+        let dim = self.dim;
+        if queries.len() % dim != 0 {
+            return Err(InputError::field(
+                "closest",
+                format!(
+                    "must hold {dim} coordinates per point, got {} values",
+                    queries.len()
+                ),
+            ));
+        }
+        let count = queries.len() / dim;
+        for i in 0..count {
+            check_query(&queries[i * dim..][..dim], dim, i)?;
+        }
+        let parts = even_ranges(count, crate::available_threads() * 4).collect();
+        let answers = fan_out_map(parts, |range: std::ops::Range<usize>| {
+            range
+                .map(|i| self.nearest(&queries[i * dim..][..dim]))
+                .collect::<Vec<_>>()
+        });
+        let mut out = ClosestPoints {
+            dim,
+            curve: Vec::with_capacity(count),
+            t: Vec::with_capacity(count),
+            points: vec![0.0; count * dim],
+            distance: Vec::with_capacity(count),
+        };
+        for (i, (curve, t, d2)) in answers.into_iter().flatten().enumerate() {
+            self.point_at(curve, t, &mut out.points[i * dim..][..dim]);
+            out.curve.push(curve);
+            out.t.push(t);
+            out.distance.push(d2.sqrt());
+        }
+        Ok(out)
+    }
+
+    /// The nearest (curve, t, squared distance) to a checked `q`.
+    fn nearest(&self, q: &[f64]) -> (usize, f64, f64) {
+        let mut best = f64::INFINITY;
+        let mut found = (0u32, 0u32, 0.0);
+        let mut r = [0.0; crate::MAX_DIM];
+        self.tree.nearest(q, &mut best, |item, best| {
+            let (c, s) = self.items[item as usize];
+            let segment = self.tables[c as usize].segment(s as usize);
+            let [.., origin] = segment.power();
+            for k in 0..self.dim {
+                r[k] = q[k] - origin[k];
+            }
+            let (u, d2) = segment_minimum(&segment, &r[..self.dim]);
+            if d2 < *best {
+                *best = d2;
+                found = (c, s, u);
+            }
+        });
+        let (c, s, u) = found;
+        let table = &self.tables[c as usize];
+        let t = if u >= 1.0 {
+            table.knots()[s as usize + 1]
+        } else {
+            let segment = table.segment(s as usize);
+            segment.t0() + u * segment.dt()
+        };
+        (c as usize, t, best)
+    }
+
+    /// Curve `curve` at parameter `t` into `out`.
+    fn point_at(&self, curve: usize, t: f64, out: &mut [f64]) {
+        let table = &self.tables[curve];
+        let knots = table.knots();
+        let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);
+        let segment = table.segment(s);
+        segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), out);
+    }
+}
+
+/// A query point's length and finiteness.
+fn check_query(q: &[f64], dim: usize, index: usize) -> Result<(), InputError> {
+    if q.len() != dim {
+        return Err(InputError::field(
+            format!("closest[{index}]"),
+            format!("must have {dim} coordinates (the curves' D), got {}", q.len()),
+        ));
+    }
+    if let Some(k) = q.iter().position(|v| !v.is_finite()) {
+        return Err(InputError::field(
+            format!("closest[{index}]"),
+            format!("coordinate {k} is {}, not a finite number", q[k]),
+        ));
+    }
+    Ok(())
+}
+
+/// The box of a segment's (rational) Bezier control points, `lo` then `hi`, widened by a few
+/// units in the last place of its coordinates for the rounding of the conversion.
+fn push_segment_box(segment: &Segment<'_>, boxes: &mut Vec<f64>) {
+    let (points, _) = segment.rational_bezier();
+    let dim = points[0].len();
+    let at = boxes.len();
+    boxes.resize(at + 2 * dim, 0.0);
+    for k in 0..dim {
+        let values = points.iter().map(|p| p[k]);
+        let lo = values.clone().fold(f64::INFINITY, f64::min);
+        let hi = values.fold(f64::NEG_INFINITY, f64::max);
+        let pad = 16.0 * f64::EPSILON * lo.abs().max(hi.abs());
+        boxes[at + k] = lo - pad;
+        boxes[at + dim + k] = hi + pad;
+    }
+}
+
+/// The local parameter u in [0, 1] of the point of `segment` nearest to its origin plus `r`,
+/// and the squared distance there (see the module docs).
+pub(crate) fn segment_minimum(segment: &Segment<'_>, r: &[f64]) -> (f64, f64) {
+    let h = distance_slope(segment, r);
+    let (roots, breakpoints) = sign_change_roots(&h);
+    let mut best = (0.0, local_distance2(segment, r, 0.0));
+    for &u in [1.0]
+        .iter()
+        .chain(roots.as_slice())
+        .chain(breakpoints.as_slice())
+    {
+        let d2 = local_distance2(segment, r, u);
+        if d2 < best.1 {
+            best = (u, d2);
+        }
+    }
+    best
+}
+
+/// h(u), the numerator of g'(u)/2 (module docs), as a polynomial.
+fn distance_slope(segment: &Segment<'_>, r: &[f64]) -> Poly {
+    let [a, b, c, _] = segment.power();
+    let mut h = [0.0; 9];
+    match segment.denominator() {
+        None => {
+            for k in 0..r.len() {
+                let (a, b, c, r) = (a[k], b[k], c[k], r[k]);
+                h[5] += 3.0 * a * a;
+                h[4] += 5.0 * a * b;
+                h[3] += 4.0 * a * c + 2.0 * b * b;
+                h[2] += 3.0 * (b * c - a * r);
+                h[1] += c * c - 2.0 * b * r;
+                h[0] -= c * r;
+            }
+            Poly::new(&h[..6])
+        }
+        Some(w) => {
+            let [wa, wb, wc, wd] = w.coeffs;
+            let w = [wd, wc, wb, wa];
+            let dw = [wc, 2.0 * wb, 3.0 * wa];
+            for k in 0..r.len() {
+                let n = [0.0, c[k], b[k], a[k]];
+                let dn = [c[k], 2.0 * b[k], 3.0 * a[k]];
+                let e: [f64; 4] = std::array::from_fn(|i| n[i] - r[k] * w[i]);
+                // F = N'W − NW', degree 5 at most (its u⁵ terms cancel).
+                let mut f = [0.0; 6];
+                for (i, &x) in dn.iter().enumerate() {
+                    for (j, &y) in w.iter().enumerate() {
+                        f[i + j] += x * y;
+                    }
+                }
+                for (i, &x) in n.iter().enumerate() {
+                    for (j, &y) in dw.iter().enumerate() {
+                        f[i + j] -= x * y;
+                    }
+                }
+                for (i, &x) in e.iter().enumerate() {
+                    for (j, &y) in f.iter().enumerate() {
+                        h[i + j] += x * y;
+                    }
+                }
+            }
+            Poly::new(&h)
+        }
+    }
+}
+
+/// |R(u) − r|², the squared distance from the origin plus r to the segment at u.
+#[inline]
+fn local_distance2(segment: &Segment<'_>, r: &[f64], u: f64) -> f64 {
+    let [a, b, c, _] = segment.power();
+    let inv_w = segment.denominator().map_or(1.0, |w| {
+        let [wa, wb, wc, wd] = w.coeffs;
+        1.0 / (wd + u * (wc + u * (wb + u * wa)))
+    });
+    let mut d2 = 0.0;
+    for k in 0..r.len() {
+        let gap = u * (c[k] + u * (b[k] + u * a[k])) * inv_w - r[k];
+        d2 += gap * gap;
+    }
+    d2
+}

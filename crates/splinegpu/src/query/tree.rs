@@ -1,0 +1,255 @@
+//! A bounding-volume tree over axis-aligned boxes in D dimensions, for the queries' exclusion.
+//!
+//! Each item (a curve's segment, a surface's patch) holds a box that contains all of it (its
+//! Bezier control points' box: a Bezier piece, rational with positive weights included, lies in
+//! the convex hull of its control points). The tree splits the items at the median of their
+//! boxes' centres along the widest axis until a leaf holds at most [`LEAF_ITEMS`], and every
+//! node's box contains its children's. A query walks it depth first, nearer child first, and
+//! leaves a node whose box is farther than the best answer so far: nothing in that box can be
+//! nearer, so the exclusion loses no answer.
+
+/// Items per leaf: a few exact solves are cheaper than another level of boxes.
+pub(crate) const LEAF_ITEMS: usize = 4;
+
+/// A node: its box (`lo`, `hi`: D values each, in the tree's box store) and either two
+/// children or a range of items.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    /// Children's node indices, or (for a leaf) the range of `order` it holds.
+    first: u32,
+    second: u32,
+    leaf: bool,
+}
+
+/// The tree: nodes, their boxes, and the items in leaf order.
+#[derive(Clone, Debug)]
+pub(crate) struct BoxTree {
+    dim: usize,
+    nodes: Vec<Node>,
+    /// Per node, `lo` then `hi` (2 D values).
+    boxes: Vec<f64>,
+    /// Item indices in the order the leaves hold them.
+    order: Vec<u32>,
+}
+
+impl BoxTree {
+    /// The tree over `items` boxes given as `lo` then `hi` (2 D values per item).
+    pub(crate) fn new(dim: usize, item_boxes: &[f64]) -> Self {
+        let count = item_boxes.len() / (2 * dim);
+        let mut tree = Self {
+            dim,
+            nodes: Vec::with_capacity(2 * count / LEAF_ITEMS + 1),
+            boxes: Vec::new(),
+            order: (0..count as u32).collect(),
+        };
+        if count > 0 {
+            let mut order = std::mem::take(&mut tree.order);
+            tree.build(item_boxes, &mut order, 0);
+            tree.order = order;
+        }
+        tree
+    }
+
+    /// Builds the node over `items` (a slice of `order` starting at `offset`), returning its
+    /// index.
+    fn build(&mut self, item_boxes: &[f64], items: &mut [u32], offset: usize) -> u32 {
+        let dim = self.dim;
+        let at = self.nodes.len();
+        self.nodes.push(Node {
+            first: 0,
+            second: 0,
+            leaf: true,
+        });
+        // This node's box: the union of its items'.
+        let mut lo = vec![f64::INFINITY; dim];
+        let mut hi = vec![f64::NEG_INFINITY; dim];
+        for &item in items.iter() {
+            let b = &item_boxes[item as usize * 2 * dim..][..2 * dim];
+            for k in 0..dim {
+                lo[k] = lo[k].min(b[k]);
+                hi[k] = hi[k].max(b[dim + k]);
+            }
+        }
+        self.boxes.extend_from_slice(&lo);
+        self.boxes.extend_from_slice(&hi);
+        if items.len() <= LEAF_ITEMS {
+            self.nodes[at] = Node {
+                first: offset as u32,
+                second: (offset + items.len()) as u32,
+                leaf: true,
+            };
+            return at as u32;
+        }
+        let centre = |item: u32, axis: usize| {
+            let b = &item_boxes[item as usize * 2 * dim..];
+            b[axis] + b[dim + axis]
+        };
+        let axis = (0..dim)
+            .max_by(|&i, &j| (hi[i] - lo[i]).total_cmp(&(hi[j] - lo[j])))
+            .unwrap_or(0);
+        let half = items.len() / 2;
+        items.select_nth_unstable_by(half, |&a, &b| centre(a, axis).total_cmp(&centre(b, axis)));
+        let (left, right) = items.split_at_mut(half);
+        let first = self.build(item_boxes, left, offset);
+        let second = self.build(item_boxes, right, offset + half);
+        self.nodes[at] = Node {
+            first,
+            second,
+            leaf: false,
+        };
+        at as u32
+    }
+
+    /// Every item whose box may hold something within `best` (a squared distance that `visit`
+    /// may lower as it goes) of `q`, nearer boxes first; `visit(item, best)` is given the item's
+    /// index. The walk leaves every node whose box lies at a squared distance >= `best`.
+    pub(crate) fn nearest(&self, q: &[f64], best: &mut f64, mut visit: impl FnMut(u32, &mut f64)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
+        stack.push((self.distance2(0, q), 0));
+        while let Some((d2, at)) = stack.pop() {
+            if d2 >= *best {
+                continue;
+            }
+            let node = self.nodes[at as usize];
+            if node.leaf {
+                for &item in &self.order[node.first as usize..node.second as usize] {
+                    visit(item, best);
+                }
+                continue;
+            }
+            let (a, b) = (self.distance2(node.first, q), self.distance2(node.second, q));
+            // The nearer child is popped first.
+            if a <= b {
+                stack.push((b, node.second));
+                stack.push((a, node.first));
+            } else {
+                stack.push((a, node.first));
+                stack.push((b, node.second));
+            }
+        }
+    }
+
+    /// Every pair of items (a from this tree, b from `other`) whose boxes overlap, each once.
+    pub(crate) fn overlapping_pairs(&self, other: &Self, mut visit: impl FnMut(u32, u32)) {
+        if self.nodes.is_empty() || other.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((a, b)) = stack.pop() {
+            if !self.overlaps(a, other, b) {
+                continue;
+            }
+            let (na, nb) = (self.nodes[a as usize], other.nodes[b as usize]);
+            match (na.leaf, nb.leaf) {
+                (true, true) => {
+                    for &i in &self.order[na.first as usize..na.second as usize] {
+                        for &j in &other.order[nb.first as usize..nb.second as usize] {
+                            visit(i, j);
+                        }
+                    }
+                }
+                (false, true) => {
+                    stack.push((na.first, b));
+                    stack.push((na.second, b));
+                }
+                (true, false) => {
+                    stack.push((a, nb.first));
+                    stack.push((a, nb.second));
+                }
+                (false, false) => {
+                    for x in [na.first, na.second] {
+                        for y in [nb.first, nb.second] {
+                            stack.push((x, y));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn node_box(&self, at: u32) -> (&[f64], &[f64]) {
+        let b = &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim];
+        b.split_at(self.dim)
+    }
+
+    fn overlaps(&self, a: u32, other: &Self, b: u32) -> bool {
+        let (alo, ahi) = self.node_box(a);
+        let (blo, bhi) = other.node_box(b);
+        (0..self.dim).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
+    }
+
+    /// The squared distance from `q` to node `at`'s box (0 inside it).
+    fn distance2(&self, at: u32, q: &[f64]) -> f64 {
+        let (lo, hi) = self.node_box(at);
+        box_distance2(lo, hi, q)
+    }
+}
+
+/// The squared distance from `q` to the box [lo, hi] (0 inside it).
+#[inline]
+pub(crate) fn box_distance2(lo: &[f64], hi: &[f64], q: &[f64]) -> f64 {
+    let mut d2 = 0.0;
+    for k in 0..q.len() {
+        let gap = (lo[k] - q[k]).max(q[k] - hi[k]).max(0.0);
+        d2 += gap * gap;
+    }
+    d2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Unit boxes at 0, 1, ..., n-1 along x in 2-D.
+    fn row(n: usize) -> Vec<f64> {
+        (0..n)
+            .flat_map(|i| {
+                let x = i as f64;
+                [x, 0.0, x + 0.5, 0.5]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn nearest_visits_the_box_holding_the_answer_and_prunes_far_ones() {
+        let tree = BoxTree::new(2, &row(100));
+        let mut visited = Vec::new();
+        let mut best = f64::INFINITY;
+        tree.nearest(&[41.2, 0.2], &mut best, |item, best| {
+            visited.push(item);
+            let lo = item as f64;
+            let d = (41.2f64 - (lo + 0.25)).abs();
+            *best = best.min(d * d);
+        });
+        assert!(visited.contains(&41));
+        assert!(visited.len() <= 3 * LEAF_ITEMS, "{visited:?}");
+    }
+
+    #[test]
+    fn overlapping_pairs_are_those_of_brute_force() {
+        let a = row(37);
+        let b: Vec<f64> = (0..23)
+            .flat_map(|i| {
+                let x = i as f64 * 1.7;
+                [x, 0.2, x + 0.2, 0.3]
+            })
+            .collect();
+        let (ta, tb) = (BoxTree::new(2, &a), BoxTree::new(2, &b));
+        let mut got = Vec::new();
+        ta.overlapping_pairs(&tb, |i, j| got.push((i, j)));
+        got.sort_unstable();
+        let mut want = Vec::new();
+        for i in 0..37u32 {
+            for j in 0..23u32 {
+                let (x, y) = (&a[i as usize * 4..][..4], &b[j as usize * 4..][..4]);
+                if x[0] <= y[2] && y[0] <= x[2] && x[1] <= y[3] && y[1] <= x[3] {
+                    want.push((i, j));
+                }
+            }
+        }
+        assert_eq!(got, want);
+    }
+}

@@ -1,0 +1,3 @@
+//! Queries against brute force: closest points on adversarial curve sets.
+
+mod closest;
