@@ -13,6 +13,7 @@ pub mod mesh_files;
 pub mod npz;
 pub mod output;
 pub mod plain;
+pub mod query_output;
 pub mod stream;
 pub mod surface_output;
 

@@ -8,10 +8,13 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
 use splinegpu::geometry::GeometryJob;
+use splinegpu::query::CurveIndex;
 use splinegpu::surface::SurfaceJob;
 use splinegpu_cli::document::geometry::GeometryDocument;
+use splinegpu_cli::document::queries::{Queries, QueryTarget};
 use splinegpu_cli::geometry_output::{self, MeshFormat};
 use splinegpu_cli::output::{self, OutputError};
+use splinegpu_cli::query_output::{self, QueryFormat};
 use splinegpu_cli::surface_output::{self, SurfaceFormat};
 use splinegpu_cli::{Document, bench, stream};
 
@@ -40,6 +43,23 @@ enum Command {
         format: Option<Format>,
         /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
         /// finds, lavapipe included (gpu, float32); the host reference (cpu, float64).
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
+    /// Answer a document's "queries": the closest points of its curves to many points
+    /// (intersections of 2-D curves, and closest points and rays on surfaces, are checked
+    /// and then refused as not supported yet). Answers come in CSV, JSON or NPZ.
+    Query {
+        /// The input document, or `-` for standard input.
+        input: String,
+        /// Where to write; standard output when absent or `-`.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz), else csv.
+        #[arg(long)]
+        format: Option<Format>,
+        /// Where to answer: auto and cpu answer on every CPU thread in float64; gpu is not
+        /// supported yet for queries.
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
     },
@@ -144,6 +164,15 @@ fn main() -> ExitCode {
             let output = output.filter(|path| path.as_os_str() != "-");
             tessellate(&input, output.as_deref(), format, backend)
         }
+        Command::Query {
+            input,
+            output,
+            format,
+            backend,
+        } => {
+            let output = output.filter(|path| path.as_os_str() != "-");
+            query(&input, output.as_deref(), format, backend)
+        }
         Command::Bench { workloads, json } => bench(&workloads, json),
         Command::Info => info(),
     };
@@ -188,6 +217,11 @@ fn tessellate(
         }
         Document::Geometry(GeometryDocument::Unsupported(what)) => {
             return Err(Failure::other(format!("not supported yet: {}", what.0)));
+        }
+        Document::Query(_) => {
+            return Err(Failure::input(
+                "document: \"queries\" are answered by `splinegpu query`, not tessellated",
+            ));
         }
     };
     if matches!(format, Format::Glb | Format::Obj) {
@@ -245,6 +279,67 @@ fn tessellate(
         Some(path) => output::write_output(path, |out| emit(out)),
     };
     bar.finish_and_clear();
+    finish(result, output)
+}
+
+/// A query document answered and written: closest points on curves on the CPU; what this
+/// build cannot answer yet is checked first, then refused with exit 1.
+fn query(
+    input: &str,
+    output: Option<&Path>,
+    format: Option<Format>,
+    backend: Backend,
+) -> Result<(), Failure> {
+    let format = match format.unwrap_or_else(|| format_of(output)) {
+        Format::Csv => QueryFormat::Csv,
+        Format::Json => QueryFormat::Json,
+        Format::Npz => QueryFormat::Npz,
+        Format::Glb | Format::Obj => {
+            return Err(Failure::input(
+                "queries are answered as csv, json or npz, not as a mesh (.glb, .obj)",
+            ));
+        }
+    };
+    let document = match read_document(input)? {
+        Document::Query(document) => document,
+        _ => {
+            return Err(Failure::input(
+                "document: \"queries\" is missing: `splinegpu query` answers a document's \
+                 queries (closest, intersections or rays)",
+            ));
+        }
+    };
+    let (QueryTarget::Curves(tables), Queries::Closest(points)) =
+        (&document.target, &document.queries)
+    else {
+        let on = match document.target {
+            QueryTarget::Curves(_) => "curves",
+            QueryTarget::Surfaces(_) => "surfaces",
+        };
+        return Err(Failure::other(format!(
+            "not supported yet: \"{}\" on {on}",
+            document.queries.name()
+        )));
+    };
+    if backend == Backend::Gpu {
+        return Err(Failure::other(
+            "not supported yet: queries on the GPU (use --backend cpu or auto)",
+        ));
+    }
+    let index = CurveIndex::new(tables).map_err(Failure::input)?;
+    let answers = index
+        .closest_many(points)
+        .map_err(|e| Failure::input(e.in_document()))?;
+    let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
+        Ok(query_output::write_closest(&answers, format, out)?)
+    };
+    let result = match output {
+        None => {
+            let mut out = io::BufWriter::new(io::stdout().lock());
+            emit(&mut out).and_then(|()| Ok(out.flush()?))
+        }
+        Some(path) => output::write_output(path, |out| emit(out)),
+    };
     finish(result, output)
 }
 

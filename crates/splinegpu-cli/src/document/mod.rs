@@ -11,6 +11,7 @@
 
 mod curves;
 pub mod geometry;
+pub mod queries;
 pub mod surfaces;
 mod values;
 mod walk;
@@ -23,6 +24,7 @@ use splinegpu::surface::SurfaceJob;
 
 use crate::document::curves::curve_job;
 use crate::document::geometry::{GeometryDocument, geometry_job};
+use crate::document::queries::{QueryDocument, query_document};
 use crate::document::surfaces::surface_job;
 use crate::document::walk::{ParsedDocument, parse, syntax};
 
@@ -36,6 +38,8 @@ pub enum Document {
     /// A curve document with "geometry": its meshes' job (or what it needs that this build
     /// lacks).
     Geometry(GeometryDocument),
+    /// A document with "queries": closest points, intersections or rays (`splinegpu query`).
+    Query(QueryDocument),
 }
 
 /// Parses and checks a document held in memory, fits its curves and resolves their sampling.
@@ -69,6 +73,11 @@ fn curves_only(document: Document) -> Result<EvalJob, InputError> {
         Document::Geometry(_) => Err(InputError::field(
             "geometry",
             "makes meshes, not samples (read the document with parse_input)",
+        )
+        .in_document()),
+        Document::Query(_) => Err(InputError::field(
+            "queries",
+            "are answered by `splinegpu query`, not tessellated (read the document with parse_input)",
         )
         .in_document()),
     }
@@ -111,7 +120,10 @@ fn read_past_bom(reader: &mut impl io::Read) -> io::Result<io::Cursor<Vec<u8>>> 
 }
 
 /// The document's job: its curves' or its surfaces'.
-fn into_document(parsed: ParsedDocument) -> Result<Document, InputError> {
+fn into_document(mut parsed: ParsedDocument) -> Result<Document, InputError> {
+    if let Some(entries) = parsed.queries.take() {
+        return query_document(parsed, &entries).map(Document::Query);
+    }
     match (parsed.curves, parsed.surfaces) {
         (Some(_), Some(_)) => Err(InputError::field(
             "surfaces",

@@ -165,7 +165,10 @@ fn surface_sampling(
 }
 
 /// A surface object's fields into a checked [`Surface`].
-fn build_surface(fields: &Map<String, Value>, keys: &[String]) -> Result<Surface, InputError> {
+pub(crate) fn build_surface(
+    fields: &Map<String, Value>,
+    keys: &[String],
+) -> Result<Surface, InputError> {
     let kind = fields
         .get("kind")
         .ok_or_else(|| InputError::field("kind", "is missing"))?;

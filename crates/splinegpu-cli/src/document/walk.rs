@@ -19,13 +19,14 @@ use crate::document::surfaces::ReadSurface;
 use crate::document::values::describe;
 
 /// The document's top-level keys.
-pub(crate) const DOCUMENT_KEYS: [&str; 6] = [
+pub(crate) const DOCUMENT_KEYS: [&str; 7] = [
     "sampling",
     "derivatives",
     "curves",
     "surfaces",
     "normals",
     "geometry",
+    "queries",
 ];
 
 /// The document `de` reads, walked whole (its end checked), or its first located error (a
@@ -88,11 +89,15 @@ pub(crate) struct ParsedDocument {
     /// The document's "sampling" entries, read as curves or surfaces take them.
     pub(crate) sampling: Option<Vec<(String, Value)>>,
     pub(crate) derivatives: Derivatives,
+    /// Whether the document named "derivatives" (a query document may not).
+    pub(crate) derivatives_given: bool,
     pub(crate) curves: Option<Vec<ParsedCurve>>,
     pub(crate) surfaces: Option<Vec<ReadSurface>>,
     pub(crate) normals: Option<bool>,
     /// The document's "geometry", read by the geometry job (a surfaces document refuses it).
     pub(crate) geometry: Option<Value>,
+    /// The document's "queries" entries (`splinegpu query`), read by `document::queries`.
+    pub(crate) queries: Option<Vec<(String, Value)>>,
 }
 
 /// Methods for the JSON types a visitor does not expect: each reports the value it got.
@@ -190,14 +195,21 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
             surfaces: None,
             normals: None,
             geometry: None,
+            derivatives_given: false,
+            queries: None,
         };
         let mut seen = Vec::new();
         while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
             match key.as_str() {
                 "sampling" => {
-                    doc.sampling = Some(map.next_value_seed(SamplingSeed(located, place.clone()))?);
+                    doc.sampling = Some(map.next_value_seed(ObjectSeed(
+                        located,
+                        place.clone(),
+                        "sampling",
+                    ))?);
                 }
                 "derivatives" => {
+                    doc.derivatives_given = true;
                     let v: Value = map.next_value()?;
                     doc.derivatives = match v.as_u64().and_then(Derivatives::from_order) {
                         Some(d) => d,
@@ -209,6 +221,10 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
                 }
                 "curves" => doc.curves = Some(map.next_value_seed(CurvesSeed(located))?),
                 "geometry" => doc.geometry = Some(map.next_value()?),
+                "queries" => {
+                    let seed = ObjectSeed(located, place.clone(), "queries");
+                    doc.queries = Some(map.next_value_seed(seed)?);
+                }
                 "surfaces" => doc.surfaces = Some(map.next_value_seed(SurfacesSeed(located))?),
                 "normals" => {
                     let v: Value = map.next_value()?;
@@ -397,7 +413,8 @@ impl<'de> Visitor<'de> for SurfaceSeed<'_> {
         let mut seen = Vec::new();
         while let Some(key) = next_key(&mut map, &mut seen, located, &place)? {
             if key == "sampling" {
-                sampling = Some(map.next_value_seed(SamplingSeed(located, place.clone()))?);
+                sampling =
+                    Some(map.next_value_seed(ObjectSeed(located, place.clone(), "sampling"))?);
             } else {
                 fields.insert(key, map.next_value()?);
             }
@@ -446,7 +463,8 @@ impl<'de> Visitor<'de> for CurveSeed<'_> {
             match key.as_str() {
                 "points" => points = Some(map.next_value_seed(PointsSeed(located, self.1))?),
                 "sampling" => {
-                    let entries = map.next_value_seed(SamplingSeed(located, place.clone()))?;
+                    let entries =
+                        map.next_value_seed(ObjectSeed(located, place.clone(), "sampling"))?;
                     sampling = Some(sampling_spec(&entries).or_else(|e| located.fail(&place, e))?);
                 }
                 _ => {
@@ -646,29 +664,29 @@ impl<'de> Visitor<'de> for CoordinateVisitor {
     reject_map!();
 }
 
-/// A "sampling" object's entries, keys checked for duplicates; their meaning is checked by
-/// [`sampling_spec`].
-struct SamplingSeed<'a>(&'a Located, Location);
+/// An object's entries, keys checked for duplicates ("sampling", whose meaning
+/// [`sampling_spec`] checks, or "queries"); the third field is its key, for errors.
+struct ObjectSeed<'a>(&'a Located, Location, &'static str);
 
-impl<'de> DeserializeSeed<'de> for SamplingSeed<'_> {
+impl<'de> DeserializeSeed<'de> for ObjectSeed<'_> {
     type Value = Vec<(String, Value)>;
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
         d.deserialize_any(self)
     }
 }
 
-impl SamplingSeed<'_> {
+impl ObjectSeed<'_> {
     fn wrong<E: de::Error>(self, got: &Value) -> Result<Vec<(String, Value)>, E> {
         let message = format!("must be an object, got {}", describe(got));
-        self.0.fail(&self.1, InputError::field("sampling", message))
+        self.0.fail(&self.1, InputError::field(self.2, message))
     }
 }
 
-impl<'de> Visitor<'de> for SamplingSeed<'_> {
+impl<'de> Visitor<'de> for ObjectSeed<'_> {
     type Value = Vec<(String, Value)>;
 
     fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a sampling object")
+        write!(f, "a {} object", self.2)
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {

@@ -6,6 +6,7 @@ mod cli;
 mod document_properties;
 mod failure_modes;
 mod geometry;
+mod queries;
 mod stream;
 mod support;
 mod surfaces;

@@ -136,10 +136,12 @@ impl<'a> CurveIndex<'a> {
     /// The point of the set nearest to `q` (D values).
     ///
     /// # Errors
-    /// `q` of another length than D, or with a coordinate that is not finite.
+    /// `q` of another length than D, or with a coordinate that is not finite; a `q` so far
+    /// from the curves that its squared distance overflows f64 (beyond about 1e154).
     pub fn closest(&self, q: &[f64]) -> Result<ClosestPoint, InputError> {
         check_query(q, self.dim, 0)?;
         let (curve, t, d2) = self.nearest(q);
+        check_distance(d2, 0)?;
         let mut point = vec![0.0; self.dim];
         self.point_at(curve, t, &mut point);
         Ok(ClosestPoint {
@@ -154,8 +156,8 @@ impl<'a> CurveIndex<'a> {
     /// thread.
     ///
     /// # Errors
-    /// A length that is not a multiple of D; a coordinate that is not finite (named by its
-    /// query's index).
+    /// A length that is not a multiple of D; a coordinate that is not finite, or a point too
+    /// far for f64 (as [`CurveIndex::closest`]), named by its query's index.
     pub fn closest_many(&self, queries: &[f64]) -> Result<ClosestPoints, InputError> {
         let dim = self.dim;
         if queries.len() % dim != 0 {
@@ -185,6 +187,7 @@ impl<'a> CurveIndex<'a> {
             distance: Vec::with_capacity(count),
         };
         for (i, (curve, t, d2)) in answers.into_iter().flatten().enumerate() {
+            check_distance(d2, i)?;
             self.point_at(curve, t, &mut out.points[i * dim..][..dim]);
             out.curve.push(curve);
             out.t.push(t);
@@ -237,7 +240,10 @@ fn check_query(q: &[f64], dim: usize, index: usize) -> Result<(), InputError> {
     if q.len() != dim {
         return Err(InputError::field(
             format!("closest[{index}]"),
-            format!("must have {dim} coordinates (the curves' D), got {}", q.len()),
+            format!(
+                "must have {dim} coordinates (the curves' D), got {}",
+                q.len()
+            ),
         ));
     }
     if let Some(k) = q.iter().position(|v| !v.is_finite()) {
@@ -247,6 +253,17 @@ fn check_query(q: &[f64], dim: usize, index: usize) -> Result<(), InputError> {
         ));
     }
     Ok(())
+}
+
+/// A squared distance that f64 could hold (a query within about 1e154 of the curves).
+fn check_distance(d2: f64, index: usize) -> Result<(), InputError> {
+    if d2.is_finite() {
+        return Ok(());
+    }
+    Err(InputError::field(
+        format!("closest[{index}]"),
+        "lies too far from the curves: its squared distance overflows float64",
+    ))
 }
 
 /// The box of a segment's (rational) Bezier control points, `lo` then `hi`, widened by a few

@@ -175,11 +175,19 @@ mod tests {
         ];
         for roots in cases {
             let p = from_roots(-2.5, roots);
-            let mut want: Vec<f64> =
-                roots.iter().copied().filter(|r| (0.0..=1.0).contains(r)).collect();
+            let mut want: Vec<f64> = roots
+                .iter()
+                .copied()
+                .filter(|r| (0.0..=1.0).contains(r))
+                .collect();
             want.sort_by(f64::total_cmp);
             let (got, _) = sign_change_roots(&p);
-            assert_eq!(got.as_slice().len(), want.len(), "{roots:?}: {:?}", got.as_slice());
+            assert_eq!(
+                got.as_slice().len(),
+                want.len(),
+                "{roots:?}: {:?}",
+                got.as_slice()
+            );
             for (g, w) in got.as_slice().iter().zip(&want) {
                 assert!((g - w).abs() < 1e-9, "{roots:?}: {g} for {w}");
             }
@@ -192,7 +200,12 @@ mod tests {
         let (roots, breakpoints) = sign_change_roots(&p);
         assert_eq!(roots.as_slice().len(), 1);
         assert!((roots.as_slice()[0] - 0.8).abs() < 1e-12);
-        assert!(breakpoints.as_slice().iter().any(|b| (b - 0.4).abs() < 1e-7));
+        assert!(
+            breakpoints
+                .as_slice()
+                .iter()
+                .any(|b| (b - 0.4).abs() < 1e-7)
+        );
     }
 
     #[test]
@@ -205,7 +218,17 @@ mod tests {
 
     #[test]
     fn constants_and_zero_have_no_roots() {
-        assert!(sign_change_roots(&Poly::new(&[3.0])).0.as_slice().is_empty());
-        assert!(sign_change_roots(&Poly::new(&[0.0, 0.0])).0.as_slice().is_empty());
+        assert!(
+            sign_change_roots(&Poly::new(&[3.0]))
+                .0
+                .as_slice()
+                .is_empty()
+        );
+        assert!(
+            sign_change_roots(&Poly::new(&[0.0, 0.0]))
+                .0
+                .as_slice()
+                .is_empty()
+        );
     }
 }

@@ -120,7 +120,10 @@ impl BoxTree {
                 }
                 continue;
             }
-            let (a, b) = (self.distance2(node.first, q), self.distance2(node.second, q));
+            let (a, b) = (
+                self.distance2(node.first, q),
+                self.distance2(node.second, q),
+            );
             // The nearer child is popped first.
             if a <= b {
                 stack.push((b, node.second));
@@ -132,53 +135,9 @@ impl BoxTree {
         }
     }
 
-    /// Every pair of items (a from this tree, b from `other`) whose boxes overlap, each once.
-    pub(crate) fn overlapping_pairs(&self, other: &Self, mut visit: impl FnMut(u32, u32)) {
-        if self.nodes.is_empty() || other.nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![(0u32, 0u32)];
-        while let Some((a, b)) = stack.pop() {
-            if !self.overlaps(a, other, b) {
-                continue;
-            }
-            let (na, nb) = (self.nodes[a as usize], other.nodes[b as usize]);
-            match (na.leaf, nb.leaf) {
-                (true, true) => {
-                    for &i in &self.order[na.first as usize..na.second as usize] {
-                        for &j in &other.order[nb.first as usize..nb.second as usize] {
-                            visit(i, j);
-                        }
-                    }
-                }
-                (false, true) => {
-                    stack.push((na.first, b));
-                    stack.push((na.second, b));
-                }
-                (true, false) => {
-                    stack.push((a, nb.first));
-                    stack.push((a, nb.second));
-                }
-                (false, false) => {
-                    for x in [na.first, na.second] {
-                        for y in [nb.first, nb.second] {
-                            stack.push((x, y));
-                        }
-                    }
-                }
-            }
-        }
-    }
-
     fn node_box(&self, at: u32) -> (&[f64], &[f64]) {
         let b = &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim];
         b.split_at(self.dim)
-    }
-
-    fn overlaps(&self, a: u32, other: &Self, b: u32) -> bool {
-        let (alo, ahi) = self.node_box(a);
-        let (blo, bhi) = other.node_box(b);
-        (0..self.dim).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
     }
 
     /// The squared distance from `q` to node `at`'s box (0 inside it).
@@ -226,30 +185,5 @@ mod tests {
         });
         assert!(visited.contains(&41));
         assert!(visited.len() <= 3 * LEAF_ITEMS, "{visited:?}");
-    }
-
-    #[test]
-    fn overlapping_pairs_are_those_of_brute_force() {
-        let a = row(37);
-        let b: Vec<f64> = (0..23)
-            .flat_map(|i| {
-                let x = i as f64 * 1.7;
-                [x, 0.2, x + 0.2, 0.3]
-            })
-            .collect();
-        let (ta, tb) = (BoxTree::new(2, &a), BoxTree::new(2, &b));
-        let mut got = Vec::new();
-        ta.overlapping_pairs(&tb, |i, j| got.push((i, j)));
-        got.sort_unstable();
-        let mut want = Vec::new();
-        for i in 0..37u32 {
-            for j in 0..23u32 {
-                let (x, y) = (&a[i as usize * 4..][..4], &b[j as usize * 4..][..4]);
-                if x[0] <= y[2] && y[0] <= x[2] && x[1] <= y[3] && y[1] <= x[3] {
-                    want.push((i, j));
-                }
-            }
-        }
-        assert_eq!(got, want);
     }
 }

@@ -6,9 +6,7 @@
 use crate::support::{Rng, cpu_at};
 use proptest::prelude::*;
 use splinegpu::query::CurveIndex;
-use splinegpu::{
-    Basis, Curve, CurveKind, EndCondition, Ends, HermiteSlopes, Points, SegmentTable,
-};
+use splinegpu::{Basis, Curve, CurveKind, EndCondition, Ends, HermiteSlopes, Points, SegmentTable};
 
 /// Samples per segment of the brute force.
 const SAMPLES: usize = 400;
@@ -32,7 +30,11 @@ fn brute_force(tables: &[SegmentTable], q: &[f64]) -> f64 {
                 .collect();
             for i in 0..=SAMPLES {
                 let left = if i == 0 { f64::INFINITY } else { d[i - 1] };
-                let right = if i == SAMPLES { f64::INFINITY } else { d[i + 1] };
+                let right = if i == SAMPLES {
+                    f64::INFINITY
+                } else {
+                    d[i + 1]
+                };
                 if d[i] > left || d[i] > right {
                     continue;
                 }
@@ -106,9 +108,15 @@ fn check(curves: &[Curve], queries: &[Vec<f64>], what: &str) {
         );
         let eps = 1e-9 * (e + q.iter().fold(0.0f64, |m, v| m.max(v.abs())));
         // The reported point is the curve at t, at the reported distance from q.
-        let at = cpu_at(&curves[one.curve], &[one.t]).curve(0).points.to_vec();
+        let at = cpu_at(&curves[one.curve], &[one.t])
+            .curve(0)
+            .points
+            .to_vec();
         for k in 0..dim {
-            assert!((at[k] - one.point[k]).abs() <= eps, "{what}: query {i}: point {k}");
+            assert!(
+                (at[k] - one.point[k]).abs() <= eps,
+                "{what}: query {i}: point {k}"
+            );
         }
         let d = one
             .point
@@ -117,7 +125,10 @@ fn check(curves: &[Curve], queries: &[Vec<f64>], what: &str) {
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>()
             .sqrt();
-        assert!((d - one.distance).abs() <= eps, "{what}: query {i}: distance");
+        assert!(
+            (d - one.distance).abs() <= eps,
+            "{what}: query {i}: distance"
+        );
         let brute = brute_force(&tables, q);
         assert!(
             one.distance <= brute + eps,
@@ -160,7 +171,12 @@ fn loops_and_cusps() {
     // Points inside the loop and at the cusp itself.
     check(
         &curves,
-        &[vec![1.5, 2.0], vec![1.5, 1.2], vec![5.5, 0.75], vec![5.5, 0.5]],
+        &[
+            vec![1.5, 2.0],
+            vec![1.5, 1.2],
+            vec![5.5, 0.75],
+            vec![5.5, 0.5],
+        ],
         "inside the loop, at the cusp",
     );
 }
@@ -175,10 +191,17 @@ fn the_nearest_piece_need_not_own_the_nearest_control_point() {
         bezier(vec![-6.0, 8.5, -5.0, 8.5, 5.0, 8.5, 6.0, 8.5], 2),
     ];
     let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
-    let hit = CurveIndex::new(&tables).unwrap().closest(&[0.0, 10.0]).unwrap();
+    let hit = CurveIndex::new(&tables)
+        .unwrap()
+        .closest(&[0.0, 10.0])
+        .unwrap();
     assert_eq!(hit.curve, 1);
     assert!((hit.distance - 1.5).abs() < 1e-12, "{hit:?}");
-    check(&curves, &[vec![0.0, 10.0], vec![0.3, 9.0]], "far control points");
+    check(
+        &curves,
+        &[vec![0.0, 10.0], vec![0.3, 9.0]],
+        "far control points",
+    );
 }
 
 #[test]
@@ -267,11 +290,7 @@ fn bad_queries_are_refused_naming_the_query() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("closest[1]") && e.contains("NaN"), "{e}");
-    let three = Curve::new(
-        CurveKind::Bezier,
-        Points::new(3, vec![0.0; 12]).unwrap(),
-    )
-    .unwrap();
+    let three = Curve::new(CurveKind::Bezier, Points::new(3, vec![0.0; 12]).unwrap()).unwrap();
     let mixed = [tables[0].clone(), three.fit()];
     let e = CurveIndex::new(&mixed).unwrap_err().to_string();
     assert!(e.starts_with("curve 1:"), "{e}");

@@ -1,0 +1,286 @@
+//! `splinegpu query` through the binary: closest points on curves in every format against
+//! hand-derived answers and the library's, every bad query exiting 2 with one message naming
+//! the field and the query's index and writing nothing, and what this build lacks
+//! (intersections, surfaces' closest points and rays, the GPU backend) exiting 1 after the
+//! document was checked.
+
+use std::path::Path;
+
+use serde_json::Value;
+
+/// Runs `splinegpu query` on `doc` into `dir/name` (extra `args` after), returning the exit
+/// status, standard error and the output's bytes (None when no file was left).
+fn query(dir: &Path, doc: &str, name: &str, args: &[&str]) -> (i32, String, Option<Vec<u8>>) {
+    let input = dir.join("query.json");
+    std::fs::write(&input, doc).unwrap();
+    let out = dir.join(name);
+    let _ = std::fs::remove_file(&out);
+    let mut all = vec![
+        "query",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    all.extend_from_slice(args);
+    let run = crate::support::run_cli(&all, &[], "");
+    (
+        run.status.code().unwrap_or(-1),
+        String::from_utf8(run.stderr).unwrap(),
+        std::fs::read(&out).ok(),
+    )
+}
+
+/// Two straight Bezier segments, y = 0 and y = 5 for x in [0, 3] (evenly spaced control
+/// points, so x = 3t), and three points whose answers follow by hand: (1.5, 2) is 2 above
+/// curve 0 at t = 1/2; (1, 4) is 1 below curve 1 at t = 1/3; (-1, -1) is nearest to curve 0's
+/// start, at √2.
+const LINES: &str = r#"{"curves": [
+  {"kind": "bezier", "points": [[0, 0], [1, 0], [2, 0], [3, 0]]},
+  {"kind": "bezier", "points": [[0, 5], [1, 5], [2, 5], [3, 5]]}],
+ "queries": {"closest": [[1.5, 2], [1, 4], [-1, -1]]}}"#;
+
+/// (curve, t, point, distance) of each of LINES' queries.
+fn lines_answers() -> [(i64, f64, [f64; 2], f64); 3] {
+    [
+        (0, 0.5, [1.5, 0.0], 2.0),
+        (1, 1.0 / 3.0, [1.0, 5.0], 1.0),
+        (0, 0.0, [0.0, 0.0], 2f64.sqrt()),
+    ]
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12
+}
+
+#[test]
+fn closest_points_in_every_format_are_the_hand_derived_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let want = lines_answers();
+    // JSON.
+    let (status, stderr, out) = query(dir.path(), LINES, "out.json", &["--backend", "cpu"]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let rows = json["closest"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for (row, (curve, t, point, distance)) in rows.iter().zip(want) {
+        assert_eq!(row["curve"].as_i64(), Some(curve), "{row}");
+        assert!(close(row["t"].as_f64().unwrap(), t), "{row}");
+        for k in 0..2 {
+            assert!(close(row["point"][k].as_f64().unwrap(), point[k]), "{row}");
+        }
+        assert!(close(row["distance"].as_f64().unwrap(), distance), "{row}");
+    }
+    // CSV: the contract's header, one row a query, the same numbers.
+    let (status, stderr, out) = query(dir.path(), LINES, "out.csv", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let text = String::from_utf8(out.unwrap()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("query,curve,t,x0,x1,distance"));
+    for (i, (line, (curve, t, point, distance))) in lines.zip(want).enumerate() {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert_eq!((v[0], v[1]), (i as f64, curve as f64), "{line}");
+        assert!(
+            close(v[2], t) && close(v[3], point[0]) && close(v[4], point[1]),
+            "{line}"
+        );
+        assert!(close(v[5], distance), "{line}");
+    }
+    // NPZ: the JSON keys as arrays.
+    let (status, stderr, out) = query(dir.path(), LINES, "out.npz", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let arrays = crate::stream::read_npz(&out.unwrap());
+    let f64s = |name: &str| -> Vec<f64> { bytemuck::pod_collect_to_vec(&arrays[name].2) };
+    let curves: Vec<i64> = bytemuck::pod_collect_to_vec(&arrays["curve"].2);
+    assert_eq!(arrays["point"].1, [3, 2]);
+    assert_eq!(arrays["curve"].0, "<i8");
+    for (i, (curve, t, point, distance)) in want.into_iter().enumerate() {
+        assert_eq!(curves[i], curve);
+        assert!(close(f64s("t")[i], t) && close(f64s("distance")[i], distance));
+        assert!(close(f64s("point")[2 * i], point[0]) && close(f64s("point")[2 * i + 1], point[1]));
+    }
+}
+
+#[test]
+fn the_command_line_gives_the_librarys_answers() {
+    use splinegpu::query::CurveIndex;
+    let doc = r#"{"curves": [
+      {"kind": "catmull-rom", "points": [[0, 0], [1, 2], [2, -1], [3, 1], [4, 0]]},
+      {"kind": "natural", "t": [0, 0.5, 3, 3.1], "points": [[0, 1], [2, 2], [1, -1], [4, 3]]}],
+     "queries": {"closest": [[0.5, 0.5], [2, 2], [3.5, -2], [10, 10], [1.2, 0.3]]}}"#;
+    let dir = tempfile::tempdir().unwrap();
+    let (status, stderr, out) = query(dir.path(), doc, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let Ok(splinegpu_cli::Document::Query(document)) = splinegpu_cli::parse_input(doc) else {
+        panic!("not a query document");
+    };
+    let (
+        splinegpu_cli::document::queries::QueryTarget::Curves(tables),
+        splinegpu_cli::document::queries::Queries::Closest(points),
+    ) = (&document.target, &document.queries)
+    else {
+        panic!("not closest points on curves");
+    };
+    let want = CurveIndex::new(tables)
+        .unwrap()
+        .closest_many(points)
+        .unwrap();
+    for (i, row) in json["closest"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(row["curve"].as_u64(), Some(want.curve[i] as u64));
+        // Printed to round-trip: the same f64s.
+        assert_eq!(row["t"].as_f64(), Some(want.t[i]));
+        assert_eq!(row["distance"].as_f64(), Some(want.distance[i]));
+        assert_eq!(row["point"][0].as_f64(), Some(want.points[2 * i]));
+    }
+}
+
+const CURVE: &str = r#"{"kind": "bezier", "points": [[0, 0], [1, 1], [2, 0], [3, 1]]}"#;
+const CURVE_3D: &str =
+    r#"{"kind": "bezier", "points": [[0, 0, 0], [1, 1, 0], [2, 0, 1], [3, 1, 1]]}"#;
+const PATCH: &str = r#"{"kind": "bezier", "points": [
+  [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], [[0,1,0],[1,1,1],[2,1,1],[3,1,0]],
+  [[0,2,0],[1,2,1],[2,2,1],[3,2,0]], [[0,3,0],[1,3,0],[2,3,0],[3,3,0]]]}"#;
+
+#[test]
+fn bad_queries_exit_2_naming_the_field_and_the_query() {
+    let curves =
+        |queries: &str| format!(r#"{{"curves": [{CURVE}, {CURVE}], "queries": {queries}}}"#);
+    let surfaces = |queries: &str| format!(r#"{{"surfaces": [{PATCH}], "queries": {queries}}}"#);
+    let cases: Vec<(String, &str)> = vec![
+        (curves(r#"{}"#), r#""queries" must have exactly one key"#),
+        (
+            curves(r#"{"closest": [[0, 0]], "rays": []}"#),
+            r#""queries" must have exactly one key"#,
+        ),
+        (curves(r#"{"nearest": []}"#), r#""nearest" is not a query"#),
+        (curves(r#"[1]"#), r#""queries" must be an object"#),
+        (
+            curves(r#"{"closest": [[0, 0], [1, 2, 3]]}"#),
+            r#""closest[1]" must be 2 numbers"#,
+        ),
+        (
+            curves(r#"{"closest": [[0, "a"]]}"#),
+            r#""closest[0]" must be 2 numbers"#,
+        ),
+        (curves(r#"{"closest": 3}"#), r#""closest" must be an array"#),
+        (
+            curves(r#"{"intersections": [[0, 2]]}"#),
+            r#""intersections[0]" names curve 2"#,
+        ),
+        (
+            curves(r#"{"intersections": [[0]]}"#),
+            r#""intersections[0]" must be a pair"#,
+        ),
+        (
+            curves(r#"{"intersections": "some"}"#),
+            r#""intersections" must be "all""#,
+        ),
+        (
+            format!(r#"{{"curves": [{CURVE_3D}], "queries": {{"intersections": "all"}}}}"#),
+            r#""intersections" are found between 2-D curves"#,
+        ),
+        (
+            curves(r#"{"rays": [[0, 0, 0, 1, 0, 0]]}"#),
+            r#""rays" meet surfaces"#,
+        ),
+        (
+            surfaces(r#"{"rays": [[0, 0, 0, 1, 0]]}"#),
+            r#""rays[0]" must be 6 numbers"#,
+        ),
+        (
+            surfaces(r#"{"rays": [[0, 0, 0, 1, 0, 0], [1, 1, 1, 0, 0, 0]]}"#),
+            r#""rays[1]" has a zero direction"#,
+        ),
+        (
+            surfaces(r#"{"intersections": "all"}"#),
+            r#""intersections" are found between curves"#,
+        ),
+        (
+            surfaces(r#"{"closest": [[0, 0]]}"#),
+            r#""closest[0]" must be 3 numbers"#,
+        ),
+        (
+            format!(
+                r#"{{"curves": [{CURVE}], "sampling": {{"per_segment": 4}}, "queries": {{"closest": []}}}}"#
+            ),
+            r#"document: "sampling" is not a field of a query document"#,
+        ),
+        (
+            format!(r#"{{"curves": [{CURVE}], "derivatives": 1, "queries": {{"closest": []}}}}"#),
+            r#"document: "derivatives" is not a field"#,
+        ),
+        (
+            format!(
+                r#"{{"curves": [{CURVE}, {{"kind": "bezier", "points": [[0, 0], [1, 1], [2, 0], [3, 1]], "sampling": {{"per_segment": 2}}}}], "queries": {{"closest": []}}}}"#
+            ),
+            r#"curve 1: "sampling" is not a field of a query document"#,
+        ),
+        (
+            format!(r#"{{"curves": [{CURVE}, {CURVE_3D}], "queries": {{"closest": []}}}}"#),
+            r#"curve 1: "points" must have 2 coordinates"#,
+        ),
+        (
+            format!(r#"{{"curves": [{CURVE}], "queries": {{"closest": [[1e200, 0]]}}}}"#),
+            r#""closest[0]" lies too far from the curves"#,
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (doc, want) in &cases {
+        for name in ["out.json", "out.csv", "out.npz"] {
+            let (status, stderr, out) = query(dir.path(), doc, name, &[]);
+            assert_eq!(status, 2, "{doc}: {stderr}");
+            assert!(stderr.contains(want), "{doc}:\n  {stderr}  wanted {want}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            assert!(out.is_none(), "{doc}: {name} was left");
+        }
+    }
+}
+
+#[test]
+fn documents_in_the_wrong_command_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("doc.json");
+    std::fs::write(&input, LINES).unwrap();
+    let run = crate::support::run_cli(&["tessellate", input.to_str().unwrap()], &[], "");
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("`splinegpu query`"));
+    let plain = format!(r#"{{"curves": [{CURVE}]}}"#);
+    let (status, stderr, _) = query(dir.path(), &plain, "out.csv", &[]);
+    assert_eq!(status, 2, "{stderr}");
+    assert!(stderr.contains(r#""queries" is missing"#), "{stderr}");
+    let (status, stderr, _) = query(dir.path(), LINES, "out.glb", &[]);
+    assert_eq!(status, 2, "{stderr}");
+}
+
+#[test]
+fn what_this_build_lacks_exits_1_after_the_document_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            format!(r#"{{"curves": [{CURVE}, {CURVE}], "queries": {{"intersections": "all"}}}}"#),
+            vec![],
+            r#"not supported yet: "intersections" on curves"#,
+        ),
+        (
+            format!(r#"{{"surfaces": [{PATCH}], "queries": {{"rays": [[0, 0, 5, 0, 0, -1]]}}}}"#),
+            vec![],
+            r#"not supported yet: "rays" on surfaces"#,
+        ),
+        (
+            format!(r#"{{"surfaces": [{PATCH}], "queries": {{"closest": [[1, 1, 1]]}}}}"#),
+            vec![],
+            r#"not supported yet: "closest" on surfaces"#,
+        ),
+        (
+            LINES.to_string(),
+            vec!["--backend", "gpu"],
+            "not supported yet: queries on the GPU",
+        ),
+    ];
+    for (doc, args, want) in &cases {
+        let (status, stderr, out) = query(dir.path(), doc, "out.json", args);
+        assert_eq!(status, 1, "{doc}: {stderr}");
+        assert!(stderr.contains(want), "{stderr}");
+        assert!(out.is_none());
+    }
+}
