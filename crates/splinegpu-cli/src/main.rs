@@ -73,7 +73,8 @@ enum Command {
     /// GPUs), s1 (1,000 bicubic bspline surfaces of 20 x 20 points, per_segment 8, normals:
     /// 18.8 M vertices) and teapot (1,000 Utah teapots within 1e-3 of their extent, normals),
     /// tubes (10,000 closed 3-D loops, 8 sides, 16 rings a segment: 20.5 M vertices) and
-    /// strokes (10,000 open 2-D curves, round joins and caps, per_segment 16).
+    /// strokes (10,000 open 2-D curves, round joins and caps, per_segment 16), and q1 (the
+    /// closest points of 100,000 points on 100 open 2-D Catmull-Rom curves of 16 points).
     /// Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit,
     /// plain-loop (on w1, w1-nurbs, w1-b, w1-x10, eval-at, fit-1m, s1 and teapot: a plain loop
     /// over the same work; the surfaces' from the control points with basis weights, into the
@@ -85,6 +86,10 @@ enum Command {
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64
     /// with t into reused memory, the whole library call);
+    /// q1's cpu-1t and cpu-all (the whole call: fitted, indexed, answered into new arrays),
+    /// plain-loop (the same exact solve on every segment, no index) and kurbo (its nearest on
+    /// every segment to 1e-9, with "misses" against the certified answers), the last two on
+    /// the first 1,000 points, scaled to all;
     /// w1-tol's "wang" (Wang's count for the same curves; its time is the time to count),
     /// w1-arc's and w1-tol's kurbo anchors; cli-w1's csv-cpu, csv-gpu, npz-cpu, npz-gpu,
     /// floor-cpu (parse, fit and evaluate into reused memory plus a memset of the NPZ file's
@@ -565,7 +570,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                 memset_gbps = m.gbps();
             }
             println!(
-                "{:<8} {:<17} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}",
+                "{:<8} {:<17} {:>10.2} {:>10.2} {:>10.2} {:>11} {:>10.1} {:>8.2} {:>9}{}",
                 m.workload,
                 m.path,
                 m.seconds * 1e3,
@@ -578,7 +583,10 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                     String::new()
                 } else {
                     format!("{:.1}", 100.0 * m.gbps() / memset_gbps)
-                }
+                },
+                m.misses
+                    .map(|n| format!("  misses {n}"))
+                    .unwrap_or_default()
             );
         }
     })

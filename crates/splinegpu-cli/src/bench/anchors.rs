@@ -79,6 +79,7 @@ pub(crate) fn anchor(
         samples,
         bytes: samples * 16,
         float: Some("f64"),
+        misses: None,
     }
 }
 
@@ -167,5 +168,6 @@ pub(crate) fn wang(report: &mut impl FnMut(&Measurement)) {
         samples,
         bytes: 0,
         float: None,
+        misses: None,
     });
 }

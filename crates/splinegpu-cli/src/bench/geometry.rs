@@ -96,6 +96,7 @@ pub(crate) fn run(
         samples: vertices,
         bytes,
         float: Some("f64"),
+        misses: None,
     };
     report(&memset(name, (vertices * 7 * 8 + triangles * 12) as usize));
     report(&measure(
@@ -123,6 +124,7 @@ pub(crate) fn run(
     let f32_measure = |times| Measurement {
         bytes: vertices * 6 * 4,
         float: Some("f32"),
+        misses: None,
         ..measure("cpu-into", times)
     };
     report(&f32_measure(time(|| {
@@ -234,6 +236,7 @@ fn gpu_paths(
         samples: vertices,
         bytes: vertices * 6 * 4,
         float: Some("f32"),
+        misses: None,
     };
     report(&measure("gpu-device", device));
     let mut failure = None;

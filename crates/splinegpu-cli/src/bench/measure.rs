@@ -38,6 +38,9 @@ pub struct Measurement {
     /// The output's number type, "f32" or "f64" (None for memset); an extension of the
     /// contract's line, which tells the f32 and f64 CPU measurements apart.
     pub float: Option<&'static str>,
+    /// For an anchor that answers queries (q1's and q2's), how many of its answers missed
+    /// the certified one (the contract's "misses"); None elsewhere.
+    pub misses: Option<u64>,
 }
 
 impl Measurement {
@@ -54,9 +57,13 @@ impl Measurement {
             .float
             .map(|f| format!(", \"float\": \"{f}\""))
             .unwrap_or_default();
+        let misses = self
+            .misses
+            .map(|m| format!(", \"misses\": {m}"))
+            .unwrap_or_default();
         format!(
             "{{\"workload\": \"{}\", \"path\": \"{}\", \"seconds\": {:e}, \"min_seconds\": {:e}, \
-             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}}}",
+             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}{misses}}}",
             self.workload,
             self.path,
             self.seconds,
@@ -106,6 +113,7 @@ pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
         samples: 0,
         bytes: bytes as u64,
         float: None,
+        misses: None,
     }
 }
 

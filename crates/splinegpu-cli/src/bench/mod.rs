@@ -10,6 +10,7 @@
 mod anchors;
 mod geometry;
 mod measure;
+mod queries;
 mod surfaces;
 mod workloads;
 
@@ -55,9 +56,9 @@ pub enum BenchError {
 const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 16] = [
+pub const WORKLOADS: [&str; 17] = [
     "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
-    "cli-w1", "w1-x10", "s1", "teapot", "tubes", "strokes",
+    "cli-w1", "w1-x10", "s1", "teapot", "tubes", "strokes", "q1",
 ];
 
 /// The output number type of a cli-w1 path.
@@ -113,6 +114,7 @@ pub fn run(
             "fit-1m" => fit_1m(&mut report),
             "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
             "tubes" | "strokes" => geometry::run(name, gpu, &mut report)?,
+            "q1" => queries::q1(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(
@@ -178,6 +180,7 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         samples: t.len() as u64,
         bytes: bytes as u64,
         float: Some("f64"),
+        misses: None,
     };
     let fit = time(|| {
         fitter
@@ -267,6 +270,7 @@ fn cli_w1(
         samples,
         bytes: values * float.bytes(),
         float: Some(float.name()),
+        misses: None,
     };
     let paths = [
         ("csv-cpu", stream::Format::Csv, "csv", false),
@@ -371,6 +375,7 @@ fn measured(
         samples: job.sample_count() as u64,
         bytes: values * bytes_per_value,
         float: Some(if bytes_per_value == 4 { "f32" } else { "f64" }),
+        misses: None,
     }
 }
 

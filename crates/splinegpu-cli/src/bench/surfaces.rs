@@ -126,6 +126,7 @@ pub(crate) fn run(
         samples: vertices,
         bytes: bytes(per_value),
         float: Some(if per_value == 4 { "f32" } else { "f64" }),
+        misses: None,
     };
     report(&memset(name, bytes(4) as usize));
     // Fit, plan and evaluate into memory kept from the last call (as a renderer or a repeated

@@ -12,16 +12,23 @@
 //! (polynomial segment: Σ (A u³ + B u² + C u − r)(3A u² + 2B u + C)) or at most 8 (rational;
 //! W > 0 on [0, 1], so h and g' share their signs). g's minimum over [0, 1] is at 0, at 1, or
 //! where g' changes sign from − to +, so among the ends and the sign-changing roots of h, which
-//! [`roots::sign_change_roots`] isolates one by one between the roots of h'. The breakpoints
-//! (h' 's roots) are tried too, where a pair of roots too close to tell apart would be.
+//! [`roots::visit_sign_change_roots`] isolates by the signs of h's Bernstein coefficients
+//! (Descartes' rule: no change, no root; one change, one simple root between the ends; more,
+//! halve and look again), falling back to isolating them between the roots of h', which are
+//! then tried too (where a pair of roots too close to tell apart would be).
 //!
-//! Over the whole set, the box tree ([`tree::BoxTree`]) gives the segments nearest first and
-//! leaves every box farther than the best distance found: a segment lies in its control
-//! points' box, so no segment left out could be nearer.
+//! Over the whole set, the box tree ([`tree::BoxTree`]) gives the pieces of segments nearest
+//! first and leaves every box farther than the best distance found: a piece [u0, u1] of a
+//! segment lies in the box of its own Bezier control points (de Casteljau's, homogeneous for
+//! a rational segment, whose weights stay positive), so no piece left out could be nearer,
+//! and on a piece the same solve runs on [u0, u1]. Segments are cut into pieces no longer
+//! (along their control polygon) than about E / (2√n), n the number of segments, so that a
+//! box is small beside the spacing of the curves: a segment that crosses the whole set would
+//! otherwise hold every query point in its box and be solved for each.
 
 use crate::error::InputError;
 use crate::parallel::{even_ranges, fan_out_map};
-use crate::query::roots::{Poly, sign_change_roots};
+use crate::query::roots::{Poly, visit_sign_change_roots};
 use crate::query::tree::BoxTree;
 use crate::segment::{Segment, SegmentTable};
 
@@ -86,8 +93,8 @@ impl ClosestPoints {
 pub struct CurveIndex<'a> {
     tables: &'a [SegmentTable],
     dim: usize,
-    /// Per item of the tree, its (curve, segment).
-    items: Vec<(u32, u32)>,
+    /// Per item of the tree, its piece.
+    items: Vec<Piece>,
     tree: BoxTree,
 }
 
@@ -101,8 +108,6 @@ impl<'a> CurveIndex<'a> {
             return Err(InputError::field("curves", "must not be empty"));
         };
         let dim = first.dim();
-        let mut items = Vec::new();
-        let mut boxes = Vec::new();
         for (c, table) in tables.iter().enumerate() {
             if table.dim() != dim {
                 return Err(InputError::field(
@@ -114,11 +119,8 @@ impl<'a> CurveIndex<'a> {
                 )
                 .in_curve(c));
             }
-            for s in 0..table.len() {
-                items.push((c as u32, s as u32));
-                push_segment_box(&table.segment(s), &mut boxes);
-            }
         }
+        let (items, boxes) = pieces(tables, dim);
         Ok(Self {
             tables,
             dim,
@@ -160,7 +162,7 @@ impl<'a> CurveIndex<'a> {
     /// far for f64 (as [`CurveIndex::closest`]), named by its query's index.
     pub fn closest_many(&self, queries: &[f64]) -> Result<ClosestPoints, InputError> {
         let dim = self.dim;
-        if queries.len() % dim != 0 {
+        if !queries.len().is_multiple_of(dim) {
             return Err(InputError::field(
                 "closest",
                 format!(
@@ -202,13 +204,18 @@ impl<'a> CurveIndex<'a> {
         let mut found = (0u32, 0u32, 0.0);
         let mut r = [0.0; crate::MAX_DIM];
         self.tree.nearest(q, &mut best, |item, best| {
-            let (c, s) = self.items[item as usize];
+            let Piece {
+                curve: c,
+                segment: s,
+                u0,
+                u1,
+            } = self.items[item as usize];
             let segment = self.tables[c as usize].segment(s as usize);
             let [.., origin] = segment.power();
             for k in 0..self.dim {
                 r[k] = q[k] - origin[k];
             }
-            let (u, d2) = segment_minimum(&segment, &r[..self.dim]);
+            let (u, d2) = segment_minimum(&segment, &r[..self.dim], u0, u1);
             if d2 < *best {
                 *best = d2;
                 found = (c, s, u);
@@ -266,39 +273,164 @@ fn check_distance(d2: f64, index: usize) -> Result<(), InputError> {
     ))
 }
 
-/// The box of a segment's (rational) Bezier control points, `lo` then `hi`, widened by a few
-/// units in the last place of its coordinates for the rounding of the conversion.
-fn push_segment_box(segment: &Segment<'_>, boxes: &mut Vec<f64>) {
-    let (points, _) = segment.rational_bezier();
+/// A piece [u0, u1] of a curve's segment: an item of the tree.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    curve: u32,
+    segment: u32,
+    u0: f64,
+    u1: f64,
+}
+
+/// A segment's (rational) Bezier control points and weights, as `Segment::rational_bezier`
+/// gives them.
+type RationalBezier = ([Vec<f64>; 4], [f64; 4]);
+
+/// The most pieces a segment is cut into.
+const MAX_PIECES: usize = 64;
+
+/// Every segment of `tables` cut into pieces (module docs), and each piece's box, `lo` then
+/// `hi`, widened by a few units in the last place of its coordinates for the rounding of the
+/// conversion and the subdivision.
+fn pieces(tables: &[SegmentTable], dim: usize) -> (Vec<Piece>, Vec<f64>) {
+    let beziers: Vec<Vec<RationalBezier>> = tables
+        .iter()
+        .map(|t| {
+            (0..t.len())
+                .map(|s| t.segment(s).rational_bezier())
+                .collect()
+        })
+        .collect();
+    let count: usize = beziers.iter().map(Vec::len).sum();
+    let (mut lo, mut hi) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
+    for (points, _) in beziers.iter().flatten() {
+        for p in points {
+            for k in 0..dim {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    let extent = (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    let longest = extent / (2.0 * (count as f64).sqrt());
+    let mut items = Vec::with_capacity(count);
+    let mut boxes = Vec::with_capacity(count * 2 * dim);
+    let mut scratch = Vec::with_capacity(4 * (dim + 1));
+    for (c, segments) in beziers.iter().enumerate() {
+        for (s, (points, weights)) in segments.iter().enumerate() {
+            let polygon: f64 = points
+                .windows(2)
+                .map(|w| {
+                    (0..dim)
+                        .map(|k| (w[1][k] - w[0][k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .sum();
+            let cuts = if longest > 0.0 && polygon.is_finite() {
+                ((polygon / longest).ceil() as usize).clamp(1, MAX_PIECES)
+            } else {
+                1
+            };
+            for i in 0..cuts {
+                let (u0, u1) = (i as f64 / cuts as f64, (i + 1) as f64 / cuts as f64);
+                items.push(Piece {
+                    curve: c as u32,
+                    segment: s as u32,
+                    u0,
+                    u1,
+                });
+                push_piece_box(points, *weights, (u0, u1), &mut scratch, &mut boxes);
+            }
+        }
+    }
+    (items, boxes)
+}
+
+/// The box of the Bezier control points of the piece [u0, u1] of the (rational) cubic with
+/// control points `points` and weights `weights`: de Casteljau on the homogeneous points
+/// (ω Q, ω), split at u1 and then at u0 / u1, projected back. `h` is scratch space.
+fn push_piece_box(
+    points: &[Vec<f64>; 4],
+    weights: [f64; 4],
+    (u0, u1): (f64, f64),
+    h: &mut Vec<f64>,
+    boxes: &mut Vec<f64>,
+) {
     let dim = points[0].len();
+    let width = dim + 1;
+    // Homogeneous control points, `width` values each (the weight last).
+    h.clear();
+    for (p, &w) in points.iter().zip(&weights) {
+        h.extend(p.iter().map(|x| x * w));
+        h.push(w);
+    }
+    // In place: keeping the left part [0, at] leaves point i = the i-th left edge of the
+    // triangle; keeping the right part [at, 1] the i-th right edge.
+    let split = |h: &mut [f64], at: f64, keep_left: bool| {
+        for level in 1..4 {
+            if keep_left {
+                for i in (level..4).rev() {
+                    for k in 0..width {
+                        let (a, b) = (h[(i - 1) * width + k], h[i * width + k]);
+                        h[i * width + k] = a + at * (b - a);
+                    }
+                }
+            } else {
+                for i in 0..4 - level {
+                    for k in 0..width {
+                        let (a, b) = (h[i * width + k], h[(i + 1) * width + k]);
+                        h[i * width + k] = a + at * (b - a);
+                    }
+                }
+            }
+        }
+    };
+    if u1 < 1.0 {
+        split(h, u1, true);
+    }
+    if u0 > 0.0 {
+        split(h, u0 / u1, false);
+    }
     let at = boxes.len();
     boxes.resize(at + 2 * dim, 0.0);
     for k in 0..dim {
-        let values = points.iter().map(|p| p[k]);
+        let values = (0..4).map(|i| h[i * width + k] / h[i * width + dim]);
         let lo = values.clone().fold(f64::INFINITY, f64::min);
         let hi = values.fold(f64::NEG_INFINITY, f64::max);
-        let pad = 16.0 * f64::EPSILON * lo.abs().max(hi.abs());
+        let pad = 64.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(hi - lo);
         boxes[at + k] = lo - pad;
         boxes[at + dim + k] = hi + pad;
     }
 }
 
-/// The local parameter u in [0, 1] of the point of `segment` nearest to its origin plus `r`,
-/// and the squared distance there (see the module docs).
-pub(crate) fn segment_minimum(segment: &Segment<'_>, r: &[f64]) -> (f64, f64) {
+/// The point of one segment nearest to `q` (D values): its local parameter u in [0, 1] and
+/// its distance, by the exact solve of the module docs (the one every index query finishes
+/// with).
+#[must_use]
+pub fn closest_on_segment(segment: &Segment<'_>, q: &[f64]) -> (f64, f64) {
+    let [.., origin] = segment.power();
+    let mut r = [0.0; crate::MAX_DIM];
+    for (k, (q, o)) in q.iter().zip(origin).enumerate() {
+        r[k] = q - o;
+    }
+    let (u, d2) = segment_minimum(segment, &r[..q.len()], 0.0, 1.0);
+    (u, d2.sqrt())
+}
+
+/// The local parameter u in [u0, u1] of the point of `segment` nearest to its origin plus
+/// `r`, and the squared distance there (see the module docs).
+pub(crate) fn segment_minimum(segment: &Segment<'_>, r: &[f64], u0: f64, u1: f64) -> (f64, f64) {
     let h = distance_slope(segment, r);
-    let (roots, breakpoints) = sign_change_roots(&h);
-    let mut best = (0.0, local_distance2(segment, r, 0.0));
-    for &u in [1.0]
-        .iter()
-        .chain(roots.as_slice())
-        .chain(breakpoints.as_slice())
-    {
+    let mut best = (u0, local_distance2(segment, r, u0));
+    let mut try_u = |u: f64| {
         let d2 = local_distance2(segment, r, u);
         if d2 < best.1 {
             best = (u, d2);
         }
-    }
+    };
+    try_u(u1);
+    visit_sign_change_roots(&h, u0, u1, &mut try_u);
     best
 }
 

@@ -8,4 +8,4 @@ mod closest;
 mod roots;
 mod tree;
 
-pub use closest::{ClosestPoint, ClosestPoints, CurveIndex};
+pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};

@@ -30,6 +30,9 @@ pub(crate) struct BoxTree {
     boxes: Vec<f64>,
     /// Item indices in the order the leaves hold them.
     order: Vec<u32>,
+    /// The items' own boxes in that order (2 D values each), checked before an item is
+    /// visited.
+    item_boxes: Vec<f64>,
 }
 
 impl BoxTree {
@@ -41,10 +44,15 @@ impl BoxTree {
             nodes: Vec::with_capacity(2 * count / LEAF_ITEMS + 1),
             boxes: Vec::new(),
             order: (0..count as u32).collect(),
+            item_boxes: Vec::with_capacity(item_boxes.len()),
         };
         if count > 0 {
             let mut order = std::mem::take(&mut tree.order);
             tree.build(item_boxes, &mut order, 0);
+            for &item in &order {
+                let b = &item_boxes[item as usize * 2 * dim..][..2 * dim];
+                tree.item_boxes.extend_from_slice(b);
+            }
             tree.order = order;
         }
         tree
@@ -102,7 +110,8 @@ impl BoxTree {
 
     /// Every item whose box may hold something within `best` (a squared distance that `visit`
     /// may lower as it goes) of `q`, nearer boxes first; `visit(item, best)` is given the item's
-    /// index. The walk leaves every node whose box lies at a squared distance >= `best`.
+    /// index. The walk leaves every node and item whose box lies at a squared distance
+    /// >= `best`.
     pub(crate) fn nearest(&self, q: &[f64], best: &mut f64, mut visit: impl FnMut(u32, &mut f64)) {
         if self.nodes.is_empty() {
             return;
@@ -115,8 +124,12 @@ impl BoxTree {
             }
             let node = self.nodes[at as usize];
             if node.leaf {
-                for &item in &self.order[node.first as usize..node.second as usize] {
-                    visit(item, best);
+                for at in node.first as usize..node.second as usize {
+                    let b = &self.item_boxes[at * 2 * self.dim..][..2 * self.dim];
+                    let (lo, hi) = b.split_at(self.dim);
+                    if box_distance2(lo, hi, q) < *best {
+                        visit(self.order[at], best);
+                    }
                 }
                 continue;
             }

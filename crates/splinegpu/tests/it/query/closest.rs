@@ -112,11 +112,8 @@ fn check(curves: &[Curve], queries: &[Vec<f64>], what: &str) {
             .curve(0)
             .points
             .to_vec();
-        for k in 0..dim {
-            assert!(
-                (at[k] - one.point[k]).abs() <= eps,
-                "{what}: query {i}: point {k}"
-            );
+        for (k, (a, b)) in at.iter().zip(&one.point).enumerate() {
+            assert!((a - b).abs() <= eps, "{what}: query {i}: point {k}");
         }
         let d = one
             .point
