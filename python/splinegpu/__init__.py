@@ -25,10 +25,11 @@ os.environ.setdefault("NODEVICE_SELECT", "1")
 from . import _native
 from ._context import Context, Tessellation
 from ._geometry import Meshes
+from ._queries import ClosestPoints
 from ._surfaces import SurfaceTessellation
 from .interpolate import CubicSpline, CubicSplines
 
-__all__ = ["KIND_NAMES", "Context", "CubicSpline", "CubicSplines", "Meshes",
+__all__ = ["KIND_NAMES", "ClosestPoints", "Context", "CubicSpline", "CubicSplines", "Meshes",
            "SurfaceTessellation", "Tessellation"]
 
 KIND_NAMES: tuple = tuple(_native.KIND_NAMES)

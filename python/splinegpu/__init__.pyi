@@ -60,6 +60,17 @@ class Meshes:
     def curve(self, c: int) -> dict[str, Any]: ...
     def trimesh(self, c: int | None = None) -> Any: ...
 
+class ClosestPoints:
+    """The answers of `Context.closest`, by the NPZ's names."""
+
+    curve: npt.NDArray[np.int64]
+    t: npt.NDArray[np.float64]
+    point: npt.NDArray[np.float64]
+    distance: npt.NDArray[np.float64]
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+
 class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
@@ -93,6 +104,13 @@ class Context:
         derivatives: int = 0,
         out: Tessellation | None = None,
     ) -> Tessellation: ...
+    def closest(
+        self,
+        curves: _Batch,
+        kind: str = "catmull-rom",
+        points: npt.ArrayLike | None = None,
+        **fields: Any,
+    ) -> ClosestPoints: ...
     def strokes(
         self,
         points: _Batch,

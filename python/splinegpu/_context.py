@@ -10,6 +10,7 @@ import numpy as np
 from . import _native
 from ._geometry import Meshes, meshes
 from ._helpers import _curve_fields, _curve_sampling, _curves, _order
+from ._queries import ClosestPoints, closest
 from ._surfaces import tessellate_surfaces
 
 
@@ -183,6 +184,24 @@ class Context:
         return meshes(self, "ribbon", points, kind, width=width, width_name="width", up=up,
                       dash=dash, dash_offset=dash_offset, per_segment=per_segment, at=at,
                       arc_length=arc_length, tolerance=tolerance, out=out, fields=fields)
+
+    def closest(self, curves, kind: str = "catmull-rom", points=None, **fields) -> ClosestPoints:
+        """The closest point of a batch of curves of one kind to each query point, certified:
+        for every row of `points` ((Q, D), or one point as (D,)), the nearest curve, its
+        parameter t, the point C(t) and its distance, within 1e-9 (E + |q|) of the true least
+        distance over every curve and every t (E the curves' extent; no local minimum in place
+        of the global one; among ties within that, any).
+
+        `curves` and `kind` as `tessellate` takes its `points` and `kind`, the kind's fields
+        (`ends=`, `t=`, `knots=`, `weights=`, ...) as keywords. Answered on every CPU thread in
+        float64 on every context (the GPU's query kernel is not built yet), through a box tree
+        over the segments and an exact solve on each segment it cannot exclude.
+
+        Raises ValueError naming the curve, field and value, or the query, for bad input.
+        """
+        if points is None:
+            raise TypeError("closest: missing the query points (points=)")
+        return closest(curves, kind, points, fields)
 
     def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
                             bias=None, matrix=None, patches=None, conditions=None, u=None,

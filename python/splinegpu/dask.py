@@ -15,6 +15,7 @@ once. Curves are independent, so throughput grows with workers. The partitions a
 and kept on the workers (`persist`); the result's dask arrays (t, points, d1, d2) have their real
 chunk sizes, and `curve_offsets` is stitched across partitions into offsets of the whole batch.
 A worker lost mid-run is handled by Dask: its partitions are computed again elsewhere.
+`closest` answers a dask.array of query points block by block against one batch of curves.
 """
 
 from __future__ import annotations
@@ -126,6 +127,47 @@ def tubes(curves, *, backend: str = "auto", **kwargs) -> DaskMeshes:
 def ribbons(curves, *, backend: str = "auto", **kwargs) -> DaskMeshes:
     """`splinegpu.Context.ribbons` on a dask.array or dask.bag of curves, as `strokes`."""
     return _meshes("ribbons", curves, backend, kwargs)
+
+
+def _closest_block(queries, curves, kind: str, backend: str, kwargs: dict[str, Any]):
+    """One block of query points answered: (curve, t, point..., distance) per row, float64
+    (a curve index is exact in float64 far past any batch's size)."""
+    r = worker_context(backend).closest(curves, kind, queries, **kwargs)
+    return np.column_stack([r.curve.astype(np.float64), r.t, r.point, r.distance])
+
+
+class DaskClosestPoints:
+    """`splinegpu.ClosestPoints`' arrays as dask arrays, chunked as the query points were:
+    curve (int64), t, point (Q, D) and distance."""
+
+    def __init__(self, curve, t, point, distance):
+        self.curve, self.t, self.point, self.distance = curve, t, point, distance
+
+    def compute(self) -> splinegpu.ClosestPoints:
+        """Everything, gathered into one `splinegpu.ClosestPoints` in this process."""
+        import dask
+
+        names = ("curve", "t", "point", "distance")
+        arrays = dask.compute(*(getattr(self, name) for name in names))
+        return splinegpu.ClosestPoints(dict(zip(names, arrays)))
+
+
+def closest(curves, kind: str = "catmull-rom", points=None, *, backend: str = "auto",
+            **kwargs) -> DaskClosestPoints:
+    """`splinegpu.Context.closest` for a dask.array of query points (Q, D), chunked along its
+    rows: every block answered on the cluster against the same curves (a NumPy batch, as
+    `Context.closest` takes it, sent to each block's task), `kwargs` the kind's fields."""
+    import dask.array as da
+
+    if not isinstance(points, da.Array) or points.ndim != 2:
+        raise TypeError(f"points: must be a 2-D dask.array of query points, got "
+                        f"{type(points).__name__}")
+    dim = points.shape[1]
+    points = points.rechunk({1: dim}).astype(np.float64)
+    packed = points.map_blocks(_closest_block, curves, kind, backend, kwargs,
+                               chunks=(points.chunks[0], (dim + 3,)), dtype=np.float64)
+    return DaskClosestPoints(packed[:, 0].astype(np.int64), packed[:, 1],
+                             packed[:, 2:2 + dim], packed[:, 2 + dim])
 
 
 def _persisted(curves, block, *args):

@@ -15,6 +15,7 @@ mod context;
 mod fits;
 mod geometry;
 mod pieces;
+mod queries;
 mod roots;
 mod splines;
 mod surfaces;
@@ -49,6 +50,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pieces::bspline_basis, m)?)?;
     m.add_function(wrap_pyfunction!(surfaces::tessellate_surfaces, m)?)?;
     m.add_function(wrap_pyfunction!(geometry::geometry_meshes, m)?)?;
+    m.add_function(wrap_pyfunction!(queries::closest_points, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
 }

@@ -122,3 +122,17 @@ def test_a_spline_travels_to_a_worker_and_answers_as_scipy(client):
     np.testing.assert_array_equal(got, spline(q, 1))
     np.testing.assert_allclose(got, CubicSpline(x, y, bc_type="natural")(q, 1), rtol=0,
                                atol=1e-12 * np.abs(got).max())
+
+
+def test_closest_points_by_block_equal_one_process(client):
+    rng = np.random.default_rng(3)
+    curves = rng.uniform(-1, 1, (50, 8, 2))
+    queries = rng.uniform(-1.5, 1.5, (5_000, 2))
+    want = splinegpu.Context("cpu").closest(curves, "catmull-rom", queries)
+    got = splinegpu.dask.closest(curves, "catmull-rom", da.from_array(queries, chunks=(700, 2)),
+                                 backend="cpu").compute()
+    for name in ("curve", "t", "point", "distance"):
+        np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
+    assert got.curve.dtype == np.int64
+    with pytest.raises(TypeError, match=r"points: must be a 2-D dask\.array"):
+        splinegpu.dask.closest(curves, "catmull-rom", queries)

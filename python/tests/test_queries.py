@@ -1,0 +1,74 @@
+"""Context.closest: certified closest points against hand-derived answers and a dense brute
+force, the command line's arrays, and every bad argument refused by name."""
+
+import numpy as np
+import pytest
+
+import splinegpu
+
+CPU = splinegpu.Context("cpu")
+
+# Two straight Bezier segments, y = 0 and y = 5 for x in [0, 3] (x = 3t).
+LINES = np.array([[[0, 0], [1, 0], [2, 0], [3, 0]], [[0, 5], [1, 5], [2, 5], [3, 5]]], float)
+
+
+def test_hand_derived_answers():
+    result = CPU.closest(LINES, "bezier", [[1.5, 2], [1, 4], [-1, -1]])
+    assert result.curve.dtype == np.int64 and result.curve.tolist() == [0, 1, 0]
+    np.testing.assert_allclose(result.t, [0.5, 1 / 3, 0.0], atol=1e-12)
+    np.testing.assert_allclose(result.point, [[1.5, 0], [1, 5], [0, 0]], atol=1e-12)
+    np.testing.assert_allclose(result.distance, [2, 1, np.sqrt(2)], atol=1e-12)
+    assert len(result) == 3 and set(result.arrays()) == {"curve", "t", "point", "distance"}
+
+
+def brute_force(curves, kind, queries):
+    """The least distance from each query to the curves' samples, by dense sampling (every
+    curve at 20,001 points of its parameter range)."""
+    dense = CPU.tessellate(curves, kind, per_segment=2000)
+    d = np.linalg.norm(dense.points[None, :, :] - queries[:, None, :], axis=2)
+    return d.min(axis=1)
+
+
+def test_against_dense_sampling_on_random_curves():
+    rng = np.random.default_rng(5)
+    curves = [rng.uniform(-2, 2, (n, 2)) for n in (5, 8, 11)]
+    queries = rng.uniform(-3, 3, (200, 2))
+    result = CPU.closest(curves, "catmull-rom", queries)
+    sampled = brute_force(curves, "catmull-rom", queries)
+    # Never farther than a sample (the samples' spacing bounds how much nearer they can be).
+    assert np.all(result.distance <= sampled + 1e-12)
+    assert np.all(result.distance >= sampled - 1e-2)
+    # The point is at the reported distance.
+    np.testing.assert_allclose(np.linalg.norm(result.point - queries, axis=1), result.distance,
+                               atol=1e-12)
+
+
+def test_views_fortran_order_and_one_point():
+    queries = np.asfortranarray(np.array([[1.5, 2.0, 9.0], [1.0, 4.0, 9.0]])[:, :2])
+    queries.flags.writeable = False
+    want = CPU.closest(LINES, "bezier", np.ascontiguousarray(queries))
+    got = CPU.closest(LINES, "bezier", queries)
+    np.testing.assert_array_equal(got.distance, want.distance)
+    one = CPU.closest(list(LINES), "bezier", [1.5, 2.0])
+    assert one.curve.tolist() == [0] and one.distance.tolist() == [2.0]
+
+
+@pytest.mark.parametrize("points, error, match", [
+    ([[0, 0, 0]], ValueError, "points: must have 2 columns"),
+    ([[0, np.nan]], ValueError, "points: query 0 has a coordinate that is not finite"),
+    ([[[0, 0]]], ValueError, "points: must be a \\(Q, D\\) array"),
+    ([["a", "b"]], TypeError, "points: must be numbers"),
+    ([[1 + 1j, 0]], ValueError, "points: complex values"),
+])
+def test_bad_query_points_are_refused_by_name(points, error, match):
+    with pytest.raises(error, match=match):
+        CPU.closest(LINES, "bezier", points)
+
+
+def test_bad_curves_are_refused_naming_the_curve():
+    with pytest.raises(ValueError, match="curve 1"):
+        CPU.closest([LINES[0], LINES[1][:2]], "bezier", [[0, 0]])
+    with pytest.raises(ValueError, match="curves: must be a \\(C, n, D\\) array"):
+        CPU.closest(np.zeros((2, 4)), "bezier", [[0, 0]])
+    with pytest.raises(TypeError, match="points="):
+        CPU.closest(LINES, "bezier")
