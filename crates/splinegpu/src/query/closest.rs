@@ -28,6 +28,7 @@
 
 use crate::error::InputError;
 use crate::parallel::{even_ranges, fan_out_map};
+use crate::query::pieces::{Piece, pieces};
 use crate::query::roots::{Poly, visit_sign_change_roots};
 use crate::query::tree::BoxTree;
 use crate::segment::{Segment, SegmentTable};
@@ -271,137 +272,6 @@ fn check_distance(d2: f64, index: usize) -> Result<(), InputError> {
         format!("closest[{index}]"),
         "lies too far from the curves: its squared distance overflows float64",
     ))
-}
-
-/// A piece [u0, u1] of a curve's segment: an item of the tree.
-#[derive(Clone, Copy, Debug)]
-struct Piece {
-    curve: u32,
-    segment: u32,
-    u0: f64,
-    u1: f64,
-}
-
-/// A segment's (rational) Bezier control points and weights, as `Segment::rational_bezier`
-/// gives them.
-type RationalBezier = ([Vec<f64>; 4], [f64; 4]);
-
-/// The most pieces a segment is cut into.
-const MAX_PIECES: usize = 64;
-
-/// Every segment of `tables` cut into pieces (module docs), and each piece's box, `lo` then
-/// `hi`, widened by a few units in the last place of its coordinates for the rounding of the
-/// conversion and the subdivision.
-fn pieces(tables: &[SegmentTable], dim: usize) -> (Vec<Piece>, Vec<f64>) {
-    let beziers: Vec<Vec<RationalBezier>> = tables
-        .iter()
-        .map(|t| {
-            (0..t.len())
-                .map(|s| t.segment(s).rational_bezier())
-                .collect()
-        })
-        .collect();
-    let count: usize = beziers.iter().map(Vec::len).sum();
-    let (mut lo, mut hi) = (vec![f64::INFINITY; dim], vec![f64::NEG_INFINITY; dim]);
-    for (points, _) in beziers.iter().flatten() {
-        for p in points {
-            for k in 0..dim {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-    }
-    let extent = (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    let longest = extent / (2.0 * (count as f64).sqrt());
-    let mut items = Vec::with_capacity(count);
-    let mut boxes = Vec::with_capacity(count * 2 * dim);
-    let mut scratch = Vec::with_capacity(4 * (dim + 1));
-    for (c, segments) in beziers.iter().enumerate() {
-        for (s, (points, weights)) in segments.iter().enumerate() {
-            let polygon: f64 = points
-                .windows(2)
-                .map(|w| {
-                    (0..dim)
-                        .map(|k| (w[1][k] - w[0][k]).powi(2))
-                        .sum::<f64>()
-                        .sqrt()
-                })
-                .sum();
-            let cuts = if longest > 0.0 && polygon.is_finite() {
-                ((polygon / longest).ceil() as usize).clamp(1, MAX_PIECES)
-            } else {
-                1
-            };
-            for i in 0..cuts {
-                let (u0, u1) = (i as f64 / cuts as f64, (i + 1) as f64 / cuts as f64);
-                items.push(Piece {
-                    curve: c as u32,
-                    segment: s as u32,
-                    u0,
-                    u1,
-                });
-                push_piece_box(points, *weights, (u0, u1), &mut scratch, &mut boxes);
-            }
-        }
-    }
-    (items, boxes)
-}
-
-/// The box of the Bezier control points of the piece [u0, u1] of the (rational) cubic with
-/// control points `points` and weights `weights`: de Casteljau on the homogeneous points
-/// (ω Q, ω), split at u1 and then at u0 / u1, projected back. `h` is scratch space.
-fn push_piece_box(
-    points: &[Vec<f64>; 4],
-    weights: [f64; 4],
-    (u0, u1): (f64, f64),
-    h: &mut Vec<f64>,
-    boxes: &mut Vec<f64>,
-) {
-    let dim = points[0].len();
-    let width = dim + 1;
-    // Homogeneous control points, `width` values each (the weight last).
-    h.clear();
-    for (p, &w) in points.iter().zip(&weights) {
-        h.extend(p.iter().map(|x| x * w));
-        h.push(w);
-    }
-    // In place: keeping the left part [0, at] leaves point i = the i-th left edge of the
-    // triangle; keeping the right part [at, 1] the i-th right edge.
-    let split = |h: &mut [f64], at: f64, keep_left: bool| {
-        for level in 1..4 {
-            if keep_left {
-                for i in (level..4).rev() {
-                    for k in 0..width {
-                        let (a, b) = (h[(i - 1) * width + k], h[i * width + k]);
-                        h[i * width + k] = a + at * (b - a);
-                    }
-                }
-            } else {
-                for i in 0..4 - level {
-                    for k in 0..width {
-                        let (a, b) = (h[i * width + k], h[(i + 1) * width + k]);
-                        h[i * width + k] = a + at * (b - a);
-                    }
-                }
-            }
-        }
-    };
-    if u1 < 1.0 {
-        split(h, u1, true);
-    }
-    if u0 > 0.0 {
-        split(h, u0 / u1, false);
-    }
-    let at = boxes.len();
-    boxes.resize(at + 2 * dim, 0.0);
-    for k in 0..dim {
-        let values = (0..4).map(|i| h[i * width + k] / h[i * width + dim]);
-        let lo = values.clone().fold(f64::INFINITY, f64::min);
-        let hi = values.fold(f64::NEG_INFINITY, f64::max);
-        let pad = 64.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(hi - lo);
-        boxes[at + k] = lo - pad;
-        boxes[at + dim + k] = hi + pad;
-    }
 }
 
 /// The point of one segment nearest to `q` (D values): its local parameter u in [0, 1] and

@@ -1,11 +1,19 @@
-//! Queries: where things are on many curves at once (closest points), certified.
+//! Queries: where things are on many curves at once, certified: the closest point of a set of
+//! curves to many points ([`CurveIndex`]), and every point where 2-D curves meet one another
+//! or themselves ([`intersections`]).
 //!
-//! Each query walks a box tree over the curves' segments ([`tree`]) and finishes on each
-//! segment it cannot exclude with an exact solve (the roots of a polynomial, [`roots`]); the
-//! argument that no nearer point is missed is in docs/queries.md.
+//! Both walk box trees over pieces of the curves' segments (`tree`, `pieces`) and exclude by
+//! proven bounds (a piece lies in its control points' box); closest points finish on each
+//! piece left with an exact solve (the roots of a polynomial, `roots`), intersections with
+//! the Krawczyk test and subdivision (`intersect`, on the enclosures of `planar`). The
+//! argument that nothing is missed is in docs/queries.md.
 
 mod closest;
+mod intersect;
+mod pieces;
+mod planar;
 mod roots;
 mod tree;
 
 pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
+pub use intersect::{Intersection, Pairs, intersections};

@@ -53,6 +53,23 @@ impl Poly {
         (p, dp)
     }
 
+    /// The product p·q (of degrees adding up to at most [`MAX_DEGREE`]).
+    pub(crate) fn times(&self, q: &Self) -> Self {
+        let mut c = [0.0; MAX_DEGREE + 1];
+        for i in 0..=self.degree {
+            for j in 0..=q.degree {
+                c[i + j] += self.c[i] * q.c[j];
+            }
+        }
+        Self::new(&c[..=(self.degree + q.degree).min(MAX_DEGREE)])
+    }
+
+    /// p − q.
+    pub(crate) fn minus(&self, q: &Self) -> Self {
+        let c: [f64; MAX_DEGREE + 1] = std::array::from_fn(|i| self.c[i] - q.c[i]);
+        Self::new(&c)
+    }
+
     /// p'.
     pub(crate) fn derivative(&self) -> Self {
         let mut c = [0.0; MAX_DEGREE + 1];
@@ -115,9 +132,14 @@ fn isolate(p: &Poly, b: &[f64], lo: f64, hi: f64, depth: usize, visit: &mut impl
     }
 }
 
-/// The Bernstein coefficients of `p` on [lo, hi] (degree + 1 of them, then zeros).
-fn bernstein(p: &Poly, lo: f64, hi: f64) -> [f64; MAX_DEGREE + 1] {
-    let n = p.degree;
+/// The Bernstein coefficients of `p` on [lo, hi] (degree + 1 of them, then zeros): p's values
+/// there lie between the least and the largest of them.
+pub(crate) fn bernstein(p: &Poly, lo: f64, hi: f64) -> [f64; MAX_DEGREE + 1] {
+    bernstein_of_degree(p, p.degree, lo, hi)
+}
+
+/// [`bernstein`] written in degree `n` (>= p's degree, <= [`MAX_DEGREE`]): n + 1 coefficients.
+pub(crate) fn bernstein_of_degree(p: &Poly, n: usize, lo: f64, hi: f64) -> [f64; MAX_DEGREE + 1] {
     // p(lo + w s) = Σ a_j s^j: a Taylor shift by lo (repeated synthetic division), then the
     // powers of w.
     let mut a = p.c;

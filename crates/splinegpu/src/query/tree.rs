@@ -148,6 +148,50 @@ impl BoxTree {
         }
     }
 
+    /// Every pair of items (a from this tree, b from `other`) whose own boxes overlap, each
+    /// once, handed to `visit(a, b)`.
+    pub(crate) fn overlapping_pairs(&self, other: &Self, mut visit: impl FnMut(u32, u32)) {
+        if self.nodes.is_empty() || other.nodes.is_empty() {
+            return;
+        }
+        let dim = self.dim;
+        let meet =
+            |a: &[f64], b: &[f64]| (0..dim).all(|k| a[k] <= b[dim + k] && b[k] <= a[dim + k]);
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((a, b)) = stack.pop() {
+            let (na, nb) = (self.nodes[a as usize], other.nodes[b as usize]);
+            if !meet(self.node_boxes(a), other.node_boxes(b)) {
+                continue;
+            }
+            match (na.leaf, nb.leaf) {
+                (true, true) => {
+                    for x in na.first as usize..na.second as usize {
+                        for y in nb.first as usize..nb.second as usize {
+                            let bx = &self.item_boxes[x * 2 * dim..][..2 * dim];
+                            let by = &other.item_boxes[y * 2 * dim..][..2 * dim];
+                            if meet(bx, by) {
+                                visit(self.order[x], other.order[y]);
+                            }
+                        }
+                    }
+                }
+                (false, true) => stack.extend([(na.first, b), (na.second, b)]),
+                (true, false) => stack.extend([(a, nb.first), (a, nb.second)]),
+                (false, false) => stack.extend([
+                    (na.first, nb.first),
+                    (na.first, nb.second),
+                    (na.second, nb.first),
+                    (na.second, nb.second),
+                ]),
+            }
+        }
+    }
+
+    /// Node `at`'s box, `lo` then `hi`.
+    fn node_boxes(&self, at: u32) -> &[f64] {
+        &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim]
+    }
+
     fn node_box(&self, at: u32) -> (&[f64], &[f64]) {
         let b = &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim];
         b.split_at(self.dim)
@@ -183,6 +227,31 @@ mod tests {
                 [x, 0.0, x + 0.5, 0.5]
             })
             .collect()
+    }
+
+    #[test]
+    fn overlapping_pairs_are_those_of_brute_force() {
+        let a = row(37);
+        let b: Vec<f64> = (0..23)
+            .flat_map(|i| {
+                let x = i as f64 * 1.7;
+                [x, 0.2, x + 0.2, 0.3]
+            })
+            .collect();
+        let (ta, tb) = (BoxTree::new(2, &a), BoxTree::new(2, &b));
+        let mut got = Vec::new();
+        ta.overlapping_pairs(&tb, |i, j| got.push((i, j)));
+        got.sort_unstable();
+        let mut want = Vec::new();
+        for i in 0..37u32 {
+            for j in 0..23u32 {
+                let (x, y) = (&a[i as usize * 4..][..4], &b[j as usize * 4..][..4]);
+                if x[0] <= y[2] && y[0] <= x[2] && x[1] <= y[3] && y[1] <= x[3] {
+                    want.push((i, j));
+                }
+            }
+        }
+        assert_eq!(got, want);
     }
 
     #[test]

@@ -1,0 +1,293 @@
+//! Intersections against hand-derived answers (crossings, a crossing at a joint, a tangency,
+//! an overlap, loops) and an independent brute force: both curves as dense polylines, every
+//! crossing of their chords refined by Newton's method on the curves. Every crossing the
+//! brute force finds lies within ε of a reported one, and every reported one is a meeting of
+//! the two curves within ε (evaluated by the CPU reference).
+
+use crate::support::{Rng, cpu_at};
+use proptest::prelude::*;
+use splinegpu::query::{Intersection, Pairs, intersections};
+use splinegpu::{Basis, Curve, CurveKind, Ends, Points, SegmentTable};
+
+fn bezier(coords: &[f64]) -> Curve {
+    Curve::new(CurveKind::Bezier, Points::new(2, coords.to_vec()).unwrap()).unwrap()
+}
+
+/// A straight cubic Bezier from (x0, y0) to (x1, y1), x and y linear in t.
+fn line(x0: f64, y0: f64, x1: f64, y1: f64) -> Curve {
+    let p = |f: f64| [x0 + f * (x1 - x0), y0 + f * (y1 - y0)];
+    let coords: Vec<f64> = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]
+        .iter()
+        .flat_map(|&f| p(f))
+        .collect();
+    bezier(&coords)
+}
+
+fn found(curves: &[Curve], pairs: Pairs<'_>) -> Vec<Intersection> {
+    let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
+    intersections(&tables, pairs).unwrap()
+}
+
+fn near(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-9
+}
+
+#[test]
+fn a_crossing_at_a_joint_is_reported_once() {
+    // Curve 0: two straight Bezier segments meeting at (1, 0) with a corner; curve 1 the
+    // vertical line x = 1 through that joint.
+    let chain = bezier(&[
+        0.0,
+        -1.0,
+        1.0 / 3.0,
+        -2.0 / 3.0,
+        2.0 / 3.0,
+        -1.0 / 3.0,
+        1.0,
+        0.0,
+        4.0 / 3.0,
+        2.0 / 3.0,
+        5.0 / 3.0,
+        4.0 / 3.0,
+        2.0,
+        2.0,
+    ]);
+    let got = found(&[chain, line(1.0, -3.0, 1.0, 3.0)], Pairs::All);
+    assert_eq!(got.len(), 1, "{got:?}");
+    let x = &got[0];
+    assert!(near(x.t_i, 1.0) && near(x.t_j, 0.5), "{x:?}");
+    assert!(near(x.point[0], 1.0) && near(x.point[1], 0.0), "{x:?}");
+    assert!(!x.tangent && !x.overlap);
+}
+
+#[test]
+fn a_touching_parabola_is_one_tangent_point() {
+    // y = x² on [-1, 1] (the quadratic Bezier (-1, 1), (0, -1), (1, 1) raised to a cubic)
+    // touches y = 0 at the origin, where both have t = 1/2.
+    let parabola = bezier(&[
+        -1.0,
+        1.0,
+        -1.0 / 3.0,
+        -1.0 / 3.0,
+        1.0 / 3.0,
+        -1.0 / 3.0,
+        1.0,
+        1.0,
+    ]);
+    let got = found(&[parabola, line(-1.0, 0.0, 1.0, 0.0)], Pairs::All);
+    assert_eq!(got.len(), 1, "{got:?}");
+    let x = &got[0];
+    assert!(x.tangent && !x.overlap, "{x:?}");
+    assert!(
+        (x.t_i - 0.5).abs() < 1e-4 && (x.t_j - 0.5).abs() < 1e-4,
+        "{x:?}"
+    );
+    assert!(x.point[0].abs() < 1e-4 && x.point[1].abs() < 1e-8, "{x:?}");
+}
+
+#[test]
+fn coinciding_pieces_are_reported_by_their_ends() {
+    // (0, 0)..(3, 0) and (1, 0)..(5, 0) coincide from x = 1 to x = 3.
+    let got = found(
+        &[line(0.0, 0.0, 3.0, 0.0), line(1.0, 0.0, 5.0, 0.0)],
+        Pairs::All,
+    );
+    assert_eq!(got.len(), 2, "{got:?}");
+    assert!(got.iter().all(|x| x.overlap && !x.tangent));
+    assert!(
+        near(got[0].t_i, 1.0 / 3.0) && near(got[0].t_j, 0.0),
+        "{got:?}"
+    );
+    assert!(near(got[1].t_i, 1.0) && near(got[1].t_j, 0.5), "{got:?}");
+    // Across joints: a three-segment straight chain over the same line is one overlap.
+    let chain = bezier(&[
+        0.0, 0.0, 0.5, 0.0, 1.0, 0.0, 1.5, 0.0, 2.0, 0.0, 2.5, 0.0, 3.0, 0.0, 3.5, 0.0, 4.0, 0.0,
+        4.5, 0.0,
+    ]);
+    let got = found(&[chain, line(1.0, 0.0, 5.0, 0.0)], Pairs::All);
+    assert_eq!(got.len(), 2, "{got:?}");
+    assert!(
+        near(got[0].point[0], 1.0) && near(got[1].point[0], 4.5),
+        "{got:?}"
+    );
+}
+
+#[test]
+fn self_intersections_of_a_loop_and_a_figure_eight() {
+    // A cubic with a loop: one self-intersection, t_i < t_j.
+    let loop_curve = bezier(&[0.0, 0.0, 4.0, 4.0, -1.0, 4.0, 3.0, 0.0]);
+    let got = found(std::slice::from_ref(&loop_curve), Pairs::Listed(&[[0, 0]]));
+    assert_eq!(got.len(), 1, "{got:?}");
+    let x = &got[0];
+    assert!(x.t_i < x.t_j && x.i == 0 && x.j == 0);
+    let at = cpu_at(&loop_curve, &[x.t_i, x.t_j]);
+    let p = &at.curve(0).points;
+    assert!(
+        (p[0] - p[2]).abs() < 1e-9 && (p[1] - p[3]).abs() < 1e-9,
+        "{p:?}"
+    );
+    // A closed Catmull-Rom figure eight crosses itself once; its start is its end, which is
+    // no intersection, nor are its joints.
+    let eight = Curve::new(
+        CurveKind::Uniform {
+            basis: Basis::CatmullRom,
+            ends: Ends::Closed,
+        },
+        Points::new(
+            2,
+            vec![
+                1.0, 1.0, 2.0, 0.0, 1.0, -1.0, -1.0, 1.0, -2.0, 0.0, -1.0, -1.0,
+            ],
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let got = found(std::slice::from_ref(&eight), Pairs::Listed(&[[0, 0]]));
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(
+        got[0].point[0].abs() < 1e-9 && got[0].point[1].abs() < 1e-9,
+        "{got:?}"
+    );
+    // A curve that never crosses itself: none.
+    let plain = bezier(&[0.0, 0.0, 1.0, 2.0, 2.0, -1.0, 3.0, 1.0]);
+    assert!(found(&[plain], Pairs::Listed(&[[0, 0]])).is_empty());
+}
+
+#[test]
+fn results_come_in_the_pairs_order_then_by_parameter() {
+    let curves = [
+        line(0.0, 0.5, 3.0, 0.5),
+        bezier(&[0.0, 0.0, 1.0, 3.0, 2.0, -2.0, 3.0, 1.0]),
+        line(1.5, -3.0, 1.5, 3.0),
+    ];
+    let got = found(&curves, Pairs::Listed(&[[2, 1], [0, 1]]));
+    assert!(got.iter().take_while(|x| x.i == 2).all(|x| x.j == 1));
+    let split = got.iter().position(|x| x.i == 0).unwrap();
+    for part in [&got[..split], &got[split..]] {
+        assert!(part.windows(2).all(|w| w[0].t_i <= w[1].t_i), "{got:?}");
+    }
+    assert_eq!(got[split..].len(), 3, "{got:?}");
+    let e = intersections(&[curves[0].fit()], Pairs::Listed(&[[0, 1]]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("intersections[0]"), "{e}");
+}
+
+/// Chords per segment of the brute force.
+const CHORDS: usize = 600;
+
+/// The crossings of two curves' dense polylines, refined by Newton's method on the curves:
+/// (t_i, t_j) of each transversal meeting (self: chords that are not neighbours).
+fn brute_force(a: &SegmentTable, b: &SegmentTable, same: bool) -> Vec<(f64, f64)> {
+    let sample = |table: &SegmentTable| -> Vec<(f64, [f64; 2])> {
+        let mut out = Vec::new();
+        for s in 0..table.len() {
+            let segment = table.segment(s);
+            for k in 0..CHORDS {
+                let u = k as f64 / CHORDS as f64;
+                let mut p = [0.0; 2];
+                segment.eval(u, &mut p);
+                out.push((segment.t0() + u * segment.dt(), p));
+            }
+        }
+        let last = table.segment(table.len() - 1);
+        let mut p = [0.0; 2];
+        last.eval(1.0, &mut p);
+        out.push((last.t0() + last.dt(), p));
+        out
+    };
+    let (pa, pb) = (sample(a), sample(b));
+    let mut out = Vec::new();
+    for x in 0..pa.len() - 1 {
+        for y in 0..pb.len() - 1 {
+            if same && y <= x + 1 {
+                continue;
+            }
+            let (p, q) = (pa[x].1, pa[x + 1].1);
+            let (r, s) = (pb[y].1, pb[y + 1].1);
+            let d = [q[0] - p[0], q[1] - p[1]];
+            let e = [s[0] - r[0], s[1] - r[1]];
+            let den = d[0] * e[1] - d[1] * e[0];
+            if den == 0.0 {
+                continue;
+            }
+            let w = [r[0] - p[0], r[1] - p[1]];
+            let (u, v) = (
+                (w[0] * e[1] - w[1] * e[0]) / den,
+                (w[0] * d[1] - w[1] * d[0]) / den,
+            );
+            if (0.0..1.0).contains(&u) && (0.0..1.0).contains(&v) {
+                let ti = pa[x].0 + u * (pa[x + 1].0 - pa[x].0);
+                let tj = pb[y].0 + v * (pb[y + 1].0 - pb[y].0);
+                out.push((ti, tj));
+            }
+        }
+    }
+    out
+}
+
+/// The point of `table` at t, by the segment holding it.
+fn at(table: &SegmentTable, t: f64) -> [f64; 2] {
+    let knots = table.knots();
+    let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);
+    let segment = table.segment(s);
+    let mut p = [0.0; 2];
+    segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), &mut p);
+    p
+}
+
+fn check_against_brute_force(curves: &[Curve], what: &str) {
+    let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
+    let n = curves.len();
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        for j in i..n {
+            pairs.push([i, j]);
+        }
+    }
+    let got = intersections(&tables, Pairs::Listed(&pairs)).unwrap();
+    let extent = 4.0;
+    for x in &got {
+        let eps = 1e-9 * (extent + x.point[0].abs().max(x.point[1].abs()));
+        let (a, b) = (at(&tables[x.i], x.t_i), at(&tables[x.j], x.t_j));
+        let miss = (a[0] - b[0]).hypot(a[1] - b[1]);
+        assert!(miss <= eps || x.tangent, "{what}: {x:?} misses by {miss}");
+    }
+    for &[i, j] in &pairs {
+        for (ti, tj) in brute_force(&tables[i], &tables[j], i == j) {
+            let p = at(&tables[i], ti);
+            // The chords cross within the chords' error of the curves' crossing.
+            let reported = got.iter().any(|x| {
+                let same = (x.i, x.j) == (i, j);
+                same && (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-4
+            });
+            assert!(
+                reported,
+                "{what}: curves {i} and {j} cross near t = ({ti}, {tj}) at {p:?}, not reported: {got:?}"
+            );
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+    /// Random Catmull-Rom and Bezier curves, every pair and every curve with itself: no
+    /// crossing of the dense polylines is missed, and every reported point is a meeting.
+    #[test]
+    fn random_sets_match_brute_force(seed in 0u64..u64::MAX) {
+        let mut rng = Rng(seed | 1);
+        let curves: Vec<Curve> = (0..3)
+            .map(|i| {
+                let points = rng.points(4 + 3 * i, 2, -2.0, 2.0);
+                if i == 1 {
+                    Curve::new(CurveKind::Bezier, points).unwrap()
+                } else {
+                    let kind = CurveKind::Uniform { basis: Basis::CatmullRom, ends: Ends::Repeat };
+                    Curve::new(kind, points).unwrap()
+                }
+            })
+            .collect();
+        check_against_brute_force(&curves, &format!("seed {seed}"));
+    }
+}
