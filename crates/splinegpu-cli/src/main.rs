@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
 use splinegpu::geometry::GeometryJob;
-use splinegpu::query::CurveIndex;
+use splinegpu::query::{ClosestPoints, CurveIndex, Intersection, Pairs, intersections};
 use splinegpu::surface::SurfaceJob;
 use splinegpu_cli::document::geometry::GeometryDocument;
 use splinegpu_cli::document::queries::{Queries, QueryTarget};
@@ -46,8 +46,8 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
     },
-    /// Answer a document's "queries": the closest points of its curves to many points
-    /// (intersections of 2-D curves, and closest points and rays on surfaces, are checked
+    /// Answer a document's "queries": the closest points of its curves to many points, or
+    /// every intersection of its 2-D curves (closest points and rays on surfaces are checked
     /// and then refused as not supported yet). Answers come in CSV, JSON or NPZ.
     Query {
         /// The input document, or `-` for standard input.
@@ -287,6 +287,12 @@ fn tessellate(
     finish(result, output)
 }
 
+/// What a query document's answers are.
+enum Answers {
+    Closest(ClosestPoints),
+    Intersections(Vec<Intersection>),
+}
+
 /// A query document answered and written: closest points on curves on the CPU; what this
 /// build cannot answer yet is checked first, then refused with exit 1.
 fn query(
@@ -314,15 +320,9 @@ fn query(
             ));
         }
     };
-    let (QueryTarget::Curves(tables), Queries::Closest(points)) =
-        (&document.target, &document.queries)
-    else {
-        let on = match document.target {
-            QueryTarget::Curves(_) => "curves",
-            QueryTarget::Surfaces(_) => "surfaces",
-        };
+    let QueryTarget::Curves(tables) = &document.target else {
         return Err(Failure::other(format!(
-            "not supported yet: \"{}\" on {on}",
+            "not supported yet: \"{}\" on surfaces",
             document.queries.name()
         )));
     };
@@ -331,12 +331,29 @@ fn query(
             "not supported yet: queries on the GPU (use --backend cpu or auto)",
         ));
     }
-    let index = CurveIndex::new(tables).map_err(Failure::input)?;
-    let answers = index
-        .closest_many(points)
-        .map_err(|e| Failure::input(e.in_document()))?;
+    let answers = match &document.queries {
+        Queries::Closest(points) => {
+            let index = CurveIndex::new(tables).map_err(Failure::input)?;
+            Answers::Closest(
+                index
+                    .closest_many(points)
+                    .map_err(|e| Failure::input(e.in_document()))?,
+            )
+        }
+        Queries::Intersections(listed) => {
+            let pairs = listed.as_deref().map_or(Pairs::All, Pairs::Listed);
+            Answers::Intersections(
+                intersections(tables, pairs).map_err(|e| Failure::input(e.in_document()))?,
+            )
+        }
+        Queries::Rays(_) => unreachable!("rays are refused on curves when the document is read"),
+    };
     let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
-        Ok(query_output::write_closest(&answers, format, out)?)
+        match &answers {
+            Answers::Closest(closest) => query_output::write_closest(closest, format, out)?,
+            Answers::Intersections(found) => query_output::write_intersections(found, format, out)?,
+        }
+        Ok(())
     };
     let result = match output {
         None => {

@@ -16,6 +16,8 @@ pub enum Dtype {
     F64,
     /// Little-endian int64, `<i8`.
     I64,
+    /// One byte per boolean, `|b1`.
+    Bool,
 }
 
 impl Dtype {
@@ -34,6 +36,7 @@ impl Dtype {
             Dtype::F32 => "<f4",
             Dtype::F64 => "<f8",
             Dtype::I64 => "<i8",
+            Dtype::Bool => "|b1",
         }
     }
 
@@ -41,6 +44,7 @@ impl Dtype {
     #[must_use]
     pub fn size(self) -> u64 {
         match self {
+            Dtype::Bool => 1,
             Dtype::F32 => 4,
             Dtype::F64 | Dtype::I64 => 8,
         }

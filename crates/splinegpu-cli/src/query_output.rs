@@ -1,22 +1,108 @@
 //! Query answers as CSV, JSON and NPZ (contract: "Queries", Output): one row, object or array
-//! entry per query, in the queries' order; every number the shortest text that reads back as
+//! entry per answer, in the queries' order (intersections as the library sorts them); every number the shortest text that reads back as
 //! the same f64.
 
 use std::io::{self, Write};
 
-use splinegpu::query::ClosestPoints;
+use splinegpu::query::{ClosestPoints, Intersection};
 
 use crate::npz::{Dtype, NpzWriter};
 
 /// The formats a query's answers are written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum QueryFormat {
-    /// `query,curve,t,x0..,distance`.
+    /// `query,curve,t,x0..,distance`; `i,j,t_i,t_j,x0,x1,tangent,overlap`.
     Csv,
-    /// `{"closest": [{"curve", "t", "point", "distance"}, ...]}`.
+    /// `{"closest": [{"curve", "t", "point", "distance"}, ...]}`;
+    /// `{"intersections": [{"i", "j", "t_i", "t_j", "point", "tangent", "overlap"}, ...]}`.
     Json,
-    /// Arrays "curve" (int64), "t", "point" (Q, D) and "distance".
+    /// Arrays by the JSON keys: "curve" (int64), "t", "point" (Q, D), "distance"; "i", "j"
+    /// (int64), "t_i", "t_j", "point" (N, 2), "tangent", "overlap" (bool).
     Npz,
+}
+
+/// Intersections written as `format` to `out`, in the order given.
+///
+/// # Errors
+/// Any I/O error of `out`.
+pub fn write_intersections(
+    found: &[Intersection],
+    format: QueryFormat,
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let mut text = zmij::Buffer::new();
+    let flag = |b: bool| u8::from(b);
+    match format {
+        QueryFormat::Csv => {
+            writeln!(out, "i,j,t_i,t_j,x0,x1,tangent,overlap")?;
+            for x in found {
+                write!(out, "{},{},{}", x.i, x.j, text.format(x.t_i))?;
+                write!(out, ",{}", text.format(x.t_j))?;
+                write!(out, ",{}", text.format(x.point[0]))?;
+                write!(out, ",{}", text.format(x.point[1]))?;
+                writeln!(out, ",{},{}", flag(x.tangent), flag(x.overlap))?;
+            }
+        }
+        QueryFormat::Json => {
+            write!(out, "{{\"intersections\": [")?;
+            for (k, x) in found.iter().enumerate() {
+                let sep = if k == 0 { "" } else { ", " };
+                write!(
+                    out,
+                    "{sep}{{\"i\": {}, \"j\": {}, \"t_i\": {}",
+                    x.i,
+                    x.j,
+                    text.format(x.t_i)
+                )?;
+                write!(out, ", \"t_j\": {}, \"point\": [", text.format(x.t_j))?;
+                crate::output::write_json_numbers(&x.point, true, &mut &mut *out)?;
+                write!(
+                    out,
+                    "], \"tangent\": {}, \"overlap\": {}}}",
+                    x.tangent, x.overlap
+                )?;
+            }
+            writeln!(out, "]}}")?;
+        }
+        QueryFormat::Npz => {
+            let n = found.len() as u64;
+            let ints = |f: fn(&Intersection) -> usize| -> Vec<i64> {
+                found.iter().map(|x| f(x) as i64).collect()
+            };
+            let floats =
+                |f: fn(&Intersection) -> f64| -> Vec<f64> { found.iter().map(f).collect() };
+            let flags = |f: fn(&Intersection) -> bool| -> Vec<u8> {
+                found.iter().map(|x| u8::from(f(x))).collect()
+            };
+            let (i, j) = (ints(|x| x.i), ints(|x| x.j));
+            let (t_i, t_j) = (floats(|x| x.t_i), floats(|x| x.t_j));
+            let points: Vec<f64> = found.iter().flat_map(|x| x.point).collect();
+            let (tangent, overlap) = (flags(|x| x.tangent), flags(|x| x.overlap));
+            let arrays: [(&str, Dtype, &[u64], &[u8]); 7] = [
+                ("i", Dtype::I64, &[n], bytemuck::cast_slice(&i)),
+                ("j", Dtype::I64, &[n], bytemuck::cast_slice(&j)),
+                ("t_i", Dtype::F64, &[n], bytemuck::cast_slice(&t_i)),
+                ("t_j", Dtype::F64, &[n], bytemuck::cast_slice(&t_j)),
+                ("point", Dtype::F64, &[n, 2], bytemuck::cast_slice(&points)),
+                ("tangent", Dtype::Bool, &[n], &tangent),
+                ("overlap", Dtype::Bool, &[n], &overlap),
+            ];
+            write_npz(out, &arrays)?;
+        }
+    }
+    Ok(())
+}
+
+/// The arrays (name, type, shape, bytes) as an NPZ archive on `out`.
+fn write_npz(out: &mut dyn Write, arrays: &[(&str, Dtype, &[u64], &[u8])]) -> io::Result<()> {
+    let mut npz = NpzWriter::new(out);
+    for &(name, dtype, shape, bytes) in arrays {
+        npz.begin(name, dtype, shape)?;
+        npz.write(bytes)?;
+        npz.end()?;
+    }
+    npz.finish()?;
+    Ok(())
 }
 
 /// Closest points on curves written as `format` to `out`.
@@ -75,7 +161,6 @@ pub fn write_closest(
         }
         QueryFormat::Npz => {
             let q = answers.len() as u64;
-            let mut npz = NpzWriter::new(out);
             let curves: Vec<i64> = answers.curve.iter().map(|&c| c as i64).collect();
             let arrays: [(&str, Dtype, &[u64], &[u8]); 4] = [
                 ("curve", Dtype::I64, &[q], bytemuck::cast_slice(&curves)),
@@ -93,12 +178,7 @@ pub fn write_closest(
                     bytemuck::cast_slice(&answers.distance),
                 ),
             ];
-            for (name, dtype, shape, bytes) in arrays {
-                npz.begin(name, dtype, shape)?;
-                npz.write(bytes)?;
-                npz.end()?;
-            }
-            npz.finish()?;
+            write_npz(out, &arrays)?;
         }
     }
     Ok(())

@@ -1,8 +1,8 @@
-//! `splinegpu query` through the binary: closest points on curves in every format against
-//! hand-derived answers and the library's, every bad query exiting 2 with one message naming
-//! the field and the query's index and writing nothing, and what this build lacks
-//! (intersections, surfaces' closest points and rays, the GPU backend) exiting 1 after the
-//! document was checked.
+//! `splinegpu query` through the binary: closest points and intersections on curves in every
+//! format against hand-derived answers and the library's, every bad query exiting 2 with one
+//! message naming the field and the query's index and writing nothing, and what this build
+//! lacks (surfaces' closest points and rays, the GPU backend) exiting 1 after the document was
+//! checked.
 
 use std::path::Path;
 
@@ -257,11 +257,6 @@ fn what_this_build_lacks_exits_1_after_the_document_is_checked() {
     let dir = tempfile::tempdir().unwrap();
     let cases = [
         (
-            format!(r#"{{"curves": [{CURVE}, {CURVE}], "queries": {{"intersections": "all"}}}}"#),
-            vec![],
-            r#"not supported yet: "intersections" on curves"#,
-        ),
-        (
             format!(r#"{{"surfaces": [{PATCH}], "queries": {{"rays": [[0, 0, 5, 0, 0, -1]]}}}}"#),
             vec![],
             r#"not supported yet: "rays" on surfaces"#,
@@ -283,4 +278,100 @@ fn what_this_build_lacks_exits_1_after_the_document_is_checked() {
         assert!(stderr.contains(want), "{stderr}");
         assert!(out.is_none());
     }
+}
+
+/// The diagonals of the square [0, 3]² (straight Beziers, x = 3t) cross at (1.5, 1.5), t = 1/2
+/// on both; the line y = 0.5 from x = 0 to 3 crosses the first at x = 0.5 (t = 1/6) and the
+/// second at x = 2.5 (t = 5/6); and x ∈ [2, 3.5] on y = 0.5 (x = 2 + 1.5t) crosses the second
+/// there too (t = 1/3) and overlaps the line from x = 2 to 3.
+const CROSSINGS: &str = r#"{"curves": [
+  {"kind": "bezier", "points": [[0, 0], [1, 1], [2, 2], [3, 3]]},
+  {"kind": "bezier", "points": [[0, 3], [1, 2], [2, 1], [3, 0]]},
+  {"kind": "bezier", "points": [[0, 0.5], [1, 0.5], [2, 0.5], [3, 0.5]]},
+  {"kind": "bezier", "points": [[2, 0.5], [2.5, 0.5], [3, 0.5], [3.5, 0.5]]}],
+ "queries": {"intersections": QUERY}}"#;
+
+/// One intersection as the outputs hold it: (i, j, t_i, t_j, x, y, tangent, overlap).
+type Crossing = (i64, i64, f64, f64, f64, f64, bool, bool);
+
+/// CROSSINGS' intersections with "all", in the contract's order.
+fn crossings() -> Vec<Crossing> {
+    vec![
+        (0, 1, 0.5, 0.5, 1.5, 1.5, false, false),
+        (0, 2, 1.0 / 6.0, 1.0 / 6.0, 0.5, 0.5, false, false),
+        (1, 2, 5.0 / 6.0, 5.0 / 6.0, 2.5, 0.5, false, false),
+        (1, 3, 5.0 / 6.0, 1.0 / 3.0, 2.5, 0.5, false, false),
+        (2, 3, 2.0 / 3.0, 0.0, 2.0, 0.5, false, true),
+        (2, 3, 1.0, 2.0 / 3.0, 3.0, 0.5, false, true),
+    ]
+}
+
+#[test]
+fn intersections_in_every_format_are_the_hand_derived_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let doc = CROSSINGS.replace("QUERY", r#""all""#);
+    let want = crossings();
+    let (status, stderr, out) = query(dir.path(), &doc, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let rows = json["intersections"].as_array().unwrap();
+    assert_eq!(rows.len(), want.len(), "{json}");
+    for (row, w) in rows.iter().zip(&want) {
+        assert_eq!(
+            (row["i"].as_i64(), row["j"].as_i64()),
+            (Some(w.0), Some(w.1)),
+            "{row}"
+        );
+        assert!(close(row["t_i"].as_f64().unwrap(), w.2), "{row}");
+        assert!(close(row["t_j"].as_f64().unwrap(), w.3), "{row}");
+        assert!(close(row["point"][0].as_f64().unwrap(), w.4), "{row}");
+        assert!(close(row["point"][1].as_f64().unwrap(), w.5), "{row}");
+        assert_eq!(row["tangent"].as_bool(), Some(w.6), "{row}");
+        assert_eq!(row["overlap"].as_bool(), Some(w.7), "{row}");
+    }
+    let (status, stderr, out) = query(dir.path(), &doc, "out.csv", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let text = String::from_utf8(out.unwrap()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("i,j,t_i,t_j,x0,x1,tangent,overlap"));
+    for (line, w) in lines.zip(&want) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert_eq!((v[0], v[1]), (w.0 as f64, w.1 as f64), "{line}");
+        assert!(close(v[2], w.2) && close(v[3], w.3) && close(v[4], w.4) && close(v[5], w.5));
+        assert_eq!(
+            (v[6], v[7]),
+            (f64::from(u8::from(w.6)), f64::from(u8::from(w.7)))
+        );
+    }
+    let (status, stderr, out) = query(dir.path(), &doc, "out.npz", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let arrays = crate::stream::read_npz(&out.unwrap());
+    assert_eq!(arrays["point"].1, [want.len(), 2]);
+    assert_eq!(arrays["overlap"].0, "|b1");
+    let overlap = &arrays["overlap"].2;
+    assert_eq!(
+        overlap,
+        &want.iter().map(|w| u8::from(w.7)).collect::<Vec<_>>()
+    );
+    let j: Vec<i64> = bytemuck::pod_collect_to_vec(&arrays["j"].2);
+    assert_eq!(j, want.iter().map(|w| w.1).collect::<Vec<_>>());
+}
+
+#[test]
+fn listed_pairs_come_as_written_and_in_their_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let doc = CROSSINGS.replace("QUERY", "[[2, 1], [1, 0], [3, 3]]");
+    let (status, stderr, out) = query(dir.path(), &doc, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let pairs: Vec<(i64, i64)> = json["intersections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["i"].as_i64().unwrap(), r["j"].as_i64().unwrap()))
+        .collect();
+    // A straight line does not meet itself.
+    assert_eq!(pairs, [(2, 1), (1, 0)], "{json}");
+    let first = &json["intersections"][0];
+    assert!(close(first["t_i"].as_f64().unwrap(), 5.0 / 6.0), "{first}");
 }
