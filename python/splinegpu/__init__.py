@@ -25,11 +25,12 @@ os.environ.setdefault("NODEVICE_SELECT", "1")
 from . import _native
 from ._context import Context, Tessellation
 from ._geometry import Meshes
-from ._queries import ClosestPoints
+from ._queries import ClosestPoints, Intersections
 from ._surfaces import SurfaceTessellation
 from .interpolate import CubicSpline, CubicSplines
 
-__all__ = ["KIND_NAMES", "ClosestPoints", "Context", "CubicSpline", "CubicSplines", "Meshes",
+__all__ = ["KIND_NAMES", "ClosestPoints", "Context", "CubicSpline", "CubicSplines",
+           "Intersections", "Meshes",
            "SurfaceTessellation", "Tessellation"]
 
 KIND_NAMES: tuple = tuple(_native.KIND_NAMES)

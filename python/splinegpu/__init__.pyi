@@ -71,6 +71,20 @@ class ClosestPoints:
     def arrays(self) -> dict[str, Any]: ...
     def __len__(self) -> int: ...
 
+class Intersections:
+    """The answers of `Context.intersections`, by the NPZ's names."""
+
+    i: npt.NDArray[np.int64]
+    j: npt.NDArray[np.int64]
+    t_i: npt.NDArray[np.float64]
+    t_j: npt.NDArray[np.float64]
+    point: npt.NDArray[np.float64]
+    tangent: npt.NDArray[np.bool_]
+    overlap: npt.NDArray[np.bool_]
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+
 class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
@@ -111,6 +125,13 @@ class Context:
         points: npt.ArrayLike | None = None,
         **fields: Any,
     ) -> ClosestPoints: ...
+    def intersections(
+        self,
+        curves: _Batch,
+        kind: str = "catmull-rom",
+        pairs: str | npt.ArrayLike = "all",
+        **fields: Any,
+    ) -> Intersections: ...
     def strokes(
         self,
         points: _Batch,

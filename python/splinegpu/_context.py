@@ -10,7 +10,7 @@ import numpy as np
 from . import _native
 from ._geometry import Meshes, meshes
 from ._helpers import _curve_fields, _curve_sampling, _curves, _order
-from ._queries import ClosestPoints, closest
+from ._queries import ClosestPoints, Intersections, closest, intersections
 from ._surfaces import tessellate_surfaces
 
 
@@ -202,6 +202,23 @@ class Context:
         if points is None:
             raise TypeError("closest: missing the query points (points=)")
         return closest(curves, kind, points, fields)
+
+    def intersections(self, curves, kind: str = "catmull-rom", pairs="all",
+                      **fields) -> Intersections:
+        """Every point where two 2-D curves of a batch meet, certified: each isolated meeting
+        point lies within 1e-9 (E + |q|) of a reported one, each reported one is a meeting
+        within that, a crossing is reported once (also at a joint); touching points are
+        flagged `tangent`, and where two curves coincide along a piece its two ends are
+        reported with `overlap` and nothing between them.
+
+        `curves`, `kind` and the kind's fields as `closest` takes them. `pairs`: "all" (every
+        i < j) or (K, 2) curve indices, [i, i] asking for curve i's self-intersections (pairs
+        t_i < t_j; never a joint with itself, nor a closed curve's start with its end).
+        Answered on every CPU thread in float64 on every context.
+
+        Raises ValueError naming the curve, field and value, or the pair, for bad input.
+        """
+        return intersections(curves, kind, pairs, fields)
 
     def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
                             bias=None, matrix=None, patches=None, conditions=None, u=None,

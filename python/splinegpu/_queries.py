@@ -1,6 +1,6 @@
-"""Closest points from NumPy: `Context.closest`, and what it returns, `ClosestPoints` (the
-command line's NPZ arrays for a document with "queries": {"closest": ...}, by the same
-names)."""
+"""Queries from NumPy: `Context.closest` and `Context.intersections`, and what they return,
+`ClosestPoints` and `Intersections` (the command line's NPZ arrays for a document with
+"queries", by the same names)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from ._helpers import _aligned, _curve_fields, _curves, _float64
 
 # The arrays of a result, by the NPZ's names, in its order.
 _ARRAYS = ("curve", "t", "point", "distance")
+_CROSSINGS = ("i", "j", "t_i", "t_j", "point", "tangent", "overlap")
 
 
 class ClosestPoints:
@@ -41,6 +42,38 @@ class ClosestPoints:
         return f"ClosestPoints({len(self.t)} queries, point {self.point.shape})"
 
 
+class Intersections:
+    """The answers of a `Context.intersections` call, as the command line's NPZ holds them,
+    one row per meeting point, sorted by the pair's place (for "all", by i, then j), then t_i,
+    then t_j: `i`, `j` (N,) int64, the curves (i == j: a self-intersection, t_i < t_j);
+    `t_i`, `t_j` (N,) float64, their parameters; `point` (N, 2) float64, curve i at t_i;
+    `tangent` (N,) bool, the curves touch with tangents parallel within 1e-6 radians;
+    `overlap` (N,) bool, an end of a piece along which the curves coincide."""
+
+    __slots__ = _CROSSINGS
+    i: np.ndarray
+    j: np.ndarray
+    t_i: np.ndarray
+    t_j: np.ndarray
+    point: np.ndarray
+    tangent: np.ndarray
+    overlap: np.ndarray
+
+    def __init__(self, arrays: dict):
+        for name in _CROSSINGS:
+            setattr(self, name, arrays[name])
+
+    def arrays(self) -> dict:
+        """The arrays by name, as `ClosestPoints.arrays`."""
+        return {name: getattr(self, name) for name in _CROSSINGS}
+
+    def __len__(self) -> int:
+        return len(self.t_i)
+
+    def __repr__(self) -> str:
+        return f"Intersections({len(self.t_i)} points)"
+
+
 def _queries(points) -> np.ndarray:
     """Query points as a C-ordered (Q, D) float64 array (one point may be given as (D,)),
     every coordinate finite."""
@@ -57,16 +90,46 @@ def _queries(points) -> np.ndarray:
     return _aligned(a, "points")
 
 
-def closest(points, kind: str, queries, fields: dict) -> ClosestPoints:
-    """See `Context.closest`."""
+def _the_curves(points):
+    """The batch of curves as `tessellate` takes it, its errors naming the argument `curves`
+    (`points` are the query points here)."""
     try:
-        curves = _curves(points)
+        return _curves(points)
     except (ValueError, TypeError) as e:
-        # The curves' own points are the argument `curves` here; `points` are the queries.
         message = str(e)
         if message.startswith("points:"):
             raise type(e)("curves:" + message.removeprefix("points:")) from None
         raise
+
+
+def _pairs(pairs, curves: int):
+    """None for "all", else the pairs as a list of [i, j], each index below `curves`."""
+    if isinstance(pairs, str):
+        if pairs != "all":
+            raise ValueError(f'pairs: must be "all" or (K, 2) curve indices, got {pairs!r}')
+        return None
+    a = np.asarray(pairs)
+    if a.dtype.kind not in "iu" or a.ndim != 2 or a.shape[1] != 2:
+        raise ValueError(f'pairs: must be "all" or (K, 2) integer curve indices, got '
+                         f'{a.dtype} of shape {a.shape}')
+    bad = np.flatnonzero(((a < 0) | (a >= curves)).any(axis=1))
+    if len(bad):
+        raise ValueError(f"pairs: pair {bad[0]} = {a[bad[0]].tolist()} names a curve that is "
+                         f"not there ({curves} curves)")
+    return a.astype(np.int64).tolist()
+
+
+def closest(points, kind: str, queries, fields: dict) -> ClosestPoints:
+    """See `Context.closest`."""
+    curves = _the_curves(points)
     kind_fields = _curve_fields(len(curves), **fields)
     return ClosestPoints(_native.closest_points(curves, str(kind), kind_fields,
                                                 _queries(queries)))
+
+
+def intersections(points, kind: str, pairs, fields: dict) -> Intersections:
+    """See `Context.intersections`."""
+    curves = _the_curves(points)
+    kind_fields = _curve_fields(len(curves), **fields)
+    return Intersections(_native.intersections_of(curves, str(kind), kind_fields,
+                                                  _pairs(pairs, len(curves))))

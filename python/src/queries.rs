@@ -1,11 +1,13 @@
-//! Closest points from NumPy (`Context.closest`): curves of one kind fitted on every thread,
-//! the crate's certified [`CurveIndex`] over them, every query point answered on every thread
-//! in f64, as the arrays the command line's NPZ holds ("curve", "t", "point", "distance").
+//! Queries from NumPy: closest points (`Context.closest`: curves of one kind fitted on every
+//! thread, the crate's certified [`CurveIndex`] over them, every query point answered on every
+//! thread in f64) and intersections (`Context.intersections`), as the arrays the command
+//! line's NPZ holds ("curve", "t", "point", "distance"; "i", "j", "t_i", "t_j", "point",
+//! "tangent", "overlap").
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use splinegpu::query::CurveIndex;
+use splinegpu::query::{CurveIndex, Pairs, intersections};
 use splinegpu::{Curve, InputError, Points, SegmentTable};
 
 use crate::args::{Stack2, value_error};
@@ -26,7 +28,6 @@ pub(crate) fn closest_points<'py>(
     queries: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let points = points.items()?;
-    let n = points.len();
     let kinds = KindSource::new(kind, &fields)?;
     let dim = queries.shape()[1];
     if let Some(&(curves_dim, _)) = points.first()
@@ -38,16 +39,7 @@ pub(crate) fn closest_points<'py>(
     }
     let queries = queries.as_slice()?;
     let answers = py
-        .detach(|| {
-            let tables = on_threads(n, |c| -> Result<SegmentTable, InputError> {
-                let (dim, coords) = points[c];
-                let curve = Points::new(dim, coords.to_vec())
-                    .and_then(|points| Curve::new(kinds.kind(c)?, points))
-                    .map_err(|e| e.in_curve(c))?;
-                Ok(curve.fit())
-            })?;
-            CurveIndex::new(&tables)?.closest_many(queries)
-        })
+        .detach(|| CurveIndex::new(&fit(&points, &kinds)?)?.closest_many(queries))
         .map_err(value_error)?;
     let out = PyDict::new(py);
     let q = answers.len();
@@ -60,4 +52,69 @@ pub(crate) fn closest_points<'py>(
     )?;
     out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
     Ok(out)
+}
+
+/// Every intersection of a batch of 2-D curves of one kind (see
+/// `splinegpu.Context.intersections`): `pairs` None for every pair i < j, else the (i, j)
+/// pairs in order. A dict of the NPZ's arrays.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts the Python call's arguments by value"
+)]
+pub(crate) fn intersections_of<'py>(
+    py: Python<'py>,
+    points: Stack2<'py>,
+    kind: &str,
+    fields: CurveFields<'py>,
+    pairs: Option<Vec<[usize; 2]>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let points = points.items()?;
+    let kinds = KindSource::new(kind, &fields)?;
+    let found = py
+        .detach(|| {
+            let pairs = pairs.as_deref().map_or(Pairs::All, Pairs::Listed);
+            intersections(&fit(&points, &kinds)?, pairs)
+        })
+        .map_err(value_error)?;
+    let n = found.len();
+    let out = PyDict::new(py);
+    let ints = |f: fn(&splinegpu::query::Intersection) -> usize| -> Vec<i64> {
+        found.iter().map(|x| f(x) as i64).collect()
+    };
+    out.set_item("i", PyArray1::from_vec(py, ints(|x| x.i)))?;
+    out.set_item("j", PyArray1::from_vec(py, ints(|x| x.j)))?;
+    out.set_item(
+        "t_i",
+        PyArray1::from_vec(py, found.iter().map(|x| x.t_i).collect()),
+    )?;
+    out.set_item(
+        "t_j",
+        PyArray1::from_vec(py, found.iter().map(|x| x.t_j).collect()),
+    )?;
+    let points: Vec<f64> = found.iter().flat_map(|x| x.point).collect();
+    out.set_item("point", PyArray1::from_vec(py, points).reshape([n, 2])?)?;
+    out.set_item(
+        "tangent",
+        PyArray1::from_vec(py, found.iter().map(|x| x.tangent).collect()),
+    )?;
+    out.set_item(
+        "overlap",
+        PyArray1::from_vec(py, found.iter().map(|x| x.overlap).collect()),
+    )?;
+    Ok(out)
+}
+
+/// The batch's curves fitted on every thread, each error placed at its curve.
+fn fit(
+    points: &[(usize, &[f64])],
+    kinds: &KindSource<'_>,
+) -> Result<Vec<SegmentTable>, InputError> {
+    on_threads(points.len(), |c| {
+        let (dim, coords) = points[c];
+        let curve = Points::new(dim, coords.to_vec())
+            .and_then(|points| Curve::new(kinds.kind(c)?, points))
+            .map_err(|e| e.in_curve(c))?;
+        Ok(curve.fit())
+    })
 }

@@ -1,5 +1,5 @@
-"""Context.closest: certified closest points against hand-derived answers and a dense brute
-force, the command line's arrays, and every bad argument refused by name."""
+"""Context.closest and Context.intersections: certified answers against hand-derived ones and
+a dense brute force, the command line's arrays, and every bad argument refused by name."""
 
 import numpy as np
 import pytest
@@ -72,3 +72,41 @@ def test_bad_curves_are_refused_naming_the_curve():
         CPU.closest(np.zeros((2, 4)), "bezier", [[0, 0]])
     with pytest.raises(TypeError, match="points="):
         CPU.closest(LINES, "bezier")
+
+
+# The diagonals of [0, 3]^2 cross at (1.5, 1.5); y = 0.5 crosses them at x = 0.5 and 2.5.
+DIAGONALS = np.array([[[0, 0], [1, 1], [2, 2], [3, 3]], [[0, 3], [1, 2], [2, 1], [3, 0]],
+                      [[0, 0.5], [1, 0.5], [2, 0.5], [3, 0.5]]], float)
+
+
+def test_intersections_hand_derived():
+    r = CPU.intersections(DIAGONALS, "bezier")
+    assert r.i.tolist() == [0, 0, 1] and r.j.tolist() == [1, 2, 2]
+    np.testing.assert_allclose(r.t_i, [0.5, 1 / 6, 5 / 6], atol=1e-12)
+    np.testing.assert_allclose(r.point, [[1.5, 1.5], [0.5, 0.5], [2.5, 0.5]], atol=1e-12)
+    assert r.tangent.dtype == np.bool_ and not r.tangent.any() and not r.overlap.any()
+    listed = CPU.intersections(DIAGONALS, "bezier", pairs=np.array([[2, 1], [0, 0]]))
+    assert listed.i.tolist() == [2] and listed.j.tolist() == [1]
+    np.testing.assert_allclose(listed.t_i, [5 / 6], atol=1e-12)
+
+
+def test_a_loop_meets_itself_once():
+    r = CPU.intersections([[[0, 0], [4, 4], [-1, 4], [3, 0]]], "bezier", pairs=[[0, 0]])
+    assert len(r) == 1 and r.t_i[0] < r.t_j[0]
+
+
+@pytest.mark.parametrize("pairs, match", [
+    ("some", "pairs: must be \"all\""),
+    ([[0, 1, 2]], "pairs: must be \"all\" or \\(K, 2\\) integer"),
+    ([[0.5, 1]], "integer curve indices"),
+    ([[0, 3]], "pairs: pair 0 = \\[0, 3\\] names a curve that is not there"),
+    ([[-1, 0]], "pairs: pair 0"),
+])
+def test_bad_pairs_are_refused_by_name(pairs, match):
+    with pytest.raises(ValueError, match=match):
+        CPU.intersections(DIAGONALS, "bezier", pairs=pairs)
+
+
+def test_intersections_need_2d_curves():
+    with pytest.raises(ValueError, match=r"curve 0.*2 coordinates"):
+        CPU.intersections(np.zeros((2, 4, 3)) + np.arange(4)[None, :, None], "bezier")
