@@ -56,9 +56,9 @@ pub enum BenchError {
 const W1_PLAIN: Option<PlainLoop> = Some(PlainLoop::Grid(32));
 
 /// The workloads, in the order `bench` runs them by default.
-pub const WORKLOADS: [&str; 17] = [
+pub const WORKLOADS: [&str; 18] = [
     "w1", "w1-nurbs", "w1-b", "w1-d", "w1-arc", "w1-tol", "fit-1m", "eval-at", "small", "frame",
-    "cli-w1", "w1-x10", "s1", "teapot", "tubes", "strokes", "q1",
+    "cli-w1", "w1-x10", "s1", "teapot", "tubes", "strokes", "q1", "q2",
 ];
 
 /// The output number type of a cli-w1 path.
@@ -115,6 +115,7 @@ pub fn run(
             "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
             "tubes" | "strokes" => geometry::run(name, gpu, &mut report)?,
             "q1" => queries::q1(&mut report),
+            "q2" => queries::q2(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,
             "w1-nurbs" => evaluation(

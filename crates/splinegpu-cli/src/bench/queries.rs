@@ -1,12 +1,19 @@
-//! The query workloads: q1, the closest points of 100,000 points on 100 open Catmull-Rom
-//! curves of 16 2-D points, each path the whole call (the curves fitted, the index built, every
-//! point answered into new arrays); beside it the plain loop (the same exact solve on every
-//! segment, no index) and kurbo's `nearest` on every segment, both for the first 1,000 points
-//! and scaled to all, kurbo's misses counted against our certified answers.
+//! The query workloads, each path the whole call (the curves fitted, the index built, every
+//! answer into new arrays):
+//! - q1, the closest points of 100,000 points on 100 open Catmull-Rom curves of 16 2-D
+//!   points; beside it the plain loop (the same exact solve on every segment, no index) and
+//!   kurbo's `nearest` on every segment, both for the first 1,000 points and scaled to all,
+//!   kurbo's misses counted against our certified answers;
+//! - q2, every intersection among 1,000 open Catmull-Rom curves of 16 2-D points (random walks
+//!   from uniform starts, so that each meets its neighbours); beside it lyon_geom's
+//!   cubic-cubic intersections on every pair of segments of two curves whose boxes overlap
+//!   (found by a sweep), one thread, the certified intersections it did not report counted.
 
 use std::hint::black_box;
 
-use splinegpu::query::{ClosestPoints, CurveIndex, closest_on_segment};
+use splinegpu::query::{
+    ClosestPoints, CurveIndex, Intersection, Pairs, closest_on_segment, intersections,
+};
 use splinegpu::{Basis, Curve, CurveKind, Ends, Points, SegmentTable};
 
 use crate::bench::anchors::once;
@@ -141,4 +148,158 @@ pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
         .filter(|(k, ours)| **k > **ours + 1e-9 * extent)
         .count() as u64;
     report(&measurement("kurbo", scaled(seconds), Some(misses)));
+}
+
+/// q2's curves: 1,000 open Catmull-Rom curves of 16 points, each a random walk from a uniform
+/// start in [0, 100]² with steps uniform in [-5, 5] on each axis.
+fn q2_curves() -> Vec<Curve> {
+    let mut rng = Rng(48);
+    (0..1000)
+        .map(|_| {
+            let mut p = [rng.range(0.0, 100.0), rng.range(0.0, 100.0)];
+            let mut coords = Vec::with_capacity(32);
+            for _ in 0..16 {
+                coords.extend_from_slice(&p);
+                p = [p[0] + rng.range(-5.0, 5.0), p[1] + rng.range(-5.0, 5.0)];
+            }
+            let kind = CurveKind::Uniform {
+                basis: Basis::CatmullRom,
+                ends: Ends::Repeat,
+            };
+            Curve::new(kind, Points::new(2, coords).expect("finite")).expect("16 points")
+        })
+        .collect()
+}
+
+/// Bytes of one intersection: i, j (int64), t_i, t_j, a 2-D point, two booleans.
+const CROSSING_BYTES: u64 = 8 + 8 + 8 + 8 + 16 + 1 + 1;
+
+/// The whole library call: fit, index, every pair.
+fn crossings(curves: &[Curve]) -> Vec<Intersection> {
+    let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
+    intersections(&tables, Pairs::All).expect("2-D curves")
+}
+
+pub(crate) fn q2(report: &mut impl FnMut(&Measurement)) {
+    let curves = q2_curves();
+    let certified = crossings(&curves);
+    let count = certified.len() as u64;
+    report(&memset("q2", (count * CROSSING_BYTES) as usize));
+    let measurement = |path, (seconds, min_seconds, max_seconds), misses| Measurement {
+        workload: "q2",
+        path,
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: count,
+        bytes: count * CROSSING_BYTES,
+        float: Some("f64"),
+        misses,
+    };
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread");
+    let cpu_1t = time(|| {
+        one_thread.install(|| black_box(crossings(&curves)));
+        None
+    });
+    report(&measurement("cpu-1t", cpu_1t, None));
+    let cpu_all = time(|| {
+        black_box(crossings(&curves));
+        None
+    });
+    report(&measurement("cpu-all", cpu_all, None));
+
+    // lyon_geom: every segment as a cubic Bezier with its curve's index.
+    use lyon_geom::{CubicBezierSegment, point};
+    let segments: Vec<(usize, CubicBezierSegment<f64>)> = curves
+        .iter()
+        .enumerate()
+        .flat_map(|(c, curve)| {
+            let table = curve.fit();
+            (0..table.len())
+                .map(|s| {
+                    let [p0, p1, p2, p3] = table.segment(s).bezier_points().expect("polynomial");
+                    let pt = |p: &[f64]| point(p[0], p[1]);
+                    let bezier = CubicBezierSegment {
+                        from: pt(&p0),
+                        ctrl1: pt(&p1),
+                        ctrl2: pt(&p2),
+                        to: pt(&p3),
+                    };
+                    (c, bezier)
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let mut lyon_points: Vec<[f64; 2]> = Vec::new();
+    let (seconds, _) = once(|| {
+        lyon_points.clear();
+        // A sweep along x over the segments' boxes.
+        let boxes: Vec<_> = segments
+            .iter()
+            .map(|(_, b)| b.fast_bounding_box())
+            .collect();
+        let mut order: Vec<usize> = (0..segments.len()).collect();
+        order.sort_by(|&a, &b| boxes[a].min.x.total_cmp(&boxes[b].min.x));
+        let mut active: Vec<usize> = Vec::new();
+        for &a in &order {
+            active.retain(|&b| boxes[b].max.x >= boxes[a].min.x);
+            for &b in &active {
+                let (ca, cb) = (segments[a].0, segments[b].0);
+                if ca == cb || !boxes[a].intersects(&boxes[b]) && !touching(&boxes[a], &boxes[b]) {
+                    continue;
+                }
+                for (t, _) in segments[a].1.cubic_intersections_t(&segments[b].1) {
+                    let p = segments[a].1.sample(t);
+                    lyon_points.push([p.x, p.y]);
+                }
+            }
+            active.push(a);
+        }
+        lyon_points.len() as u64
+    });
+    // Ours missed by lyon: no lyon point within 1e-6 of the extent (100) of it.
+    let tolerance = 1e-4;
+    let cell = |p: [f64; 2]| {
+        (
+            (p[0] / tolerance).floor() as i64,
+            (p[1] / tolerance).floor() as i64,
+        )
+    };
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<[f64; 2]>> = Default::default();
+    for &p in &lyon_points {
+        grid.entry(cell(p)).or_default().push(p);
+    }
+    let misses = certified
+        .iter()
+        .filter(|x| !x.overlap)
+        .filter(|x| {
+            let (cx, cy) = cell(x.point);
+            let near = (cx - 1..=cx + 1).any(|i| {
+                (cy - 1..=cy + 1).any(|j| {
+                    grid.get(&(i, j)).is_some_and(|ps| {
+                        ps.iter()
+                            .any(|p| (p[0] - x.point[0]).hypot(p[1] - x.point[1]) <= tolerance)
+                    })
+                })
+            });
+            !near
+        })
+        .count() as u64;
+    report(&measurement(
+        "lyon",
+        (seconds, seconds, seconds),
+        Some(misses),
+    ));
+}
+
+/// Whether two boxes touch (share an edge or a corner), which lyon's `intersects` (strict)
+/// leaves out.
+fn touching(
+    a: &lyon_geom::euclid::default::Box2D<f64>,
+    b: &lyon_geom::euclid::default::Box2D<f64>,
+) -> bool {
+    a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y && b.min.y <= a.max.y
 }

@@ -23,6 +23,8 @@
 //! axis orders both pieces' tangents strictly the same way, the pieces lie on either side of
 //! the joint along that axis and share no other point.
 
+use std::collections::HashSet;
+
 use crate::error::InputError;
 use crate::query::closest::closest_on_segment;
 use crate::query::pieces::{Piece, pieces};
@@ -238,23 +240,15 @@ impl<'a> CurveSet<'a> {
         piece_pairs.sort_unstable();
         let mut candidates: Vec<(usize, usize, Candidate)> = Vec::new();
         let mut overlaps: Vec<Overlap> = Vec::new();
-        let mut checked: Vec<(u32, u32)> = Vec::new();
+        // Segment pairs whose overlap was looked for, and those found to overlap.
+        let mut checked: HashSet<(u32, u32)> = HashSet::new();
+        let mut coinciding: HashSet<(u32, u32)> = HashSet::new();
         let closed = i == j && self.is_closed(i);
         for (a, b) in piece_pairs {
             let (pa, pb) = (self.pieces[i][a], self.pieces[j][b]);
             let key = (pa.segment, pb.segment);
             let same_segment = i == j && pa.segment == pb.segment;
-            if !same_segment && !checked.contains(&key) {
-                checked.push(key);
-                if let Some(ends) = self.overlap(i, pa.segment, j, pb.segment) {
-                    overlaps.push(ends);
-                }
-            }
-            if !same_segment
-                && overlaps
-                    .iter()
-                    .any(|o| (o.sa, o.sb) == (pa.segment as usize, pb.segment as usize))
-            {
+            if coinciding.contains(&key) {
                 continue;
             }
             let joint = if i != j {
@@ -272,9 +266,23 @@ impl<'a> CurveSet<'a> {
                 &self.segments[i][pa.segment as usize],
                 &self.segments[j][pb.segment as usize],
             );
-            self.search(sa, [pa.u0, pa.u1], sb, [pb.u0, pb.u1], joint, &mut |c| {
-                candidates.push((pa.segment as usize, pb.segment as usize, c));
-            });
+            let (s, t) = ([pa.u0, pa.u1], [pb.u0, pb.u1]);
+            let push = &mut |c| candidates.push((pa.segment as usize, pb.segment as usize, c));
+            // A few boxes settle a pair of pieces that cross or miss; one that takes more is
+            // looked at for an overlap of its segments first (whose search would never end).
+            let mut found = Vec::new();
+            if self.search(sa, s, sb, t, joint, SEARCH_BUDGET, &mut |c| found.push(c)) {
+                found.into_iter().for_each(push);
+                continue;
+            }
+            if !same_segment && checked.insert(key) {
+                if let Some(ends) = self.overlap(i, pa.segment, j, pb.segment) {
+                    overlaps.push(ends);
+                    coinciding.insert(key);
+                    continue;
+                }
+            }
+            self.search(sa, s, sb, t, joint, usize::MAX, push);
         }
         self.gather(i, j, &candidates, &overlaps)
     }
@@ -316,7 +324,7 @@ impl<'a> CurveSet<'a> {
             }
             let mid = 0.5 * (lo + hi);
             let joint = Some(Joint { s: mid, t: mid });
-            self.search(segment, [lo, mid], segment, [mid, hi], joint, found);
+            self.search(segment, [lo, mid], segment, [mid, hi], joint, usize::MAX, found);
             stack.push([lo, mid]);
             stack.push([mid, hi]);
         }
@@ -331,14 +339,18 @@ impl<'a> CurveSet<'a> {
         b: &PlanarSegment,
         t: Interval,
         joint: Option<Joint>,
+        budget: usize,
         found: &mut impl FnMut(Candidate),
-    ) {
+    ) -> bool {
         // B's origin moved into A's frame: F = A_local(s) − (B_local(t) − shift).
         let shift = [a.origin[0] - b.origin[0], a.origin[1] - b.origin[1]];
         let mut stack = vec![(s, t)];
         let mut steps = 0usize;
         while let Some((s, t)) = stack.pop() {
             steps += 1;
+            if steps > budget {
+                return false;
+            }
             let (box_a, box_b) = (a.local_box(s[0], s[1]), b.local_box(t[0], t[1]));
             let box_b = [
                 [box_b[0][0] - shift[0], box_b[0][1] - shift[0]],
@@ -398,6 +410,7 @@ impl<'a> CurveSet<'a> {
                 stack.push((s, [mid, t[1]]));
             }
         }
+        true
     }
 
     /// Whether segment `sa` of curve i and segment `sb` of curve j coincide along a piece:
@@ -581,6 +594,9 @@ impl<'a> CurveSet<'a> {
         1e-6 * (t1 - t0)
     }
 }
+
+/// The boxes a pair of pieces may look at before its segments are checked for an overlap.
+const SEARCH_BUDGET: usize = 64;
 
 /// The most boxes one pair of pieces may look at before its remaining boxes are reported as
 /// candidates (a bound on the work at a tangency; each such box is within ε of meeting).
