@@ -17,14 +17,11 @@
 //! halve and look again), falling back to isolating them between the roots of h', which are
 //! then tried too (where a pair of roots too close to tell apart would be).
 //!
-//! Over the whole set, the box tree ([`tree::BoxTree`]) gives the pieces of segments nearest
-//! first and leaves every box farther than the best distance found: a piece [u0, u1] of a
-//! segment lies in the box of its own Bezier control points (de Casteljau's, homogeneous for
-//! a rational segment, whose weights stay positive), so no piece left out could be nearer,
-//! and on a piece the same solve runs on [u0, u1]. Segments are cut into pieces no longer
-//! (along their control polygon) than about E / (2√n), n the number of segments, so that a
-//! box is small beside the spacing of the curves: a segment that crosses the whole set would
-//! otherwise hold every query point in its box and be solved for each.
+//! Over the whole set, the box tree (`tree::BoxTree`) gives the pieces of segments
+//! (`pieces`, about E / (8√n) long) nearest first and leaves every box farther than the best
+//! distance found: a piece [u0, u1] of a segment lies in the box of its own Bezier control
+//! points, so no piece left out could be nearer, and on a piece the same solve runs on
+//! [u0, u1].
 
 use crate::error::InputError;
 use crate::parallel::{even_ranges, fan_out_map};
@@ -121,7 +118,7 @@ impl<'a> CurveIndex<'a> {
                 .in_curve(c));
             }
         }
-        let (items, boxes) = pieces(tables, dim);
+        let (items, boxes) = pieces(tables, dim, 8.0);
         Ok(Self {
             tables,
             dim,

@@ -4,8 +4,10 @@
 //! Pairs of pieces whose boxes overlap come from the curves' box trees. On a pair, with A(s)
 //! and B(t) the two segments, the search looks at a box X = S × T of their parameters and
 //! F(s, t) = A(s) − B(t):
-//! - **exclusion by hulls**: the boxes of the two pieces' control points do not meet, so
-//!   neither do the pieces;
+//! - **exclusion by hulls**: the boxes of the two pieces' control points do not meet, or one
+//!   piece's control points all lie on one side of the other's fat line (the band about its
+//!   chord that holds its control points; Sederberg and Nishita, 1990), so neither do the
+//!   pieces;
 //! - **the Krawczyk test** on X' (X widened by a twentieth of its size on each side): with
 //!   x̃ its centre, Y the inverse of F's Jacobian at x̃ and J(X') an interval enclosure of the
 //!   Jacobian [A'(S), −B'(T)] over it ([`planar`](super::planar)),
@@ -28,7 +30,7 @@ use std::collections::HashSet;
 use crate::error::InputError;
 use crate::query::closest::closest_on_segment;
 use crate::query::pieces::{Piece, pieces};
-use crate::query::planar::{Interval, PlanarSegment};
+use crate::query::planar::{Interval, PlanarSegment, fat_line_apart, hull_box};
 use crate::query::tree::BoxTree;
 use crate::segment::SegmentTable;
 
@@ -110,31 +112,54 @@ pub fn intersections(
             ),
         ));
     }
-    let set = CurveSet::new(curves);
-    let wanted: Vec<[usize; 2]> = match pairs {
-        Pairs::Listed(listed) => listed.to_vec(),
-        Pairs::All => set.meeting_pairs(),
+    let set = CurveSet::new(curves, matches!(pairs, Pairs::Listed(_)));
+    // Per pair of curves, the pairs of their pieces whose boxes meet: for "all" from one join
+    // of a tree over every piece with itself, for listed pairs from the two curves' trees.
+    let groups: Vec<PairOfCurves> = match pairs {
+        Pairs::Listed(listed) => listed.iter().map(|&[i, j]| ([i, j], Vec::new())).collect(),
+        Pairs::All => set.meeting_pieces(),
     };
+    let listed = matches!(pairs, Pairs::Listed(_));
     let found = crate::parallel::fan_out_map(
-        crate::parallel::even_ranges(wanted.len(), crate::available_threads() * 4).collect(),
+        crate::parallel::even_ranges(groups.len(), crate::available_threads() * 4).collect(),
         |range: std::ops::Range<usize>| {
+            let mut scratch = Scratch::default();
             range
-                .flat_map(|k| set.pair(wanted[k][0], wanted[k][1]))
+                .flat_map(|k| {
+                    let ([i, j], pieces) = &groups[k];
+                    if listed {
+                        let pieces = set.piece_pairs(*i, *j);
+                        set.pair(*i, *j, &pieces, &mut scratch)
+                    } else {
+                        set.pair(*i, *j, pieces, &mut scratch)
+                    }
+                })
                 .collect::<Vec<_>>()
         },
     );
     Ok(found.into_iter().flatten().collect())
 }
 
+/// Two curves (i, j) and the pairs of their pieces whose boxes meet (indices into each
+/// curve's pieces; empty where they are still to be found).
+type PairOfCurves = ([usize; 2], Vec<(usize, usize)>);
+
+/// Buffers one thread reuses from pair to pair: the search's stack and its candidates.
+#[derive(Default)]
+struct Scratch {
+    stack: Vec<(Interval, Interval)>,
+    found: Vec<Candidate>,
+}
+
 /// The curves, their segments as polynomials, their pieces in box trees (one a curve).
 struct CurveSet<'a> {
     tables: &'a [SegmentTable],
     segments: Vec<Vec<PlanarSegment>>,
-    /// Per curve, its pieces in order (segment, then u) and their tree.
+    /// Per curve, its pieces in order (segment, then u) and (for listed pairs) their tree.
     pieces: Vec<Vec<Piece>>,
     trees: Vec<BoxTree>,
-    /// Per curve, the box of all its pieces (lo x, lo y, hi x, hi y).
-    boxes: Vec<f64>,
+    /// Per curve, its pieces' boxes (lo x, lo y, hi x, hi y each), in its pieces' order.
+    piece_boxes: Vec<Vec<f64>>,
     /// The extent E of ε.
     extent: f64,
 }
@@ -164,35 +189,26 @@ struct Joint {
 }
 
 impl<'a> CurveSet<'a> {
-    fn new(tables: &'a [SegmentTable]) -> Self {
-        let (items, boxes) = pieces(tables, 2);
+    fn new(tables: &'a [SegmentTable], per_curve_trees: bool) -> Self {
+        let (items, boxes) = pieces(tables, 2, 2.0);
         let mut per_curve = vec![Vec::new(); tables.len()];
         let mut per_curve_boxes = vec![Vec::new(); tables.len()];
         for (piece, b) in items.iter().zip(boxes.chunks_exact(4)) {
             per_curve[piece.curve as usize].push(*piece);
             per_curve_boxes[piece.curve as usize].extend_from_slice(b);
         }
-        let trees = per_curve_boxes.iter().map(|b| BoxTree::new(2, b)).collect();
-        let mut curve_boxes = Vec::with_capacity(4 * tables.len());
+        let trees = if per_curve_trees {
+            per_curve_boxes.iter().map(|b| BoxTree::new(2, b)).collect()
+        } else {
+            Vec::new()
+        };
+        // The extent E of ε: the largest range, per axis, of all the pieces' boxes.
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for b in &per_curve_boxes {
-            let mut own = [
-                f64::INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::NEG_INFINITY,
-            ];
-            for piece in b.chunks_exact(4) {
-                for k in 0..2 {
-                    own[k] = own[k].min(piece[k]);
-                    own[2 + k] = own[2 + k].max(piece[2 + k]);
-                }
-            }
+        for b in boxes.chunks_exact(4) {
             for k in 0..2 {
-                lo[k] = lo[k].min(own[k]);
-                hi[k] = hi[k].max(own[2 + k]);
+                lo[k] = lo[k].min(b[k]);
+                hi[k] = hi[k].max(b[2 + k]);
             }
-            curve_boxes.extend_from_slice(&own);
         }
         Self {
             tables,
@@ -206,18 +222,48 @@ impl<'a> CurveSet<'a> {
                 .collect(),
             pieces: per_curve,
             trees,
-            boxes: curve_boxes,
+            piece_boxes: per_curve_boxes,
             extent: (hi[0] - lo[0]).max(hi[1] - lo[1]),
         }
     }
 
-    /// Every pair i < j of curves whose boxes meet.
-    fn meeting_pairs(&self) -> Vec<[usize; 2]> {
-        let tree = BoxTree::new(2, &self.boxes);
-        let mut pairs = Vec::new();
+    /// Every pair i < j of curves with pieces whose boxes meet, with those pairs of pieces
+    /// (their indices in each curve's pieces), from one tree over all the pieces joined with
+    /// itself; in the order of i, then j.
+    fn meeting_pieces(&self) -> Vec<PairOfCurves> {
+        let mut owners = Vec::new();
+        let mut boxes = Vec::new();
+        for (c, tree_boxes) in self.piece_boxes.iter().enumerate() {
+            for (local, b) in tree_boxes.chunks_exact(4).enumerate() {
+                owners.push((c, local));
+                boxes.extend_from_slice(b);
+            }
+        }
+        let tree = BoxTree::new(2, &boxes);
+        let mut meetings = Vec::new();
         tree.overlapping_pairs(&tree, |a, b| {
-            if a < b {
-                pairs.push([a as usize, b as usize]);
+            let ((ca, la), (cb, lb)) = (owners[a as usize], owners[b as usize]);
+            if ca < cb {
+                meetings.push((ca, cb, la, lb));
+            }
+        });
+        meetings.sort_unstable();
+        let mut groups: Vec<PairOfCurves> = Vec::new();
+        for (ca, cb, la, lb) in meetings {
+            match groups.last_mut() {
+                Some((pair, pieces)) if *pair == [ca, cb] => pieces.push((la, lb)),
+                _ => groups.push(([ca, cb], vec![(la, lb)])),
+            }
+        }
+        groups
+    }
+
+    /// The pairs of pieces of curves i and j whose boxes meet (i == j: a <= b), sorted.
+    fn piece_pairs(&self, i: usize, j: usize) -> Vec<(usize, usize)> {
+        let mut pairs = Vec::new();
+        self.trees[i].overlapping_pairs(&self.trees[j], |a, b| {
+            if i != j || a <= b {
+                pairs.push((a as usize, b as usize));
             }
         });
         pairs.sort_unstable();
@@ -230,21 +276,20 @@ impl<'a> CurveSet<'a> {
     }
 
     /// The intersections of curves i and j (i == j: curve i's own), sorted by t_i, then t_j.
-    fn pair(&self, i: usize, j: usize) -> Vec<Intersection> {
-        let mut piece_pairs = Vec::new();
-        self.trees[i].overlapping_pairs(&self.trees[j], |a, b| {
-            if i != j || a <= b {
-                piece_pairs.push((a as usize, b as usize));
-            }
-        });
-        piece_pairs.sort_unstable();
+    fn pair(
+        &self,
+        i: usize,
+        j: usize,
+        piece_pairs: &[(usize, usize)],
+        scratch: &mut Scratch,
+    ) -> Vec<Intersection> {
         let mut candidates: Vec<(usize, usize, Candidate)> = Vec::new();
         let mut overlaps: Vec<Overlap> = Vec::new();
         // Segment pairs whose overlap was looked for, and those found to overlap.
         let mut checked: HashSet<(u32, u32)> = HashSet::new();
         let mut coinciding: HashSet<(u32, u32)> = HashSet::new();
         let closed = i == j && self.is_closed(i);
-        for (a, b) in piece_pairs {
+        for &(a, b) in piece_pairs {
             let (pa, pb) = (self.pieces[i][a], self.pieces[j][b]);
             let key = (pa.segment, pb.segment);
             let same_segment = i == j && pa.segment == pb.segment;
@@ -255,9 +300,9 @@ impl<'a> CurveSet<'a> {
                 None
             } else if a == b {
                 // One piece against itself: its loop, if any.
-                self.self_piece(i, pa, &mut |c| {
-                    candidates.push((pa.segment as usize, pa.segment as usize, c))
-                });
+                self.self_piece(i, pa, scratch);
+                let tag = |c| (pa.segment as usize, pa.segment as usize, c);
+                candidates.extend(scratch.found.drain(..).map(tag));
                 continue;
             } else {
                 self.joint(i, a, b, closed)
@@ -267,22 +312,23 @@ impl<'a> CurveSet<'a> {
                 &self.segments[j][pb.segment as usize],
             );
             let (s, t) = ([pa.u0, pa.u1], [pb.u0, pb.u1]);
-            let push = &mut |c| candidates.push((pa.segment as usize, pb.segment as usize, c));
+            let tag = |c| (pa.segment as usize, pb.segment as usize, c);
             // A few boxes settle a pair of pieces that cross or miss; one that takes more is
             // looked at for an overlap of its segments first (whose search would never end).
-            let mut found = Vec::new();
-            if self.search(sa, s, sb, t, joint, SEARCH_BUDGET, &mut |c| found.push(c)) {
-                found.into_iter().for_each(push);
+            let settled = self.search((sa, s), (sb, t), joint, SEARCH_BUDGET, scratch);
+            if !settled
+                && !same_segment
+                && checked.insert(key)
+                && let Some(ends) = self.overlap(i, pa.segment, j, pb.segment)
+            {
+                overlaps.push(ends);
+                coinciding.insert(key);
                 continue;
             }
-            if !same_segment && checked.insert(key) {
-                if let Some(ends) = self.overlap(i, pa.segment, j, pb.segment) {
-                    overlaps.push(ends);
-                    coinciding.insert(key);
-                    continue;
-                }
+            if !settled {
+                self.search((sa, s), (sb, t), joint, usize::MAX, scratch);
             }
-            self.search(sa, s, sb, t, joint, usize::MAX, push);
+            candidates.extend(scratch.found.drain(..).map(tag));
         }
         self.gather(i, j, &candidates, &overlaps)
     }
@@ -315,7 +361,7 @@ impl<'a> CurveSet<'a> {
     /// A piece's meetings with itself: none where some axis orders its tangents one way (the
     /// piece is then monotone along it); otherwise its two halves against each other (meeting
     /// at the middle, a joint) and each against itself.
-    fn self_piece(&self, c: usize, piece: Piece, found: &mut impl FnMut(Candidate)) {
+    fn self_piece(&self, c: usize, piece: Piece, scratch: &mut Scratch) {
         let segment = &self.segments[c][piece.segment as usize];
         let mut stack = vec![[piece.u0, piece.u1]];
         while let Some([lo, hi]) = stack.pop() {
@@ -324,42 +370,50 @@ impl<'a> CurveSet<'a> {
             }
             let mid = 0.5 * (lo + hi);
             let joint = Some(Joint { s: mid, t: mid });
-            self.search(segment, [lo, mid], segment, [mid, hi], joint, usize::MAX, found);
+            let (left, right) = ((segment, [lo, mid]), (segment, [mid, hi]));
+            self.search(left, right, joint, usize::MAX, scratch);
             stack.push([lo, mid]);
             stack.push([mid, hi]);
         }
     }
 
-    /// The search of the module docs on the pieces `s` of `a` and `t` of `b`; `joint`, where
-    /// the pieces are neighbours on one curve.
+    /// The search of the module docs on the pieces `s` of `a` and `t` of `b` (`joint`, where
+    /// they are neighbours on one curve), its candidates added to `scratch.found`. False,
+    /// with none added, where it would look at more than `budget` boxes.
     fn search(
         &self,
-        a: &PlanarSegment,
-        s: Interval,
-        b: &PlanarSegment,
-        t: Interval,
+        (a, s): (&PlanarSegment, Interval),
+        (b, t): (&PlanarSegment, Interval),
         joint: Option<Joint>,
         budget: usize,
-        found: &mut impl FnMut(Candidate),
+        scratch: &mut Scratch,
     ) -> bool {
         // B's origin moved into A's frame: F = A_local(s) − (B_local(t) − shift).
         let shift = [a.origin[0] - b.origin[0], a.origin[1] - b.origin[1]];
-        let mut stack = vec![(s, t)];
+        let (stack, found) = (&mut scratch.stack, &mut scratch.found);
+        let kept = found.len();
+        stack.clear();
+        stack.push((s, t));
         let mut steps = 0usize;
+        let mut found = |c| found.push(c);
         while let Some((s, t)) = stack.pop() {
             steps += 1;
             if steps > budget {
+                scratch.found.truncate(kept);
                 return false;
             }
-            let (box_a, box_b) = (a.local_box(s[0], s[1]), b.local_box(t[0], t[1]));
-            let box_b = [
-                [box_b[0][0] - shift[0], box_b[0][1] - shift[0]],
-                [box_b[1][0] - shift[1], box_b[1][1] - shift[1]],
-            ];
+            let points_a = a.local_points(s[0], s[1]);
+            let points_b = b
+                .local_points(t[0], t[1])
+                .map(|p| [p[0] - shift[0], p[1] - shift[1]]);
+            let (box_a, box_b) = (hull_box(&points_a), hull_box(&points_b));
             let point = [a.origin[0] + box_a[0][0], a.origin[1] + box_a[1][0]];
             let eps = self.eps(point);
             let pad = 0.25 * eps;
-            if (0..2).any(|k| box_a[k][0] > box_b[k][1] + pad || box_b[k][0] > box_a[k][1] + pad) {
+            if (0..2).any(|k| box_a[k][0] > box_b[k][1] + pad || box_b[k][0] > box_a[k][1] + pad)
+                || fat_line_apart(&points_a, &points_b, pad)
+                || fat_line_apart(&points_b, &points_a, pad)
+            {
                 continue;
             }
             let at_joint =

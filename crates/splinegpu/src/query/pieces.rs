@@ -2,8 +2,9 @@
 //! the box of its own Bezier control points (de Casteljau's, homogeneous for a rational
 //! segment, whose weights stay positive), which holds every point of the piece.
 //!
-//! Segments are cut into pieces no longer (along their control polygon) than about E / (2√n),
-//! E the extent of all the control points and n the number of segments, at most
+//! Segments are cut into pieces no longer (along their control polygon) than E / (k√n), E the
+//! extent of all the control points, n the number of segments and k the caller's fineness
+//! (measured on the bench's q1 and q2: 8 for closest points, 2 for intersections), at most
 //! [`MAX_PIECES`] a segment: a box small beside the spacing of the curves prunes, where a
 //! segment that crosses the whole set would hold most query points (or most other segments)
 //! in its box.
@@ -29,7 +30,7 @@ const MAX_PIECES: usize = 64;
 /// Every segment of `tables` cut into pieces (module docs), and each piece's box, `lo` then
 /// `hi`, widened by a few units in the last place of its coordinates for the rounding of the
 /// conversion and the subdivision.
-pub(crate) fn pieces(tables: &[SegmentTable], dim: usize) -> (Vec<Piece>, Vec<f64>) {
+pub(crate) fn pieces(tables: &[SegmentTable], dim: usize, fineness: f64) -> (Vec<Piece>, Vec<f64>) {
     let beziers: Vec<Vec<RationalBezier>> = tables
         .iter()
         .map(|t| {
@@ -49,7 +50,7 @@ pub(crate) fn pieces(tables: &[SegmentTable], dim: usize) -> (Vec<Piece>, Vec<f6
         }
     }
     let extent = (0..dim).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    let longest = extent / (2.0 * (count as f64).sqrt());
+    let longest = extent / (fineness * (count as f64).sqrt());
     let mut items = Vec::with_capacity(count);
     let mut boxes = Vec::with_capacity(count * 2 * dim);
     let mut scratch = Vec::with_capacity(4 * (dim + 1));

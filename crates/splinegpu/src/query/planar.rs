@@ -10,7 +10,7 @@
 //!   Bernstein coefficients on [lo, hi] and W² between the squares of W's, so P'_k lies in
 //!   their interval quotient (W² > 0).
 
-use crate::query::roots::{Poly, bernstein, bernstein_of_degree};
+use crate::query::roots::{Poly, bernstein, cubic_bernstein};
 use crate::segment::Segment;
 
 /// A closed interval [lo, hi].
@@ -61,20 +61,20 @@ impl PlanarSegment {
         [self.t[0].at(u) / (w * w), self.t[1].at(u) / (w * w)]
     }
 
-    /// A box holding the piece [lo, hi] of the segment relative to its origin, per axis.
-    pub(crate) fn local_box(&self, lo: f64, hi: f64) -> [Interval; 2] {
-        // Both written in degree 3 (N is a cubic, W at most one): the ratios of the
-        // homogeneous control points.
-        let w = bernstein_of_degree(&self.w, 3, lo, hi);
-        std::array::from_fn(|k| {
-            let x = bernstein_of_degree(&self.n[k], 3, lo, hi);
-            let mut range = [f64::INFINITY, f64::NEG_INFINITY];
-            for i in 0..=3 {
-                let v = if self.polynomial { x[i] } else { x[i] / w[i] };
-                range = [range[0].min(v), range[1].max(v)];
-            }
-            range
-        })
+    /// The (projected) Bezier control points of the piece [lo, hi] relative to the origin:
+    /// the ratios of the homogeneous control points (N's and W's Bernstein coefficients, both
+    /// written in degree 3). The piece lies in their convex hull.
+    pub(crate) fn local_points(&self, lo: f64, hi: f64) -> [[f64; 2]; 4] {
+        let w = if self.polynomial {
+            [1.0; 4]
+        } else {
+            cubic_bernstein(&self.w, lo, hi)
+        };
+        let (x, y) = (
+            cubic_bernstein(&self.n[0], lo, hi),
+            cubic_bernstein(&self.n[1], lo, hi),
+        );
+        std::array::from_fn(|i| [x[i] / w[i], y[i] / w[i]])
     }
 
     /// A box holding dP/du over [lo, hi], per axis.
@@ -101,6 +101,39 @@ impl PlanarSegment {
     }
 }
 
+/// The box of control points, per axis.
+pub(crate) fn hull_box(points: &[[f64; 2]; 4]) -> [Interval; 2] {
+    std::array::from_fn(|k| {
+        points
+            .iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, p| {
+                [r[0].min(p[k]), r[1].max(p[k])]
+            })
+    })
+}
+
+/// Whether the hulls of two sets of control points are apart by Sederberg's fat line: all of
+/// `b`'s points lie on one side of the band, about the chord of `a`, that holds `a`'s (wider
+/// by `pad`). A piece lies in its points' hull, so then the pieces do not meet.
+pub(crate) fn fat_line_apart(a: &[[f64; 2]; 4], b: &[[f64; 2]; 4], pad: f64) -> bool {
+    let (d, e) = (a[0], a[3]);
+    let n = [d[1] - e[1], e[0] - d[0]];
+    let length = (n[0] * n[0] + n[1] * n[1]).sqrt();
+    if length == 0.0 || !length.is_finite() {
+        return false;
+    }
+    let side = |p: &[f64; 2]| ((p[0] - d[0]) * n[0] + (p[1] - d[1]) * n[1]) / length;
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for p in &a[1..3] {
+        let s = side(p);
+        lo = lo.min(s);
+        hi = hi.max(s);
+    }
+    let (lo, hi) = (lo - pad, hi + pad);
+    let sides = b.map(|p| side(&p));
+    sides.iter().all(|&s| s < lo) || sides.iter().all(|&s| s > hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,7 +152,10 @@ mod tests {
         for s in 0..table.len() {
             let segment = PlanarSegment::new(&table.segment(s));
             for (lo, hi) in [(0.0, 1.0), (0.2, 0.45), (0.9, 1.0)] {
-                let (b, d) = (segment.local_box(lo, hi), segment.derivative_box(lo, hi));
+                let (b, d) = (
+                    hull_box(&segment.local_points(lo, hi)),
+                    segment.derivative_box(lo, hi),
+                );
                 for i in 0..=50 {
                     let u = lo + (hi - lo) * i as f64 / 50.0;
                     let (p, dp) = (segment.local(u), segment.derivative(u));

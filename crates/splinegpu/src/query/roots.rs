@@ -43,7 +43,7 @@ impl Poly {
 
     /// p(u) and p'(u) in one Horner pass.
     #[inline]
-    fn at_with_slope(&self, u: f64) -> (f64, f64) {
+    pub(crate) fn at_with_slope(&self, u: f64) -> (f64, f64) {
         let mut p = 0.0;
         let mut dp = 0.0;
         for &c in self.c[..=self.degree].iter().rev() {
@@ -136,6 +136,18 @@ fn isolate(p: &Poly, b: &[f64], lo: f64, hi: f64, depth: usize, visit: &mut impl
 /// there lie between the least and the largest of them.
 pub(crate) fn bernstein(p: &Poly, lo: f64, hi: f64) -> [f64; MAX_DEGREE + 1] {
     bernstein_of_degree(p, p.degree, lo, hi)
+}
+
+/// The Bernstein coefficients of a polynomial of degree at most 3 on [lo, hi], written in
+/// degree 3, from its values and slopes at the ends (h = hi − lo): p(lo), p(lo) + h p'(lo)/3,
+/// p(hi) − h p'(hi)/3, p(hi).
+#[inline]
+pub(crate) fn cubic_bernstein(p: &Poly, lo: f64, hi: f64) -> [f64; 4] {
+    debug_assert!(p.degree <= 3);
+    let h = hi - lo;
+    let (a, da) = p.at_with_slope(lo);
+    let (b, db) = p.at_with_slope(hi);
+    [a, a + h * da / 3.0, b - h * db / 3.0, b]
 }
 
 /// [`bernstein`] written in degree `n` (>= p's degree, <= [`MAX_DEGREE`]): n + 1 coefficients.
@@ -396,6 +408,23 @@ mod tests {
             .zip(want_left[..4].iter().chain(&want_right[..4]))
         {
             assert!((a - b).abs() < 1e-15, "{a} {b}");
+        }
+    }
+
+    #[test]
+    fn cubic_bernstein_is_the_general_one_in_degree_3() {
+        for p in [
+            from_roots(2.0, &[0.1, 0.7, 1.3]),
+            from_roots(-1.0, &[0.4, 0.5]),
+            Poly::new(&[3.0]),
+        ] {
+            let (got, want) = (
+                cubic_bernstein(&p, 0.2, 0.9),
+                bernstein_of_degree(&p, 3, 0.2, 0.9),
+            );
+            for (a, b) in got.iter().zip(&want) {
+                assert!((a - b).abs() < 1e-14, "{got:?} {want:?}");
+            }
         }
     }
 

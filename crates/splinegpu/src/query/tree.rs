@@ -48,7 +48,12 @@ impl BoxTree {
         };
         if count > 0 {
             let mut order = std::mem::take(&mut tree.order);
-            tree.build(item_boxes, &mut order, 0);
+            // Each item's centre (doubled), looked up by the splits.
+            let centres: Vec<f64> = item_boxes
+                .chunks_exact(2 * dim)
+                .flat_map(|b| (0..dim).map(move |k| b[k] + b[dim + k]))
+                .collect();
+            tree.build(item_boxes, &centres, &mut order, 0);
             for &item in &order {
                 let b = &item_boxes[item as usize * 2 * dim..][..2 * dim];
                 tree.item_boxes.extend_from_slice(b);
@@ -60,7 +65,13 @@ impl BoxTree {
 
     /// Builds the node over `items` (a slice of `order` starting at `offset`), returning its
     /// index.
-    fn build(&mut self, item_boxes: &[f64], items: &mut [u32], offset: usize) -> u32 {
+    fn build(
+        &mut self,
+        item_boxes: &[f64],
+        centres: &[f64],
+        items: &mut [u32],
+        offset: usize,
+    ) -> u32 {
         let dim = self.dim;
         let at = self.nodes.len();
         self.nodes.push(Node {
@@ -88,18 +99,15 @@ impl BoxTree {
             };
             return at as u32;
         }
-        let centre = |item: u32, axis: usize| {
-            let b = &item_boxes[item as usize * 2 * dim..];
-            b[axis] + b[dim + axis]
-        };
+        let centre = |item: u32, axis: usize| centres[item as usize * dim + axis];
         let axis = (0..dim)
             .max_by(|&i, &j| (hi[i] - lo[i]).total_cmp(&(hi[j] - lo[j])))
             .unwrap_or(0);
         let half = items.len() / 2;
         items.select_nth_unstable_by(half, |&a, &b| centre(a, axis).total_cmp(&centre(b, axis)));
         let (left, right) = items.split_at_mut(half);
-        let first = self.build(item_boxes, left, offset);
-        let second = self.build(item_boxes, right, offset + half);
+        let first = self.build(item_boxes, centres, left, offset);
+        let second = self.build(item_boxes, centres, right, offset + half);
         self.nodes[at] = Node {
             first,
             second,
