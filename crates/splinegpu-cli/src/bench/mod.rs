@@ -817,6 +817,26 @@ mod tests {
     }
 
     #[test]
+    fn an_anchors_misses_end_its_json_line_and_others_have_none() {
+        let mut m = Measurement {
+            workload: "q1",
+            path: "kurbo",
+            seconds: 2.0,
+            min_seconds: 2.0,
+            max_seconds: 2.0,
+            samples: 10,
+            bytes: 400,
+            float: Some("f64"),
+            misses: Some(3),
+        };
+        let line: serde_json::Value = serde_json::from_str(&m.to_json()).unwrap();
+        assert_eq!(line["misses"], 3);
+        assert_eq!(line["float"], "f64");
+        m.misses = None;
+        assert!(!m.to_json().contains("misses"));
+    }
+
+    #[test]
     fn long_runs_are_repeated_the_fewest_times() {
         let mut calls = 0;
         let step = std::time::Duration::from_secs_f64(TIMED_SECONDS / REPETITIONS as f64);
