@@ -10,10 +10,13 @@
 
 mod closest;
 mod intersect;
+mod nets;
 mod pieces;
 mod planar;
 mod roots;
+mod surfaces;
 mod tree;
 
 pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
 pub use intersect::{Intersection, Pairs, intersections};
+pub use surfaces::{RayHit, SurfaceIndex, SurfacePoint};

@@ -156,6 +156,64 @@ impl BoxTree {
         }
     }
 
+    /// Every item whose box the ray o + s d (d a unit vector) enters at some s in [0, `best`],
+    /// `best` lowered by `visit` as it goes, nearer entries first; the walk leaves every node
+    /// the ray enters beyond `best`, or misses.
+    pub(crate) fn along_ray(
+        &self,
+        o: &[f64],
+        d: &[f64],
+        best: &mut f64,
+        mut visit: impl FnMut(u32, &mut f64),
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let entry = |b: &[f64]| -> Option<f64> {
+            let (mut enter, mut exit) = (0.0f64, f64::INFINITY);
+            for k in 0..self.dim {
+                let (lo, hi) = (b[k], b[self.dim + k]);
+                if d[k] == 0.0 {
+                    if o[k] < lo || o[k] > hi {
+                        return None;
+                    }
+                    continue;
+                }
+                let (a, c) = ((lo - o[k]) / d[k], (hi - o[k]) / d[k]);
+                enter = enter.max(a.min(c));
+                exit = exit.min(a.max(c));
+            }
+            (enter <= exit).then_some(enter)
+        };
+        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
+        if let Some(s) = entry(self.node_boxes(0)) {
+            stack.push((s, 0));
+        }
+        while let Some((s, at)) = stack.pop() {
+            if s > *best {
+                continue;
+            }
+            let node = self.nodes[at as usize];
+            if node.leaf {
+                for i in node.first as usize..node.second as usize {
+                    let b = &self.item_boxes[i * 2 * self.dim..][..2 * self.dim];
+                    if entry(b).is_some_and(|s| s <= *best) {
+                        visit(self.order[i], best);
+                    }
+                }
+                continue;
+            }
+            let children = [node.first, node.second].map(|c| (entry(self.node_boxes(c)), c));
+            let mut children: Vec<(f64, u32)> = children
+                .into_iter()
+                .filter_map(|(s, c)| s.map(|s| (s, c)))
+                .collect();
+            // The nearer entry is popped first.
+            children.sort_by(|x, y| y.0.total_cmp(&x.0));
+            stack.extend(children);
+        }
+    }
+
     /// Every pair of items (a from this tree, b from `other`) whose own boxes overlap, each
     /// once, handed to `visit(a, b)`.
     pub(crate) fn overlapping_pairs(&self, other: &Self, mut visit: impl FnMut(u32, u32)) {

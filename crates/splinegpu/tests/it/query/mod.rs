@@ -1,4 +1,6 @@
-//! Queries against brute force: closest points on adversarial curve sets.
+//! Queries against brute force and closed forms: closest points and intersections of curves,
+//! closest points and rays on surfaces.
 
 mod closest;
 mod intersections;
+mod surfaces;
