@@ -8,7 +8,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
 use splinegpu::geometry::GeometryJob;
-use splinegpu::query::{ClosestPoints, CurveIndex, Intersection, Pairs, intersections};
+use splinegpu::query::{
+    ClosestPoints, CurveIndex, Intersection, Pairs, RayHit, SurfaceIndex, SurfacePoint,
+    intersections,
+};
 use splinegpu::surface::SurfaceJob;
 use splinegpu_cli::document::geometry::GeometryDocument;
 use splinegpu_cli::document::queries::{Queries, QueryTarget};
@@ -46,9 +49,9 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
     },
-    /// Answer a document's "queries": the closest points of its curves to many points, or
-    /// every intersection of its 2-D curves (closest points and rays on surfaces are checked
-    /// and then refused as not supported yet). Answers come in CSV, JSON or NPZ.
+    /// Answer a document's "queries": the closest points of its curves or surfaces to many
+    /// points, every intersection of its 2-D curves, or the first hits of rays on its 3-D
+    /// surfaces, certified, on the CPU. Answers come in CSV, JSON or NPZ.
     Query {
         /// The input document, or `-` for standard input.
         input: String,
@@ -291,10 +294,13 @@ fn tessellate(
 enum Answers {
     Closest(ClosestPoints),
     Intersections(Vec<Intersection>),
+    /// Closest points on surfaces of D coordinates.
+    SurfaceClosest(Vec<SurfacePoint>, usize),
+    Rays(Vec<Option<RayHit>>),
 }
 
-/// A query document answered and written: closest points on curves on the CPU; what this
-/// build cannot answer yet is checked first, then refused with exit 1.
+/// A query document answered on the CPU and written; `--backend gpu`, which this build cannot
+/// answer yet, is refused with exit 1 once the document is checked.
 fn query(
     input: &str,
     output: Option<&Path>,
@@ -320,38 +326,40 @@ fn query(
             ));
         }
     };
-    let QueryTarget::Curves(tables) = &document.target else {
-        return Err(Failure::other(format!(
-            "not supported yet: \"{}\" on surfaces",
-            document.queries.name()
-        )));
-    };
     if backend == Backend::Gpu {
         return Err(Failure::other(
             "not supported yet: queries on the GPU (use --backend cpu or auto)",
         ));
     }
-    let answers = match &document.queries {
-        Queries::Closest(points) => {
+    let located = |e: splinegpu::InputError| Failure::input(e.in_document());
+    let answers = match (&document.target, &document.queries) {
+        (QueryTarget::Curves(tables), Queries::Closest(points)) => {
             let index = CurveIndex::new(tables).map_err(Failure::input)?;
-            Answers::Closest(
-                index
-                    .closest_many(points)
-                    .map_err(|e| Failure::input(e.in_document()))?,
-            )
+            Answers::Closest(index.closest_many(points).map_err(located)?)
         }
-        Queries::Intersections(listed) => {
+        (QueryTarget::Curves(tables), Queries::Intersections(listed)) => {
             let pairs = listed.as_deref().map_or(Pairs::All, Pairs::Listed);
-            Answers::Intersections(
-                intersections(tables, pairs).map_err(|e| Failure::input(e.in_document()))?,
-            )
+            Answers::Intersections(intersections(tables, pairs).map_err(located)?)
         }
-        Queries::Rays(_) => unreachable!("rays are refused on curves when the document is read"),
+        (QueryTarget::Surfaces(tables), Queries::Closest(points)) => {
+            let index = SurfaceIndex::new(tables).map_err(Failure::input)?;
+            let dim = index.dim();
+            Answers::SurfaceClosest(index.closest_many(points).map_err(located)?, dim)
+        }
+        (QueryTarget::Surfaces(tables), Queries::Rays(rays)) => {
+            let index = SurfaceIndex::new(tables).map_err(Failure::input)?;
+            Answers::Rays(index.rays_many(rays).map_err(located)?)
+        }
+        _ => unreachable!("the document's checks pair each query with its target"),
     };
     let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
         match &answers {
             Answers::Closest(closest) => query_output::write_closest(closest, format, out)?,
             Answers::Intersections(found) => query_output::write_intersections(found, format, out)?,
+            Answers::SurfaceClosest(closest, dim) => {
+                query_output::write_surface_closest(closest, *dim, format, out)?;
+            }
+            Answers::Rays(hits) => query_output::write_rays(hits, format, out)?,
         }
         Ok(())
     };

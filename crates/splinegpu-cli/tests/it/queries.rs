@@ -1,8 +1,8 @@
-//! `splinegpu query` through the binary: closest points and intersections on curves in every
-//! format against hand-derived answers and the library's, every bad query exiting 2 with one
-//! message naming the field and the query's index and writing nothing, and what this build
-//! lacks (surfaces' closest points and rays, the GPU backend) exiting 1 after the document was
-//! checked.
+//! `splinegpu query` through the binary: closest points and intersections on curves, closest
+//! points and rays on surfaces, in every format against hand-derived answers and the
+//! library's, every bad query exiting 2 with one message naming the field and the query's
+//! index and writing nothing, and what this build lacks (the GPU backend) exiting 1 after the
+//! document was checked.
 
 use std::path::Path;
 
@@ -255,23 +255,11 @@ fn documents_in_the_wrong_command_exit_2() {
 #[test]
 fn what_this_build_lacks_exits_1_after_the_document_is_checked() {
     let dir = tempfile::tempdir().unwrap();
-    let cases = [
-        (
-            format!(r#"{{"surfaces": [{PATCH}], "queries": {{"rays": [[0, 0, 5, 0, 0, -1]]}}}}"#),
-            vec![],
-            r#"not supported yet: "rays" on surfaces"#,
-        ),
-        (
-            format!(r#"{{"surfaces": [{PATCH}], "queries": {{"closest": [[1, 1, 1]]}}}}"#),
-            vec![],
-            r#"not supported yet: "closest" on surfaces"#,
-        ),
-        (
-            LINES.to_string(),
-            vec!["--backend", "gpu"],
-            "not supported yet: queries on the GPU",
-        ),
-    ];
+    let cases = [(
+        LINES.to_string(),
+        vec!["--backend", "gpu"],
+        "not supported yet: queries on the GPU",
+    )];
     for (doc, args, want) in &cases {
         let (status, stderr, out) = query(dir.path(), doc, "out.json", args);
         assert_eq!(status, 1, "{doc}: {stderr}");
@@ -374,4 +362,92 @@ fn listed_pairs_come_as_written_and_in_their_order() {
     assert_eq!(pairs, [(2, 1), (1, 0)], "{json}");
     let first = &json["intersections"][0];
     assert!(close(first["t_i"].as_f64().unwrap(), 5.0 / 6.0), "{first}");
+}
+
+/// A flat bicubic Bezier patch over [0, 3]² at z = 0 (x = 3u, y = 3v), as a net and as a
+/// patch list: (1, 2, 5) is 5 above (1, 2, 0), at (u, v) = (1/3, 2/3); a ray down from it hits
+/// there at s = 5 with normal ±z; a ray upward meets nothing.
+const FLAT: &str = r#"[[[0,0,0],[0,1,0],[0,2,0],[0,3,0]],[[1,0,0],[1,1,0],[1,2,0],[1,3,0]],
+  [[2,0,0],[2,1,0],[2,2,0],[2,3,0]],[[3,0,0],[3,1,0],[3,2,0],[3,3,0]]]"#;
+
+#[test]
+fn closest_points_and_rays_on_surfaces_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let net =
+        format!(r#"{{"surfaces": [{{"kind": "bezier", "points": {FLAT}}}], "queries": QUERY}}"#);
+    let closest = net.replace("QUERY", r#"{"closest": [[1, 2, 5]]}"#);
+    let (status, stderr, out) = query(dir.path(), &closest, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let row = &json["closest"][0];
+    assert_eq!(row["surface"].as_u64(), Some(0));
+    assert!(row.get("patch").is_none(), "a net has no patch: {row}");
+    assert!(
+        close(row["u"].as_f64().unwrap(), 1.0 / 3.0)
+            && close(row["v"].as_f64().unwrap(), 2.0 / 3.0)
+    );
+    assert!(close(row["distance"].as_f64().unwrap(), 5.0), "{row}");
+    let (status, stderr, out) = query(dir.path(), &closest, "out.csv", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let text = String::from_utf8(out.unwrap()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("query,surface,patch,u,v,x0,x1,x2,distance")
+    );
+    assert!(lines.next().unwrap().starts_with("0,0,,"), "{text}");
+    let rays = net.replace(
+        "QUERY",
+        r#"{"rays": [[1, 2, 5, 0, 0, -2], [1, 2, 5, 0, 0, 1]]}"#,
+    );
+    let (status, stderr, out) = query(dir.path(), &rays, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    let hit = &json["rays"][0];
+    assert!(close(hit["s"].as_f64().unwrap(), 5.0), "{hit}");
+    assert!(
+        close(hit["normal"][2].as_f64().unwrap().abs(), 1.0),
+        "{hit}"
+    );
+    assert!(
+        close(hit["point"][0].as_f64().unwrap(), 1.0)
+            && close(hit["point"][1].as_f64().unwrap(), 2.0)
+    );
+    assert!(json["rays"][1].is_null(), "{json}");
+    let (status, stderr, out) = query(dir.path(), &rays, "out.csv", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let text = String::from_utf8(out.unwrap()).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("query,hit,surface,patch,u,v,s,x,y,z,nx,ny,nz")
+    );
+    assert_eq!(text.lines().nth(2), Some("1,0,,,,,,,,,,,"));
+    let (status, stderr, out) = query(dir.path(), &rays, "out.npz", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let arrays = crate::stream::read_npz(&out.unwrap());
+    assert_eq!(arrays["hit"].2, [1, 0]);
+    let surface: Vec<i64> = bytemuck::pod_collect_to_vec(&arrays["surface"].2);
+    let patch: Vec<i64> = bytemuck::pod_collect_to_vec(&arrays["patch"].2);
+    let s: Vec<f64> = bytemuck::pod_collect_to_vec(&arrays["s"].2);
+    assert_eq!((surface, patch), (vec![0, -1], vec![-1, -1]));
+    assert!(close(s[0], 5.0) && s[1].is_nan());
+    // As a patch list the patch is named.
+    let list = format!(
+        r#"{{"surfaces": [{{"kind": "bezier", "points": {}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]]}}],
+          "queries": {{"rays": [[1, 2, 5, 0, 0, -1]]}}}}"#,
+        serde_json::to_string(
+            &serde_json::from_str::<Value>(FLAT)
+                .unwrap()
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|row| row.as_array().unwrap().clone())
+                .collect::<Vec<_>>()
+        )
+        .unwrap()
+    );
+    let (status, stderr, out) = query(dir.path(), &list, "out.json", &[]);
+    assert_eq!(status, 0, "{stderr}");
+    let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
+    assert_eq!(json["rays"][0]["patch"].as_u64(), Some(0), "{json}");
 }
