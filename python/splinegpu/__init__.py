@@ -25,12 +25,12 @@ os.environ.setdefault("NODEVICE_SELECT", "1")
 from . import _native
 from ._context import Context, Tessellation
 from ._geometry import Meshes
-from ._queries import ClosestPoints, Intersections
+from ._queries import ClosestPoints, Intersections, RayHits, SurfacePoints
 from ._surfaces import SurfaceTessellation
 from .interpolate import CubicSpline, CubicSplines
 
 __all__ = ["KIND_NAMES", "ClosestPoints", "Context", "CubicSpline", "CubicSplines",
-           "Intersections", "Meshes",
+           "Intersections", "Meshes", "RayHits", "SurfacePoints",
            "SurfaceTessellation", "Tessellation"]
 
 KIND_NAMES: tuple = tuple(_native.KIND_NAMES)

@@ -85,6 +85,34 @@ class Intersections:
     def arrays(self) -> dict[str, Any]: ...
     def __len__(self) -> int: ...
 
+class SurfacePoints:
+    """The answers of `Context.closest_on_surfaces`, by the NPZ's names."""
+
+    surface: npt.NDArray[np.int64]
+    patch: npt.NDArray[np.int64]
+    u: npt.NDArray[np.float64]
+    v: npt.NDArray[np.float64]
+    point: npt.NDArray[np.float64]
+    distance: npt.NDArray[np.float64]
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+
+class RayHits:
+    """The answers of `Context.rays`, by the NPZ's names."""
+
+    hit: npt.NDArray[np.bool_]
+    surface: npt.NDArray[np.int64]
+    patch: npt.NDArray[np.int64]
+    u: npt.NDArray[np.float64]
+    v: npt.NDArray[np.float64]
+    s: npt.NDArray[np.float64]
+    point: npt.NDArray[np.float64]
+    normal: npt.NDArray[np.float64]
+    def __init__(self, arrays: dict[str, Any]) -> None: ...
+    def arrays(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+
 class Context:
     """Where splines are evaluated: "auto", "gpu" or "cpu"; made once and reused."""
 
@@ -125,6 +153,20 @@ class Context:
         points: npt.ArrayLike | None = None,
         **fields: Any,
     ) -> ClosestPoints: ...
+    def closest_on_surfaces(
+        self,
+        nets: Any,
+        kind: str = "bspline",
+        points: npt.ArrayLike | None = None,
+        **fields: Any,
+    ) -> SurfacePoints: ...
+    def rays(
+        self,
+        nets: Any,
+        kind: str = "bspline",
+        rays: npt.ArrayLike | None = None,
+        **fields: Any,
+    ) -> RayHits: ...
     def intersections(
         self,
         curves: _Batch,

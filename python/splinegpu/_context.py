@@ -10,7 +10,16 @@ import numpy as np
 from . import _native
 from ._geometry import Meshes, meshes
 from ._helpers import _curve_fields, _curve_sampling, _curves, _order
-from ._queries import ClosestPoints, Intersections, closest, intersections
+from ._queries import (
+    ClosestPoints,
+    Intersections,
+    RayHits,
+    SurfacePoints,
+    closest,
+    closest_on_surfaces,
+    first_hits,
+    intersections,
+)
 from ._surfaces import tessellate_surfaces
 
 
@@ -219,6 +228,37 @@ class Context:
         Raises ValueError naming the curve, field and value, or the pair, for bad input.
         """
         return intersections(curves, kind, pairs, fields)
+
+    def closest_on_surfaces(self, nets, kind: str = "bspline", points=None,
+                            **fields) -> SurfacePoints:
+        """The closest point of a batch of surfaces of one kind to each query point, certified
+        within 1e-9 (E + |q|) of the least distance over every surface and every (u, v) (no
+        local minimum in place of the global one; among ties, any).
+
+        `nets` and `kind` as `tessellate_surfaces` takes them, the kind's fields (`ends=`,
+        `patches=`, `knots_u=`, `weights=`, ...) as keywords; `points` (Q, D) or one (D,).
+        Answered on every CPU thread in float64 on every context.
+
+        Raises ValueError naming the surface, field and value, or the query, for bad input.
+        """
+        if points is None:
+            raise TypeError("closest_on_surfaces: missing the query points (points=)")
+        return closest_on_surfaces(nets, kind, points, fields)
+
+    def rays(self, nets, kind: str = "bspline", rays=None, **fields) -> RayHits:
+        """The first point where each ray o + s d, s >= 0, meets a batch of 3-D surfaces of
+        one kind, certified: no point of any surface on the ray is nearer (in s) by more than
+        1e-9 (E + |o|); none where it meets nothing within s <= 1e6 (E + |o|). A ray that
+        starts on a surface meets it at s = 0.
+
+        `nets`, `kind` and the kind's fields as `closest_on_surfaces`; `rays` (Q, 6) rows
+        (ox, oy, oz, dx, dy, dz), or one (6,). Answered on every CPU thread in float64.
+
+        Raises ValueError naming the surface, field and value, or the ray, for bad input.
+        """
+        if rays is None:
+            raise TypeError("rays: missing the rays (rays=)")
+        return first_hits(nets, kind, rays, fields)
 
     def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
                             bias=None, matrix=None, patches=None, conditions=None, u=None,

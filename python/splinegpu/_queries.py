@@ -8,10 +8,72 @@ import numpy as np
 
 from . import _native
 from ._helpers import _aligned, _curve_fields, _curves, _float64
+from ._surfaces import surface_arguments
 
 # The arrays of a result, by the NPZ's names, in its order.
 _ARRAYS = ("curve", "t", "point", "distance")
 _CROSSINGS = ("i", "j", "t_i", "t_j", "point", "tangent", "overlap")
+_ON_SURFACES = ("surface", "patch", "u", "v", "point", "distance")
+_HITS = ("hit", "surface", "patch", "u", "v", "s", "point", "normal")
+
+
+class _Arrays:
+    """Answers held as the command line's NPZ arrays, by their names (`_NAMES`)."""
+
+    _NAMES: tuple = ()
+    __slots__ = ()
+
+    def __init__(self, arrays: dict):
+        for name in self._NAMES:
+            setattr(self, name, arrays[name])
+
+    def arrays(self) -> dict:
+        """The arrays by name: `numpy.savez(path, **result.arrays())` writes the NPZ the
+        command line writes."""
+        return {name: getattr(self, name) for name in self._NAMES}
+
+    def __len__(self) -> int:
+        return len(getattr(self, self._NAMES[-1]))
+
+
+class SurfacePoints(_Arrays):
+    """The answers of `Context.closest_on_surfaces`, one row per query point: `surface` (Q,)
+    int64; `patch` (Q,) int64, the patch of a patch list (-1 on a net); `u`, `v` (Q,) float64,
+    the surface's parameters there (a patch list's: the patch's own); `point` (Q, D) float64;
+    `distance` (Q,) float64."""
+
+    _NAMES = _ON_SURFACES
+    __slots__ = _ON_SURFACES
+    surface: np.ndarray
+    patch: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    point: np.ndarray
+    distance: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"SurfacePoints({len(self)} queries)"
+
+
+class RayHits(_Arrays):
+    """The answers of `Context.rays`, one row per ray: `hit` (Q,) bool; `surface`, `patch`
+    (Q,) int64 (-1 where there is no hit, and patch -1 on nets); `u`, `v`, `s` (Q,) float64
+    (NaN where there is no hit; s the distance from the origin along the ray); `point` and
+    `normal` (Q, 3) float64, the unit normal Su x Sv / |Su x Sv|, not turned to the ray."""
+
+    _NAMES = _HITS
+    __slots__ = _HITS
+    hit: np.ndarray
+    surface: np.ndarray
+    patch: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    s: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"RayHits({len(self)} rays, {int(self.hit.sum())} hits)"
 
 
 class ClosestPoints:
@@ -125,6 +187,39 @@ def closest(points, kind: str, queries, fields: dict) -> ClosestPoints:
     kind_fields = _curve_fields(len(curves), **fields)
     return ClosestPoints(_native.closest_points(curves, str(kind), kind_fields,
                                                 _queries(queries)))
+
+
+def _rays(rays) -> np.ndarray:
+    """Rays as a C-ordered (Q, 6) float64 array (one may be given as (6,)), each finite, with
+    a direction that is not zero."""
+    a = _float64(rays, "rays")
+    if a.ndim == 1:
+        a = a[None, :]
+    if a.ndim != 2 or a.shape[1] != 6:
+        raise ValueError(f"rays: must be a (Q, 6) array of (ox, oy, oz, dx, dy, dz), got shape "
+                         f"{a.shape}")
+    bad = np.flatnonzero(~np.isfinite(a).all(axis=1))
+    if len(bad):
+        raise ValueError(f"rays: ray {bad[0]} has a value that is not finite: {a[bad[0]].tolist()}")
+    zero = np.flatnonzero((a[:, 3:] == 0).all(axis=1))
+    if len(zero):
+        raise ValueError(f"rays: ray {zero[0]} has a zero direction")
+    return _aligned(a, "rays")
+
+
+def closest_on_surfaces(nets, kind: str, queries, fields: dict) -> SurfacePoints:
+    """See `Context.closest_on_surfaces`."""
+    nets3, kind_fields = surface_arguments(nets, **fields)
+    return SurfacePoints(_native.closest_on_surfaces(nets3, str(kind), kind_fields,
+                                                     _queries(queries)))
+
+
+def first_hits(nets, kind: str, rays, fields: dict) -> RayHits:
+    """See `Context.rays`."""
+    nets3, kind_fields = surface_arguments(nets, **fields)
+    if nets3 and nets3[0].shape[2] != 3:
+        raise ValueError(f"nets: rays meet 3-D surfaces, these have D = {nets3[0].shape[2]}")
+    return RayHits(_native.ray_hits(nets3, str(kind), kind_fields, _rays(rays)))
 
 
 def intersections(points, kind: str, pairs, fields: dict) -> Intersections:

@@ -103,12 +103,11 @@ def _pair(name: str, value, allowed=None):
     return pair
 
 
-def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tension=None,
-                        bias=None, matrix=None, patches=None, conditions=None, u=None, v=None,
-                        knots_u=None, knots_v=None, weights=None, per_segment=None, at=None,
-                        tolerance=None, derivatives: int = 0, normals: bool = False,
-                        out: SurfaceTessellation | None = None) -> SurfaceTessellation:
-    """See `Context.tessellate_surfaces`."""
+def surface_arguments(nets, *, ends=None, tension=None, bias=None, matrix=None, patches=None,
+                      conditions=None, u=None, v=None, knots_u=None, knots_v=None,
+                      weights=None) -> tuple[list, dict]:
+    """The nets (each a C-ordered, aligned (n_u, n_v, D) float64 array; a patch list's points
+    as one column) and the kind's fields, as the extension takes them, every refusal named."""
     if patches is not None:
         # Patch lists: each surface's control points (n, D), a net of one column.
         points = [_float64(p, f"nets[{s}]") for s, p in enumerate(nets)] \
@@ -127,19 +126,6 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
                 raise ValueError(f"nets[{s}]: a net must be (n_u, n_v, D), got shape {n.shape}")
     nets3 = [np.require(n, np.float64, ["C", "A"]) for n in nets3]
     count = len(nets3)
-    name, value = _one_sampling({"per_segment": per_segment, "at": at, "tolerance": tolerance},
-                                ("per_segment", 16))
-    sampling: Any
-    if name == "per_segment":
-        ks = (value, value) if np.ndim(value) == 0 else tuple(value)
-        if len(ks) != 2 or any(int(k) != k or not 1 <= k < 2**32 for k in ks):
-            raise ValueError(f"per_segment: must be a count from 1 to 2^32 - 1 or a pair "
-                             f"(k_u, k_v) of them, got {value!r}")
-        sampling = (int(ks[0]), int(ks[1]))
-    elif name == "at":
-        sampling = _per_surface("at", value, count, 2)
-    else:
-        sampling = float(_float64(value, "tolerance"))
     if patches is not None:
         lists = patches if isinstance(patches, (list, tuple)) and len(patches) == count and all(
             np.ndim(p) == 2 for p in patches) else [patches] * count
@@ -167,6 +153,32 @@ def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tens
         "knots_v": _per_surface("knots_v", knots_v, count, 1),
         "weights": _per_surface("weights", weights, count, 2),
     }
+    return nets3, fields
+
+
+def tessellate_surfaces(context, nets, kind: str = "bspline", *, ends=None, tension=None,
+                        bias=None, matrix=None, patches=None, conditions=None, u=None, v=None,
+                        knots_u=None, knots_v=None, weights=None, per_segment=None, at=None,
+                        tolerance=None, derivatives: int = 0, normals: bool = False,
+                        out: SurfaceTessellation | None = None) -> SurfaceTessellation:
+    """See `Context.tessellate_surfaces`."""
+    nets3, fields = surface_arguments(nets, ends=ends, tension=tension, bias=bias, matrix=matrix,
+                                      patches=patches, conditions=conditions, u=u, v=v,
+                                      knots_u=knots_u, knots_v=knots_v, weights=weights)
+    count = len(nets3)
+    name, value = _one_sampling({"per_segment": per_segment, "at": at, "tolerance": tolerance},
+                                ("per_segment", 16))
+    sampling: Any
+    if name == "per_segment":
+        ks = (value, value) if np.ndim(value) == 0 else tuple(value)
+        if len(ks) != 2 or any(int(k) != k or not 1 <= k < 2**32 for k in ks):
+            raise ValueError(f"per_segment: must be a count from 1 to 2^32 - 1 or a pair "
+                             f"(k_u, k_v) of them, got {value!r}")
+        sampling = (int(ks[0]), int(ks[1]))
+    elif name == "at":
+        sampling = _per_surface("at", value, count, 2)
+    else:
+        sampling = float(_float64(value, "tolerance"))
     reuse = None if out is None else out.arrays()
     arrays = _native.tessellate_surfaces(context._native, nets3, str(kind), fields, sampling,
                                          _order("derivatives", derivatives, 2), bool(normals),

@@ -52,6 +52,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(geometry::geometry_meshes, m)?)?;
     m.add_function(wrap_pyfunction!(queries::closest_points, m)?)?;
     m.add_function(wrap_pyfunction!(queries::intersections_of, m)?)?;
+    m.add_function(wrap_pyfunction!(queries::closest_on_surfaces, m)?)?;
+    m.add_function(wrap_pyfunction!(queries::ray_hits, m)?)?;
     m.add("KIND_NAMES", splinegpu::kinds::KIND_NAMES.to_vec())?;
     Ok(())
 }

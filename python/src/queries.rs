@@ -4,14 +4,15 @@
 //! line's NPZ holds ("curve", "t", "point", "distance"; "i", "j", "t_i", "t_j", "point",
 //! "tangent", "overlap").
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use splinegpu::query::{CurveIndex, Pairs, intersections};
+use splinegpu::query::{CurveIndex, Pairs, SurfaceIndex, intersections};
 use splinegpu::{Curve, InputError, Points, SegmentTable};
 
 use crate::args::{Stack2, value_error};
 use crate::context::{CurveFields, KindSource, on_threads};
+use crate::surfaces::{SurfaceFields, fitted};
 
 /// The closest point of a batch of curves of one kind to each row of `queries` (see
 /// `splinegpu.Context.closest`): a dict of the NPZ's arrays.
@@ -117,4 +118,121 @@ fn fit(
             .map_err(|e| e.in_curve(c))?;
         Ok(curve.fit())
     })
+}
+
+/// The closest point of a batch of surfaces of one kind to each row of `queries` (see
+/// `splinegpu.Context.closest_on_surfaces`): a dict of the NPZ's arrays ("patch" -1 on nets).
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts the Python call's arguments by value"
+)]
+pub(crate) fn closest_on_surfaces<'py>(
+    py: Python<'py>,
+    nets: Vec<PyReadonlyArray3<'py, f64>>,
+    kind: &str,
+    fields: SurfaceFields<'py>,
+    queries: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tables = fitted(&nets, kind, &fields)?;
+    let dim = queries.shape()[1];
+    if let Some(first) = tables.first()
+        && first.dim() != dim
+    {
+        return Err(value_error(format!(
+            "points: must have {} columns (the surfaces' D), got {dim}",
+            first.dim()
+        )));
+    }
+    let queries = queries.as_slice()?;
+    let answers = py
+        .detach(|| SurfaceIndex::new(&tables)?.closest_many(queries))
+        .map_err(value_error)?;
+    let q = answers.len();
+    let out = PyDict::new(py);
+    let ints = |f: &dyn Fn(&splinegpu::query::SurfacePoint) -> i64| -> Vec<i64> {
+        answers.iter().map(f).collect()
+    };
+    out.set_item(
+        "surface",
+        PyArray1::from_vec(py, ints(&|a| a.surface as i64)),
+    )?;
+    out.set_item(
+        "patch",
+        PyArray1::from_vec(py, ints(&|a| a.patch.map_or(-1, |p| p as i64))),
+    )?;
+    out.set_item(
+        "u",
+        PyArray1::from_vec(py, answers.iter().map(|a| a.u).collect()),
+    )?;
+    out.set_item(
+        "v",
+        PyArray1::from_vec(py, answers.iter().map(|a| a.v).collect()),
+    )?;
+    let points: Vec<f64> = answers
+        .iter()
+        .flat_map(|a| a.point.iter().copied())
+        .collect();
+    out.set_item("point", PyArray1::from_vec(py, points).reshape([q, dim])?)?;
+    out.set_item(
+        "distance",
+        PyArray1::from_vec(py, answers.iter().map(|a| a.distance).collect()),
+    )?;
+    Ok(out)
+}
+
+/// The first hit of each ray (a row of `rays`: ox, oy, oz, dx, dy, dz) on a batch of 3-D
+/// surfaces of one kind (see `splinegpu.Context.rays`): a dict of the NPZ's arrays, "hit"
+/// false with NaN and -1 where a ray meets nothing.
+#[pyfunction]
+#[expect(
+    clippy::needless_pass_by_value,
+    reason = "PyO3 extracts the Python call's arguments by value"
+)]
+pub(crate) fn ray_hits<'py>(
+    py: Python<'py>,
+    nets: Vec<PyReadonlyArray3<'py, f64>>,
+    kind: &str,
+    fields: SurfaceFields<'py>,
+    rays: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tables = fitted(&nets, kind, &fields)?;
+    let rays = rays.as_slice()?;
+    let hits = py
+        .detach(|| SurfaceIndex::new(&tables)?.rays_many(rays))
+        .map_err(value_error)?;
+    let q = hits.len();
+    let nan = f64::NAN;
+    let out = PyDict::new(py);
+    out.set_item(
+        "hit",
+        PyArray1::from_vec(py, hits.iter().map(Option::is_some).collect()),
+    )?;
+    let surface: Vec<i64> = hits
+        .iter()
+        .map(|h| h.as_ref().map_or(-1, |h| h.surface as i64))
+        .collect();
+    let patch: Vec<i64> = hits
+        .iter()
+        .map(|h| h.as_ref().and_then(|h| h.patch).map_or(-1, |p| p as i64))
+        .collect();
+    out.set_item("surface", PyArray1::from_vec(py, surface))?;
+    out.set_item("patch", PyArray1::from_vec(py, patch))?;
+    let scalar = |f: fn(&splinegpu::query::RayHit) -> f64| -> Vec<f64> {
+        hits.iter().map(|h| h.as_ref().map_or(nan, f)).collect()
+    };
+    out.set_item("u", PyArray1::from_vec(py, scalar(|h| h.u)))?;
+    out.set_item("v", PyArray1::from_vec(py, scalar(|h| h.v)))?;
+    out.set_item("s", PyArray1::from_vec(py, scalar(|h| h.s)))?;
+    let point: Vec<f64> = hits
+        .iter()
+        .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.point))
+        .collect();
+    let normal: Vec<f64> = hits
+        .iter()
+        .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.normal))
+        .collect();
+    out.set_item("point", PyArray1::from_vec(py, point).reshape([q, 3])?)?;
+    out.set_item("normal", PyArray1::from_vec(py, normal).reshape([q, 3])?)?;
+    Ok(out)
 }

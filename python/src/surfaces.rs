@@ -13,7 +13,7 @@ use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use splinegpu::surface::{
-    Net, Surface, SurfaceJob, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
+    Net, PatchTable, Surface, SurfaceJob, SurfaceKind, SurfacePlan, SurfacePlanes, SurfaceSampling,
 };
 use splinegpu::{Derivatives, EndCondition, Ends, InputError, SampleFloat};
 
@@ -166,16 +166,13 @@ fn sampling_of(arg: &SurfaceSamplingArg<'_>, s: usize) -> Result<SurfaceSampling
     })
 }
 
-/// Fits and plans every surface into one job; errors name the surface.
-fn planned(
+/// Every surface of a batch of one kind fitted; errors name the surface.
+pub(crate) fn fitted(
     nets: &[PyReadonlyArray3<'_, f64>],
     kind: &str,
     fields: &SurfaceFields<'_>,
-    sampling: &SurfaceSamplingArg<'_>,
-    (derivatives, normals): (Derivatives, bool),
-    value_bytes: u128,
-) -> PyResult<SurfaceJob> {
-    let mut fitted = Vec::with_capacity(nets.len());
+) -> PyResult<Vec<PatchTable>> {
+    let mut tables = Vec::with_capacity(nets.len());
     for (s, net) in nets.iter().enumerate() {
         let place = |e: InputError| value_error(e.in_surface(s));
         let shape = net.shape();
@@ -186,8 +183,26 @@ fn planned(
             .to_vec();
         let net = Net::new(shape[2], shape[0], shape[1], coords).map_err(place)?;
         let surface = Surface::new(kind_of(kind, fields, s).map_err(place)?, net).map_err(place)?;
-        fitted.push((surface.fit(), sampling_of(sampling, s).map_err(place)?));
+        tables.push(surface.fit());
     }
+    Ok(tables)
+}
+
+/// Fits and plans every surface into one job; errors name the surface.
+fn planned(
+    nets: &[PyReadonlyArray3<'_, f64>],
+    kind: &str,
+    fields: &SurfaceFields<'_>,
+    sampling: &SurfaceSamplingArg<'_>,
+    (derivatives, normals): (Derivatives, bool),
+    value_bytes: u128,
+) -> PyResult<SurfaceJob> {
+    let mut fitted_planned = Vec::with_capacity(nets.len());
+    for (s, table) in fitted(nets, kind, fields)?.into_iter().enumerate() {
+        let place = |e: InputError| value_error(e.in_surface(s));
+        fitted_planned.push((table, sampling_of(sampling, s).map_err(place)?));
+    }
+    let fitted = fitted_planned;
     // The counts the samplings give, refused before the plans are made where the plans (40
     // bytes a vertex) and the arrays of the whole batch would not fit in memory.
     let mut bytes: u128 = 0;

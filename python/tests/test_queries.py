@@ -110,3 +110,40 @@ def test_bad_pairs_are_refused_by_name(pairs, match):
 def test_intersections_need_2d_curves():
     with pytest.raises(ValueError, match=r"curve 0.*2 coordinates"):
         CPU.intersections(np.zeros((2, 4, 3)) + np.arange(4)[None, :, None], "bezier")
+
+
+# A flat bicubic Bezier patch over [0, 3]^2 at z = 0 (x = 3u, y = 3v).
+FLAT = np.stack([*np.meshgrid(np.arange(4.0), np.arange(4.0), indexing="ij"), np.zeros((4, 4))],
+                axis=-1)
+
+
+def test_closest_on_surfaces_and_rays_hand_derived():
+    r = CPU.closest_on_surfaces(FLAT, "bezier", [[1, 2, 5], [4, 4, 0]])
+    np.testing.assert_allclose(r.distance, [5, np.sqrt(2)], atol=1e-12)
+    np.testing.assert_allclose(r.point, [[1, 2, 0], [3, 3, 0]], atol=1e-9)
+    np.testing.assert_allclose([r.u[0], r.v[0]], [1 / 3, 2 / 3], atol=1e-9)
+    assert r.patch.tolist() == [-1, -1] and r.surface.tolist() == [0, 0]
+    hits = CPU.rays(FLAT, "bezier", [[1, 2, 5, 0, 0, -1], [1, 2, 5, 0, 0, 1]])
+    assert hits.hit.tolist() == [True, False] and hits.surface.tolist() == [0, -1]
+    np.testing.assert_allclose(hits.s[0], 5, atol=1e-9)
+    assert abs(abs(hits.normal[0, 2]) - 1) < 1e-12 and np.isnan(hits.s[1])
+    points = FLAT.reshape(16, 3)
+    listed = CPU.rays([points], "bezier", [1, 2, 5, 0, 0, -1], patches=[list(range(16))])
+    assert listed.patch.tolist() == [0]
+
+
+@pytest.mark.parametrize("rays, match", [
+    ([[0, 0, 0, 0, 0, 0]], "rays: ray 0 has a zero direction"),
+    ([[0, 0, 0, 1, 0]], "rays: must be a \\(Q, 6\\) array"),
+    ([[0, 0, np.inf, 1, 0, 0]], "rays: ray 0 has a value that is not finite"),
+])
+def test_bad_rays_are_refused_by_name(rays, match):
+    with pytest.raises(ValueError, match=match):
+        CPU.rays(FLAT, "bezier", rays)
+
+
+def test_surface_queries_refuse_the_wrong_dimension():
+    with pytest.raises(ValueError, match="points: must have 3 columns"):
+        CPU.closest_on_surfaces(FLAT, "bezier", [[1, 2]])
+    with pytest.raises(ValueError, match="rays meet 3-D surfaces"):
+        CPU.rays(FLAT[:, :, :2], "bezier", [[0, 0, 0, 1, 0, 0]])
