@@ -36,6 +36,45 @@ class _Arrays:
         return len(getattr(self, self._NAMES[-1]))
 
 
+class ClosestPoints(_Arrays):
+    """The answers of a `Context.closest` call, one row per query point, as the command line's
+    NPZ holds them: `curve` (Q,) int64, the index of the nearest curve; `t` (Q,) float64, its
+    parameter there; `point` (Q, D) float64, the curve at t; `distance` (Q,) float64, its
+    distance from the query point."""
+
+    _NAMES = _ARRAYS
+    __slots__ = _ARRAYS
+    curve: np.ndarray
+    t: np.ndarray
+    point: np.ndarray
+    distance: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"ClosestPoints({len(self.t)} queries, point {self.point.shape})"
+
+
+class Intersections(_Arrays):
+    """The answers of a `Context.intersections` call, as the command line's NPZ holds them,
+    one row per meeting point, sorted by the pair's place (for "all", by i, then j), then t_i,
+    then t_j: `i`, `j` (N,) int64, the curves (i == j: a self-intersection, t_i < t_j);
+    `t_i`, `t_j` (N,) float64, their parameters; `point` (N, 2) float64, curve i at t_i;
+    `tangent` (N,) bool, the curves touch with tangents parallel within 1e-6 radians;
+    `overlap` (N,) bool, an end of a piece along which the curves coincide."""
+
+    _NAMES = _CROSSINGS
+    __slots__ = _CROSSINGS
+    i: np.ndarray
+    j: np.ndarray
+    t_i: np.ndarray
+    t_j: np.ndarray
+    point: np.ndarray
+    tangent: np.ndarray
+    overlap: np.ndarray
+
+    def __repr__(self) -> str:
+        return f"Intersections({len(self.t_i)} points)"
+
+
 class SurfacePoints(_Arrays):
     """The answers of `Context.closest_on_surfaces`, one row per query point: `surface` (Q,)
     int64; `patch` (Q,) int64, the patch of a patch list (-1 on a net); `u`, `v` (Q,) float64,
@@ -74,66 +113,6 @@ class RayHits(_Arrays):
 
     def __repr__(self) -> str:
         return f"RayHits({len(self)} rays, {int(self.hit.sum())} hits)"
-
-
-class ClosestPoints:
-    """The answers of a `Context.closest` call, one row per query point, as the command line's
-    NPZ holds them: `curve` (Q,) int64, the index of the nearest curve; `t` (Q,) float64, its
-    parameter there; `point` (Q, D) float64, the curve at t; `distance` (Q,) float64, its
-    distance from the query point."""
-
-    __slots__ = _ARRAYS
-    curve: np.ndarray
-    t: np.ndarray
-    point: np.ndarray
-    distance: np.ndarray
-
-    def __init__(self, arrays: dict):
-        for name in _ARRAYS:
-            setattr(self, name, arrays[name])
-
-    def arrays(self) -> dict:
-        """The arrays by name: `numpy.savez(path, **result.arrays())` writes the NPZ the
-        command line writes."""
-        return {name: getattr(self, name) for name in _ARRAYS}
-
-    def __len__(self) -> int:
-        return len(self.t)
-
-    def __repr__(self) -> str:
-        return f"ClosestPoints({len(self.t)} queries, point {self.point.shape})"
-
-
-class Intersections:
-    """The answers of a `Context.intersections` call, as the command line's NPZ holds them,
-    one row per meeting point, sorted by the pair's place (for "all", by i, then j), then t_i,
-    then t_j: `i`, `j` (N,) int64, the curves (i == j: a self-intersection, t_i < t_j);
-    `t_i`, `t_j` (N,) float64, their parameters; `point` (N, 2) float64, curve i at t_i;
-    `tangent` (N,) bool, the curves touch with tangents parallel within 1e-6 radians;
-    `overlap` (N,) bool, an end of a piece along which the curves coincide."""
-
-    __slots__ = _CROSSINGS
-    i: np.ndarray
-    j: np.ndarray
-    t_i: np.ndarray
-    t_j: np.ndarray
-    point: np.ndarray
-    tangent: np.ndarray
-    overlap: np.ndarray
-
-    def __init__(self, arrays: dict):
-        for name in _CROSSINGS:
-            setattr(self, name, arrays[name])
-
-    def arrays(self) -> dict:
-        """The arrays by name, as `ClosestPoints.arrays`."""
-        return {name: getattr(self, name) for name in _CROSSINGS}
-
-    def __len__(self) -> int:
-        return len(self.t_i)
-
-    def __repr__(self) -> str:
-        return f"Intersections({len(self.t_i)} points)"
 
 
 def _queries(points) -> np.ndarray:

@@ -7,7 +7,10 @@
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use splinegpu::query::{CurveIndex, Pairs, SurfaceIndex, intersections};
+use splinegpu::query::{
+    CurveIndex, IntersectionColumns, Pairs, RayHitColumns, SurfaceIndex, SurfacePointColumns,
+    intersections,
+};
 use splinegpu::{Curve, InputError, Points, SegmentTable};
 
 use crate::args::{Stack2, value_error};
@@ -79,30 +82,15 @@ pub(crate) fn intersections_of<'py>(
         })
         .map_err(value_error)?;
     let n = found.len();
+    let c = IntersectionColumns::new(&found);
     let out = PyDict::new(py);
-    let ints = |f: fn(&splinegpu::query::Intersection) -> usize| -> Vec<i64> {
-        found.iter().map(|x| f(x) as i64).collect()
-    };
-    out.set_item("i", PyArray1::from_vec(py, ints(|x| x.i)))?;
-    out.set_item("j", PyArray1::from_vec(py, ints(|x| x.j)))?;
-    out.set_item(
-        "t_i",
-        PyArray1::from_vec(py, found.iter().map(|x| x.t_i).collect()),
-    )?;
-    out.set_item(
-        "t_j",
-        PyArray1::from_vec(py, found.iter().map(|x| x.t_j).collect()),
-    )?;
-    let points: Vec<f64> = found.iter().flat_map(|x| x.point).collect();
-    out.set_item("point", PyArray1::from_vec(py, points).reshape([n, 2])?)?;
-    out.set_item(
-        "tangent",
-        PyArray1::from_vec(py, found.iter().map(|x| x.tangent).collect()),
-    )?;
-    out.set_item(
-        "overlap",
-        PyArray1::from_vec(py, found.iter().map(|x| x.overlap).collect()),
-    )?;
+    out.set_item("i", PyArray1::from_vec(py, c.i))?;
+    out.set_item("j", PyArray1::from_vec(py, c.j))?;
+    out.set_item("t_i", PyArray1::from_vec(py, c.t_i))?;
+    out.set_item("t_j", PyArray1::from_vec(py, c.t_j))?;
+    out.set_item("point", PyArray1::from_vec(py, c.point).reshape([n, 2])?)?;
+    out.set_item("tangent", PyArray1::from_vec(py, c.tangent))?;
+    out.set_item("overlap", PyArray1::from_vec(py, c.overlap))?;
     Ok(out)
 }
 
@@ -149,35 +137,14 @@ pub(crate) fn closest_on_surfaces<'py>(
         .detach(|| SurfaceIndex::new(&tables)?.closest_many(queries))
         .map_err(value_error)?;
     let q = answers.len();
+    let c = SurfacePointColumns::new(&answers);
     let out = PyDict::new(py);
-    let ints = |f: &dyn Fn(&splinegpu::query::SurfacePoint) -> i64| -> Vec<i64> {
-        answers.iter().map(f).collect()
-    };
-    out.set_item(
-        "surface",
-        PyArray1::from_vec(py, ints(&|a| a.surface as i64)),
-    )?;
-    out.set_item(
-        "patch",
-        PyArray1::from_vec(py, ints(&|a| a.patch.map_or(-1, |p| p as i64))),
-    )?;
-    out.set_item(
-        "u",
-        PyArray1::from_vec(py, answers.iter().map(|a| a.u).collect()),
-    )?;
-    out.set_item(
-        "v",
-        PyArray1::from_vec(py, answers.iter().map(|a| a.v).collect()),
-    )?;
-    let points: Vec<f64> = answers
-        .iter()
-        .flat_map(|a| a.point.iter().copied())
-        .collect();
-    out.set_item("point", PyArray1::from_vec(py, points).reshape([q, dim])?)?;
-    out.set_item(
-        "distance",
-        PyArray1::from_vec(py, answers.iter().map(|a| a.distance).collect()),
-    )?;
+    out.set_item("surface", PyArray1::from_vec(py, c.surface))?;
+    out.set_item("patch", PyArray1::from_vec(py, c.patch))?;
+    out.set_item("u", PyArray1::from_vec(py, c.u))?;
+    out.set_item("v", PyArray1::from_vec(py, c.v))?;
+    out.set_item("point", PyArray1::from_vec(py, c.point).reshape([q, dim])?)?;
+    out.set_item("distance", PyArray1::from_vec(py, c.distance))?;
     Ok(out)
 }
 
@@ -202,37 +169,15 @@ pub(crate) fn ray_hits<'py>(
         .detach(|| SurfaceIndex::new(&tables)?.rays_many(rays))
         .map_err(value_error)?;
     let q = hits.len();
-    let nan = f64::NAN;
+    let c = RayHitColumns::new(&hits);
     let out = PyDict::new(py);
-    out.set_item(
-        "hit",
-        PyArray1::from_vec(py, hits.iter().map(Option::is_some).collect()),
-    )?;
-    let surface: Vec<i64> = hits
-        .iter()
-        .map(|h| h.as_ref().map_or(-1, |h| h.surface as i64))
-        .collect();
-    let patch: Vec<i64> = hits
-        .iter()
-        .map(|h| h.as_ref().and_then(|h| h.patch).map_or(-1, |p| p as i64))
-        .collect();
-    out.set_item("surface", PyArray1::from_vec(py, surface))?;
-    out.set_item("patch", PyArray1::from_vec(py, patch))?;
-    let scalar = |f: fn(&splinegpu::query::RayHit) -> f64| -> Vec<f64> {
-        hits.iter().map(|h| h.as_ref().map_or(nan, f)).collect()
-    };
-    out.set_item("u", PyArray1::from_vec(py, scalar(|h| h.u)))?;
-    out.set_item("v", PyArray1::from_vec(py, scalar(|h| h.v)))?;
-    out.set_item("s", PyArray1::from_vec(py, scalar(|h| h.s)))?;
-    let point: Vec<f64> = hits
-        .iter()
-        .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.point))
-        .collect();
-    let normal: Vec<f64> = hits
-        .iter()
-        .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.normal))
-        .collect();
-    out.set_item("point", PyArray1::from_vec(py, point).reshape([q, 3])?)?;
-    out.set_item("normal", PyArray1::from_vec(py, normal).reshape([q, 3])?)?;
+    out.set_item("hit", PyArray1::from_vec(py, c.hit))?;
+    out.set_item("surface", PyArray1::from_vec(py, c.surface))?;
+    out.set_item("patch", PyArray1::from_vec(py, c.patch))?;
+    out.set_item("u", PyArray1::from_vec(py, c.u))?;
+    out.set_item("v", PyArray1::from_vec(py, c.v))?;
+    out.set_item("s", PyArray1::from_vec(py, c.s))?;
+    out.set_item("point", PyArray1::from_vec(py, c.point).reshape([q, 3])?)?;
+    out.set_item("normal", PyArray1::from_vec(py, c.normal).reshape([q, 3])?)?;
     Ok(out)
 }

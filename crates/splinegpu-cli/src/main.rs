@@ -5,7 +5,7 @@ use std::io::{self, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
 use splinegpu::geometry::GeometryJob;
 use splinegpu::query::{
@@ -34,38 +34,12 @@ enum Command {
     /// Tessellate the curves or surfaces of a JSON document into CSV, JSON or NPZ samples, or
     /// surfaces and curves with "geometry" (strokes, tubes, ribbons) into meshes (every
     /// format, .glb and .obj included).
-    Tessellate {
-        /// The input document, or `-` for standard input.
-        input: String,
-        /// Where to write; standard output when absent or `-`.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz, .glb, .obj),
-        /// else csv. glb and obj are meshes of a surface document or of curves with geometry.
-        #[arg(long)]
-        format: Option<Format>,
-        /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
-        /// finds, lavapipe included (gpu, float32); the host reference (cpu, float64).
-        #[arg(long, value_enum, default_value_t = Backend::Auto)]
-        backend: Backend,
-    },
+    Tessellate(Io),
     /// Answer a document's "queries": the closest points of its curves or surfaces to many
     /// points, every intersection of its 2-D curves, or the first hits of rays on its 3-D
-    /// surfaces, certified, on the CPU. Answers come in CSV, JSON or NPZ.
-    Query {
-        /// The input document, or `-` for standard input.
-        input: String,
-        /// Where to write; standard output when absent or `-`.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Output format; by default the extension of OUTPUT (.csv, .json, .npz), else csv.
-        #[arg(long)]
-        format: Option<Format>,
-        /// Where to answer: auto and cpu answer on every CPU thread in float64; gpu is not
-        /// supported yet for queries.
-        #[arg(long, value_enum, default_value_t = Backend::Auto)]
-        backend: Backend,
-    },
+    /// surfaces, certified, on every CPU thread in float64 (auto and cpu; gpu exits 1, not
+    /// supported yet). Answers come in CSV, JSON or NPZ.
+    Query(Io),
     /// Run the named benchmark workloads.
     ///
     /// Workloads: w1, w1-b, w1-d (10,000 3-D curves, 9.93 M samples: Catmull-Rom, B-spline,
@@ -108,6 +82,33 @@ enum Command {
     },
     /// Print the adapters wgpu finds and what `--backend auto` would pick.
     Info,
+}
+
+/// The input, output and backend of `tessellate` and `query`.
+#[derive(Args)]
+struct Io {
+    /// The input document, or `-` for standard input.
+    input: String,
+    /// Where to write; standard output when absent or `-`.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Output format; by default the extension of OUTPUT (.csv, .json, .npz, .glb, .obj),
+    /// else csv. glb and obj are meshes of a surface document or of curves with geometry.
+    #[arg(long)]
+    format: Option<Format>,
+    /// Evaluator: a hardware GPU when there is one, else the CPU (auto); any adapter wgpu
+    /// finds, lavapipe included (gpu, float32); the host reference (cpu, float64).
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
+}
+
+impl Io {
+    /// The output path, `-` meaning standard output (as INPUT's `-` is standard input).
+    fn output(&self) -> Option<&Path> {
+        self.output
+            .as_deref()
+            .filter(|path| path.as_os_str() != "-")
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -162,25 +163,8 @@ fn main() -> ExitCode {
     remove_temporary_output_on_signals();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Tessellate {
-            input,
-            output,
-            format,
-            backend,
-        } => {
-            // `-o -` is standard output, as INPUT's `-` is standard input.
-            let output = output.filter(|path| path.as_os_str() != "-");
-            tessellate(&input, output.as_deref(), format, backend)
-        }
-        Command::Query {
-            input,
-            output,
-            format,
-            backend,
-        } => {
-            let output = output.filter(|path| path.as_os_str() != "-");
-            query(&input, output.as_deref(), format, backend)
-        }
+        Command::Tessellate(io) => tessellate(&io.input, io.output(), io.format, io.backend),
+        Command::Query(io) => query(&io.input, io.output(), io.format, io.backend),
         Command::Bench { workloads, json } => bench(&workloads, json),
         Command::Info => info(),
     };

@@ -4,7 +4,10 @@
 
 use std::io::{self, Write};
 
-use splinegpu::query::{ClosestPoints, Intersection, RayHit, SurfacePoint};
+use splinegpu::query::{
+    ClosestPoints, Intersection, IntersectionColumns, RayHit, RayHitColumns, SurfacePoint,
+    SurfacePointColumns,
+};
 
 use crate::npz::{Dtype, NpzWriter};
 
@@ -66,26 +69,25 @@ pub fn write_intersections(
         }
         QueryFormat::Npz => {
             let n = found.len() as u64;
-            let ints = |f: fn(&Intersection) -> usize| -> Vec<i64> {
-                found.iter().map(|x| f(x) as i64).collect()
-            };
-            let floats =
-                |f: fn(&Intersection) -> f64| -> Vec<f64> { found.iter().map(f).collect() };
-            let flags = |f: fn(&Intersection) -> bool| -> Vec<u8> {
-                found.iter().map(|x| u8::from(f(x))).collect()
-            };
-            let (i, j) = (ints(|x| x.i), ints(|x| x.j));
-            let (t_i, t_j) = (floats(|x| x.t_i), floats(|x| x.t_j));
-            let points: Vec<f64> = found.iter().flat_map(|x| x.point).collect();
-            let (tangent, overlap) = (flags(|x| x.tangent), flags(|x| x.overlap));
+            let c = IntersectionColumns::new(found);
             let arrays: [(&str, Dtype, &[u64], &[u8]); 7] = [
-                ("i", Dtype::I64, &[n], bytemuck::cast_slice(&i)),
-                ("j", Dtype::I64, &[n], bytemuck::cast_slice(&j)),
-                ("t_i", Dtype::F64, &[n], bytemuck::cast_slice(&t_i)),
-                ("t_j", Dtype::F64, &[n], bytemuck::cast_slice(&t_j)),
-                ("point", Dtype::F64, &[n, 2], bytemuck::cast_slice(&points)),
-                ("tangent", Dtype::Bool, &[n], &tangent),
-                ("overlap", Dtype::Bool, &[n], &overlap),
+                ("i", Dtype::I64, &[n], bytemuck::cast_slice(&c.i)),
+                ("j", Dtype::I64, &[n], bytemuck::cast_slice(&c.j)),
+                ("t_i", Dtype::F64, &[n], bytemuck::cast_slice(&c.t_i)),
+                ("t_j", Dtype::F64, &[n], bytemuck::cast_slice(&c.t_j)),
+                ("point", Dtype::F64, &[n, 2], bytemuck::cast_slice(&c.point)),
+                (
+                    "tangent",
+                    Dtype::Bool,
+                    &[n],
+                    bytemuck::cast_slice(&c.tangent),
+                ),
+                (
+                    "overlap",
+                    Dtype::Bool,
+                    &[n],
+                    bytemuck::cast_slice(&c.overlap),
+                ),
             ];
             write_npz(out, &arrays)?;
         }
@@ -139,36 +141,30 @@ pub fn write_surface_closest(
         }
         QueryFormat::Npz => {
             let q = answers.len() as u64;
-            let surface: Vec<i64> = answers.iter().map(|a| a.surface as i64).collect();
-            let patch: Vec<i64> = answers
-                .iter()
-                .map(|a| a.patch.map_or(-1, |p| p as i64))
-                .collect();
-            let u: Vec<f64> = answers.iter().map(|a| a.u).collect();
-            let v: Vec<f64> = answers.iter().map(|a| a.v).collect();
-            let points: Vec<f64> = answers
-                .iter()
-                .flat_map(|a| a.point.iter().copied())
-                .collect();
-            let distance: Vec<f64> = answers.iter().map(|a| a.distance).collect();
+            let c = SurfacePointColumns::new(answers);
             write_npz(
                 out,
                 &[
-                    ("surface", Dtype::I64, &[q], bytemuck::cast_slice(&surface)),
-                    ("patch", Dtype::I64, &[q], bytemuck::cast_slice(&patch)),
-                    ("u", Dtype::F64, &[q], bytemuck::cast_slice(&u)),
-                    ("v", Dtype::F64, &[q], bytemuck::cast_slice(&v)),
+                    (
+                        "surface",
+                        Dtype::I64,
+                        &[q],
+                        bytemuck::cast_slice(&c.surface),
+                    ),
+                    ("patch", Dtype::I64, &[q], bytemuck::cast_slice(&c.patch)),
+                    ("u", Dtype::F64, &[q], bytemuck::cast_slice(&c.u)),
+                    ("v", Dtype::F64, &[q], bytemuck::cast_slice(&c.v)),
                     (
                         "point",
                         Dtype::F64,
                         &[q, dim as u64],
-                        bytemuck::cast_slice(&points),
+                        bytemuck::cast_slice(&c.point),
                     ),
                     (
                         "distance",
                         Dtype::F64,
                         &[q],
-                        bytemuck::cast_slice(&distance),
+                        bytemuck::cast_slice(&c.distance),
                     ),
                 ],
             )?;
@@ -228,39 +224,28 @@ pub fn write_rays(
         }
         QueryFormat::Npz => {
             let q = hits.len() as u64;
-            let nan = f64::NAN;
-            let hit: Vec<u8> = hits.iter().map(|h| u8::from(h.is_some())).collect();
-            let surface: Vec<i64> = hits
-                .iter()
-                .map(|h| h.as_ref().map_or(-1, |h| h.surface as i64))
-                .collect();
-            let patch: Vec<i64> = hits
-                .iter()
-                .map(|h| h.as_ref().and_then(|h| h.patch).map_or(-1, |p| p as i64))
-                .collect();
-            let scalar = |f: fn(&RayHit) -> f64| -> Vec<f64> {
-                hits.iter().map(|h| h.as_ref().map_or(nan, f)).collect()
-            };
-            let (u, v, s) = (scalar(|h| h.u), scalar(|h| h.v), scalar(|h| h.s));
-            let point: Vec<f64> = hits
-                .iter()
-                .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.point))
-                .collect();
-            let normal: Vec<f64> = hits
-                .iter()
-                .flat_map(|h| h.as_ref().map_or([nan; 3], |h| h.normal))
-                .collect();
+            let c = RayHitColumns::new(hits);
             write_npz(
                 out,
                 &[
-                    ("hit", Dtype::Bool, &[q], &hit),
-                    ("surface", Dtype::I64, &[q], bytemuck::cast_slice(&surface)),
-                    ("patch", Dtype::I64, &[q], bytemuck::cast_slice(&patch)),
-                    ("u", Dtype::F64, &[q], bytemuck::cast_slice(&u)),
-                    ("v", Dtype::F64, &[q], bytemuck::cast_slice(&v)),
-                    ("s", Dtype::F64, &[q], bytemuck::cast_slice(&s)),
-                    ("point", Dtype::F64, &[q, 3], bytemuck::cast_slice(&point)),
-                    ("normal", Dtype::F64, &[q, 3], bytemuck::cast_slice(&normal)),
+                    ("hit", Dtype::Bool, &[q], bytemuck::cast_slice(&c.hit)),
+                    (
+                        "surface",
+                        Dtype::I64,
+                        &[q],
+                        bytemuck::cast_slice(&c.surface),
+                    ),
+                    ("patch", Dtype::I64, &[q], bytemuck::cast_slice(&c.patch)),
+                    ("u", Dtype::F64, &[q], bytemuck::cast_slice(&c.u)),
+                    ("v", Dtype::F64, &[q], bytemuck::cast_slice(&c.v)),
+                    ("s", Dtype::F64, &[q], bytemuck::cast_slice(&c.s)),
+                    ("point", Dtype::F64, &[q, 3], bytemuck::cast_slice(&c.point)),
+                    (
+                        "normal",
+                        Dtype::F64,
+                        &[q, 3],
+                        bytemuck::cast_slice(&c.normal),
+                    ),
                 ],
             )?;
         }

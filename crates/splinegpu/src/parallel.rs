@@ -42,6 +42,16 @@ pub(crate) fn fan_out_map<P: Send, R: Send>(parts: Vec<P>, work: impl Fn(P) -> R
     parts.into_par_iter().with_max_len(1).map(work).collect()
 }
 
+/// `answer(i)` for every i in `0..count`, in order, on every thread: the indices cut into a few
+/// ranges a thread (so that uneven answers, as queries' are, even out).
+pub(crate) fn map_indices<T: Send>(count: usize, answer: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let parts = even_ranges(count, crate::available_threads() * 4).collect();
+    let answers = fan_out_map(parts, |range: Range<usize>| {
+        range.map(&answer).collect::<Vec<_>>()
+    });
+    answers.into_iter().flatten().collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -71,31 +71,10 @@ pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
     let points = q1_points(&curves);
     let count = (points.len() / 2) as u64;
     report(&memset("q1", (count * ANSWER_BYTES) as usize));
-    let measurement = |path, (seconds, min_seconds, max_seconds), misses| Measurement {
-        workload: "q1",
-        path,
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples: count,
-        bytes: count * ANSWER_BYTES,
-        float: Some("f64"),
-        misses,
-    };
-    let one_thread = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("a thread");
-    let cpu_1t = time(|| {
-        one_thread.install(|| black_box(closest(&curves, &points)));
-        None
-    });
-    report(&measurement("cpu-1t", cpu_1t, None));
-    let cpu_all = time(|| {
+    let measurement = |path, times, misses| answers("q1", path, times, count, ANSWER_BYTES, misses);
+    whole_call(&measurement, report, || {
         black_box(closest(&curves, &points));
-        None
     });
-    report(&measurement("cpu-all", cpu_all, None));
     let certified = closest(&curves, &points);
     let first = &points[..2 * ANCHOR_POINTS];
     let scale = count as f64 / ANCHOR_POINTS as f64;
@@ -150,6 +129,50 @@ pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
     report(&measurement("kurbo", scaled(seconds), Some(misses)));
 }
 
+/// A measurement of `count` answers of `bytes` each (f64 numbers) on `path`.
+fn answers(
+    workload: &'static str,
+    path: &'static str,
+    (seconds, min_seconds, max_seconds): (f64, f64, f64),
+    count: u64,
+    bytes: u64,
+    misses: Option<u64>,
+) -> Measurement {
+    Measurement {
+        workload,
+        path,
+        seconds,
+        min_seconds,
+        max_seconds,
+        samples: count,
+        bytes: count * bytes,
+        float: Some("f64"),
+        misses,
+    }
+}
+
+/// cpu-1t and cpu-all: the whole call `run` timed on a pool of one thread, then on all.
+fn whole_call(
+    measurement: &impl Fn(&'static str, (f64, f64, f64), Option<u64>) -> Measurement,
+    report: &mut impl FnMut(&Measurement),
+    run: impl Fn() + Sync,
+) {
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread");
+    let cpu_1t = time(|| {
+        one_thread.install(&run);
+        None
+    });
+    report(&measurement("cpu-1t", cpu_1t, None));
+    let cpu_all = time(|| {
+        run();
+        None
+    });
+    report(&measurement("cpu-all", cpu_all, None));
+}
+
 /// q2's curves: 1,000 open Catmull-Rom curves of 16 points, each a random walk from a uniform
 /// start in [0, 100]² with steps uniform in [-5, 5] on each axis.
 fn q2_curves() -> Vec<Curve> {
@@ -185,31 +208,11 @@ pub(crate) fn q2(report: &mut impl FnMut(&Measurement)) {
     let certified = crossings(&curves);
     let count = certified.len() as u64;
     report(&memset("q2", (count * CROSSING_BYTES) as usize));
-    let measurement = |path, (seconds, min_seconds, max_seconds), misses| Measurement {
-        workload: "q2",
-        path,
-        seconds,
-        min_seconds,
-        max_seconds,
-        samples: count,
-        bytes: count * CROSSING_BYTES,
-        float: Some("f64"),
-        misses,
-    };
-    let one_thread = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("a thread");
-    let cpu_1t = time(|| {
-        one_thread.install(|| black_box(crossings(&curves)));
-        None
-    });
-    report(&measurement("cpu-1t", cpu_1t, None));
-    let cpu_all = time(|| {
+    let measurement =
+        |path, times, misses| answers("q2", path, times, count, CROSSING_BYTES, misses);
+    whole_call(&measurement, report, || {
         black_box(crossings(&curves));
-        None
     });
-    report(&measurement("cpu-all", cpu_all, None));
 
     // lyon_geom: every segment as a cubic Bezier with its curve's index.
     use lyon_geom::{CubicBezierSegment, point};

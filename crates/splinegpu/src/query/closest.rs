@@ -24,7 +24,7 @@
 //! [u0, u1].
 
 use crate::error::InputError;
-use crate::parallel::{even_ranges, fan_out_map};
+use crate::parallel::map_indices;
 use crate::query::pieces::{Piece, pieces};
 use crate::query::roots::{Poly, visit_sign_change_roots};
 use crate::query::tree::BoxTree;
@@ -173,12 +173,7 @@ impl<'a> CurveIndex<'a> {
         for i in 0..count {
             check_query(&queries[i * dim..][..dim], dim, i)?;
         }
-        let parts = even_ranges(count, crate::available_threads() * 4).collect();
-        let answers = fan_out_map(parts, |range: std::ops::Range<usize>| {
-            range
-                .map(|i| self.nearest(&queries[i * dim..][..dim]))
-                .collect::<Vec<_>>()
-        });
+        let answers = map_indices(count, |i| self.nearest(&queries[i * dim..][..dim]));
         let mut out = ClosestPoints {
             dim,
             curve: Vec::with_capacity(count),
@@ -186,7 +181,7 @@ impl<'a> CurveIndex<'a> {
             points: vec![0.0; count * dim],
             distance: Vec::with_capacity(count),
         };
-        for (i, (curve, t, d2)) in answers.into_iter().flatten().enumerate() {
+        for (i, (curve, t, d2)) in answers.into_iter().enumerate() {
             check_distance(d2, i)?;
             self.point_at(curve, t, &mut out.points[i * dim..][..dim]);
             out.curve.push(curve);

@@ -9,6 +9,7 @@
 //! argument that nothing is missed is in docs/queries.md.
 
 mod closest;
+mod columns;
 mod intersect;
 mod nets;
 mod pieces;
@@ -18,5 +19,6 @@ mod surfaces;
 mod tree;
 
 pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
+pub use columns::{IntersectionColumns, RayHitColumns, SurfacePointColumns};
 pub use intersect::{Intersection, Pairs, intersections};
 pub use surfaces::{RayHit, SurfaceIndex, SurfacePoint};

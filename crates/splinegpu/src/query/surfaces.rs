@@ -17,6 +17,7 @@
 //!   ε is a hit, polished by Newton's method on (a, b) = 0.
 
 use crate::error::InputError;
+use crate::parallel::map_indices;
 use crate::query::nets::{Net, patch_net};
 use crate::query::tree::BoxTree;
 use crate::surface::{Derivs, PatchTable, unit_normal};
@@ -292,14 +293,11 @@ impl<'a> SurfaceIndex<'a> {
                 ),
             ));
         }
-        let count = queries.len() / dim;
-        let parts = crate::parallel::even_ranges(count, crate::available_threads() * 4).collect();
-        let answers = crate::parallel::fan_out_map(parts, |range: std::ops::Range<usize>| {
-            range
-                .map(|i| self.closest(&queries[i * dim..][..dim], i))
-                .collect::<Vec<_>>()
-        });
-        answers.into_iter().flatten().collect()
+        map_indices(queries.len() / dim, |i| {
+            self.closest(&queries[i * dim..][..dim], i)
+        })
+        .into_iter()
+        .collect()
     }
 
     /// The first hit of the ray o + s d, s >= 0, within s <= 1e6 (E + |o|∞); `None` where it
@@ -390,17 +388,12 @@ impl<'a> SurfaceIndex<'a> {
                 format!("must hold 6 values per ray, got {}", rays.len()),
             ));
         }
-        let count = rays.len() / 6;
-        let parts = crate::parallel::even_ranges(count, crate::available_threads() * 4).collect();
-        let answers = crate::parallel::fan_out_map(parts, |range: std::ops::Range<usize>| {
-            range
-                .map(|i| {
-                    let ray: [f64; 6] = std::array::from_fn(|k| rays[6 * i + k]);
-                    self.first_hit(&ray, i)
-                })
-                .collect::<Vec<_>>()
-        });
-        answers.into_iter().flatten().collect()
+        map_indices(rays.len() / 6, |i| {
+            let ray: [f64; 6] = std::array::from_fn(|k| rays[6 * i + k]);
+            self.first_hit(&ray, i)
+        })
+        .into_iter()
+        .collect()
     }
 
     /// Item `item`'s surface, patch (for a patch list) and the surface's parameters at local
