@@ -68,7 +68,11 @@ pub(crate) fn number_array(value: &Value, field: &str) -> Result<Vec<f64>, Input
 
 /// A JSON value in a message: its text, shortened.
 pub(crate) fn describe(value: &Value) -> String {
-    let text = value.to_string();
+    abbreviate(value.to_string())
+}
+
+/// `text` as a message quotes a value: cut to 37 characters and "..." beyond 40.
+pub(crate) fn abbreviate(text: String) -> String {
     if text.chars().count() > 40 {
         format!("{}...", text.chars().take(37).collect::<String>())
     } else {

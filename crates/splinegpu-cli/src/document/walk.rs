@@ -15,6 +15,7 @@ use serde_json::{Map, Value};
 use splinegpu::{Derivatives, InputError, Location, MAX_DIM, Points};
 
 use crate::document::curves::{ParsedCurve, ReadCurve, fit_curve, sampling_spec};
+use crate::document::queries::{PointListSeed, QueryEntry};
 use crate::document::surfaces::ReadSurface;
 use crate::document::values::describe;
 
@@ -97,7 +98,7 @@ pub(crate) struct ParsedDocument {
     /// The document's "geometry", read by the geometry job (a surfaces document refuses it).
     pub(crate) geometry: Option<Value>,
     /// The document's "queries" entries (`splinegpu query`), read by `document::queries`.
-    pub(crate) queries: Option<Vec<(String, Value)>>,
+    pub(crate) queries: Option<Vec<(String, QueryEntry)>>,
 }
 
 /// Methods for the JSON types a visitor does not expect: each reports the value it got.
@@ -221,10 +222,7 @@ impl<'de> Visitor<'de> for DocumentSeed<'_> {
                 }
                 "curves" => doc.curves = Some(map.next_value_seed(CurvesSeed(located))?),
                 "geometry" => doc.geometry = Some(map.next_value()?),
-                "queries" => {
-                    let seed = ObjectSeed(located, place.clone(), "queries");
-                    doc.queries = Some(map.next_value_seed(seed)?);
-                }
+                "queries" => doc.queries = Some(map.next_value_seed(QueriesSeed(located))?),
                 "surfaces" => doc.surfaces = Some(map.next_value_seed(SurfacesSeed(located))?),
                 "normals" => {
                     let v: Value = map.next_value()?;
@@ -664,8 +662,52 @@ impl<'de> Visitor<'de> for CoordinateVisitor {
     reject_map!();
 }
 
+/// "queries": its entries, keys checked for duplicates; the point lists of "closest" and "rays"
+/// read as numbers into one flat array ([`PointListSeed`]), not as a tree of JSON values.
+struct QueriesSeed<'a>(&'a Located);
+
+impl<'de> DeserializeSeed<'de> for QueriesSeed<'_> {
+    type Value = Vec<(String, QueryEntry)>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl QueriesSeed<'_> {
+    fn wrong<E: de::Error>(self, got: &Value) -> Result<Vec<(String, QueryEntry)>, E> {
+        let message = format!("must be an object, got {}", describe(got));
+        self.0
+            .fail(&Location::Document, InputError::field("queries", message))
+    }
+}
+
+impl<'de> Visitor<'de> for QueriesSeed<'_> {
+    type Value = Vec<(String, QueryEntry)>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a queries object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let mut entries = Vec::new();
+        let mut seen = Vec::new();
+        while let Some(key) = next_key(&mut map, &mut seen, self.0, &Location::Document)? {
+            let entry = if key == "closest" || key == "rays" {
+                QueryEntry::Points(map.next_value_seed(PointListSeed)?)
+            } else {
+                QueryEntry::Value(map.next_value()?)
+            };
+            entries.push((key, entry));
+        }
+        Ok(entries)
+    }
+
+    reject_scalars!();
+    reject_seq!();
+}
+
 /// An object's entries, keys checked for duplicates ("sampling", whose meaning
-/// [`sampling_spec`] checks, or "queries"); the third field is its key, for errors.
+/// [`sampling_spec`] checks); the third field is its key, for errors.
 struct ObjectSeed<'a>(&'a Located, Location, &'static str);
 
 impl<'de> DeserializeSeed<'de> for ObjectSeed<'_> {
