@@ -11,9 +11,10 @@
 //! - **the Krawczyk test** on X' (X widened by a twentieth of its size on each side): with
 //!   x̃ its centre, Y the inverse of F's Jacobian at x̃ and J(X') an interval enclosure of the
 //!   Jacobian [A'(S), −B'(T)] over it ([`planar`](super::planar)),
-//!   K = x̃ − Y F(x̃) + (I − Y J(X')) (X' − x̃). Every root of F in X' lies in K (the mean value
-//!   theorem), so K ∩ X' = ∅ excludes X'; and K inside the interior of X' proves that X' holds
-//!   exactly one root (Krawczyk, 1969; Moore, 1977), to which Newton's method from x̃ converges;
+//!   K = x̃ − Y F(x̃) + (I − Y J(X')) (X' − x̃), widened by |Y| ε/4 (where the curves come within
+//!   ε/4 they are taken to meet). Every such point of X' lies in K (the mean value theorem), so
+//!   K ∩ X' = ∅ excludes X'; and K inside the interior of X' proves that X' holds exactly one
+//!   root (Krawczyk, 1969; Moore, 1977), to which Newton's method from x̃ converges;
 //! - otherwise the longer piece is halved and both halves are looked at again, until both
 //!   pieces lie in boxes smaller than ε/2 (ε = 1e-9 (E + |q|∞)): such a pair is within ε of
 //!   meeting, and its centre is a candidate (a tangency, a singular point, the end of an
@@ -445,6 +446,21 @@ impl<'a> CurveSet<'a> {
             }
             let size = |bx: &[Interval; 2]| (bx[0][1] - bx[0][0]).max(bx[1][1] - bx[1][0]);
             let (size_a, size_b) = (size(&box_a), size(&box_b));
+            if size_a <= NEAR * eps && size_b <= NEAR * eps {
+                // Small pieces the test cannot settle run nearly parallel (a tangency): where
+                // they come within ε, their closest approach stands for the box.
+                let (sc, tc) = closest_approach((a, s), (b, t), shift);
+                let (pa, pb) = (a.local(sc), b.local(tc));
+                let gap = (pa[0] - pb[0] + shift[0]).hypot(pa[1] - pb[1] + shift[1]);
+                if gap <= eps {
+                    found(Candidate {
+                        s: sc,
+                        t: tc,
+                        proven: false,
+                    });
+                    continue;
+                }
+            }
             let narrow = s[1] - s[0] < 1e-15 && t[1] - t[0] < 1e-15;
             if (size_a <= 0.5 * eps && size_b <= 0.5 * eps) || narrow || steps > MAX_STEPS {
                 found(Candidate {
@@ -604,15 +620,18 @@ impl<'a> CurveSet<'a> {
                 .total_cmp(&y.0.t_i)
                 .then(x.0.t_j.total_cmp(&y.0.t_j))
         });
-        // Candidates of one meeting: two proven roots within 4ε of each other (found from
-        // neighbouring boxes), or a candidate not proven beside another within 1e-6 of both
-        // curves' parameter ranges (a tangency's or a singular point's boxes).
+        // Candidates of one meeting: neighbours (by t_i) between which the curves stay
+        // within 4ε (at the middle of both parameters), as along a tangency's run; two proven
+        // roots only where they are one point (found from neighbouring boxes).
         let mut merged: Vec<(Intersection, bool, f64)> = Vec::new();
         for p in points {
             let one = merged.last().is_some_and(|last| {
+                if last.1 && p.1 {
+                    return self.same_point(&last.0, &p.0);
+                }
                 let close = (last.0.t_i - p.0.t_i).abs() <= self.t_gap(i)
                     && (last.0.t_j - p.0.t_j).abs() <= self.t_gap(j);
-                close && (!(last.1 && p.1) || self.same_point(&last.0, &p.0))
+                close && self.together(i, j, &last.0, &p.0)
             });
             match merged.last_mut() {
                 Some(last) if one => {
@@ -641,16 +660,67 @@ impl<'a> CurveSet<'a> {
         gap <= 4.0 * self.eps(a.point)
     }
 
-    /// How far apart in curve c's parameter two candidates of one meeting may be: 1e-6 of its
-    /// parameter range (a tangency's candidates spread over at most about √ε of it).
+    /// How far apart in curve c's parameter two candidates of one meeting may be: 1e-3 of its
+    /// parameter range (a tangency's candidates spread over about √ε of it).
     fn t_gap(&self, c: usize) -> f64 {
         let (t0, t1) = self.tables[c].t_range();
-        1e-6 * (t1 - t0)
+        1e-3 * (t1 - t0)
+    }
+
+    /// Whether curves i and j stay within 4ε of each other halfway between two meetings (at
+    /// the middle of t_i and of t_j).
+    fn together(&self, i: usize, j: usize, x: &Intersection, y: &Intersection) -> bool {
+        let at = |c: usize, t: f64| {
+            let table = &self.tables[c];
+            let knots = table.knots();
+            let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);
+            let segment = table.segment(s);
+            let mut p = [0.0; 2];
+            segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), &mut p);
+            p
+        };
+        let (p, q) = (at(i, 0.5 * (x.t_i + y.t_i)), at(j, 0.5 * (x.t_j + y.t_j)));
+        (p[0] - q[0]).hypot(p[1] - q[1]) <= 4.0 * self.eps(p)
     }
 }
 
 /// The boxes a pair of pieces may look at before its segments are checked for an overlap.
 const SEARCH_BUDGET: usize = 64;
+
+/// Pieces smaller than this many ε that the Krawczyk test leaves undecided are settled by
+/// their closest approach (a tangency's run of boxes would otherwise go down to ε).
+const NEAR: f64 = 1e3;
+
+/// The closest approach of two small pieces (A on `s`, B on `t`): alternate projections, each
+/// by Newton's method on the squared distance's slope, kept in the pieces' intervals.
+fn closest_approach(
+    (a, s): (&PlanarSegment, Interval),
+    (b, t): (&PlanarSegment, Interval),
+    shift: [f64; 2],
+) -> (f64, f64) {
+    // The parameter on `segment` (within `range`) nearest to `target` (in its frame).
+    let project = |segment: &PlanarSegment, range: Interval, target: [f64; 2], mut u: f64| {
+        for _ in 0..6 {
+            let (p, d) = (segment.local(u), segment.derivative(u));
+            let e = [p[0] - target[0], p[1] - target[1]];
+            let slope = e[0] * d[0] + e[1] * d[1];
+            let curvature = d[0] * d[0] + d[1] * d[1];
+            if curvature == 0.0 {
+                break;
+            }
+            u = (u - slope / curvature).clamp(range[0], range[1]);
+        }
+        u
+    };
+    let (mut sc, mut tc) = (0.5 * (s[0] + s[1]), 0.5 * (t[0] + t[1]));
+    for _ in 0..4 {
+        let pa = a.local(sc);
+        tc = project(b, t, [pa[0] + shift[0], pa[1] + shift[1]], tc);
+        let pb = b.local(tc);
+        sc = project(a, s, [pb[0] - shift[0], pb[1] - shift[1]], sc);
+    }
+    (sc, tc)
+}
 
 /// The most boxes one pair of pieces may look at before its remaining boxes are reported as
 /// candidates (a bound on the work at a tangency; each such box is within ε of meeting).
@@ -742,6 +812,12 @@ fn krawczyk(
             let magnitude = (delta - lo).abs().max((delta - hi).abs());
             *r += magnitude * half[col];
         }
+    }
+    // The curves are taken to meet where they come within ε/4 (the hulls' pad): F may be off
+    // by that much at every point, which Y carries into K. Without it a touching point that
+    // rounding leaves 1e-17 apart would be excluded as no root.
+    for (r, row) in radius.iter_mut().zip(&y) {
+        *r += (row[0].abs() + row[1].abs()) * 0.25 * eps;
     }
     let bounds = [s, t];
     let inside = (0..2).all(|k| c[k] - radius[k] > bounds[k][0] && c[k] + radius[k] < bounds[k][1]);

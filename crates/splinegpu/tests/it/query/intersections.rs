@@ -321,3 +321,72 @@ proptest! {
         check_against_brute_force(&curves, &format!("seed {seed}"));
     }
 }
+
+/// The cubic Bezier control points of segment `s` of `table` on its local [a, b] (de
+/// Casteljau: split at b, then at a / b).
+fn sub_bezier(table: &SegmentTable, s: usize, a: f64, b: f64) -> [[f64; 2]; 4] {
+    let points = table.segment(s).bezier_points().unwrap();
+    let mut p: [[f64; 2]; 4] = std::array::from_fn(|i| [points[i][0], points[i][1]]);
+    let split = |p: [[f64; 2]; 4], at: f64| {
+        let lerp =
+            |x: [f64; 2], y: [f64; 2]| [x[0] + at * (y[0] - x[0]), x[1] + at * (y[1] - x[1])];
+        let (q0, q1, q2) = (lerp(p[0], p[1]), lerp(p[1], p[2]), lerp(p[2], p[3]));
+        let (r0, r1) = (lerp(q0, q1), lerp(q1, q2));
+        let m = lerp(r0, r1);
+        ([p[0], q0, r0, m], [m, r1, q2, p[3]])
+    };
+    if b < 1.0 {
+        p = split(p, b).0;
+    }
+    if a > 0.0 {
+        p = split(p, a / b).1;
+    }
+    p
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Adversarial pairs built from a random curve: its own piece (an overlap, reported by its
+    /// two ends) and its tangent line at a random point (a touching point, flagged tangent).
+    #[test]
+    fn overlaps_and_tangencies_of_a_random_curve(seed in 0u64..u64::MAX) {
+        let mut rng = Rng(seed | 1);
+        let kind = CurveKind::Uniform { basis: Basis::CatmullRom, ends: Ends::Repeat };
+        let curve = Curve::new(kind, rng.points(6, 2, -2.0, 2.0)).unwrap();
+        let table = curve.fit();
+        // An overlap: segment 2's piece [a, b] as a Bezier of its own.
+        let (a, b) = (rng.range(0.1, 0.4), rng.range(0.6, 0.9));
+        let piece: Vec<f64> = sub_bezier(&table, 2, a, b).iter().flatten().copied().collect();
+        let piece = Curve::new(CurveKind::Bezier, Points::new(2, piece).unwrap()).unwrap();
+        let found = intersections(&[table.clone(), piece.fit()], Pairs::All).unwrap();
+        let ends: Vec<&Intersection> = found.iter().filter(|x| x.overlap).collect();
+        prop_assert_eq!(ends.len(), 2, "{:?}", found);
+        for (x, t) in ends.iter().zip([2.0 + a, 2.0 + b]) {
+            let p = at(&table, t);
+            prop_assert!((x.t_i - t).abs() < 1e-6, "{:?} for t = {}", x, t);
+            prop_assert!((x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-9);
+        }
+        // A tangency: the tangent line at t0, a straight cubic Bezier through C(t0).
+        let t0 = 1.0 + rng.range(0.3, 0.7);
+        let (p, d) = at_with_slope(&table, t0);
+        let n = d[0].hypot(d[1]);
+        let dir = [d[0] / n * 0.5, d[1] / n * 0.5];
+        let line: Vec<f64> = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0]
+            .iter()
+            .flat_map(|&f| [p[0] + f * dir[0], p[1] + f * dir[1]])
+            .collect();
+        // Where the curve's curvature is near zero the line crosses rather than touches:
+        // such draws say nothing about tangency.
+        let (_, d1) = at_with_slope(&table, t0 + 1e-3);
+        let turn = (d[0] * d1[1] - d[1] * d1[0]) / (n * d1[0].hypot(d1[1]));
+        prop_assume!(turn.abs() > 1e-5);
+        let line = Curve::new(CurveKind::Bezier, Points::new(2, line).unwrap()).unwrap();
+        let found = intersections(&[table.clone(), line.fit()], Pairs::All).unwrap();
+        let touch = found
+            .iter()
+            .find(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-4);
+        prop_assert!(touch.is_some_and(|x| x.tangent && !x.overlap), "{:?} at {:?}", found, p);
+        prop_assert_eq!(found.iter().filter(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-3).count(), 1);
+    }
+}
