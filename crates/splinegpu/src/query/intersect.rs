@@ -242,9 +242,10 @@ impl<'a> CurveSet<'a> {
         }
         let tree = BoxTree::new(2, &boxes);
         let mut meetings = Vec::new();
-        tree.overlapping_pairs(&tree, |a, b| {
+        tree.overlapping_pairs_within(|a, b| {
             let ((ca, la), (cb, lb)) = (owners[a as usize], owners[b as usize]);
-            if ca < cb {
+            if ca != cb {
+                // Pieces come in curve order, so a < b puts the lower curve first.
                 meetings.push((ca, cb, la, lb));
             }
         });

@@ -253,6 +253,66 @@ impl BoxTree {
         }
     }
 
+    /// Every pair of distinct items of this tree whose boxes overlap, each once (the smaller
+    /// item first): [`BoxTree::overlapping_pairs`] of the tree with itself, without the
+    /// mirrored half.
+    pub(crate) fn overlapping_pairs_within(&self, mut visit: impl FnMut(u32, u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let dim = self.dim;
+        let meet =
+            |a: &[f64], b: &[f64]| (0..dim).all(|k| a[k] <= b[dim + k] && b[k] <= a[dim + k]);
+        let item = |x: usize| &self.item_boxes[x * 2 * dim..][..2 * dim];
+        let mut emit = |x: usize, y: usize, visit: &mut dyn FnMut(u32, u32)| {
+            if meet(item(x), item(y)) {
+                let (a, b) = (self.order[x], self.order[y]);
+                visit(a.min(b), a.max(b));
+            }
+        };
+        // (a, b) with a == b: a node against itself; a != b: two nodes (each pair once).
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((a, b)) = stack.pop() {
+            let (na, nb) = (self.nodes[a as usize], self.nodes[b as usize]);
+            if a == b {
+                if na.leaf {
+                    for x in na.first as usize..na.second as usize {
+                        for y in x + 1..na.second as usize {
+                            emit(x, y, &mut visit);
+                        }
+                    }
+                } else {
+                    stack.extend([
+                        (na.first, na.first),
+                        (na.second, na.second),
+                        (na.first, na.second),
+                    ]);
+                }
+                continue;
+            }
+            if !meet(self.node_boxes(a), self.node_boxes(b)) {
+                continue;
+            }
+            match (na.leaf, nb.leaf) {
+                (true, true) => {
+                    for x in na.first as usize..na.second as usize {
+                        for y in nb.first as usize..nb.second as usize {
+                            emit(x, y, &mut visit);
+                        }
+                    }
+                }
+                (false, true) => stack.extend([(na.first, b), (na.second, b)]),
+                (true, false) => stack.extend([(a, nb.first), (a, nb.second)]),
+                (false, false) => stack.extend([
+                    (na.first, nb.first),
+                    (na.first, nb.second),
+                    (na.second, nb.first),
+                    (na.second, nb.second),
+                ]),
+            }
+        }
+    }
+
     /// Node `at`'s box, `lo` then `hi`.
     fn node_boxes(&self, at: u32) -> &[f64] {
         &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim]
@@ -318,6 +378,29 @@ mod tests {
             }
         }
         assert_eq!(got, want);
+    }
+
+    #[test]
+    fn pairs_within_are_the_join_with_itself_once() {
+        let boxes: Vec<f64> = (0..41)
+            .flat_map(|i| {
+                let x = (i * 7 % 41) as f64 * 0.37;
+                [x, 0.0, x + 0.8, 1.0]
+            })
+            .collect();
+        let tree = BoxTree::new(2, &boxes);
+        let mut within = Vec::new();
+        tree.overlapping_pairs_within(|a, b| within.push((a, b)));
+        within.sort_unstable();
+        let mut joined = Vec::new();
+        tree.overlapping_pairs(&tree, |a, b| {
+            if a < b {
+                joined.push((a, b));
+            }
+        });
+        joined.sort_unstable();
+        assert_eq!(within, joined);
+        assert!(!within.is_empty());
     }
 
     #[test]
