@@ -264,7 +264,7 @@ impl BoxTree {
         let meet =
             |a: &[f64], b: &[f64]| (0..dim).all(|k| a[k] <= b[dim + k] && b[k] <= a[dim + k]);
         let item = |x: usize| &self.item_boxes[x * 2 * dim..][..2 * dim];
-        let mut emit = |x: usize, y: usize, visit: &mut dyn FnMut(u32, u32)| {
+        let emit = |x: usize, y: usize, visit: &mut dyn FnMut(u32, u32)| {
             if meet(item(x), item(y)) {
                 let (a, b) = (self.order[x], self.order[y]);
                 visit(a.min(b), a.max(b));
