@@ -262,3 +262,21 @@ def test_insert_is_scipys_on_tck_parametric_periodic_and_bsplines():
     inserted = ours.insert(4.5, spline, m=2)
     assert isinstance(inserted, ours.BSpline)
     np.testing.assert_allclose(inserted(x), spline(x), rtol=0, atol=1e-14)
+
+
+def test_the_legacy_fitpack_doors_treat_complex_data_as_scipy_does():
+    """SciPy 1.17's splrep casts complex y to float with a ComplexWarning and fits the real
+    part; its splprep refuses complex coordinates with TypeError. Ours do the same (issue 47
+    said both raise; on this SciPy they do not)."""
+    from splinegpu import interpolate as ours
+
+    x = np.linspace(0, 1, 10)
+    fits = []
+    for module in (interpolate, ours):
+        with pytest.warns(np.exceptions.ComplexWarning):
+            fits.append(module.splrep(x, x + 1j * x))
+        with pytest.raises(TypeError):
+            module.splprep([x, x + 1j * x])
+    (t_theirs, c_theirs, _), (t_ours, c_ours, _) = fits
+    np.testing.assert_allclose(t_ours, t_theirs)
+    np.testing.assert_allclose(c_ours[: len(c_theirs)], c_theirs, atol=1e-12)
