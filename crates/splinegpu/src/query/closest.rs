@@ -25,6 +25,7 @@
 
 use crate::error::InputError;
 use crate::parallel::map_indices;
+use crate::query::checks::{check_point, point_count};
 use crate::query::pieces::{Piece, pieces};
 use crate::query::roots::{Poly, visit_sign_change_roots};
 use crate::query::tree::BoxTree;
@@ -139,7 +140,7 @@ impl<'a> CurveIndex<'a> {
     /// `q` of another length than D, or with a coordinate that is not finite; a `q` so far
     /// from the curves that its squared distance overflows f64 (beyond about 1e154).
     pub fn closest(&self, q: &[f64]) -> Result<ClosestPoint, InputError> {
-        check_query(q, self.dim, 0)?;
+        check_point(q, self.dim, 0, "curves")?;
         let (curve, t, d2) = self.nearest(q);
         check_distance(d2, 0)?;
         let mut point = vec![0.0; self.dim];
@@ -160,18 +161,9 @@ impl<'a> CurveIndex<'a> {
     /// far for f64 (as [`CurveIndex::closest`]), named by its query's index.
     pub fn closest_many(&self, queries: &[f64]) -> Result<ClosestPoints, InputError> {
         let dim = self.dim;
-        if !queries.len().is_multiple_of(dim) {
-            return Err(InputError::field(
-                "closest",
-                format!(
-                    "must hold {dim} coordinates per point, got {} values",
-                    queries.len()
-                ),
-            ));
-        }
-        let count = queries.len() / dim;
+        let count = point_count(queries, dim)?;
         for i in 0..count {
-            check_query(&queries[i * dim..][..dim], dim, i)?;
+            check_point(&queries[i * dim..][..dim], dim, i, "curves")?;
         }
         let answers = map_indices(count, |i| self.nearest(&queries[i * dim..][..dim]));
         let mut out = ClosestPoints {
@@ -233,26 +225,6 @@ impl<'a> CurveIndex<'a> {
         let segment = table.segment(s);
         segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), out);
     }
-}
-
-/// A query point's length and finiteness.
-fn check_query(q: &[f64], dim: usize, index: usize) -> Result<(), InputError> {
-    if q.len() != dim {
-        return Err(InputError::field(
-            format!("closest[{index}]"),
-            format!(
-                "must have {dim} coordinates (the curves' D), got {}",
-                q.len()
-            ),
-        ));
-    }
-    if let Some(k) = q.iter().position(|v| !v.is_finite()) {
-        return Err(InputError::field(
-            format!("closest[{index}]"),
-            format!("coordinate {k} is {}, not a finite number", q[k]),
-        ));
-    }
-    Ok(())
 }
 
 /// A squared distance that f64 could hold (a query within about 1e154 of the curves).

@@ -8,6 +8,7 @@
 //! the Krawczyk test and subdivision (`intersect`, on the enclosures of `planar`). The
 //! argument that nothing is missed is in docs/queries.md.
 
+mod checks;
 mod closest;
 mod columns;
 mod intersect;

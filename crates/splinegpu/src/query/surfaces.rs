@@ -18,6 +18,7 @@
 
 use crate::error::InputError;
 use crate::parallel::map_indices;
+use crate::query::checks::{check_point, point_count};
 use crate::query::nets::{Net, patch_net};
 use crate::query::tree::BoxTree;
 use crate::surface::{Derivs, PatchTable, unit_normal};
@@ -226,23 +227,7 @@ impl<'a> SurfaceIndex<'a> {
     /// `q` of another length than D, a coordinate that is not finite, or a `q` so far that
     /// its squared distance overflows f64; each named as `closest[index]`.
     pub fn closest(&self, q: &[f64], index: usize) -> Result<SurfacePoint, InputError> {
-        let field = || format!("closest[{index}]");
-        if q.len() != self.dim {
-            return Err(InputError::field(
-                field(),
-                format!(
-                    "must have {} coordinates (the surfaces' D), got {}",
-                    self.dim,
-                    q.len()
-                ),
-            ));
-        }
-        if let Some(k) = q.iter().position(|v| !v.is_finite()) {
-            return Err(InputError::field(
-                field(),
-                format!("coordinate {k} is {}, not a finite number", q[k]),
-            ));
-        }
+        check_point(q, self.dim, index, "surfaces")?;
         let eps = self.eps(q);
         let mut best = f64::INFINITY;
         let mut found = (0usize, 0.0, 0.0);
@@ -253,7 +238,7 @@ impl<'a> SurfaceIndex<'a> {
         });
         if !best.is_finite() {
             return Err(InputError::field(
-                field(),
+                format!("closest[{index}]"),
                 "lies too far from the surfaces: its squared distance overflows float64",
             ));
         }
@@ -284,16 +269,7 @@ impl<'a> SurfaceIndex<'a> {
     /// As [`SurfaceIndex::closest`], for the first query at fault.
     pub fn closest_many(&self, queries: &[f64]) -> Result<Vec<SurfacePoint>, InputError> {
         let dim = self.dim;
-        if !queries.len().is_multiple_of(dim) {
-            return Err(InputError::field(
-                "closest",
-                format!(
-                    "must hold {dim} coordinates per point, got {} values",
-                    queries.len()
-                ),
-            ));
-        }
-        map_indices(queries.len() / dim, |i| {
+        map_indices(point_count(queries, dim)?, |i| {
             self.closest(&queries[i * dim..][..dim], i)
         })
         .into_iter()
@@ -503,8 +479,10 @@ impl<'a> SurfaceIndex<'a> {
         let ranges = |part: &Net| {
             let mut r = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
             for p in part.projected() {
-                let p: Vec<f64> = p.collect();
-                let x = [shift[0] + p[0], shift[1] + p[1], shift[2] + p[2]];
+                let mut x = shift;
+                for (x, p) in x.iter_mut().zip(p) {
+                    *x += p;
+                }
                 for (axis, range) in frame.iter().zip(r.iter_mut()) {
                     let c = dot(*axis, x);
                     *range = [range[0].min(c), range[1].max(c)];
