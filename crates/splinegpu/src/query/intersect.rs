@@ -614,7 +614,7 @@ impl<'a> CurveSet<'a> {
                         || self.same_point(x, b)
                 })
             })
-            .filter(|(x, ..)| i != j || x.t_j - x.t_i > 1e-9 * (1.0 + x.t_i.abs()))
+            .filter(|(x, ..)| i != j || !self.one_place(i, x.t_i, x.t_j))
             .collect();
         points.sort_by(|x, y| {
             x.0.t_i
@@ -671,17 +671,30 @@ impl<'a> CurveSet<'a> {
     /// Whether curves i and j stay within 4ε of each other halfway between two meetings (at
     /// the middle of t_i and of t_j).
     fn together(&self, i: usize, j: usize, x: &Intersection, y: &Intersection) -> bool {
-        let at = |c: usize, t: f64| {
-            let table = &self.tables[c];
-            let knots = table.knots();
-            let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);
-            let segment = table.segment(s);
-            let mut p = [0.0; 2];
-            segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), &mut p);
-            p
-        };
-        let (p, q) = (at(i, 0.5 * (x.t_i + y.t_i)), at(j, 0.5 * (x.t_j + y.t_j)));
+        let (p, q) = (
+            self.at(i, 0.5 * (x.t_i + y.t_i)),
+            self.at(j, 0.5 * (x.t_j + y.t_j)),
+        );
         (p[0] - q[0]).hypot(p[1] - q[1]) <= 4.0 * self.eps(p)
+    }
+
+    /// Whether curve c's meeting with itself at t_a < t_b is one place passed once, not a
+    /// self-intersection: the curve stays within 4ε of it halfway between (a joint with
+    /// itself, or a stretch where it barely moves), where a loop between them goes away.
+    fn one_place(&self, c: usize, t_a: f64, t_b: f64) -> bool {
+        let (p, m) = (self.at(c, t_a), self.at(c, 0.5 * (t_a + t_b)));
+        (p[0] - m[0]).hypot(p[1] - m[1]) <= 4.0 * self.eps(p)
+    }
+
+    /// Curve c at parameter t.
+    fn at(&self, c: usize, t: f64) -> [f64; 2] {
+        let table = &self.tables[c];
+        let knots = table.knots();
+        let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);
+        let segment = table.segment(s);
+        let mut p = [0.0; 2];
+        segment.eval(((t - segment.t0()) / segment.dt()).clamp(0.0, 1.0), &mut p);
+        p
     }
 }
 
@@ -693,7 +706,10 @@ const SEARCH_BUDGET: usize = 64;
 const NEAR: f64 = 1e3;
 
 /// The closest approach of two small pieces (A on `s`, B on `t`): alternate projections, each
-/// by Newton's method on the squared distance's slope, kept in the pieces' intervals.
+/// by Newton's method on the squared distance's slope, kept in the pieces' intervals; then,
+/// where the pieces cross at a shallow angle (where the projections crawl, by cos² of it a
+/// step), Newton's method on A(s) − B(t) = 0, each step kept only where it brings them nearer
+/// (not within 1e-6 radians of a tangency, where the projections' answer stands).
 fn closest_approach(
     (a, s): (&PlanarSegment, Interval),
     (b, t): (&PlanarSegment, Interval),
@@ -719,6 +735,28 @@ fn closest_approach(
         tc = project(b, t, [pa[0] + shift[0], pa[1] + shift[1]], tc);
         let pb = b.local(tc);
         sc = project(a, s, [pb[0] - shift[0], pb[1] - shift[1]], sc);
+    }
+    let gap = |sc: f64, tc: f64| {
+        let (pa, pb) = (a.local(sc), b.local(tc));
+        [pa[0] - pb[0] + shift[0], pa[1] - pb[1] + shift[1]]
+    };
+    let mut f = gap(sc, tc);
+    for _ in 0..8 {
+        let (da, db) = (a.derivative(sc), b.derivative(tc));
+        // F' = [A'(s), −B'(t)]; within 1e-6 radians of parallel (a tangency) the projections'
+        // answer stands.
+        let det = -da[0] * db[1] + da[1] * db[0];
+        if det.abs() <= 1e-6 * da[0].hypot(da[1]) * db[0].hypot(db[1]) || !det.is_finite() {
+            break;
+        }
+        let ds = (-f[0] * db[1] + f[1] * db[0]) / det;
+        let dt = (da[0] * f[1] - da[1] * f[0]) / det;
+        let (ns, nt) = ((sc - ds).clamp(s[0], s[1]), (tc - dt).clamp(t[0], t[1]));
+        let g = gap(ns, nt);
+        if g[0].hypot(g[1]) >= f[0].hypot(f[1]) {
+            break;
+        }
+        (sc, tc, f) = (ns, nt, g);
     }
     (sc, tc)
 }

@@ -376,11 +376,12 @@ proptest! {
             .iter()
             .flat_map(|&f| [p[0] + f * dir[0], p[1] + f * dir[1]])
             .collect();
-        // Where the curve's curvature is near zero the line crosses rather than touches:
-        // such draws say nothing about tangency.
+        // Near an inflection the line crosses rather than touches, or crosses again close by
+        // (a draw turning 1.3e-5 radians in 1e-3 of t met it again 6e-4 away): such draws say
+        // nothing about tangency.
         let (_, d1) = at_with_slope(&table, t0 + 1e-3);
         let turn = (d[0] * d1[1] - d[1] * d1[0]) / (n * d1[0].hypot(d1[1]));
-        prop_assume!(turn.abs() > 1e-5);
+        prop_assume!(turn.abs() > 1e-3);
         let line = Curve::new(CurveKind::Bezier, Points::new(2, line).unwrap()).unwrap();
         let found = intersections(&[table.clone(), line.fit()], Pairs::All).unwrap();
         let touch = found
@@ -388,5 +389,39 @@ proptest! {
             .find(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-4);
         prop_assert!(touch.is_some_and(|x| x.tangent && !x.overlap), "{:?} at {:?}", found, p);
         prop_assert_eq!(found.iter().filter(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-3).count(), 1);
+    }
+}
+
+/// A Bezier whose second segment has a small loop crossing at a shallow angle, where the curve
+/// also slows down (a seed the property test drew): the crossing is placed as the brute force
+/// places it, and the slow stretch is no self-intersection.
+#[test]
+fn a_small_shallow_loop_is_placed_exactly() {
+    let coords = vec![
+        -1.2358375537700361,
+        1.57521515537319,
+        -0.9931001931871601,
+        -0.3155520352764887,
+        1.9576174078307802,
+        -0.6767436539224603,
+        -1.5800851138182939,
+        1.4944778460975314,
+        1.0939770664555795,
+        0.04309977272952459,
+        -0.353705935443827,
+        1.6665308372379872,
+        0.39580828738765383,
+        0.16334595352622516,
+    ];
+    let table = bezier(&coords).fit();
+    let got = intersections(std::slice::from_ref(&table), Pairs::Listed(&[[0, 0]])).unwrap();
+    let want = brute_force(&table, &table, true);
+    assert_eq!(got.len(), want.len(), "{got:?} against {want:?}");
+    for (x, (ti, tj)) in got.iter().zip(&want) {
+        let p = at(&table, *ti);
+        assert!(
+            (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-9,
+            "{x:?} for ({ti}, {tj})"
+        );
     }
 }
