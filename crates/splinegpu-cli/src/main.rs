@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use splinegpu::GpuContext;
 use splinegpu::geometry::GeometryJob;
 use splinegpu::query::{
-    ClosestPoints, CurveIndex, Intersection, Pairs, RayHit, SurfaceIndex, SurfacePoint,
+    ClosestPoints, CurveIndex, Intersection, Pairs, QueryError, RayHit, SurfaceIndex, SurfacePoint,
     intersections,
 };
 use splinegpu::surface::SurfaceJob;
@@ -64,6 +64,8 @@ enum Command {
     /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64
     /// with t into reused memory, the whole library call);
     /// q1's cpu-1t and cpu-all (the whole call: fitted, indexed, answered into new arrays),
+    /// gpu-device (the kernel's dispatches) and gpu-end-to-end (the whole call to f32 answers, with
+    /// "misses": answers beyond the contract's GPU bound),
     /// plain-loop (the same exact solve on every segment, no index) and kurbo (its nearest on
     /// every segment to 1e-9, with "misses" against the certified answers), the last two on
     /// the first 1,000 points, scaled to all;
@@ -277,14 +279,17 @@ fn tessellate(
 /// What a query document's answers are.
 enum Answers {
     Closest(ClosestPoints),
+    /// Closest points on curves from the GPU, in f32.
+    ClosestGpu(ClosestPoints<f32>),
     Intersections(Vec<Intersection>),
     /// Closest points on surfaces of D coordinates.
     SurfaceClosest(Vec<SurfacePoint>, usize),
     Rays(Vec<Option<RayHit>>),
 }
 
-/// A query document answered on the CPU and written; `--backend gpu`, which this build cannot
-/// answer yet, is refused with exit 1 once the document is checked.
+/// A query document answered and written: closest points on curves on the backend, the rest
+/// on the CPU (a surfaces' query with `--backend gpu` is refused with exit 1 once the document
+/// is checked).
 fn query(
     input: &str,
     output: Option<&Path>,
@@ -310,16 +315,31 @@ fn query(
             ));
         }
     };
-    if backend == Backend::Gpu {
-        return Err(Failure::other(
-            "not supported yet: queries on the GPU (use --backend cpu or auto)",
-        ));
-    }
+    // Closest points on curves run on the backend; intersections are refined and reported in
+    // f64 on the host whatever the backend (the contract's reading), and surfaces' queries are
+    // answered on the CPU (auto) or refused on the GPU until their kernels exist.
+    let context = match (&document.target, &document.queries) {
+        (QueryTarget::Curves(_), Queries::Closest(_)) => choose_backend(backend)?,
+        (QueryTarget::Surfaces(_), _) if backend == Backend::Gpu => {
+            return Err(Failure::other(
+                "not supported yet: queries on surfaces on the GPU (use --backend cpu or auto)",
+            ));
+        }
+        _ => None,
+    };
     let located = |e: splinegpu::InputError| Failure::input(e.in_document());
     let answers = match (&document.target, &document.queries) {
         (QueryTarget::Curves(tables), Queries::Closest(points)) => {
             let index = CurveIndex::new(tables).map_err(Failure::input)?;
-            Answers::Closest(index.closest_many(points).map_err(located)?)
+            match &context {
+                Some(gpu) => Answers::ClosestGpu(gpu.closest_points(&index, points).map_err(
+                    |e| match e {
+                        QueryError::Input(e) => located(e),
+                        QueryError::Gpu(e) => Failure::other(e),
+                    },
+                )?),
+                None => Answers::Closest(index.closest_many(points).map_err(located)?),
+            }
         }
         (QueryTarget::Curves(tables), Queries::Intersections(listed)) => {
             let pairs = listed.as_deref().map_or(Pairs::All, Pairs::Listed);
@@ -339,6 +359,7 @@ fn query(
     let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
         match &answers {
             Answers::Closest(closest) => query_output::write_closest(closest, format, out)?,
+            Answers::ClosestGpu(closest) => query_output::write_closest(closest, format, out)?,
             Answers::Intersections(found) => query_output::write_intersections(found, format, out)?,
             Answers::SurfaceClosest(closest, dim) => {
                 query_output::write_surface_closest(closest, *dim, format, out)?;

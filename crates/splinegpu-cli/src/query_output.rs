@@ -10,6 +10,7 @@ use splinegpu::query::{
 };
 
 use crate::npz::{Dtype, NpzWriter};
+use crate::surface_output::Number;
 
 /// The formats a query's answers are written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -265,12 +266,13 @@ fn write_npz(out: &mut dyn Write, arrays: &[(&str, Dtype, &[u64], &[u8])]) -> io
     Ok(())
 }
 
-/// Closest points on curves written as `format` to `out`.
+/// Closest points on curves written as `format` to `out`: points and distances as their type
+/// (f64 from the CPU, f32 from the GPU), parameters in f64.
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_closest(
-    answers: &ClosestPoints,
+pub fn write_closest<F: Number>(
+    answers: &ClosestPoints<F>,
     format: QueryFormat,
     out: &mut dyn Write,
 ) -> io::Result<()> {
@@ -306,11 +308,10 @@ pub fn write_closest(
                     answers.curve[i],
                     text.format(answers.t[i])
                 )?;
-                crate::output::write_json_numbers(
-                    &answers.points[i * dim..][..dim],
-                    true,
-                    &mut &mut *out,
-                )?;
+                for (k, &x) in answers.points[i * dim..][..dim].iter().enumerate() {
+                    let sep = if k == 0 { "" } else { ", " };
+                    write!(out, "{sep}{}", text.format(x))?;
+                }
                 write!(
                     out,
                     "], \"distance\": {}}}",
@@ -327,13 +328,13 @@ pub fn write_closest(
                 ("t", Dtype::F64, &[q], bytemuck::cast_slice(&answers.t)),
                 (
                     "point",
-                    Dtype::F64,
+                    Dtype::of::<F>(),
                     &[q, dim as u64],
                     bytemuck::cast_slice(&answers.points),
                 ),
                 (
                     "distance",
-                    Dtype::F64,
+                    Dtype::of::<F>(),
                     &[q],
                     bytemuck::cast_slice(&answers.distance),
                 ),

@@ -47,6 +47,9 @@ pub enum BenchError {
     /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// A query workload's points or curves were refused, or the GPU failed on them.
+    #[error(transparent)]
+    Query(#[from] splinegpu::query::QueryError),
     /// cli-w1's document or output failed.
     #[error("cli-w1: {0}")]
     Cli(String),
@@ -114,7 +117,7 @@ pub fn run(
             "fit-1m" => fit_1m(&mut report),
             "s1" | "teapot" => surfaces::run(name, gpu, &mut report)?,
             "tubes" | "strokes" => geometry::run(name, gpu, &mut report)?,
-            "q1" => queries::q1(&mut report),
+            "q1" => queries::q1(gpu, &mut report)?,
             "q2" => queries::q2(&mut report),
             "cli-w1" => cli_w1(gpu, &mut report)?,
             "w1-x10" => evaluation(name, &w1_x10_job(), W1_PLAIN, gpu, &mut report)?,

@@ -1,7 +1,8 @@
 //! The query workloads, each path the whole call (the curves fitted, the index built, every
 //! answer into new arrays):
 //! - q1, the closest points of 100,000 points on 100 open Catmull-Rom curves of 16 2-D
-//!   points; beside it the plain loop (the same exact solve on every segment, no index) and
+//!   points, on the CPU and (given a GPU) gpu-device (the kernel's dispatches) and
+//!   gpu-end-to-end (the whole call, fit to f32 answers); beside it the plain loop (the same exact solve on every segment, no index) and
 //!   kurbo's `nearest` on every segment, both for the first 1,000 points and scaled to all,
 //!   kurbo's misses counted against our certified answers;
 //! - q2, every intersection among 1,000 open Catmull-Rom curves of 16 2-D points (random walks
@@ -12,9 +13,9 @@
 use std::hint::black_box;
 
 use splinegpu::query::{
-    ClosestPoints, CurveIndex, Intersection, Pairs, closest_on_segment, intersections,
+    ClosestPoints, CurveIndex, Intersection, Pairs, QueryError, closest_on_segment, intersections,
 };
-use splinegpu::{Basis, Curve, CurveKind, Ends, Points, SegmentTable};
+use splinegpu::{Basis, Curve, CurveKind, Ends, GpuContext, Points, SegmentTable};
 
 use crate::bench::anchors::once;
 use crate::bench::measure::{Measurement, memset, time};
@@ -66,7 +67,10 @@ const ANCHOR_POINTS: usize = 1_000;
 /// Bytes of one answer: curve (int64), t, a 2-D point and the distance.
 const ANSWER_BYTES: u64 = 8 + 8 + 16 + 8;
 
-pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
+pub(crate) fn q1(
+    gpu: Option<&GpuContext>,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), QueryError> {
     let curves = q1_curves();
     let points = q1_points(&curves);
     let count = (points.len() / 2) as u64;
@@ -76,6 +80,9 @@ pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
         black_box(closest(&curves, &points));
     });
     let certified = closest(&curves, &points);
+    if let Some(gpu) = gpu {
+        q1_gpu(gpu, &curves, &points, &certified, report)?;
+    }
     let first = &points[..2 * ANCHOR_POINTS];
     let scale = count as f64 / ANCHOR_POINTS as f64;
     let scaled = |seconds: f64| (seconds * scale, seconds * scale, seconds * scale);
@@ -127,6 +134,70 @@ pub(crate) fn q1(report: &mut impl FnMut(&Measurement)) {
         .filter(|(k, ours)| **k > **ours + 1e-9 * extent)
         .count() as u64;
     report(&measurement("kurbo", scaled(seconds), Some(misses)));
+    Ok(())
+}
+
+/// q1's gpu-device (the dispatches, timed on the device) and gpu-end-to-end (fit, index,
+/// pack, upload, answer, read back), the GPU's answers farther than the contract's GPU bound
+/// from the certified ones counted as misses.
+fn q1_gpu(
+    gpu: &GpuContext,
+    curves: &[Curve],
+    points: &[f64],
+    certified: &ClosestPoints,
+    report: &mut impl FnMut(&Measurement),
+) -> Result<(), QueryError> {
+    let count = certified.len() as u64;
+    let measurement = |path, times, misses| Measurement {
+        float: Some("f32"),
+        ..answers("q1", path, times, count, ANSWER_BYTES, misses)
+    };
+    let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
+    let index = CurveIndex::new(&tables)?;
+    let mut failure = None;
+    let device = time(|| match gpu.closest_points_timed(&index, points) {
+        Ok((found, device)) => {
+            black_box(found);
+            Some(device.seconds)
+        }
+        Err(e) => {
+            failure.get_or_insert(e);
+            None
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    report(&measurement("gpu-device", device, None));
+    let whole = || -> Result<ClosestPoints<f32>, QueryError> {
+        let tables: Vec<SegmentTable> = curves.iter().map(Curve::fit).collect();
+        gpu.closest_points(&CurveIndex::new(&tables)?, points)
+    };
+    let end_to_end = time(|| {
+        if let Err(e) = whole().map(black_box) {
+            failure.get_or_insert(e);
+        }
+        None
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    // The contract's bound, with the curves' position bound taken as 1e-6 of the extent
+    // (100; the f32 spacing of coordinates below 128 is 2^-17, below 1e-5 of it).
+    let extent = 100.0;
+    let found = whole()?;
+    let misses = found
+        .distance
+        .iter()
+        .zip(&certified.distance)
+        .zip(points.chunks_exact(2))
+        .filter(|&((&gpu, &ours), q)| {
+            let q = q[0].abs().max(q[1].abs());
+            (f64::from(gpu) - ours).abs() > 1e-5 * (extent + q) + 1e-6 * extent
+        })
+        .count() as u64;
+    report(&measurement("gpu-end-to-end", end_to_end, Some(misses)));
+    Ok(())
 }
 
 /// A measurement of `count` answers of `bytes` each (f64 numbers) on `path`.

@@ -12,6 +12,7 @@ pub(crate) mod kernel;
 // The kernel's f32 twin on the CPU: the tests check the packer and every kernel shape with it
 // where no GPU is needed.
 pub(crate) mod pool;
+pub(crate) mod queries;
 pub(crate) mod readback;
 pub(crate) mod surfaces;
 pub(crate) mod timing;
@@ -117,6 +118,8 @@ pub struct GpuContext {
     /// The surface kernel, compiled on first use.
     surface: std::sync::OnceLock<kernel::Kernel>,
     geometry: std::sync::OnceLock<kernel::Kernel>,
+    /// The closest-point kernel, compiled on first use.
+    closest: std::sync::OnceLock<kernel::Kernel>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -244,6 +247,7 @@ impl GpuContext {
             packings: std::sync::Mutex::default(),
             surface: std::sync::OnceLock::new(),
             geometry: std::sync::OnceLock::new(),
+            closest: std::sync::OnceLock::new(),
         }
     }
 

@@ -44,9 +44,12 @@ pub struct ClosestPoint {
     pub distance: f64,
 }
 
-/// Closest points for many query points, as arrays (query i's answer at row i).
+/// Closest points for many query points, as arrays (query i's answer at row i): points and
+/// distances in f64 from the CPU ([`CurveIndex::closest_many`]), in f32 from the GPU
+/// ([`GpuContext::closest_points`](crate::GpuContext::closest_points)); parameters always
+/// in f64.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct ClosestPoints {
+pub struct ClosestPoints<F = f64> {
     /// The number of coordinates of each point.
     pub dim: usize,
     /// Per query, the curve's index in the set.
@@ -54,12 +57,12 @@ pub struct ClosestPoints {
     /// Per query, the curve's parameter.
     pub t: Vec<f64>,
     /// Per query, the closest point (D values, flat).
-    pub points: Vec<f64>,
+    pub points: Vec<F>,
     /// Per query, the distance.
-    pub distance: Vec<f64>,
+    pub distance: Vec<F>,
 }
 
-impl ClosestPoints {
+impl<F> ClosestPoints<F> {
     /// How many queries were answered.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -161,10 +164,7 @@ impl<'a> CurveIndex<'a> {
     /// far for f64 (as [`CurveIndex::closest`]), named by its query's index.
     pub fn closest_many(&self, queries: &[f64]) -> Result<ClosestPoints, InputError> {
         let dim = self.dim;
-        let count = point_count(queries, dim)?;
-        for i in 0..count {
-            check_point(&queries[i * dim..][..dim], dim, i, "curves")?;
-        }
+        let count = self.check_queries(queries)?;
         let answers = map_indices(count, |i| self.nearest(&queries[i * dim..][..dim]));
         let mut out = ClosestPoints {
             dim,
@@ -181,6 +181,46 @@ impl<'a> CurveIndex<'a> {
             out.distance.push(d2.sqrt());
         }
         Ok(out)
+    }
+
+    /// The number of query points in `queries` (D values each, flat), each checked.
+    ///
+    /// # Errors
+    /// As [`CurveIndex::closest_many`], but for the distance's overflow.
+    pub(crate) fn check_queries(&self, queries: &[f64]) -> Result<usize, InputError> {
+        let dim = self.dim;
+        let count = point_count(queries, dim)?;
+        for i in 0..count {
+            check_point(&queries[i * dim..][..dim], dim, i, "curves")?;
+        }
+        Ok(count)
+    }
+
+    /// The curves.
+    pub(crate) fn tables(&self) -> &'a [SegmentTable] {
+        self.tables
+    }
+
+    /// The tree's items, the pieces of segments.
+    pub(crate) fn pieces(&self) -> &[Piece] {
+        &self.items
+    }
+
+    /// The box tree over the pieces.
+    pub(crate) fn tree(&self) -> &BoxTree {
+        &self.tree
+    }
+
+    /// The curve's parameter at local parameter `u` of segment `s` of curve `c` (the
+    /// segment's end knot itself at u >= 1).
+    pub(crate) fn parameter(&self, c: usize, s: usize, u: f64) -> f64 {
+        let table = &self.tables[c];
+        if u >= 1.0 {
+            table.knots()[s + 1]
+        } else {
+            let segment = table.segment(s);
+            segment.t0() + u * segment.dt()
+        }
     }
 
     /// The nearest (curve, t, squared distance) to a checked `q`.
@@ -207,18 +247,11 @@ impl<'a> CurveIndex<'a> {
             }
         });
         let (c, s, u) = found;
-        let table = &self.tables[c as usize];
-        let t = if u >= 1.0 {
-            table.knots()[s as usize + 1]
-        } else {
-            let segment = table.segment(s as usize);
-            segment.t0() + u * segment.dt()
-        };
-        (c as usize, t, best)
+        (c as usize, self.parameter(c as usize, s as usize, u), best)
     }
 
     /// Curve `curve` at parameter `t` into `out`.
-    fn point_at(&self, curve: usize, t: f64, out: &mut [f64]) {
+    pub(crate) fn point_at(&self, curve: usize, t: f64, out: &mut [f64]) {
         let table = &self.tables[curve];
         let knots = table.knots();
         let s = knots[1..knots.len() - 1].partition_point(|&k| k <= t);

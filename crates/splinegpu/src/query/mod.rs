@@ -13,7 +13,7 @@ mod closest;
 mod columns;
 mod intersect;
 mod nets;
-mod pieces;
+pub(crate) mod pieces;
 mod planar;
 mod roots;
 mod surfaces;
@@ -23,3 +23,14 @@ pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
 pub use columns::{IntersectionColumns, RayHitColumns, SurfacePointColumns};
 pub use intersect::{Intersection, Pairs, intersections};
 pub use surfaces::{RayHit, SurfaceIndex, SurfacePoint};
+
+/// Why a query on the GPU was not answered: its input, or the device.
+#[derive(Debug, thiserror::Error)]
+pub enum QueryError {
+    /// A query point (or the set) the query refuses, as the CPU's query does.
+    #[error(transparent)]
+    Input(#[from] crate::error::InputError),
+    /// The device failed, or the set does not fit it.
+    #[error(transparent)]
+    Gpu(#[from] crate::error::GpuError),
+}

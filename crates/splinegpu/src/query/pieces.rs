@@ -86,18 +86,40 @@ pub(crate) fn pieces(tables: &[SegmentTable], dim: usize, fineness: f64) -> (Vec
 }
 
 /// The box of the Bezier control points of the piece [u0, u1] of the (rational) cubic with
-/// control points `points` and weights `weights`: de Casteljau on the homogeneous points
-/// (ω Q, ω), split at u1 and then at u0 / u1, projected back. `h` is scratch space.
+/// control points `points` and weights `weights` (see [`piece_homogeneous`]), appended to
+/// `boxes`. `h` is scratch space.
 fn push_piece_box(
     points: &[Vec<f64>; 4],
     weights: [f64; 4],
-    (u0, u1): (f64, f64),
+    piece: (f64, f64),
     h: &mut Vec<f64>,
     boxes: &mut Vec<f64>,
 ) {
     let dim = points[0].len();
+    piece_homogeneous(points, weights, piece, h);
+    let at = boxes.len();
+    boxes.resize(at + 2 * dim, 0.0);
+    for k in 0..dim {
+        let values = (0..4).map(|i| h[i * (dim + 1) + k] / h[i * (dim + 1) + dim]);
+        let lo = values.clone().fold(f64::INFINITY, f64::min);
+        let hi = values.fold(f64::NEG_INFINITY, f64::max);
+        let pad = 64.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(hi - lo);
+        boxes[at + k] = lo - pad;
+        boxes[at + dim + k] = hi + pad;
+    }
+}
+
+/// The homogeneous Bezier control points (ω Q, ω) of the piece [u0, u1] of the (rational)
+/// cubic with control points `points` and weights `weights`, D + 1 values each (the weight
+/// last), into `h`: de Casteljau split at u1 and then at u0 / u1.
+pub(crate) fn piece_homogeneous(
+    points: &[Vec<f64>; 4],
+    weights: [f64; 4],
+    (u0, u1): (f64, f64),
+    h: &mut Vec<f64>,
+) {
+    let dim = points[0].len();
     let width = dim + 1;
-    // Homogeneous control points, `width` values each (the weight last).
     h.clear();
     for (p, &w) in points.iter().zip(&weights) {
         h.extend(p.iter().map(|x| x * w));
@@ -129,15 +151,5 @@ fn push_piece_box(
     }
     if u0 > 0.0 {
         split(h, u0 / u1, false);
-    }
-    let at = boxes.len();
-    boxes.resize(at + 2 * dim, 0.0);
-    for k in 0..dim {
-        let values = (0..4).map(|i| h[i * width + k] / h[i * width + dim]);
-        let lo = values.clone().fold(f64::INFINITY, f64::min);
-        let hi = values.fold(f64::NEG_INFINITY, f64::max);
-        let pad = 64.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(hi - lo);
-        boxes[at + k] = lo - pad;
-        boxes[at + dim + k] = hi + pad;
     }
 }

@@ -35,6 +35,18 @@ pub(crate) struct BoxTree {
     item_boxes: Vec<f64>,
 }
 
+/// [`BoxTree::flat`]'s tables.
+pub(crate) struct FlatTree<'a> {
+    /// Per node: (first child, second child, false) or (first slot, end slot, true).
+    pub(crate) nodes: Vec<(u32, u32, bool)>,
+    /// Per node, `lo` then `hi`.
+    pub(crate) node_boxes: &'a [f64],
+    /// Per slot, the item it holds.
+    pub(crate) order: &'a [u32],
+    /// Per slot, its item's box.
+    pub(crate) item_boxes: &'a [f64],
+}
+
 impl BoxTree {
     /// The tree over `items` boxes given as `lo` then `hi` (2 D values per item).
     pub(crate) fn new(dim: usize, item_boxes: &[f64]) -> Self {
@@ -314,6 +326,22 @@ impl BoxTree {
     }
 
     /// Node `at`'s box, `lo` then `hi`.
+    /// The tree as flat tables, for a kernel that walks it (`gpu::queries`): per node its
+    /// two children or its leaf's range of slots and whether it is a leaf, the nodes' boxes,
+    /// the items in slot order and their boxes (2 D values a box, `lo` then `hi`).
+    pub(crate) fn flat(&self) -> FlatTree<'_> {
+        FlatTree {
+            nodes: self
+                .nodes
+                .iter()
+                .map(|n| (n.first, n.second, n.leaf))
+                .collect(),
+            node_boxes: &self.boxes,
+            order: &self.order,
+            item_boxes: &self.item_boxes,
+        }
+    }
+
     fn node_boxes(&self, at: u32) -> &[f64] {
         &self.boxes[at as usize * 2 * self.dim..][..2 * self.dim]
     }

@@ -68,8 +68,8 @@ fn every_wgsl_file_validates() {
         }
     }
     assert_eq!(
-        files, 4,
-        "eval.wgsl, store_only.wgsl, surface.wgsl and geometry.wgsl"
+        files, 5,
+        "eval.wgsl, store_only.wgsl, surface.wgsl, geometry.wgsl and closest.wgsl"
     );
 }
 

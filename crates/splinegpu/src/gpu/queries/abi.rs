@@ -1,0 +1,199 @@
+//! The closest-point kernel's ABI (`shaders/closest.wgsl`): its source, its workgroup size,
+//! its search constants and the Pod twins of its structs, each named as its WGSL struct
+//! (checked against naga's layout by the tests at the end).
+
+use bytemuck::{Pod, Zeroable};
+
+/// `shaders/closest.wgsl`.
+pub(crate) const CLOSEST_WGSL: &str = include_str!("../../../shaders/closest.wgsl");
+
+/// The kernel's workgroup size; `const WG_SIZE` in the shader.
+pub(crate) const CLOSEST_WG_SIZE: u32 = 64;
+
+/// The most halvings of a piece's parameter; `const MAX_LEVEL` in the shader.
+#[cfg(test)]
+pub(crate) const MAX_LEVEL: u32 = 20;
+
+/// The tree walk's stack; `const TREE_STACK`.
+#[cfg(test)]
+pub(crate) const TREE_STACK: usize = 40;
+
+/// A piece's stack; `const PIECE_STACK`.
+#[cfg(test)]
+pub(crate) const PIECE_STACK: usize = 24;
+
+/// Newton steps polishing an answer; `const POLISH_STEPS`.
+#[cfg(test)]
+pub(crate) const POLISH_STEPS: u32 = 4;
+
+/// The search's slack in the index's frame (where the curves' extent is 1): a box or a piece's
+/// sub-interval is left when nothing in it can be nearer than the best distance d by more
+/// than `SLACK_ABSOLUTE + SLACK_RELATIVE · d` (docs/queries.md, "On the GPU").
+pub(crate) const SLACK_ABSOLUTE: f32 = 1e-6;
+
+/// See [`SLACK_ABSOLUTE`]: f32's resolution of d (2^-24) in the index's frame.
+pub(crate) const SLACK_RELATIVE: f32 = 6e-8;
+
+/// The kernel's bindings, in order: the uniform, the tree's nodes, the nodes' boxes, the
+/// pieces' boxes, the pieces' control points and the queries (read), the answers and the
+/// points (read-write).
+pub(crate) const CLOSEST_BINDINGS: [wgpu::BufferBindingType; 8] = [
+    wgpu::BufferBindingType::Uniform,
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: false },
+    wgpu::BufferBindingType::Storage { read_only: false },
+];
+
+/// Per-dispatch uniforms. WGSL twin: `ClosestParams` in `shaders/closest.wgsl`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct ClosestParams {
+    pub query_count: u32,
+    pub dim: u32,
+    pub row_width: u32,
+    pub node_count: u32,
+    pub tolerance: f32,
+    pub relative: f32,
+    pub _padding: [u32; 2],
+}
+
+impl ClosestParams {
+    /// A dispatch of `queries` points of `dim` coordinates in rows of `row_width` invocations,
+    /// on a tree of `nodes` nodes.
+    pub(crate) fn new(queries: usize, dim: usize, row_width: u32, nodes: usize) -> Self {
+        Self {
+            query_count: queries as u32,
+            dim: dim as u32,
+            row_width,
+            node_count: nodes as u32,
+            tolerance: SLACK_ABSOLUTE,
+            relative: SLACK_RELATIVE,
+            _padding: [0; 2],
+        }
+    }
+}
+
+/// A node of the tree. WGSL twin: `GpuNode`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct GpuNode {
+    pub first: u32,
+    pub second: u32,
+    pub leaf: u32,
+    pub _padding: u32,
+}
+
+/// One query's answer. WGSL twin: `ClosestAnswer`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct ClosestAnswer {
+    pub slot: u32,
+    pub u: f32,
+    pub distance2: f32,
+    pub _padding: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::{offset_of, size_of};
+
+    use super::*;
+
+    fn module() -> naga::Module {
+        let module = naga::front::wgsl::parse_str(CLOSEST_WGSL).expect("closest.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .expect("closest.wgsl validates");
+        module
+    }
+
+    /// (size, [(member, offset)]) of the WGSL struct `name`, padding members left out.
+    fn wgsl_struct(module: &naga::Module, name: &str) -> (usize, Vec<(String, usize)>) {
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name} in closest.wgsl"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        let members = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap(), m.offset as usize))
+            .filter(|(n, _)| !n.starts_with("_padding"))
+            .collect();
+        (*span as usize, members)
+    }
+
+    fn named(fields: &[(&str, usize)]) -> Vec<(String, usize)> {
+        fields.iter().map(|(n, o)| ((*n).to_string(), *o)).collect()
+    }
+
+    #[test]
+    fn structs_match_their_rust_twins() {
+        let module = module();
+        let (size, members) = wgsl_struct(&module, "ClosestParams");
+        assert_eq!(size, size_of::<ClosestParams>());
+        assert_eq!(
+            members,
+            named(&[
+                ("query_count", offset_of!(ClosestParams, query_count)),
+                ("dim", offset_of!(ClosestParams, dim)),
+                ("row_width", offset_of!(ClosestParams, row_width)),
+                ("node_count", offset_of!(ClosestParams, node_count)),
+                ("tolerance", offset_of!(ClosestParams, tolerance)),
+                ("relative", offset_of!(ClosestParams, relative)),
+            ])
+        );
+        let (size, members) = wgsl_struct(&module, "GpuNode");
+        assert_eq!(size, size_of::<GpuNode>());
+        assert_eq!(
+            members,
+            named(&[
+                ("first", offset_of!(GpuNode, first)),
+                ("second", offset_of!(GpuNode, second)),
+                ("leaf", offset_of!(GpuNode, leaf)),
+            ])
+        );
+        let (size, members) = wgsl_struct(&module, "ClosestAnswer");
+        assert_eq!(size, size_of::<ClosestAnswer>());
+        assert_eq!(
+            members,
+            named(&[
+                ("slot", offset_of!(ClosestAnswer, slot)),
+                ("u", offset_of!(ClosestAnswer, u)),
+                ("distance2", offset_of!(ClosestAnswer, distance2)),
+            ])
+        );
+    }
+
+    #[test]
+    fn constants_match_the_shader() {
+        let module = module();
+        let constant = |name: &str| {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no const {name}"));
+            match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v as usize,
+                ref other => panic!("{name} = {other:?}"),
+            }
+        };
+        assert_eq!(constant("WG_SIZE"), CLOSEST_WG_SIZE as usize);
+        assert_eq!(constant("MAX_LEVEL"), MAX_LEVEL as usize);
+        assert_eq!(constant("TREE_STACK"), TREE_STACK);
+        assert_eq!(constant("PIECE_STACK"), PIECE_STACK);
+        assert_eq!(constant("POLISH_STEPS"), POLISH_STEPS as usize);
+        let entry = &module.entry_points[0];
+        assert_eq!(entry.workgroup_size, [CLOSEST_WG_SIZE, 1, 1]);
+    }
+}
