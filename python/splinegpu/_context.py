@@ -202,15 +202,17 @@ class Context:
         of the global one; among ties within that, any).
 
         `curves` and `kind` as `tessellate` takes its `points` and `kind`, the kind's fields
-        (`ends=`, `t=`, `knots=`, `weights=`, ...) as keywords. Answered on every CPU thread in
-        float64 on every context (the GPU's query kernel is not built yet), through a box tree
-        over the segments and an exact solve on each segment it cannot exclude.
+        (`ends=`, `t=`, `knots=`, `weights=`, ...) as keywords. Answered on the context's
+        backend: on the CPU in float64 on every thread (a box tree over the segments, an exact
+        solve on each segment it cannot exclude); on a GPU one query per invocation in float32
+        (point and distance float32, t float64), within the curve's f32 position bound plus
+        1e-5 (E + |q|) of the least distance.
 
         Raises ValueError naming the curve, field and value, or the query, for bad input.
         """
         if points is None:
             raise TypeError("closest: missing the query points (points=)")
-        return closest(curves, kind, points, fields)
+        return closest(curves, kind, points, fields, self._native)
 
     def intersections(self, curves, kind: str = "catmull-rom", pairs="all",
                       **fields) -> Intersections:
@@ -237,13 +239,14 @@ class Context:
 
         `nets` and `kind` as `tessellate_surfaces` takes them, the kind's fields (`ends=`,
         `patches=`, `knots_u=`, `weights=`, ...) as keywords; `points` (Q, D) or one (D,).
-        Answered on every CPU thread in float64 on every context.
+        Answered on the context's backend: on a GPU each (u, v) found in float32 (point and
+        distance float32, within the patch's f32 position bound plus 1e-5 (E + |q|)).
 
         Raises ValueError naming the surface, field and value, or the query, for bad input.
         """
         if points is None:
             raise TypeError("closest_on_surfaces: missing the query points (points=)")
-        return closest_on_surfaces(nets, kind, points, fields)
+        return closest_on_surfaces(nets, kind, points, fields, self._native)
 
     def rays(self, nets, kind: str = "bspline", rays=None, **fields) -> RayHits:
         """The first point where each ray o + s d, s >= 0, meets a batch of 3-D surfaces of
@@ -252,13 +255,14 @@ class Context:
         starts on a surface meets it at s = 0.
 
         `nets`, `kind` and the kind's fields as `closest_on_surfaces`; `rays` (Q, 6) rows
-        (ox, oy, oz, dx, dy, dz), or one (6,). Answered on every CPU thread in float64.
+        (ox, oy, oz, dx, dy, dz), or one (6,). Answered on the context's backend (on a GPU
+        point and normal float32, u, v and s float64, within the GPU bound).
 
         Raises ValueError naming the surface, field and value, or the ray, for bad input.
         """
         if rays is None:
             raise TypeError("rays: missing the rays (rays=)")
-        return first_hits(nets, kind, rays, fields)
+        return first_hits(nets, kind, rays, fields, self._native)
 
     def tessellate_surfaces(self, nets, kind: str = "bspline", *, ends=None, tension=None,
                             bias=None, matrix=None, patches=None, conditions=None, u=None,

@@ -160,12 +160,12 @@ def _pairs(pairs, curves: int):
     return a.astype(np.int64).tolist()
 
 
-def closest(points, kind: str, queries, fields: dict) -> ClosestPoints:
-    """See `Context.closest`."""
+def closest(points, kind: str, queries, fields: dict, context=None) -> ClosestPoints:
+    """See `Context.closest` (`context` the native context whose backend answers)."""
     curves = _the_curves(points)
     kind_fields = _curve_fields(len(curves), **fields)
     return ClosestPoints(_native.closest_points(curves, str(kind), kind_fields,
-                                                _queries(queries)))
+                                                _queries(queries), context))
 
 
 def _rays(rays) -> np.ndarray:
@@ -186,19 +186,20 @@ def _rays(rays) -> np.ndarray:
     return _aligned(a, "rays")
 
 
-def closest_on_surfaces(nets, kind: str, queries, fields: dict) -> SurfacePoints:
+def closest_on_surfaces(nets, kind: str, queries, fields: dict,
+                        context=None) -> SurfacePoints:
     """See `Context.closest_on_surfaces`."""
     nets3, kind_fields = surface_arguments(nets, **fields)
     return SurfacePoints(_native.closest_on_surfaces(nets3, str(kind), kind_fields,
-                                                     _queries(queries)))
+                                                     _queries(queries), context))
 
 
-def first_hits(nets, kind: str, rays, fields: dict) -> RayHits:
+def first_hits(nets, kind: str, rays, fields: dict, context=None) -> RayHits:
     """See `Context.rays`."""
     nets3, kind_fields = surface_arguments(nets, **fields)
     if nets3 and nets3[0].shape[2] != 3:
         raise ValueError(f"nets: rays meet 3-D surfaces, these have D = {nets3[0].shape[2]}")
-    return RayHits(_native.ray_hits(nets3, str(kind), kind_fields, _rays(rays)))
+    return RayHits(_native.ray_hits(nets3, str(kind), kind_fields, _rays(rays), context))
 
 
 def intersections(points, kind: str, pairs, fields: dict) -> Intersections:

@@ -1,20 +1,22 @@
 //! Queries from NumPy: closest points (`Context.closest`: curves of one kind fitted on every
-//! thread, the crate's certified [`CurveIndex`] over them, every query point answered on every
-//! thread in f64) and intersections (`Context.intersections`), as the arrays the command
-//! line's NPZ holds ("curve", "t", "point", "distance"; "i", "j", "t_i", "t_j", "point",
-//! "tangent", "overlap").
+//! thread, the crate's certified [`CurveIndex`] over them, every query point answered on the
+//! context's GPU in f32 or on every thread in f64), intersections (`Context.intersections`, f64
+//! on every context), closest points on surfaces and rays (on the context's backend), as the
+//! arrays the command line's NPZ holds ("curve", "t", "point", "distance"; "i", "j", "t_i",
+//! "t_j", "point", "tangent", "overlap"; ...): points, distances and normals float32 from a
+//! GPU, parameters float64.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use splinegpu::query::{
-    CurveIndex, IntersectionColumns, Pairs, RayHitColumns, SurfaceIndex, SurfacePointColumns,
-    intersections,
+    CurveIndex, IntersectionColumns, Pairs, QueryError, RayHitColumns, SurfaceIndex,
+    SurfacePointColumns, intersections,
 };
 use splinegpu::{Curve, InputError, Points, SegmentTable};
 
-use crate::args::{Stack2, value_error};
-use crate::context::{CurveFields, KindSource, on_threads};
+use crate::args::{Stack2, runtime_error, value_error};
+use crate::context::{Context, CurveFields, KindSource, on_threads};
 use crate::surfaces::{SurfaceFields, fitted};
 
 /// The closest point of a batch of curves of one kind to each row of `queries` (see
@@ -30,6 +32,7 @@ pub(crate) fn closest_points<'py>(
     kind: &str,
     fields: CurveFields<'py>,
     queries: PyReadonlyArray2<'py, f64>,
+    context: Option<PyRef<'py, Context>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let points = points.items()?;
     let kinds = KindSource::new(kind, &fields)?;
@@ -42,20 +45,56 @@ pub(crate) fn closest_points<'py>(
         )));
     }
     let queries = queries.as_slice()?;
-    let answers = py
-        .detach(|| CurveIndex::new(&fit(&points, &kinds)?)?.closest_many(queries))
-        .map_err(value_error)?;
+    let tables = py.detach(|| fit(&points, &kinds)).map_err(value_error)?;
+    let index = CurveIndex::new(&tables).map_err(value_error)?;
     let out = PyDict::new(py);
-    let q = answers.len();
-    let curves: Vec<i64> = answers.curve.iter().map(|&c| c as i64).collect();
+    let q = queries.len() / dim.max(1);
+    let (curve, t) = match context.as_ref().and_then(|c| c.gpu.as_ref()) {
+        Some(gpu) => {
+            let answers = py
+                .detach(|| gpu.closest_points(&index, queries))
+                .map_err(query_error)?;
+            out.set_item(
+                "point",
+                PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
+            )?;
+            out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
+            (answers.curve, answers.t)
+        }
+        None => {
+            let answers = py
+                .detach(|| index.closest_many(queries))
+                .map_err(value_error)?;
+            out.set_item(
+                "point",
+                PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
+            )?;
+            out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
+            (answers.curve, answers.t)
+        }
+    };
+    let curves: Vec<i64> = curve.iter().map(|&c| c as i64).collect();
     out.set_item("curve", PyArray1::from_vec(py, curves))?;
-    out.set_item("t", PyArray1::from_vec(py, answers.t))?;
-    out.set_item(
-        "point",
-        PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
-    )?;
-    out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
+    out.set_item("t", PyArray1::from_vec(py, t))?;
     Ok(out)
+}
+
+/// A query's error as Python raises it: bad input a ValueError, the device a RuntimeError.
+fn query_error(e: QueryError) -> PyErr {
+    match e {
+        QueryError::Input(e) => value_error(e),
+        QueryError::Gpu(e) => runtime_error(e),
+    }
+}
+
+/// `values` as a float32 array from a GPU context, else float64.
+fn numbers<'py>(py: Python<'py>, values: Vec<f64>, gpu: bool) -> Bound<'py, PyAny> {
+    if gpu {
+        let values: Vec<f32> = values.into_iter().map(|x| x as f32).collect();
+        PyArray1::from_vec(py, values).into_any()
+    } else {
+        PyArray1::from_vec(py, values).into_any()
+    }
 }
 
 /// Every intersection of a batch of 2-D curves of one kind (see
@@ -121,6 +160,7 @@ pub(crate) fn closest_on_surfaces<'py>(
     kind: &str,
     fields: SurfaceFields<'py>,
     queries: PyReadonlyArray2<'py, f64>,
+    context: Option<PyRef<'py, Context>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let tables = fitted(&nets, kind, &fields)?;
     let dim = queries.shape()[1];
@@ -133,9 +173,14 @@ pub(crate) fn closest_on_surfaces<'py>(
         )));
     }
     let queries = queries.as_slice()?;
+    let index = SurfaceIndex::new(&tables).map_err(value_error)?;
+    let gpu = context.as_ref().and_then(|c| c.gpu.as_ref());
     let answers = py
-        .detach(|| SurfaceIndex::new(&tables)?.closest_many(queries))
-        .map_err(value_error)?;
+        .detach(|| match gpu {
+            Some(gpu) => gpu.closest_on_surfaces(&index, queries),
+            None => index.closest_many(queries).map_err(QueryError::from),
+        })
+        .map_err(query_error)?;
     let q = answers.len();
     let c = SurfacePointColumns::new(&answers);
     let out = PyDict::new(py);
@@ -143,8 +188,9 @@ pub(crate) fn closest_on_surfaces<'py>(
     out.set_item("patch", PyArray1::from_vec(py, c.patch))?;
     out.set_item("u", PyArray1::from_vec(py, c.u))?;
     out.set_item("v", PyArray1::from_vec(py, c.v))?;
-    out.set_item("point", PyArray1::from_vec(py, c.point).reshape([q, dim])?)?;
-    out.set_item("distance", PyArray1::from_vec(py, c.distance))?;
+    let point = numbers(py, c.point, gpu.is_some());
+    out.set_item("point", point.call_method1("reshape", ((q, dim),))?)?;
+    out.set_item("distance", numbers(py, c.distance, gpu.is_some()))?;
     Ok(out)
 }
 
@@ -162,12 +208,18 @@ pub(crate) fn ray_hits<'py>(
     kind: &str,
     fields: SurfaceFields<'py>,
     rays: PyReadonlyArray2<'py, f64>,
+    context: Option<PyRef<'py, Context>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let tables = fitted(&nets, kind, &fields)?;
     let rays = rays.as_slice()?;
+    let index = SurfaceIndex::new(&tables).map_err(value_error)?;
+    let gpu = context.as_ref().and_then(|c| c.gpu.as_ref());
     let hits = py
-        .detach(|| SurfaceIndex::new(&tables)?.rays_many(rays))
-        .map_err(value_error)?;
+        .detach(|| match gpu {
+            Some(gpu) => gpu.ray_hits(&index, rays),
+            None => index.rays_many(rays).map_err(QueryError::from),
+        })
+        .map_err(query_error)?;
     let q = hits.len();
     let c = RayHitColumns::new(&hits);
     let out = PyDict::new(py);
@@ -177,7 +229,11 @@ pub(crate) fn ray_hits<'py>(
     out.set_item("u", PyArray1::from_vec(py, c.u))?;
     out.set_item("v", PyArray1::from_vec(py, c.v))?;
     out.set_item("s", PyArray1::from_vec(py, c.s))?;
-    out.set_item("point", PyArray1::from_vec(py, c.point).reshape([q, 3])?)?;
-    out.set_item("normal", PyArray1::from_vec(py, c.normal).reshape([q, 3])?)?;
+    let (point, normal) = (
+        numbers(py, c.point, gpu.is_some()),
+        numbers(py, c.normal, gpu.is_some()),
+    );
+    out.set_item("point", point.call_method1("reshape", ((q, 3),))?)?;
+    out.set_item("normal", normal.call_method1("reshape", ((q, 3),))?)?;
     Ok(out)
 }

@@ -147,3 +147,24 @@ def test_surface_queries_refuse_the_wrong_dimension():
         CPU.closest_on_surfaces(FLAT, "bezier", [[1, 2]])
     with pytest.raises(ValueError, match="rays meet 3-D surfaces"):
         CPU.rays(FLAT[:, :, :2], "bezier", [[0, 0, 0, 1, 0, 0]])
+
+
+def test_a_gpu_context_answers_in_float32_within_the_gpu_bound(gpu):
+    """The GPU's closest points and rays: float32 points, distances and normals, float64
+    parameters, each distance within the contract's GPU bound (at least 1e-5 E for the position
+    plus 1e-5 (E + |q|)) of the CPU's certified one."""
+    rng = np.random.default_rng(8)
+    curves = [rng.uniform(-2, 2, (n, 2)) for n in (5, 8, 11)]
+    queries = rng.uniform(-3, 3, (300, 2))
+    want = CPU.closest(curves, "catmull-rom", queries)
+    got = gpu.closest(curves, "catmull-rom", queries)
+    assert got.point.dtype == np.float32 and got.distance.dtype == np.float32
+    assert got.t.dtype == np.float64 and got.curve.dtype == np.int64
+    bound = 2e-5 * 4 + 1e-5 * np.abs(queries).max(axis=1)
+    assert np.all(np.abs(got.distance - want.distance) <= bound)
+    surface = gpu.closest_on_surfaces(FLAT, "bezier", [[1, 2, 5], [4, 4, 0]])
+    assert surface.point.dtype == np.float32 and surface.u.dtype == np.float64
+    np.testing.assert_allclose(surface.distance, [5, np.sqrt(2)], atol=2e-4)
+    hits = gpu.rays(FLAT, "bezier", [[1, 2, 5, 0, 0, -1], [1, 2, 5, 0, 0, 1]])
+    assert hits.hit.tolist() == [True, False] and hits.normal.dtype == np.float32
+    assert abs(hits.s[0] - 5) <= 2e-4 and np.isnan(hits.s[1]) and hits.s.dtype == np.float64

@@ -287,9 +287,8 @@ enum Answers {
     Rays(Vec<Option<RayHit>>),
 }
 
-/// A query document answered and written: closest points on curves on the backend, the rest
-/// on the CPU (a surfaces' query with `--backend gpu` is refused with exit 1 once the document
-/// is checked).
+/// A query document answered and written: closest points and rays on the backend (f32 numbers
+/// from the GPU), intersections refined and reported in f64 on the host whatever the backend.
 fn query(
     input: &str,
     output: Option<&Path>,
@@ -315,29 +314,24 @@ fn query(
             ));
         }
     };
-    // Closest points on curves run on the backend; intersections are refined and reported in
-    // f64 on the host whatever the backend (the contract's reading), and surfaces' queries are
-    // answered on the CPU (auto) or refused on the GPU until their kernels exist.
-    let context = match (&document.target, &document.queries) {
-        (QueryTarget::Curves(_), Queries::Closest(_)) => choose_backend(backend)?,
-        (QueryTarget::Surfaces(_), _) if backend == Backend::Gpu => {
-            return Err(Failure::other(
-                "not supported yet: queries on surfaces on the GPU (use --backend cpu or auto)",
-            ));
-        }
-        _ => None,
+    // Intersections are refined and reported in f64 on the host whatever the backend (the
+    // contract's reading); the rest run on the backend.
+    let context = match &document.queries {
+        Queries::Intersections(_) => None,
+        _ => choose_backend(backend)?,
+    };
+    let on_device = |e: QueryError| match e {
+        QueryError::Input(e) => Failure::input(e.in_document()),
+        QueryError::Gpu(e) => Failure::other(e),
     };
     let located = |e: splinegpu::InputError| Failure::input(e.in_document());
     let answers = match (&document.target, &document.queries) {
         (QueryTarget::Curves(tables), Queries::Closest(points)) => {
             let index = CurveIndex::new(tables).map_err(Failure::input)?;
             match &context {
-                Some(gpu) => Answers::ClosestGpu(gpu.closest_points(&index, points).map_err(
-                    |e| match e {
-                        QueryError::Input(e) => located(e),
-                        QueryError::Gpu(e) => Failure::other(e),
-                    },
-                )?),
+                Some(gpu) => {
+                    Answers::ClosestGpu(gpu.closest_points(&index, points).map_err(on_device)?)
+                }
                 None => Answers::Closest(index.closest_many(points).map_err(located)?),
             }
         }
@@ -348,23 +342,38 @@ fn query(
         (QueryTarget::Surfaces(tables), Queries::Closest(points)) => {
             let index = SurfaceIndex::new(tables).map_err(Failure::input)?;
             let dim = index.dim();
-            Answers::SurfaceClosest(index.closest_many(points).map_err(located)?, dim)
+            let found = match &context {
+                Some(gpu) => gpu.closest_on_surfaces(&index, points).map_err(on_device)?,
+                None => index.closest_many(points).map_err(located)?,
+            };
+            Answers::SurfaceClosest(found, dim)
         }
         (QueryTarget::Surfaces(tables), Queries::Rays(rays)) => {
             let index = SurfaceIndex::new(tables).map_err(Failure::input)?;
-            Answers::Rays(index.rays_many(rays).map_err(located)?)
+            Answers::Rays(match &context {
+                Some(gpu) => gpu.ray_hits(&index, rays).map_err(on_device)?,
+                None => index.rays_many(rays).map_err(located)?,
+            })
         }
         _ => unreachable!("the document's checks pair each query with its target"),
     };
+    // The GPU's answers are written as f32, whatever the host finished in f64.
+    let gpu_numbers = context.is_some();
     let emit = |out: &mut dyn Write| -> Result<(), OutputError> {
         match &answers {
             Answers::Closest(closest) => query_output::write_closest(closest, format, out)?,
             Answers::ClosestGpu(closest) => query_output::write_closest(closest, format, out)?,
             Answers::Intersections(found) => query_output::write_intersections(found, format, out)?,
-            Answers::SurfaceClosest(closest, dim) => {
-                query_output::write_surface_closest(closest, *dim, format, out)?;
+            Answers::SurfaceClosest(closest, dim) if gpu_numbers => {
+                query_output::write_surface_closest::<f32>(closest, *dim, format, out)?;
             }
-            Answers::Rays(hits) => query_output::write_rays(hits, format, out)?,
+            Answers::SurfaceClosest(closest, dim) => {
+                query_output::write_surface_closest::<f64>(closest, *dim, format, out)?;
+            }
+            Answers::Rays(hits) if gpu_numbers => {
+                query_output::write_rays::<f32>(hits, format, out)?;
+            }
+            Answers::Rays(hits) => query_output::write_rays::<f64>(hits, format, out)?,
         }
         Ok(())
     };

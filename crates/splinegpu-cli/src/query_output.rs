@@ -97,11 +97,12 @@ pub fn write_intersections(
 }
 
 /// Closest points on surfaces (D coordinates each) written as `format` to `out`: "patch" only
-/// for patch lists in JSON, empty in CSV and -1 in NPZ on nets.
+/// for patch lists in JSON, empty in CSV and -1 in NPZ on nets; points and distances as `F`
+/// (f32 from the GPU backend), parameters in f64.
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_surface_closest(
+pub fn write_surface_closest<F: Number>(
     answers: &[SurfacePoint],
     dim: usize,
     format: QueryFormat,
@@ -120,9 +121,9 @@ pub fn write_surface_closest(
                 write!(out, "{i},{},{patch},{}", a.surface, text.format(a.u))?;
                 write!(out, ",{}", text.format(a.v))?;
                 for &x in &a.point {
-                    write!(out, ",{}", text.format(x))?;
+                    write!(out, ",{}", text.format(F::from_f64(x)))?;
                 }
-                writeln!(out, ",{}", text.format(a.distance))?;
+                writeln!(out, ",{}", text.format(F::from_f64(a.distance)))?;
             }
         }
         QueryFormat::Json => {
@@ -135,14 +136,19 @@ pub fn write_surface_closest(
                 }
                 write!(out, ", \"u\": {}", text.format(a.u))?;
                 write!(out, ", \"v\": {}, \"point\": [", text.format(a.v))?;
-                crate::output::write_json_numbers(&a.point, true, &mut &mut *out)?;
-                write!(out, "], \"distance\": {}}}", text.format(a.distance))?;
+                write_json_as::<F>(&a.point, out)?;
+                write!(
+                    out,
+                    "], \"distance\": {}}}",
+                    text.format(F::from_f64(a.distance))
+                )?;
             }
             writeln!(out, "]}}")?;
         }
         QueryFormat::Npz => {
             let q = answers.len() as u64;
             let c = SurfacePointColumns::new(answers);
+            let (point, distance) = (as_type::<F>(&c.point), as_type::<F>(&c.distance));
             write_npz(
                 out,
                 &[
@@ -157,15 +163,15 @@ pub fn write_surface_closest(
                     ("v", Dtype::F64, &[q], bytemuck::cast_slice(&c.v)),
                     (
                         "point",
-                        Dtype::F64,
+                        Dtype::of::<F>(),
                         &[q, dim as u64],
-                        bytemuck::cast_slice(&c.point),
+                        bytemuck::cast_slice(&point),
                     ),
                     (
                         "distance",
-                        Dtype::F64,
+                        Dtype::of::<F>(),
                         &[q],
-                        bytemuck::cast_slice(&c.distance),
+                        bytemuck::cast_slice(&distance),
                     ),
                 ],
             )?;
@@ -175,11 +181,12 @@ pub fn write_surface_closest(
 }
 
 /// Rays' first hits written as `format` to `out`: JSON null, a CSV row with hit 0 and the rest
-/// empty, or NPZ "hit" false with NaN and -1, where a ray meets nothing.
+/// empty, or NPZ "hit" false with NaN and -1, where a ray meets nothing; points and normals as
+/// `F` (f32 from the GPU backend), parameters (u, v, s) in f64.
 ///
 /// # Errors
 /// Any I/O error of `out`.
-pub fn write_rays(
+pub fn write_rays<F: Number>(
     hits: &[Option<RayHit>],
     format: QueryFormat,
     out: &mut dyn Write,
@@ -195,8 +202,11 @@ pub fn write_rays(
                 };
                 let patch = h.patch.map(|p| p.to_string()).unwrap_or_default();
                 write!(out, "{i},1,{},{patch}", h.surface)?;
-                for x in [h.u, h.v, h.s].iter().chain(&h.point).chain(&h.normal) {
-                    write!(out, ",{}", text.format(*x))?;
+                for x in [h.u, h.v, h.s] {
+                    write!(out, ",{}", text.format(x))?;
+                }
+                for &x in h.point.iter().chain(&h.normal) {
+                    write!(out, ",{}", text.format(F::from_f64(x)))?;
                 }
                 writeln!(out)?;
             }
@@ -216,9 +226,9 @@ pub fn write_rays(
                 write!(out, ", \"u\": {}", text.format(h.u))?;
                 write!(out, ", \"v\": {}", text.format(h.v))?;
                 write!(out, ", \"s\": {}, \"point\": [", text.format(h.s))?;
-                crate::output::write_json_numbers(&h.point, true, &mut &mut *out)?;
+                write_json_as::<F>(&h.point, out)?;
                 write!(out, "], \"normal\": [")?;
-                crate::output::write_json_numbers(&h.normal, true, &mut &mut *out)?;
+                write_json_as::<F>(&h.normal, out)?;
                 write!(out, "]}}")?;
             }
             writeln!(out, "]}}")?;
@@ -226,6 +236,7 @@ pub fn write_rays(
         QueryFormat::Npz => {
             let q = hits.len() as u64;
             let c = RayHitColumns::new(hits);
+            let (point, normal) = (as_type::<F>(&c.point), as_type::<F>(&c.normal));
             write_npz(
                 out,
                 &[
@@ -240,16 +251,37 @@ pub fn write_rays(
                     ("u", Dtype::F64, &[q], bytemuck::cast_slice(&c.u)),
                     ("v", Dtype::F64, &[q], bytemuck::cast_slice(&c.v)),
                     ("s", Dtype::F64, &[q], bytemuck::cast_slice(&c.s)),
-                    ("point", Dtype::F64, &[q, 3], bytemuck::cast_slice(&c.point)),
+                    (
+                        "point",
+                        Dtype::of::<F>(),
+                        &[q, 3],
+                        bytemuck::cast_slice(&point),
+                    ),
                     (
                         "normal",
-                        Dtype::F64,
+                        Dtype::of::<F>(),
                         &[q, 3],
-                        bytemuck::cast_slice(&c.normal),
+                        bytemuck::cast_slice(&normal),
                     ),
                 ],
             )?;
         }
+    }
+    Ok(())
+}
+
+/// `values` rounded to `F`.
+fn as_type<F: Number>(values: &[f64]) -> Vec<F> {
+    values.iter().map(|&x| F::from_f64(x)).collect()
+}
+
+/// `values` rounded to `F`, as comma-separated JSON numbers (each the shortest text of its
+/// `F`).
+fn write_json_as<F: Number>(values: &[f64], out: &mut dyn Write) -> io::Result<()> {
+    let mut text = zmij::Buffer::new();
+    for (k, &x) in values.iter().enumerate() {
+        let sep = if k == 0 { "" } else { ", " };
+        write!(out, "{sep}{}", text.format(F::from_f64(x)))?;
     }
     Ok(())
 }
@@ -308,10 +340,9 @@ pub fn write_closest<F: Number>(
                     answers.curve[i],
                     text.format(answers.t[i])
                 )?;
-                for (k, &x) in answers.points[i * dim..][..dim].iter().enumerate() {
-                    let sep = if k == 0 { "" } else { ", " };
-                    write!(out, "{sep}{}", text.format(x))?;
-                }
+                let point = &answers.points[i * dim..][..dim];
+                let values: Vec<f64> = point.iter().map(|&x| x.into()).collect();
+                write_json_as::<F>(&values, out)?;
                 write!(
                     out,
                     "], \"distance\": {}}}",

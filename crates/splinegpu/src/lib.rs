@@ -157,13 +157,19 @@ pub use sampling::tolerance::{MAX_SAMPLES_PER_SEGMENT, wang_count};
 pub use sampling::{SampleLoc, SamplePlan, Sampling};
 pub use segment::{Segment, SegmentTable};
 
-// The unit tests of the kernel's twin share the integration tests' helpers, which name this
-// crate `splinegpu`.
+// The unit tests of the kernels' twins share the integration tests' helpers (and shapes, and
+// the surface queries' checks), which name this crate `splinegpu`.
 #[cfg(test)]
 extern crate self as splinegpu;
 #[cfg(test)]
+#[path = "../tests/it/shapes.rs"]
+mod shapes;
+#[cfg(test)]
 #[path = "../tests/it/support.rs"]
 mod support;
+#[cfg(test)]
+#[path = "../tests/it/query/surface_checks.rs"]
+mod surface_checks;
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

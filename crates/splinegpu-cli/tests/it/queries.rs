@@ -1,8 +1,7 @@
 //! `splinegpu query` through the binary: closest points and intersections on curves, closest
 //! points and rays on surfaces, in every format against hand-derived answers and the
 //! library's, every bad query exiting 2 with one message naming the field and the query's
-//! index and writing nothing, closest points on the GPU in f32 within its bound, and what
-//! this build lacks (surfaces' queries on the GPU) exiting 1 after the document was checked.
+//! index and writing nothing, and the GPU backend's answers in f32 within its bound.
 
 use std::path::Path;
 
@@ -256,19 +255,6 @@ fn documents_in_the_wrong_command_exit_2() {
     assert_eq!(status, 2, "{stderr}");
 }
 
-#[test]
-fn what_this_build_lacks_exits_1_after_the_document_is_checked() {
-    let dir = tempfile::tempdir().unwrap();
-    let doc = format!(r#"{{"surfaces": [{PATCH}], "queries": {{"rays": [[1, 1, 5, 0, 0, -1]]}}}}"#);
-    let (status, stderr, out) = query(dir.path(), &doc, "out.json", &["--backend", "gpu"]);
-    assert_eq!(status, 1, "{stderr}");
-    assert!(
-        stderr.contains("not supported yet: queries on surfaces on the GPU"),
-        "{stderr}"
-    );
-    assert!(out.is_none());
-}
-
 /// The GPU's closest points (f32 points and distances, f64 parameters) within the contract's
 /// GPU bound of the hand-derived ones: 1e-5 (E + |q|∞) plus the lines' position bound (their
 /// coordinates are exact in f32, so a few units in the last place of 5).
@@ -496,4 +482,49 @@ fn closest_points_and_rays_on_surfaces_in_every_format() {
     assert_eq!(status, 0, "{stderr}");
     let json: Value = serde_json::from_slice(&out.unwrap()).unwrap();
     assert_eq!(json["rays"][0]["patch"].as_u64(), Some(0), "{json}");
+}
+
+/// FLAT's closest point and ray on the GPU: f32 points, distances and normals, f64 (u, v) and s,
+/// within the contract's GPU bound of the hand-derived answers.
+#[test]
+fn closest_points_and_rays_on_surfaces_on_the_gpu() {
+    if crate::support::gpu().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let net =
+        format!(r#"{{"surfaces": [{{"kind": "bezier", "points": {FLAT}}}], "queries": QUERY}}"#);
+    let bound = 1e-5 * (3.0 + 5.0) + 1e-5 * 3.0;
+    let closest = net.replace("QUERY", r#"{"closest": [[1, 2, 5]]}"#);
+    let (status, stderr, out) = query(dir.path(), &closest, "out.npz", &["--backend", "gpu"]);
+    assert_eq!(status, 0, "{stderr}");
+    let arrays = crate::stream::read_npz(&out.unwrap());
+    assert_eq!(
+        ["point", "distance", "u", "v"].map(|n| arrays[n].0.as_str()),
+        ["<f4", "<f4", "<f8", "<f8"]
+    );
+    let distance: Vec<f32> = bytemuck::pod_collect_to_vec(&arrays["distance"].2);
+    let u: Vec<f64> = bytemuck::pod_collect_to_vec(&arrays["u"].2);
+    let v: Vec<f64> = bytemuck::pod_collect_to_vec(&arrays["v"].2);
+    assert!(
+        (f64::from(distance[0]) - 5.0).abs() <= bound,
+        "{distance:?}"
+    );
+    assert!((u[0] - 1.0 / 3.0).abs() <= bound && (v[0] - 2.0 / 3.0).abs() <= bound);
+    let rays = net.replace(
+        "QUERY",
+        r#"{"rays": [[1, 2, 5, 0, 0, -3], [1, 2, 5, 0, 0, 1]]}"#,
+    );
+    let (status, stderr, out) = query(dir.path(), &rays, "out.npz", &["--backend", "gpu"]);
+    assert_eq!(status, 0, "{stderr}");
+    let arrays = crate::stream::read_npz(&out.unwrap());
+    assert_eq!(
+        ["point", "normal", "s", "hit"].map(|n| arrays[n].0.as_str()),
+        ["<f4", "<f4", "<f8", "|b1"]
+    );
+    let s: Vec<f64> = bytemuck::pod_collect_to_vec(&arrays["s"].2);
+    let normal: Vec<f32> = bytemuck::pod_collect_to_vec(&arrays["normal"].2);
+    assert_eq!(arrays["hit"].2, [1, 0]);
+    assert!((s[0] - 5.0).abs() <= bound && s[1].is_nan(), "{s:?}");
+    assert!((normal[2].abs() - 1.0).abs() <= 1e-6, "{normal:?}");
 }

@@ -1,5 +1,6 @@
-//! A kernel of one entry point ("main") and one bind group, compiled once per context on first
-//! use: the surface and geometry kernels' pipelines and bind group layouts.
+//! A kernel of one entry point ("main", or one named) and one bind group, compiled once per
+//! context on first use: the surface, geometry and query kernels' pipelines and bind group
+//! layouts.
 
 /// A compiled kernel and its bind group layout.
 #[derive(Debug)]
@@ -15,6 +16,17 @@ impl Kernel {
         device: &wgpu::Device,
         label: &str,
         source: &str,
+        bindings: &[wgpu::BufferBindingType],
+    ) -> Self {
+        Self::with_entry(device, label, source, "main", bindings)
+    }
+
+    /// [`Kernel::new`] for the entry point `entry` of a source that has several.
+    pub(crate) fn with_entry(
+        device: &wgpu::Device,
+        label: &str,
+        source: &str,
+        entry: &str,
         bindings: &[wgpu::BufferBindingType],
     ) -> Self {
         let entries: Vec<_> = bindings
@@ -48,7 +60,7 @@ impl Kernel {
             label: Some(label),
             layout: Some(&pipeline_layout),
             module: &module,
-            entry_point: Some("main"),
+            entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
         });

@@ -118,8 +118,10 @@ pub struct GpuContext {
     /// The surface kernel, compiled on first use.
     surface: std::sync::OnceLock<kernel::Kernel>,
     geometry: std::sync::OnceLock<kernel::Kernel>,
-    /// The closest-point kernel, compiled on first use.
+    /// The query kernels, each compiled on first use.
     closest: std::sync::OnceLock<kernel::Kernel>,
+    surface_closest: std::sync::OnceLock<kernel::Kernel>,
+    rays: std::sync::OnceLock<kernel::Kernel>,
 }
 
 // One context serves many threads (see its docs): checked at compile time.
@@ -248,6 +250,8 @@ impl GpuContext {
             surface: std::sync::OnceLock::new(),
             geometry: std::sync::OnceLock::new(),
             closest: std::sync::OnceLock::new(),
+            surface_closest: std::sync::OnceLock::new(),
+            rays: std::sync::OnceLock::new(),
         }
     }
 

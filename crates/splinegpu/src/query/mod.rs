@@ -17,7 +17,7 @@ pub(crate) mod pieces;
 mod planar;
 mod roots;
 mod surfaces;
-mod tree;
+pub(crate) mod tree;
 
 pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
 pub use columns::{IntersectionColumns, RayHitColumns, SurfacePointColumns};

@@ -59,6 +59,10 @@ pub struct RayHit {
     pub normal: [f64; 3],
 }
 
+/// A checked ray: its origin, and its frame (two unit vectors across it, then its unit
+/// direction).
+pub(crate) type CheckedRay = ([f64; 3], [[f64; 3]; 3]);
+
 /// A set of surfaces (fitted, of one dimension) behind a box tree over their patches.
 #[derive(Clone, Debug)]
 pub struct SurfaceIndex<'a> {
@@ -216,6 +220,58 @@ impl<'a> SurfaceIndex<'a> {
         self.dim
     }
 
+    /// The surface of item `item`.
+    pub(crate) fn surface_of(&self, item: usize) -> usize {
+        self.items[item].0 as usize
+    }
+
+    /// The number of query points in `queries` (D values each, flat), each checked.
+    ///
+    /// # Errors
+    /// As [`SurfaceIndex::closest_many`], but for the distance's overflow.
+    pub(crate) fn check_queries(&self, queries: &[f64]) -> Result<usize, InputError> {
+        let count = point_count(queries, self.dim)?;
+        for i in 0..count {
+            check_point(
+                &queries[i * self.dim..][..self.dim],
+                self.dim,
+                i,
+                "surfaces",
+            )?;
+        }
+        Ok(count)
+    }
+
+    /// Every ray of `rays` (6 values each, flat) checked: its origin and frame.
+    ///
+    /// # Errors
+    /// As [`SurfaceIndex::rays_many`].
+    pub(crate) fn check_rays(
+        &self,
+        rays: &[f64],
+    ) -> Result<Vec<CheckedRay>, InputError> {
+        if !rays.len().is_multiple_of(6) {
+            return Err(InputError::field(
+                "rays",
+                format!("must hold 6 values per ray, got {}", rays.len()),
+            ));
+        }
+        rays.chunks_exact(6)
+            .enumerate()
+            .map(|(i, ray)| self.check_ray(&std::array::from_fn(|k| ray[k]), i))
+            .collect()
+    }
+
+    /// The box tree over the patches.
+    pub(crate) fn tree(&self) -> &BoxTree {
+        &self.tree
+    }
+
+    /// Per item of the tree, its patch's origin and Bernstein net (relative to the origin).
+    pub(crate) fn nets(&self) -> &[(Vec<f64>, Net)] {
+        &self.nets
+    }
+
     /// ε at a point: 1e-9 (E + |q|∞).
     fn eps(&self, q: &[f64]) -> f64 {
         1e-9 * (self.extent + q.iter().fold(0.0f64, |m, x| m.max(x.abs())))
@@ -244,7 +300,20 @@ impl<'a> SurfaceIndex<'a> {
         }
         let (item, u, v) = found;
         let (u, v) = self.polish_closest(item, u, v, q, &mut derivs);
-        let point = self.local_point(item, u, v, &mut derivs).to_vec();
+        Ok(self.surface_point(item, u, v, q, &mut derivs))
+    }
+
+    /// The answer at local (u, v) of item `item` for the query point `q`: its surface,
+    /// patch and parameters, the point there and its distance to `q`.
+    pub(crate) fn surface_point(
+        &self,
+        item: usize,
+        u: f64,
+        v: f64,
+        q: &[f64],
+        derivs: &mut Derivs,
+    ) -> SurfacePoint {
+        let point = self.local_point(item, u, v, derivs).to_vec();
         let distance = point
             .iter()
             .zip(q)
@@ -252,14 +321,14 @@ impl<'a> SurfaceIndex<'a> {
             .sum::<f64>()
             .sqrt();
         let (surface, patch, [u, v]) = self.place(item, u, v);
-        Ok(SurfacePoint {
+        SurfacePoint {
             surface,
             patch,
             u,
             v,
             point,
             distance,
-        })
+        }
     }
 
     /// [`SurfaceIndex::closest`] for every point of `queries` (D values each, flat), on every
@@ -283,6 +352,76 @@ impl<'a> SurfaceIndex<'a> {
     /// Surfaces that are not 3-D; a ray with a coordinate that is not finite or a zero
     /// direction; each named as `rays[index]`.
     pub fn first_hit(&self, ray: &[f64; 6], index: usize) -> Result<Option<RayHit>, InputError> {
+        let (o, frame) = self.check_ray(ray, index)?;
+        let d = frame[2];
+        let eps = self.eps(&o);
+        let mut best = self.ray_limit(&o);
+        let mut found = None;
+        self.tree.along_ray(&o, &d, &mut best, |item, best| {
+            self.hit_on_patch(item as usize, &o, &frame, eps, best, &mut found);
+        });
+        let Some((item, u, v)) = found else {
+            return Ok(None);
+        };
+        let mut derivs = Derivs::default();
+        derivs.iter_mut().for_each(|x| x.resize(3, 0.0));
+        let (u, v) = self.polish_hit(item, u, v, &o, &frame, &mut derivs);
+        Ok(self.ray_hit(item, u, v, &o, &d, &mut derivs))
+    }
+
+    /// How far along a ray from `o` a hit may lie: 1e6 (E + |o|∞).
+    pub(crate) fn ray_limit(&self, o: &[f64; 3]) -> f64 {
+        1e6 * (self.extent + o.iter().fold(0.0f64, |m, x| m.max(x.abs())))
+    }
+
+    /// The hit at local (u, v) of item `item` of the ray from `o` along the unit `d`: its
+    /// surface, patch and parameters, its distance along the ray (0 for a point behind the
+    /// origin, which is within ε of it), the point and the unit normal there; `None` beyond
+    /// [`SurfaceIndex::ray_limit`].
+    pub(crate) fn ray_hit(
+        &self,
+        item: usize,
+        u: f64,
+        v: f64,
+        o: &[f64; 3],
+        d: &[f64; 3],
+        derivs: &mut Derivs,
+    ) -> Option<RayHit> {
+        let p = self.local_point(item, u, v, derivs);
+        let point = [p[0], p[1], p[2]];
+        let s = dot(*d, sub(point, *o)).max(0.0);
+        if s > self.ray_limit(o) {
+            return None;
+        }
+        let (su, sv) = (
+            [derivs[1][0], derivs[1][1], derivs[1][2]],
+            [derivs[2][0], derivs[2][1], derivs[2][2]],
+        );
+        let (surface, patch_index) = self.items[item];
+        let patch = self.tables[surface as usize].patch(patch_index as usize);
+        let normal = unit_normal(&patch, u, v, su, sv);
+        let (surface, patch, [u, v]) = self.place(item, u, v);
+        Some(RayHit {
+            surface,
+            patch,
+            u,
+            v,
+            s,
+            point,
+            normal,
+        })
+    }
+
+    /// A ray checked (3-D surfaces, finite values, a direction that is not zero): its origin
+    /// and its frame, two unit vectors across it and the unit direction.
+    ///
+    /// # Errors
+    /// As [`SurfaceIndex::first_hit`].
+    pub(crate) fn check_ray(
+        &self,
+        ray: &[f64; 6],
+        index: usize,
+    ) -> Result<CheckedRay, InputError> {
         let field = || format!("rays[{index}]");
         if self.dim != 3 {
             return Err(InputError::field(
@@ -313,43 +452,7 @@ impl<'a> SurfaceIndex<'a> {
         };
         let e1 = normalize(cross(d, helper));
         let e2 = cross(d, e1);
-        let frame = [e1, e2, d];
-        let eps = self.eps(&o);
-        let mut best = 1e6 * (self.extent + o.iter().fold(0.0f64, |m, x| m.max(x.abs())));
-        let limit = best;
-        let mut found = None;
-        self.tree.along_ray(&o, &d, &mut best, |item, best| {
-            self.hit_on_patch(item as usize, &o, &frame, eps, best, &mut found);
-        });
-        let Some((item, u, v)) = found else {
-            return Ok(None);
-        };
-        let mut derivs = Derivs::default();
-        derivs.iter_mut().for_each(|x| x.resize(3, 0.0));
-        let (u, v) = self.polish_hit(item, u, v, &o, &frame, &mut derivs);
-        let p = self.local_point(item, u, v, &mut derivs);
-        let point = [p[0], p[1], p[2]];
-        let s = dot(d, sub(point, o)).max(0.0);
-        if s > limit {
-            return Ok(None);
-        }
-        let (su, sv) = (
-            [derivs[1][0], derivs[1][1], derivs[1][2]],
-            [derivs[2][0], derivs[2][1], derivs[2][2]],
-        );
-        let (surface, patch_index) = self.items[item];
-        let patch = self.tables[surface as usize].patch(patch_index as usize);
-        let normal = unit_normal(&patch, u, v, su, sv);
-        let (surface, patch, [u, v]) = self.place(item, u, v);
-        Ok(Some(RayHit {
-            surface,
-            patch,
-            u,
-            v,
-            s,
-            point,
-            normal,
-        }))
+        Ok((o, [e1, e2, d]))
     }
 
     /// [`SurfaceIndex::first_hit`] for every ray of `rays` (6 values each, flat), on every

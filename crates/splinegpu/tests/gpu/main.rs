@@ -62,6 +62,8 @@ mod sampling_cases;
     reason = "the fixtures' readers the cases use"
 )]
 mod scipy_fixture;
+#[path = "../it/query/surface_checks.rs"]
+mod surface_checks;
 
 fn main() -> std::process::ExitCode {
     let tests = support::gpu_trials![
@@ -96,6 +98,7 @@ fn main() -> std::process::ExitCode {
         nurbs::scipys_bspline_cases_meet_the_gpu_promise,
         nurbs::basis_sums_meet_the_gpu_promise,
         sampling_cases::geometric_samplings_evaluate_on_the_gpu_within_the_promise,
+        surfaces::closest_points_and_rays_on_the_gpu_are_the_certified_ones_within_the_bound,
     ];
     libtest_mimic::run(&libtest_mimic::Arguments::from_args(), tests).exit_code()
 }

@@ -346,3 +346,13 @@ pub(crate) fn a_vertex_between_two_patches_is_the_later_patchs_on_the_gpu() {
         }
     }
 }
+
+/// Closest points on surfaces and rays on the GPU, against the certified answers
+/// (tests/it/query/surface_checks.rs).
+pub(crate) fn closest_points_and_rays_on_the_gpu_are_the_certified_ones_within_the_bound() {
+    let gpu = gpu().expect("a GPU adapter");
+    crate::surface_checks::check_against_the_certified_answers(
+        &|index, queries| gpu.closest_on_surfaces(index, queries).unwrap(),
+        &|index, rays| gpu.ray_hits(index, rays).unwrap(),
+    );
+}

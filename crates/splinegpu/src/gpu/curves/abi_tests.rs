@@ -68,8 +68,8 @@ fn every_wgsl_file_validates() {
         }
     }
     assert_eq!(
-        files, 5,
-        "eval.wgsl, store_only.wgsl, surface.wgsl, geometry.wgsl and closest.wgsl"
+        files, 6,
+        "eval.wgsl, store_only.wgsl, surface.wgsl, geometry.wgsl, closest.wgsl and surface_queries.wgsl"
     );
 }
 

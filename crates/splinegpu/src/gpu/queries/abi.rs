@@ -48,7 +48,42 @@ pub(crate) const CLOSEST_BINDINGS: [wgpu::BufferBindingType; 8] = [
     wgpu::BufferBindingType::Storage { read_only: false },
 ];
 
-/// Per-dispatch uniforms. WGSL twin: `ClosestParams` in `shaders/closest.wgsl`.
+/// `shaders/surface_queries.wgsl`: closest points on surfaces (entry point `closest`) and the
+/// first hits of rays (`rays`).
+pub(crate) const SURFACE_QUERIES_WGSL: &str = include_str!("../../../shaders/surface_queries.wgsl");
+
+/// Its workgroup size; `const WG_SIZE` there.
+pub(crate) const SURFACE_QUERIES_WG_SIZE: u32 = 64;
+
+/// Its most halvings of a patch's parameters; `const MAX_LEVEL` there.
+#[cfg(test)]
+pub(crate) const SURFACE_MAX_LEVEL: u32 = 15;
+
+/// Its patch stack; `const PATCH_STACK` there.
+#[cfg(test)]
+pub(crate) const PATCH_STACK: usize = 48;
+
+/// Its Newton steps; `const POLISH_STEPS` there.
+#[cfg(test)]
+pub(crate) const SURFACE_POLISH_STEPS: u32 = 6;
+
+/// Its answer's slot where a ray meets nothing; `const NONE` there.
+pub(crate) const NO_HIT: u32 = u32::MAX;
+
+/// Its bindings, in order: the uniform, the tree's nodes, the nodes' boxes, the patches'
+/// boxes, the patches' nets and the queries (read), the answers (read-write).
+pub(crate) const SURFACE_QUERIES_BINDINGS: [wgpu::BufferBindingType; 7] = [
+    wgpu::BufferBindingType::Uniform,
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: true },
+    wgpu::BufferBindingType::Storage { read_only: false },
+];
+
+/// Per-dispatch uniforms. WGSL twin: `ClosestParams` in `shaders/closest.wgsl`, and
+/// `SurfaceQueryParams` in `shaders/surface_queries.wgsl` (the same layout).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
 #[repr(C)]
 pub(crate) struct ClosestParams {
@@ -77,7 +112,17 @@ impl ClosestParams {
     }
 }
 
-/// A node of the tree. WGSL twin: `GpuNode`.
+/// One surface query's answer. WGSL twin: `SurfaceAnswer`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct SurfaceAnswer {
+    pub slot: u32,
+    pub u: f32,
+    pub v: f32,
+    pub value: f32,
+}
+
+/// A node of the tree. WGSL twin: `GpuNode` (in both query shaders).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]
 pub(crate) struct GpuNode {
@@ -104,14 +149,64 @@ mod tests {
     use super::*;
 
     fn module() -> naga::Module {
-        let module = naga::front::wgsl::parse_str(CLOSEST_WGSL).expect("closest.wgsl parses");
+        parsed(CLOSEST_WGSL)
+    }
+
+    fn parsed(source: &str) -> naga::Module {
+        let module = naga::front::wgsl::parse_str(source).expect("the shader parses");
         naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
             naga::valid::Capabilities::default(),
         )
         .validate(&module)
-        .expect("closest.wgsl validates");
+        .expect("the shader validates");
         module
+    }
+
+    #[test]
+    fn the_surface_kernels_structs_and_constants_match() {
+        let module = parsed(SURFACE_QUERIES_WGSL);
+        let (size, members) = wgsl_struct(&module, "SurfaceQueryParams");
+        let (closest_size, closest_members) = wgsl_struct(&parsed(CLOSEST_WGSL), "ClosestParams");
+        assert_eq!((size, members), (closest_size, closest_members));
+        let (size, members) = wgsl_struct(&module, "SurfaceAnswer");
+        assert_eq!(size, size_of::<SurfaceAnswer>());
+        assert_eq!(
+            members,
+            named(&[
+                ("slot", offset_of!(SurfaceAnswer, slot)),
+                ("u", offset_of!(SurfaceAnswer, u)),
+                ("v", offset_of!(SurfaceAnswer, v)),
+                ("value", offset_of!(SurfaceAnswer, value)),
+            ])
+        );
+        let (size, _) = wgsl_struct(&module, "GpuNode");
+        assert_eq!(size, size_of::<GpuNode>());
+        for entry in &module.entry_points {
+            assert_eq!(entry.workgroup_size, [SURFACE_QUERIES_WG_SIZE, 1, 1]);
+        }
+        let names: Vec<&str> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        assert_eq!(names, ["closest", "rays"]);
+        let constant = |name: &str| {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no const {name}"));
+            match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                ref other => panic!("{name} = {other:?}"),
+            }
+        };
+        assert_eq!(constant("NONE"), NO_HIT);
+        assert_eq!(constant("MAX_LEVEL"), SURFACE_MAX_LEVEL);
+        assert_eq!(constant("PATCH_STACK") as usize, PATCH_STACK);
+        assert_eq!(constant("POLISH_STEPS"), SURFACE_POLISH_STEPS);
+        assert_eq!(constant("TREE_STACK") as usize, TREE_STACK);
     }
 
     /// (size, [(member, offset)]) of the WGSL struct `name`, padding members left out.

@@ -1,17 +1,17 @@
-//! Closest points on the GPU: the index packed once and uploaded once, the queries in
+//! Closest points on curves on the GPU: the index packed once and uploaded once, the queries in
 //! dispatches whose every binding fits the device's limits, each dispatch's answers read back
 //! and turned into the curves' parameters and points on the host.
 
 use crate::error::GpuError;
 use crate::gpu::GpuContext;
-use crate::gpu::kernel::{Kernel, workgroup_grid};
+use crate::gpu::kernel::Kernel;
 use crate::gpu::queries::abi::{
     CLOSEST_BINDINGS, CLOSEST_WG_SIZE, CLOSEST_WGSL, ClosestAnswer, ClosestParams,
 };
+use crate::gpu::queries::device::row_width;
 use crate::gpu::queries::pack::PackedIndex;
-use crate::gpu::timing::Timestamps;
 #[cfg(feature = "profiling")]
-use crate::gpu::timing::{DeviceTime, TimingMethod};
+use crate::gpu::timing::DeviceTime;
 use crate::query::{ClosestPoints, CurveIndex, QueryError};
 
 /// Runs one dispatch of the kernel: the queries (D values each, in the frame), their answers
@@ -75,15 +75,7 @@ impl GpuContext {
         queries: &[f64],
     ) -> Result<(ClosestPoints<f32>, DeviceTime), QueryError> {
         let (found, seconds) = self.closest_on_device(index, queries, true)?;
-        let method = if self
-            .device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY)
-        {
-            TimingMethod::Timestamps
-        } else {
-            TimingMethod::SubmitToCompletion
-        };
+        let method = crate::gpu::queries::device::timing_method(self);
         Ok((found, DeviceTime { seconds, method }))
     }
 
@@ -93,129 +85,42 @@ impl GpuContext {
         queries: &[f64],
         timed: bool,
     ) -> Result<(ClosestPoints<f32>, f64), QueryError> {
-        use wgpu::util::DeviceExt;
         let count = index.check_queries(queries)?;
         let packed = PackedIndex::new(index)?;
-        let limits = self.device.limits();
-        let binding = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        let device = &self.device;
-        let storage = wgpu::BufferUsages::STORAGE;
-        let table = |label: &'static str, bytes: &[u8]| -> Result<wgpu::Buffer, GpuError> {
-            if bytes.len() as u64 > binding {
-                return Err(GpuError::TooLarge {
-                    table: label,
-                    bytes: bytes.len() as u64,
-                    limit: binding,
-                });
-            }
-            Ok(
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents: bytes,
-                    usage: storage,
-                }),
-            )
-        };
-        let nodes = table("tree node", bytemuck::cast_slice(&packed.nodes))?;
-        let node_boxes = table("tree box", bytemuck::cast_slice(&packed.node_boxes))?;
-        let item_boxes = table("piece box", bytemuck::cast_slice(&packed.item_boxes))?;
-        let controls = table(
-            "piece control point",
-            bytemuck::cast_slice(&packed.controls),
-        )?;
-        let has_timestamps = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let tables = self.upload_query_tables(&[
+            ("tree node", bytemuck::cast_slice(&packed.tree.nodes)),
+            ("tree box", bytemuck::cast_slice(&packed.tree.node_boxes)),
+            ("piece box", bytemuck::cast_slice(&packed.tree.item_boxes)),
+            (
+                "piece control point",
+                bytemuck::cast_slice(&packed.controls),
+            ),
+        ])?;
         let mut seconds = 0.0;
         let found = closest_with(
             index,
             &packed,
             queries,
             count,
-            query_budget(binding, packed.dim),
+            query_budget(self.binding_limit(), packed.tree.dim),
             &mut |frame, answers, points| {
-                let pipeline = self.closest_pipeline();
-                let (across, rows) = workgroup_grid(device, answers.len() as u32, CLOSEST_WG_SIZE);
                 let params = ClosestParams::new(
                     answers.len(),
-                    packed.dim,
-                    across * CLOSEST_WG_SIZE,
-                    packed.nodes.len(),
+                    packed.tree.dim,
+                    row_width(self, answers.len(), CLOSEST_WG_SIZE),
+                    packed.tree.nodes.len(),
                 );
-                let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("closest params"),
-                    contents: bytemuck::bytes_of(&params),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                let query_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("closest queries"),
-                    contents: bytemuck::cast_slice(frame),
-                    usage: storage,
-                });
-                let answer_bytes = std::mem::size_of_val(answers) as u64;
-                let point_bytes = (std::mem::size_of_val(points) as u64).max(4);
-                let output = |label, size| {
-                    device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(label),
-                        size,
-                        usage: storage | wgpu::BufferUsages::COPY_SRC,
-                        mapped_at_creation: false,
-                    })
-                };
-                let answer_buffer = output("closest answers", answer_bytes);
-                let point_buffer = output("closest points", point_bytes);
-                let download = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("closest download"),
-                    size: answer_bytes + point_bytes,
-                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                    mapped_at_creation: false,
-                });
-                let stamps = (timed && has_timestamps).then(|| Timestamps::new(device, 1));
-                let mut encoder = device.create_command_encoder(&Default::default());
-                let resources = [
-                    &uniform,
-                    &nodes,
-                    &node_boxes,
-                    &item_boxes,
-                    &controls,
-                    &query_buffer,
-                    &answer_buffer,
-                    &point_buffer,
-                ]
-                .iter()
-                .map(|b| b.as_entire_binding())
-                .collect();
-                pipeline.record(
-                    device,
-                    &mut encoder,
-                    "closest",
-                    resources,
-                    (across, rows),
-                    stamps.as_ref().map(|s| s.writes(0)),
-                );
-                encoder.copy_buffer_to_buffer(&answer_buffer, 0, &download, 0, answer_bytes);
-                encoder.copy_buffer_to_buffer(
-                    &point_buffer,
-                    0,
-                    &download,
-                    answer_bytes,
-                    point_bytes,
-                );
-                if let Some(stamps) = &stamps {
-                    stamps.resolve(&mut encoder);
-                }
-                let submitted = std::time::Instant::now();
-                self.queue.submit([encoder.finish()]);
-                crate::gpu::readback::map_read(device, &download, |bytes| {
-                    let (a, p) = bytes.split_at(answer_bytes as usize);
-                    answers.copy_from_slice(bytemuck::cast_slice(a));
-                    points.copy_from_slice(&bytemuck::cast_slice(p)[..points.len()]);
-                })?;
-                seconds += match (&stamps, timed) {
-                    (Some(stamps), _) => stamps.read(device, self.queue.get_timestamp_period())?,
-                    (None, true) => submitted.elapsed().as_secs_f64(),
-                    (None, false) => 0.0,
-                };
+                seconds += self.dispatch_queries(
+                    (self.closest_pipeline(), CLOSEST_WG_SIZE, answers.len()),
+                    bytemuck::bytes_of(&params),
+                    &tables,
+                    frame,
+                    &mut [
+                        bytemuck::cast_slice_mut(answers),
+                        bytemuck::cast_slice_mut(points),
+                    ],
+                    timed,
+                )?;
                 Ok(())
             },
         )?;
@@ -223,11 +128,11 @@ impl GpuContext {
     }
 }
 
-/// The most queries of `dim` coordinates one dispatch may hold so that its queries, answers
-/// and points each fit a binding of `binding` bytes.
-pub(crate) fn query_budget(binding: u64, dim: usize) -> usize {
+/// The most queries of `width` values each (and one 16-byte answer) one dispatch may hold so
+/// that its queries and its outputs each fit a binding of `binding` bytes.
+pub(crate) fn query_budget(binding: u64, width: usize) -> usize {
     let binding = usize::try_from(binding).unwrap_or(usize::MAX);
-    let widest = (4 * dim).max(std::mem::size_of::<ClosestAnswer>());
+    let widest = (4 * width).max(std::mem::size_of::<ClosestAnswer>());
     (binding / widest).clamp(1, 1 << 24)
 }
 
@@ -241,7 +146,7 @@ pub(crate) fn closest_with(
     budget: usize,
     dispatch: &mut ClosestDispatch<'_>,
 ) -> Result<ClosestPoints<f32>, QueryError> {
-    let dim = packed.dim;
+    let dim = packed.tree.dim;
     let mut out = ClosestPoints {
         dim,
         curve: Vec::with_capacity(count),
@@ -254,7 +159,7 @@ pub(crate) fn closest_with(
     let mut points = Vec::new();
     for (c, chunk) in queries.chunks(budget * dim).enumerate() {
         let n = chunk.len() / dim;
-        packed.frame_queries(chunk, &mut frame);
+        packed.tree.frame_points(chunk, &mut frame);
         answers.clear();
         answers.resize(n, ClosestAnswer::default());
         points.clear();

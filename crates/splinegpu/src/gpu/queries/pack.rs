@@ -1,12 +1,14 @@
-//! A [`CurveIndex`] packed for `shaders/closest.wgsl`, in the index's frame: every coordinate
-//! x written as (x − c) / E in f32, c the centre of the root box and E its largest side, so
-//! that the tables hold numbers of about 1 wherever the curves lie (their position relative to
-//! one another kept to f32's 2^-24 of E), and the queries the same way.
+//! An index packed for the query kernels, in the index's frame: every coordinate x written as
+//! (x − c) / E in f32, c the centre of the root box and E its largest side, so that the tables
+//! hold numbers of about 1 wherever the curves or surfaces lie (their position relative to one
+//! another kept to f32's 2^-24 of E), and the queries the same way. [`PackedTree`] is the box
+//! tree; [`PackedIndex`] adds the curves' pieces, [`PackedNets`] the surfaces' patches.
 
 use crate::error::{GpuError, InputError};
 use crate::gpu::queries::abi::{ClosestAnswer, GpuNode};
 use crate::query::pieces::piece_homogeneous;
-use crate::query::{ClosestPoints, CurveIndex};
+use crate::query::tree::FlatTree;
+use crate::query::{ClosestPoints, CurveIndex, SurfaceIndex};
 
 /// Query coordinates beyond this (in the frame, 1e15 extents from the curves) are clamped to
 /// it: every point of the curves is then within 1e-15 (relative) of the nearest distance, far
@@ -17,9 +19,9 @@ const FARTHEST: f64 = 1e15;
 /// it the rational piece's denominator is not an f32 number.
 const LEAST_WEIGHT: f32 = 1e-30;
 
-/// The index's tables for the kernel.
+/// A box tree in its frame.
 #[derive(Debug)]
-pub(crate) struct PackedIndex {
+pub(crate) struct PackedTree {
     pub dim: usize,
     /// c, the frame's origin (D values).
     pub origin: Vec<f64>,
@@ -28,24 +30,14 @@ pub(crate) struct PackedIndex {
     pub nodes: Vec<GpuNode>,
     /// Per node, `lo` then `hi` in the frame, rounded outward.
     pub node_boxes: Vec<f32>,
-    /// Per slot, its piece's box the same way.
+    /// Per slot, its item's box the same way.
     pub item_boxes: Vec<f32>,
-    /// Per slot, its piece's weights w_0..w_3 (divided by the largest) then its control points
-    /// Q_0..Q_3 in the frame: 4 + 4 D values.
-    pub controls: Vec<f32>,
-    /// Per slot, the index of its piece.
+    /// Per slot, the index of its item.
     pub order: Vec<u32>,
 }
 
-impl PackedIndex {
-    /// `index` packed.
-    ///
-    /// # Errors
-    /// [`GpuError::OutOfRange`] for a rational curve whose weights differ by more than f32's
-    /// range.
-    pub(crate) fn new(index: &CurveIndex<'_>) -> Result<Self, GpuError> {
-        let dim = index.dim();
-        let flat = index.tree().flat();
+impl PackedTree {
+    fn new(flat: &FlatTree<'_>, dim: usize) -> Self {
         let root = &flat.node_boxes[..2 * dim];
         let origin: Vec<f64> = (0..dim).map(|k| 0.5 * (root[k] + root[dim + k])).collect();
         let side = (0..dim)
@@ -56,71 +48,113 @@ impl PackedIndex {
         } else {
             1.0
         };
-        let frame = |k: usize, x: f64| (x - origin[k]) / unit;
-        let outward = |boxes: &[f64]| -> Vec<f32> {
-            boxes
-                .chunks_exact(2 * dim)
-                .flat_map(|b| {
-                    let lo = (0..dim).map(move |k| round_down(frame(k, b[k])));
-                    let hi = (0..dim).map(move |k| round_up(frame(k, b[dim + k])));
-                    lo.chain(hi).collect::<Vec<_>>()
+        let mut tree = Self {
+            dim,
+            origin,
+            unit,
+            nodes: flat
+                .nodes
+                .iter()
+                .map(|&(first, second, leaf)| GpuNode {
+                    first,
+                    second,
+                    leaf: u32::from(leaf),
+                    _padding: 0,
                 })
-                .collect()
+                .collect(),
+            node_boxes: Vec::new(),
+            item_boxes: Vec::new(),
+            order: flat.order.to_vec(),
         };
-        let nodes = flat
-            .nodes
-            .iter()
-            .map(|&(first, second, leaf)| GpuNode {
-                first,
-                second,
-                leaf: u32::from(leaf),
-                _padding: 0,
-            })
-            .collect();
-        let (node_boxes, item_boxes) = (outward(flat.node_boxes), outward(flat.item_boxes));
+        tree.node_boxes = tree.outward(flat.node_boxes);
+        tree.item_boxes = tree.outward(flat.item_boxes);
+        tree
+    }
+
+    /// Coordinate k of `x` in the frame.
+    pub(crate) fn frame(&self, k: usize, x: f64) -> f64 {
+        (x - self.origin[k]) / self.unit
+    }
+
+    /// Boxes (`lo` then `hi`, D values each) in the frame, rounded outward to f32.
+    fn outward(&self, boxes: &[f64]) -> Vec<f32> {
+        let dim = self.dim;
+        let mut out = Vec::with_capacity(boxes.len());
+        for b in boxes.chunks_exact(2 * dim) {
+            out.extend((0..dim).map(|k| round_down(self.frame(k, b[k]))));
+            out.extend((0..dim).map(|k| round_up(self.frame(k, b[dim + k]))));
+        }
+        out
+    }
+
+    /// Points (D values each) in the frame, into `out`.
+    pub(crate) fn frame_points(&self, points: &[f64], out: &mut Vec<f32>) {
+        out.clear();
+        out.extend(
+            points
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| self.frame(i % self.dim, x).clamp(-FARTHEST, FARTHEST) as f32),
+        );
+    }
+
+    /// Coordinate k of a point of the frame, back in the index's coordinates.
+    pub(crate) fn unframe(&self, k: usize, x: f32) -> f64 {
+        self.origin[k] + self.unit * f64::from(x)
+    }
+}
+
+/// Weights divided by their largest, in f32.
+///
+/// # Errors
+/// The curve or surface `which` names when a weight falls below [`LEAST_WEIGHT`] so.
+fn scaled_weights<const N: usize>(w: [f64; N], which: usize) -> Result<[f32; N], GpuError> {
+    let largest = w.iter().copied().fold(0.0, f64::max);
+    let scaled = w.map(|w| (w / largest) as f32);
+    if scaled.iter().any(|&w| w.is_nan() || w < LEAST_WEIGHT) {
+        return Err(GpuError::OutOfRange {
+            curve: which,
+            what: "the ratio of its weights",
+        });
+    }
+    Ok(scaled)
+}
+
+/// A [`CurveIndex`] for `shaders/closest.wgsl`.
+#[derive(Debug)]
+pub(crate) struct PackedIndex {
+    pub tree: PackedTree,
+    /// Per slot, its piece's weights w_0..w_3 (divided by the largest) then its control points
+    /// Q_0..Q_3 in the frame: 4 + 4 D values.
+    pub controls: Vec<f32>,
+}
+
+impl PackedIndex {
+    /// `index` packed.
+    ///
+    /// # Errors
+    /// [`GpuError::OutOfRange`] for a rational curve whose weights differ by more than f32's
+    /// range.
+    pub(crate) fn new(index: &CurveIndex<'_>) -> Result<Self, GpuError> {
+        let dim = index.dim();
+        let tree = PackedTree::new(&index.tree().flat(), dim);
         let pieces = index.pieces();
-        let mut controls = Vec::with_capacity(flat.order.len() * (4 + 4 * dim));
+        let mut controls = Vec::with_capacity(tree.order.len() * (4 + 4 * dim));
         let mut h = Vec::with_capacity(4 * (dim + 1));
-        for &item in flat.order {
+        for &item in &tree.order {
             let piece = pieces[item as usize];
             let segment = index.tables()[piece.curve as usize].segment(piece.segment as usize);
             let (points, weights) = segment.rational_bezier();
             piece_homogeneous(&points, weights, (piece.u0, piece.u1), &mut h);
             let w: [f64; 4] = std::array::from_fn(|i| h[i * (dim + 1) + dim]);
-            let largest = w.iter().copied().fold(0.0, f64::max);
-            let scaled = w.map(|w| (w / largest) as f32);
-            if scaled.iter().any(|&w| w.is_nan() || w < LEAST_WEIGHT) {
-                return Err(GpuError::OutOfRange {
-                    curve: piece.curve as usize,
-                    what: "the ratio of its weights",
-                });
-            }
-            controls.extend_from_slice(&scaled);
+            controls.extend_from_slice(&scaled_weights(w, piece.curve as usize)?);
             for (i, wi) in w.iter().enumerate() {
                 for k in 0..dim {
-                    controls.push(frame(k, h[i * (dim + 1) + k] / wi) as f32);
+                    controls.push(tree.frame(k, h[i * (dim + 1) + k] / wi) as f32);
                 }
             }
         }
-        Ok(Self {
-            dim,
-            origin,
-            unit,
-            nodes,
-            node_boxes,
-            item_boxes,
-            controls,
-            order: flat.order.to_vec(),
-        })
-    }
-
-    /// `queries` (checked points, D values each) in the frame, into `out`.
-    pub(crate) fn frame_queries(&self, queries: &[f64], out: &mut Vec<f32>) {
-        out.clear();
-        out.extend(queries.iter().enumerate().map(|(i, &x)| {
-            let k = i % self.dim;
-            ((x - self.origin[k]) / self.unit).clamp(-FARTHEST, FARTHEST) as f32
-        }));
+        Ok(Self { tree, controls })
     }
 
     /// The kernel's answers for `queries` (D values each, the first of them query `first`)
@@ -138,9 +172,9 @@ impl PackedIndex {
         points: &[f32],
         out: &mut ClosestPoints<f32>,
     ) -> Result<(), InputError> {
-        let dim = self.dim;
+        let dim = self.tree.dim;
         for (i, answer) in answers.iter().enumerate() {
-            let piece = index.pieces()[self.order[answer.slot as usize] as usize];
+            let piece = index.pieces()[self.tree.order[answer.slot as usize] as usize];
             let u = f64::from(answer.u);
             let local = if u >= 1.0 {
                 piece.u1
@@ -152,7 +186,7 @@ impl PackedIndex {
             out.t.push(index.parameter(curve, segment, local));
             let mut d2 = 0.0;
             for k in 0..dim {
-                let x = (self.origin[k] + self.unit * f64::from(points[i * dim + k])) as f32;
+                let x = self.tree.unframe(k, points[i * dim + k]) as f32;
                 d2 += (f64::from(x) - queries[i * dim + k]).powi(2);
                 out.points.push(x);
             }
@@ -167,6 +201,40 @@ impl PackedIndex {
             out.distance.push(distance);
         }
         Ok(())
+    }
+}
+
+/// A [`SurfaceIndex`] for `shaders/surface_queries.wgsl`.
+#[derive(Debug)]
+pub(crate) struct PackedNets {
+    pub tree: PackedTree,
+    /// Per slot, its patch's weights w_ij (ij = 4 i + j, i along u; divided by the largest)
+    /// then its control points Q_ij in the frame: 16 + 16 D values.
+    pub nets: Vec<f32>,
+}
+
+impl PackedNets {
+    /// `index` packed.
+    ///
+    /// # Errors
+    /// [`GpuError::OutOfRange`] for a rational surface whose weights differ by more than f32's
+    /// range (named as its index, in the error's "curve").
+    pub(crate) fn new(index: &SurfaceIndex<'_>) -> Result<Self, GpuError> {
+        let dim = index.dim();
+        let tree = PackedTree::new(&index.tree().flat(), dim);
+        let mut nets = Vec::with_capacity(tree.order.len() * (16 + 16 * dim));
+        for &item in &tree.order {
+            let (origin, net) = &index.nets()[item as usize];
+            let w: [f64; 16] = std::array::from_fn(|ij| net.values[ij * (dim + 1) + dim]);
+            nets.extend_from_slice(&scaled_weights(w, index.surface_of(item as usize))?);
+            for (ij, wij) in w.iter().enumerate() {
+                for (k, o) in origin.iter().enumerate() {
+                    let x = o + net.values[ij * (dim + 1) + k] / wij;
+                    nets.push(tree.frame(k, x) as f32);
+                }
+            }
+        }
+        Ok(Self { tree, nets })
     }
 }
 

@@ -27,12 +27,13 @@ pub(crate) fn closest_points_twin(
         count,
         budget,
         &mut |frame, answers, points| {
-            let params = ClosestParams::new(answers.len(), packed.dim, 0, packed.nodes.len());
+            let params =
+                ClosestParams::new(answers.len(), packed.tree.dim, 0, packed.tree.nodes.len());
             let kernel = Kernel {
                 params,
-                nodes: &packed.nodes,
-                node_boxes: &packed.node_boxes,
-                item_boxes: &packed.item_boxes,
+                nodes: &packed.tree.nodes,
+                node_boxes: &packed.tree.node_boxes,
+                item_boxes: &packed.tree.item_boxes,
                 controls: &packed.controls,
                 queries: frame,
             };
