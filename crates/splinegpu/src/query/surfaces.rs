@@ -246,10 +246,7 @@ impl<'a> SurfaceIndex<'a> {
     ///
     /// # Errors
     /// As [`SurfaceIndex::rays_many`].
-    pub(crate) fn check_rays(
-        &self,
-        rays: &[f64],
-    ) -> Result<Vec<CheckedRay>, InputError> {
+    pub(crate) fn check_rays(&self, rays: &[f64]) -> Result<Vec<CheckedRay>, InputError> {
         if !rays.len().is_multiple_of(6) {
             return Err(InputError::field(
                 "rays",
@@ -417,11 +414,7 @@ impl<'a> SurfaceIndex<'a> {
     ///
     /// # Errors
     /// As [`SurfaceIndex::first_hit`].
-    pub(crate) fn check_ray(
-        &self,
-        ray: &[f64; 6],
-        index: usize,
-    ) -> Result<CheckedRay, InputError> {
+    pub(crate) fn check_ray(&self, ray: &[f64; 6], index: usize) -> Result<CheckedRay, InputError> {
         let field = || format!("rays[{index}]");
         if self.dim != 3 {
             return Err(InputError::field(
