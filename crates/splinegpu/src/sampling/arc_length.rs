@@ -363,6 +363,11 @@ pub(crate) struct ArcTable {
     model: Vec<[f64; 5]>,
     /// The accuracy of the model, in length.
     model_accuracy: f64,
+    /// The explicit inverse (with a model): piece k starts at length `inverse_s[k]` (the
+    /// last ends at the segment's length) and maps its lengths to u by a polynomial (see
+    /// [`InversePiece`], [`ArcTable::place`]).
+    inverse_s: Vec<f64>,
+    inverse: Vec<InversePiece>,
     /// [`Speed::bend`]: bounds how fast the speed changes.
     bend: f64,
 }
@@ -404,6 +409,8 @@ impl ArcTable {
             model_s: vec![0.0],
             model: Vec::new(),
             model_accuracy,
+            inverse_s: Vec::new(),
+            inverse: Vec::new(),
             bend: speed.bend(),
         };
         // Between consecutive critical points of Q the speed is monotone, so a zero of the
@@ -439,7 +446,94 @@ impl ArcTable {
             table.fit_model(a, b, length.max(0.0), ends, model_accuracy, 0);
             a = b;
         }
+        if model_accuracy.is_finite() {
+            for k in 0..table.model.len() {
+                table.fit_inverse(k, (0.0, 1.0), 0);
+            }
+        }
         table
+    }
+
+    /// Appends [xa, xb] of model piece `k` (x its own parameter, s_k(x) its model of the
+    /// length) as pieces of the explicit inverse, halved until each is within the model's
+    /// accuracy of the model. On a piece, x is the degree-5 polynomial in the length through
+    /// the model at the six Chebyshev–Lobatto points of x, and its error is measured at the
+    /// five points of x between them: the model's length at the polynomial's x against the
+    /// length asked. Only the model's polynomial is evaluated. A piece no longer than the
+    /// accuracy needs no test. Where the speed vanishes at a piece's end, x(s) grows as √s
+    /// there and the pieces halve toward it.
+    fn fit_inverse(&mut self, k: usize, (xa, xb): (f64, f64), depth: u32) {
+        let (c, tol) = (&self.model[k], self.model_accuracy);
+        let length = self.model_s[k + 1] - self.model_s[k];
+        let model = |x: f64| {
+            if x >= 1.0 {
+                length
+            } else {
+                polynomial(c, x).clamp(0.0, length)
+            }
+        };
+        let (sa, sb) = (model(xa), model(xb));
+        let (mu, w) = (self.model_u[k], self.model_u[k + 1] - self.model_u[k]);
+        let mut piece = InversePiece::linear((mu + xa * w, mu + xb * w), (sa, sb));
+        if sb - sa > tol && xb > xa {
+            let nodes: [f64; 6] = std::array::from_fn(|i| match i {
+                0 => 0.0,
+                5 => 1.0,
+                _ => (model(xa + LOBATTO[i] * (xb - xa)) - sa) / (sb - sa),
+            });
+            let increasing = nodes.windows(2).all(|pair| pair[0] < pair[1]);
+            let fits = increasing && {
+                let p = interpolate(&nodes, &LOBATTO);
+                let fits = MIDPOINTS.iter().all(|&m| {
+                    let s = model(xa + m * (xb - xa));
+                    let tau = (s - sa) / (sb - sa);
+                    let x = xa + (xb - xa) * evaluate5(&p, tau).clamp(0.0, 1.0);
+                    (model(x) - s).abs() <= tol
+                });
+                piece.c = p;
+                fits
+            };
+            if !fits && depth < MAX_DEPTH {
+                let mid = 0.5 * (xa + xb);
+                self.fit_inverse(k, (xa, mid), depth + 1);
+                self.fit_inverse(k, (mid, xb), depth + 1);
+                return;
+            }
+            if !fits {
+                piece.c = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+            }
+        }
+        // Lengths from the segment's start: the model piece's start plus the model's.
+        piece.s0 += self.model_s[k];
+        self.inverse_s.push(piece.s0);
+        self.inverse.push(piece);
+    }
+
+    /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]) by
+    /// the explicit inverse: within twice the model's accuracy in length (the model's own
+    /// error and the inverse's against it, each measured as [`ArcTable::new`] says), one
+    /// polynomial a length. `hint` is the inverse piece the last (nondecreasing) length
+    /// fell in (0 for the first); the answer does not depend on it.
+    #[inline]
+    pub(crate) fn place(&self, s: f64, hint: &mut usize) -> f64 {
+        if s <= 0.0 {
+            return 0.0;
+        }
+        if s >= self.length() {
+            return 1.0;
+        }
+        let pieces = self.inverse.len();
+        let k = last_before(&self.inverse_s, (*hint).min(pieces - 1), |x| x < s);
+        *hint = k;
+        self.inverse[k].at(s)
+    }
+
+    /// The inverse piece `k` and the lengths it takes, as [`ArcTable::place`] chooses pieces:
+    /// above its start and up to the next one's (the last: up to the segment's length; at or
+    /// beyond it, u = 1).
+    pub(crate) fn inverse_piece(&self, k: usize) -> (&InversePiece, f64) {
+        let last = self.inverse_s.get(k + 1).copied().unwrap_or(f64::INFINITY);
+        (&self.inverse[k], last)
     }
 
     /// Appends [a, b] (whose 8-point estimate is `whole`) as quadrature pieces, split until
@@ -631,6 +725,89 @@ pub(crate) fn last_before(values: &[f64], from: usize, before: impl Fn(f64) -> b
     }
     let hi = hi.min(values.len());
     lo + values[lo + 1..hi].partition_point(|&v| before(v))
+}
+
+/// The Chebyshev–Lobatto points of [0, 1] for degree 5: (1 − cos(iπ/5)) / 2.
+const LOBATTO: [f64; 6] = [
+    0.0,
+    0.095_491_502_812_526_27,
+    0.345_491_502_812_526_3,
+    0.654_508_497_187_473_7,
+    0.904_508_497_187_473_7,
+    1.0,
+];
+
+/// The points between consecutive [`LOBATTO`] points, where an inverse piece's error is
+/// measured.
+const MIDPOINTS: [f64; 5] = [
+    0.047_745_751_406_263_14,
+    0.220_491_502_812_526_3,
+    0.5,
+    0.779_508_497_187_473_7,
+    0.952_254_248_593_736_9,
+];
+
+/// A piece of a segment's explicit inverse: lengths s from `s0` on map to
+/// u = u0 + du p(τ), τ = (s − s0) / ℓ (clamped to [0, 1]; `inv_length` = 1 / ℓ), p(τ) = Σ c_i τ^i
+/// with p(0) = 0 and p(1) = 1, u clamped to the piece's [u0, u0 + du].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct InversePiece {
+    s0: f64,
+    inv_length: f64,
+    u0: f64,
+    du: f64,
+    c: [f64; 6],
+}
+
+impl InversePiece {
+    /// The straight map of [sa, sb] onto [a, b].
+    fn linear((a, b): (f64, f64), (sa, sb): (f64, f64)) -> Self {
+        Self {
+            s0: sa,
+            inv_length: if sb > sa { 1.0 / (sb - sa) } else { 0.0 },
+            u0: a,
+            du: b - a,
+            c: [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        }
+    }
+
+    /// The u of length `s`.
+    #[inline]
+    pub(crate) fn at(&self, s: f64) -> f64 {
+        let tau = ((s - self.s0) * self.inv_length).clamp(0.0, 1.0);
+        (self.u0 + self.du * evaluate5(&self.c, tau)).clamp(self.u0, self.u0 + self.du)
+    }
+}
+
+/// c0 + c1 τ + … + c5 τ⁵.
+#[inline]
+fn evaluate5(c: &[f64; 6], tau: f64) -> f64 {
+    c[0] + tau * (c[1] + tau * (c[2] + tau * (c[3] + tau * (c[4] + tau * c[5]))))
+}
+
+/// The coefficients (c0 + c1 τ + … + c5 τ⁵) of the polynomial through (t[i], y[i]) (t
+/// increasing): Newton's divided differences, expanded.
+fn interpolate(t: &[f64; 6], y: &[f64; 6]) -> [f64; 6] {
+    let mut d = *y;
+    for level in 1..6 {
+        for i in (level..6).rev() {
+            d[i] = (d[i] - d[i - 1]) / (t[i] - t[i - level]);
+        }
+    }
+    // Horner on the Newton form: p = d0 + (τ − t0)(d1 + (τ − t1)(d2 + …)).
+    let mut c = [0.0; 6];
+    c[0] = d[5];
+    for i in (0..5).rev() {
+        // c ← c · (τ − t_i) + d_i
+        let mut next = [0.0; 6];
+        for j in 0..5 {
+            next[j + 1] += c[j];
+            next[j] -= c[j] * t[i];
+        }
+        next[0] += d[i];
+        c = next;
+    }
+    c
 }
 
 /// c1 x + c2 x² + … + c5 x⁵.

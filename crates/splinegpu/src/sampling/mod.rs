@@ -24,10 +24,13 @@ pub enum Sampling {
     /// last segment at u = 1.
     At(Vec<f64>),
     /// m >= 2 points evenly spaced by arc length along the whole curve, the first and the last
-    /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-10 L, L the curve's length (lengths to
-    /// [`DEFAULT_ARCLEN_ACCURACY`](crate::DEFAULT_ARCLEN_ACCURACY) of L, by adaptive Gauss–Legendre
-    /// quadrature; see [`SegmentTable::arclen`]). The GPU places the samples itself, in f32 from
-    /// the host's per-segment length models, within 1e-5 L; its t are formed from them in f64.
+    /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-6 L, L the curve's length (the contract asks
+    /// 1e-4 L; lengths to [`DEFAULT_ARCLEN_ACCURACY`](crate::DEFAULT_ARCLEN_ACCURACY) of L by
+    /// adaptive Gauss–Legendre quadrature, each segment's length modelled within 1e-7 L and the
+    /// model inverted explicitly, one polynomial a sample; see [`SegmentTable::arclen`]). A
+    /// caller who needs places to 1e-10 L takes them from [`SegmentTable::inv_arclen`] and
+    /// samples them with [`Sampling::At`]. The GPU places the samples itself, in f32 from the
+    /// host's per-segment length models, within 1e-5 L; its t are formed from them in f64.
     ArcLength(u32),
     /// Per segment, as few samples as this method guarantees such that the polyline through
     /// them stays within `tol` (> 0, in the curve's units and D dimensions) of the curve; never
@@ -95,8 +98,6 @@ pub(crate) struct ArcSamples {
     starts: Vec<f64>,
     tables: Vec<ArcTable>,
     knots: Vec<f64>,
-    /// Absolute accuracy of the inverse, in length.
-    accuracy: f64,
 }
 
 impl ArcSamples {
@@ -106,14 +107,11 @@ impl ArcSamples {
         for t in &tables {
             starts.push(starts[starts.len() - 1] + t.length());
         }
-        // The inverse to the accuracy the lengths have together.
-        let accuracy = arc_length::DEFAULT_ARCLEN_ACCURACY * starts[tables.len()];
         Self {
             m,
             starts,
             tables,
             knots: table.knots().to_vec(),
-            accuracy,
         }
     }
 
@@ -136,10 +134,54 @@ impl ArcSamples {
         self.loc_from(j, &mut ArcHint::default())
     }
 
-    /// The places of samples `range`, each search starting where the last one's ended.
+    /// The places of samples `range`: each sample as [`ArcSamples::loc_from`] places it
+    /// (the same segment, the same inverse piece, the same arithmetic), found by walking the
+    /// segments' inverse pieces along with the samples instead of searching for each.
     fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+        let segments = self.tables.len();
+        let length = self.starts[segments];
         let mut hint = ArcHint::default();
-        out.extend(range.map(|j| self.loc_from(j, &mut hint)));
+        let mut j = range.start;
+        while j < range.end {
+            if j == 0 || j + 1 == self.m {
+                out.push(self.loc_from(j, &mut hint));
+                j += 1;
+                continue;
+            }
+            // The first of a run of samples in one inverse piece, placed as loc_from places it.
+            let first = self.loc_from(j, &mut hint);
+            out.push(first);
+            j += 1;
+            let segment = first.segment;
+            let table = &self.tables[segment];
+            let start = self.starts[segment];
+            let (mut piece, mut piece_end) = table.inverse_piece(hint.piece);
+            let at_end = table.length();
+            // The next segment's start: a target there belongs to it.
+            let next_start = if segment + 1 < segments {
+                self.starts[segment + 1]
+            } else {
+                f64::INFINITY
+            };
+            let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
+            while j < range.end && j + 1 < self.m {
+                let target = length * j as f64 / (self.m - 1) as f64;
+                let s = target - start;
+                if target >= next_start || s <= 0.0 {
+                    break;
+                }
+                // The next pieces, as `ArcTable::place`'s search would find them.
+                while s > piece_end {
+                    hint.piece += 1;
+                    (piece, piece_end) = table.inverse_piece(hint.piece);
+                }
+                // As `ArcTable::place`: u = 1 at or beyond the segment's length.
+                let u = if s >= at_end { 1.0 } else { piece.at(s) };
+                let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
+                out.push(SampleLoc { segment, u, t });
+                j += 1;
+            }
+        }
     }
 
     /// Sample `j`'s place, for one of a run of increasing `j`: the searches start at `hint`
@@ -173,22 +215,18 @@ impl ArcSamples {
             };
         }
         let table = &self.tables[segment];
-        let u = table.inverse_from(
-            target - self.starts[segment],
-            self.accuracy,
-            &mut hint.inverse,
-        );
+        let u = table.place(target - self.starts[segment], &mut hint.piece);
         let t = t_at(&self.knots, segment, u);
         SampleLoc { segment, u, t }
     }
 }
 
-/// Where [`ArcSamples::loc_from`]'s searches start: the last sample's segment, and the hint of
-/// its inverse there.
+/// Where [`ArcSamples::loc_from`]'s searches start: the last sample's segment, and the piece
+/// of its explicit inverse there.
 #[derive(Clone, Copy, Debug, Default)]
 struct ArcHint {
     segment: usize,
-    inverse: arc_length::InverseHint,
+    piece: usize,
 }
 
 /// A curve's tolerance sampling: each segment's placement (its count and the table its u are
