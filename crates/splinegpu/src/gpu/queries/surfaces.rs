@@ -135,6 +135,23 @@ impl GpuContext {
     /// there in f64 on the host. The distance is within the contract's GPU bound of the true
     /// least distance (the patch's position bound plus 1e-5 (E + |q|∞)).
     ///
+    /// ```
+    /// use splinegpu::GpuContext;
+    /// use splinegpu::query::SurfaceIndex;
+    /// use splinegpu::surface::{Net, Surface, SurfaceKind};
+    ///
+    /// // A flat bicubic patch over [0, 3]² at z = 0 (x = 3u, y = 3v).
+    /// let coords = (0..16).flat_map(|ij| [f64::from(ij / 4), f64::from(ij % 4), 0.0]).collect();
+    /// let tables = [Surface::new(SurfaceKind::Bezier, Net::new(3, 4, 4, coords)?)?.fit()];
+    /// let index = SurfaceIndex::new(&tables)?;
+    /// let Ok(gpu) = GpuContext::new() else { return Ok(()) };
+    /// let found = gpu.closest_on_surfaces(&index, &[1.0, 2.0, 5.0])?;
+    /// assert!((found[0].distance - 5.0).abs() < 1e-4);
+    /// let hits = gpu.ray_hits(&index, &[1.0, 2.0, 5.0, 0.0, 0.0, -1.0])?;
+    /// assert!((hits[0].as_ref().map(|h| h.s).unwrap() - 5.0).abs() < 1e-4);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
     /// # Errors
     /// [`QueryError::Input`] for a point as [`SurfaceIndex::closest_many`] refuses it;
     /// [`QueryError::Gpu`] when the device is lost, the index's tables exceed a storage
