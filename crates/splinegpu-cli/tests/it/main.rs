@@ -5,6 +5,7 @@
 mod cli;
 mod document_properties;
 mod failure_modes;
+mod fuzz_corpus;
 mod geometry;
 mod queries;
 mod stream;
