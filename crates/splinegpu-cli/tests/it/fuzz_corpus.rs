@@ -15,7 +15,11 @@ fn every_corpus_document_parses_or_is_refused_the_same_way_from_a_reader_and_fro
         .map(|e| e.unwrap().path())
         .collect();
     files.sort();
-    assert!(files.len() >= 30, "the seed corpus is there: {}", files.len());
+    assert!(
+        files.len() >= 30,
+        "the seed corpus is there: {}",
+        files.len()
+    );
     let (mut documents, mut refused) = (0, 0);
     for path in &files {
         let data = std::fs::read(path).unwrap();
