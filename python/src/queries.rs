@@ -10,7 +10,7 @@ use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUnty
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use splinegpu::query::{
-    CurveIndex, IntersectionColumns, Pairs, QueryError, RayHitColumns, SurfaceIndex,
+    ClosestPoints, CurveIndex, IntersectionColumns, Pairs, QueryError, RayHitColumns, SurfaceIndex,
     SurfacePointColumns, intersections,
 };
 use splinegpu::{Curve, InputError, Points, SegmentTable};
@@ -47,35 +47,38 @@ pub(crate) fn closest_points<'py>(
     let queries = queries.as_slice()?;
     let tables = py.detach(|| fit(&points, &kinds)).map_err(value_error)?;
     let index = CurveIndex::new(&tables).map_err(value_error)?;
-    let out = PyDict::new(py);
-    let q = queries.len() / dim.max(1);
-    let (curve, t) = match context.as_ref().and_then(|c| c.gpu.as_ref()) {
+    match context.as_ref().and_then(|c| c.gpu.as_ref()) {
         Some(gpu) => {
             let answers = py
                 .detach(|| gpu.closest_points(&index, queries))
                 .map_err(query_error)?;
-            out.set_item(
-                "point",
-                PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
-            )?;
-            out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
-            (answers.curve, answers.t)
+            closest_arrays(py, answers)
         }
         None => {
             let answers = py
                 .detach(|| index.closest_many(queries))
                 .map_err(value_error)?;
-            out.set_item(
-                "point",
-                PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
-            )?;
-            out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
-            (answers.curve, answers.t)
+            closest_arrays(py, answers)
         }
-    };
-    let curves: Vec<i64> = curve.iter().map(|&c| c as i64).collect();
+    }
+}
+
+/// Closest points as the NPZ's arrays: "curve" int64, "t" float64, "point" (Q, D) and
+/// "distance" as the answers' numbers (float32 from a GPU).
+fn closest_arrays<'py, F: numpy::Element>(
+    py: Python<'py>,
+    answers: ClosestPoints<F>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    let (q, dim) = (answers.len(), answers.dim);
+    let curves: Vec<i64> = answers.curve.iter().map(|&c| c as i64).collect();
     out.set_item("curve", PyArray1::from_vec(py, curves))?;
-    out.set_item("t", PyArray1::from_vec(py, t))?;
+    out.set_item("t", PyArray1::from_vec(py, answers.t))?;
+    out.set_item(
+        "point",
+        PyArray1::from_vec(py, answers.points).reshape([q, dim])?,
+    )?;
+    out.set_item("distance", PyArray1::from_vec(py, answers.distance))?;
     Ok(out)
 }
 

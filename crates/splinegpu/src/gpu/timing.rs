@@ -32,6 +32,18 @@ pub enum TimingMethod {
     SubmitToCompletion,
 }
 
+impl TimingMethod {
+    /// How `device`'s dispatches are timed: by timestamps where it has `TIMESTAMP_QUERY`.
+    #[cfg(feature = "profiling")]
+    pub(super) fn of(device: &wgpu::Device) -> Self {
+        if device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            Self::Timestamps
+        } else {
+            Self::SubmitToCompletion
+        }
+    }
+}
+
 /// A timestamp at the start and the end of each dispatch's compute pass.
 pub(super) struct Timestamps {
     queries: wgpu::QuerySet,

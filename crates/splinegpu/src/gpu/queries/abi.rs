@@ -191,17 +191,7 @@ mod tests {
             .map(|e| e.name.as_str())
             .collect();
         assert_eq!(names, ["closest", "rays"]);
-        let constant = |name: &str| {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("no const {name}"));
-            match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => v,
-                ref other => panic!("{name} = {other:?}"),
-            }
-        };
+        let constant = |name: &str| constant(&module, name);
         assert_eq!(constant("NONE"), NO_HIT);
         assert_eq!(constant("MAX_LEVEL"), SURFACE_MAX_LEVEL);
         assert_eq!(constant("PATCH_STACK") as usize, PATCH_STACK);
@@ -225,6 +215,19 @@ mod tests {
             .filter(|(n, _)| !n.starts_with("_padding"))
             .collect();
         (*span as usize, members)
+    }
+
+    /// The u32 value of the WGSL constant `name`.
+    fn constant(module: &naga::Module, name: &str) -> u32 {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no const {name}"));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{name} = {other:?}"),
+        }
     }
 
     fn named(fields: &[(&str, usize)]) -> Vec<(String, usize)> {
@@ -272,17 +275,7 @@ mod tests {
     #[test]
     fn constants_match_the_shader() {
         let module = module();
-        let constant = |name: &str| {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("no const {name}"));
-            match module.global_expressions[c.init] {
-                naga::Expression::Literal(naga::Literal::U32(v)) => v as usize,
-                ref other => panic!("{name} = {other:?}"),
-            }
-        };
+        let constant = |name: &str| constant(&module, name) as usize;
         assert_eq!(constant("WG_SIZE"), CLOSEST_WG_SIZE as usize);
         assert_eq!(constant("MAX_LEVEL"), MAX_LEVEL as usize);
         assert_eq!(constant("TREE_STACK"), TREE_STACK);

@@ -155,18 +155,3 @@ impl GpuContext {
 pub(crate) fn row_width(context: &GpuContext, count: usize, size: u32) -> u32 {
     workgroup_grid(&context.device, count as u32, size).0 * size
 }
-
-/// The timing method of a device: timestamps where it has them.
-#[cfg(feature = "profiling")]
-pub(crate) fn timing_method(context: &GpuContext) -> crate::gpu::timing::TimingMethod {
-    use crate::gpu::timing::TimingMethod;
-    if context
-        .device
-        .features()
-        .contains(wgpu::Features::TIMESTAMP_QUERY)
-    {
-        TimingMethod::Timestamps
-    } else {
-        TimingMethod::SubmitToCompletion
-    }
-}

@@ -11,7 +11,7 @@ use crate::gpu::queries::abi::{
 use crate::gpu::queries::device::row_width;
 use crate::gpu::queries::pack::PackedIndex;
 #[cfg(feature = "profiling")]
-use crate::gpu::timing::DeviceTime;
+use crate::gpu::timing::{DeviceTime, TimingMethod};
 use crate::query::{ClosestPoints, CurveIndex, QueryError};
 
 /// Runs one dispatch of the kernel: the queries (D values each, in the frame), their answers
@@ -75,7 +75,7 @@ impl GpuContext {
         queries: &[f64],
     ) -> Result<(ClosestPoints<f32>, DeviceTime), QueryError> {
         let (found, seconds) = self.closest_on_device(index, queries, true)?;
-        let method = crate::gpu::queries::device::timing_method(self);
+        let method = TimingMethod::of(&self.device);
         Ok((found, DeviceTime { seconds, method }))
     }
 

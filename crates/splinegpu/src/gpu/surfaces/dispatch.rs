@@ -83,15 +83,7 @@ impl GpuContext {
         job: &SurfaceJob,
     ) -> Result<(Vec<SurfaceSamples<f32>>, DeviceTime), GpuError> {
         let (samples, seconds) = self.surfaces_on_device(job, 0..job.len(), true)?;
-        let method = if self
-            .device
-            .features()
-            .contains(wgpu::Features::TIMESTAMP_QUERY)
-        {
-            TimingMethod::Timestamps
-        } else {
-            TimingMethod::SubmitToCompletion
-        };
+        let method = TimingMethod::of(&self.device);
         Ok((samples, DeviceTime { seconds, method }))
     }
 
