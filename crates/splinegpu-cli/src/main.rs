@@ -393,6 +393,7 @@ fn finish(result: Result<(), OutputError>, output: Option<&Path>) -> Result<(), 
     match (result, output) {
         (Ok(()), _) => Ok(()),
         (Err(OutputError::Io(e)), _) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        (Err(OutputError::Input(e)), _) => Err(Failure::input(e)),
         (
             Err(
                 e @ (OutputError::NonFinite { .. }
@@ -428,7 +429,7 @@ fn tessellate_surfaces(
     let context = choose_backend(backend)?;
     let result = match &context {
         None => write_surfaces(job, format, output, &mut |range| {
-            Ok(job.evaluate_cpu_group(range))
+            Ok(job.try_evaluate_cpu_group(range)?)
         }),
         Some(gpu) => write_surfaces(job, format, output, &mut |range| {
             Ok(gpu.evaluate_surface_group(job, range)?)

@@ -3,7 +3,6 @@
 //! container, rather than hand-written offsets and padding). Surfaces and the curves' geometry
 //! both write through here.
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::{self, Write};
 
@@ -103,22 +102,24 @@ pub fn write_glb<F: Copy + Into<f64>>(
     meshes: &[Mesh<'_, F>],
     out: &mut dyn Write,
 ) -> io::Result<()> {
+    // The JSON first, from the counts alone (and the positions' bounds): every view's offset
+    // is known before a byte of the binary chunk is, so the binary chunk is streamed, mesh by
+    // mesh, and memory stays near one write buffer however large the meshes are.
     let mut root = json::Root::default();
-    let mut bin: Vec<u8> = Vec::new();
     let mut nodes = Vec::new();
+    let mut bin_length = 0u64;
     let buffer = json::Index::<json::Buffer>::new(0);
-    let view = |root: &mut json::Root,
-                bin: &mut Vec<u8>,
-                bytes: &[u8],
-                target: json::buffer::Target,
-                stride: Option<usize>| {
-        let offset = bin.len();
-        bin.extend_from_slice(bytes);
-        bin.resize(bin.len().next_multiple_of(4), 0);
+    let mut view = |root: &mut json::Root,
+                    length: u64,
+                    target: json::buffer::Target,
+                    stride: Option<usize>| {
+        // Every view is a whole number of 4-byte values: no padding between them.
+        let offset = bin_length;
+        bin_length += length;
         root.push(json::buffer::View {
             buffer,
-            byte_length: USize64(bytes.len() as u64),
-            byte_offset: Some(USize64(offset as u64)),
+            byte_length: USize64(length),
+            byte_offset: Some(USize64(offset)),
             byte_stride: stride.map(json::buffer::Stride),
             name: None,
             target: Some(Valid(target)),
@@ -147,38 +148,32 @@ pub fn write_glb<F: Copy + Into<f64>>(
             sparse: None,
         })
     };
-    for mesh in meshes.iter().filter(|m| m.vertices() > 0) {
-        let positions: Vec<f32> = mesh.positions.iter().map(|&x| x.into() as f32).collect();
+    let written: Vec<&Mesh<'_, F>> = meshes.iter().filter(|m| m.vertices() > 0).collect();
+    for mesh in &written {
         let (mut low, mut high) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for p in positions.chunks_exact(3) {
+        for p in mesh.positions.chunks_exact(3) {
             for k in 0..3 {
-                low[k] = low[k].min(p[k]);
-                high[k] = high[k].max(p[k]);
+                let x = p[k].into() as f32;
+                low[k] = low[k].min(x);
+                high[k] = high[k].max(x);
             }
         }
-        let f32_bytes = |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
         let array = json::buffer::Target::ArrayBuffer;
-        let v = view(&mut root, &mut bin, &f32_bytes(&positions), array, Some(12));
+        let count = mesh.vertices();
+        let vec3_bytes = 12 * count as u64;
+        let v = view(&mut root, vec3_bytes, array, Some(12));
         let mut attributes = BTreeMap::new();
         let f32_type = json::accessor::ComponentType::F32;
         let vec3 = json::accessor::Type::Vec3;
-        let count = mesh.vertices();
         let a = accessor(&mut root, v, count, f32_type, vec3, Some((low, high)));
         attributes.insert(Valid(json::mesh::Semantic::Positions), a);
-        if let Some(normals) = mesh.normals {
-            let n: Vec<f32> = normals.iter().map(|&x| x.into() as f32).collect();
-            let v = view(&mut root, &mut bin, &f32_bytes(&n), array, Some(12));
+        if mesh.normals.is_some() {
+            let v = view(&mut root, vec3_bytes, array, Some(12));
             let a = accessor(&mut root, v, count, f32_type, vec3, None);
             attributes.insert(Valid(json::mesh::Semantic::Normals), a);
         }
-        let indices: Vec<u8> = mesh
-            .triangles
-            .iter()
-            .flatten()
-            .flat_map(|i| i.to_le_bytes())
-            .collect();
         let element = json::buffer::Target::ElementArrayBuffer;
-        let v = view(&mut root, &mut bin, &indices, element, None);
+        let v = view(&mut root, 12 * mesh.triangles.len() as u64, element, None);
         let u32_type = json::accessor::ComponentType::U32;
         let indices = accessor(
             &mut root,
@@ -210,7 +205,7 @@ pub fn write_glb<F: Copy + Into<f64>>(
         }));
     }
     root.push(json::Buffer {
-        byte_length: USize64(bin.len() as u64),
+        byte_length: USize64(bin_length),
         name: None,
         uri: None,
         extensions: None,
@@ -223,22 +218,42 @@ pub fn write_glb<F: Copy + Into<f64>>(
         nodes,
     });
     root.scene = Some(scene);
-    let text = json::serialize::to_vec(&root).map_err(io::Error::other)?;
-    let length = 12 + 8 + text.len().next_multiple_of(4) + 8 + bin.len();
-    let glb = gltf::binary::Glb {
-        header: gltf::binary::Header {
-            magic: *b"glTF",
-            version: 2,
-            length: u32::try_from(length)
-                .map_err(|_| io::Error::other("a .glb file holds at most 4 GiB"))?,
-        },
-        json: Cow::Owned(text),
-        bin: Some(Cow::Owned(bin)),
+    let mut text = json::serialize::to_vec(&root).map_err(io::Error::other)?;
+    // The JSON chunk is padded with spaces to 4 bytes (glTF 2.0, "Binary glTF Layout").
+    text.resize(text.len().next_multiple_of(4), b' ');
+    let length = 12 + 8 + text.len() as u64 + 8 + bin_length;
+    let length =
+        u32::try_from(length).map_err(|_| io::Error::other("a .glb file holds at most 4 GiB"))?;
+    let mut head = Vec::with_capacity(20);
+    head.extend_from_slice(b"glTF");
+    head.extend_from_slice(&2u32.to_le_bytes());
+    head.extend_from_slice(&length.to_le_bytes());
+    head.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    head.extend_from_slice(b"JSON");
+    out.write_all(&head)?;
+    out.write_all(&text)?;
+    out.write_all(&(bin_length as u32).to_le_bytes())?;
+    out.write_all(b"BIN\0")?;
+    // The binary chunk, in the views' order, through one buffer.
+    let mut chunk = Vec::with_capacity(1 << 16);
+    let put = |chunk: &mut Vec<u8>, bytes: [u8; 4], out: &mut dyn Write| -> io::Result<()> {
+        chunk.extend_from_slice(&bytes);
+        if chunk.len() >= 1 << 16 {
+            out.write_all(chunk)?;
+            chunk.clear();
+        }
+        Ok(())
     };
-    // The writer's own error, kind and all (a closed pipe is `BrokenPipe`, which ends the run
-    // quietly, as for every other format).
-    glb.to_writer(out).map_err(|e| match e {
-        gltf::Error::Io(e) => e,
-        other => io::Error::other(other),
-    })
+    for mesh in &written {
+        for &x in mesh.positions {
+            put(&mut chunk, (x.into() as f32).to_le_bytes(), out)?;
+        }
+        for &x in mesh.normals.unwrap_or(&[]) {
+            put(&mut chunk, (x.into() as f32).to_le_bytes(), out)?;
+        }
+        for &i in mesh.triangles.iter().flatten() {
+            put(&mut chunk, i.to_le_bytes(), out)?;
+        }
+    }
+    out.write_all(&chunk)
 }

@@ -62,6 +62,10 @@ pub enum OutputError {
         /// Curve 0's.
         first: usize,
     },
+    /// The samples could not be made from the input (their memory refused): the input's
+    /// fault, as a job too large for the machine is.
+    #[error(transparent)]
+    Input(#[from] splinegpu::InputError),
     /// Writing failed.
     #[error("cannot write output: {0}")]
     Io(#[from] io::Error),

@@ -215,6 +215,41 @@ fn meshes_open_as_they_are() {
         180
     );
     assert_eq!(primitive.indices().unwrap().count(), 3 * 360);
+    // The binary chunk, streamed after the JSON, holds what its views say: positions within
+    // the accessor's bounds, unit normals, indices within each mesh's vertices.
+    let blob = gltf.blob.as_deref().unwrap();
+    // An accessor's values as 4-byte little-endian words.
+    let words = |a: gltf::Accessor<'_>, width: usize| -> Vec<[u8; 4]> {
+        let at = a.view().unwrap().offset() + a.offset();
+        blob[at..at + 4 * width * a.count()]
+            .chunks_exact(4)
+            .map(|w| [w[0], w[1], w[2], w[3]])
+            .collect()
+    };
+    for mesh in gltf.meshes() {
+        let primitive = mesh.primitives().next().unwrap();
+        let bounds = primitive.bounding_box();
+        let positions: Vec<f32> = words(primitive.get(&gltf::Semantic::Positions).unwrap(), 3)
+            .into_iter()
+            .map(f32::from_le_bytes)
+            .collect();
+        for p in positions.chunks_exact(3) {
+            assert!((0..3).all(|k| p[k] >= bounds.min[k] && p[k] <= bounds.max[k]));
+        }
+        let normals: Vec<f32> = words(primitive.get(&gltf::Semantic::Normals).unwrap(), 3)
+            .into_iter()
+            .map(f32::from_le_bytes)
+            .collect();
+        for n in normals.chunks_exact(3) {
+            assert!((n[0].hypot(n[1]).hypot(n[2]) - 1.0).abs() < 1e-5, "{n:?}");
+        }
+        let indices = words(primitive.indices().unwrap(), 1);
+        assert!(
+            indices
+                .into_iter()
+                .all(|i| (u32::from_le_bytes(i) as usize) < positions.len() / 3)
+        );
+    }
     let (status, stderr) = tessellate(dir.path(), &meshes, "out.obj", "cpu");
     assert_eq!(status, 0, "{stderr}");
     let obj = std::fs::read_to_string(dir.path().join("out.obj")).unwrap();
@@ -383,6 +418,54 @@ fn a_surface_over_the_process_memory_limit_exits_2_before_it_allocates() {
         "{stderr}"
     );
     assert!(!output.exists());
+}
+
+/// Under the same limit, surfaces that pass the estimate but whose samples, or whose .glb,
+/// the process cannot have (per_segment [2300, 2300] and [2500, 2500] with normals and
+/// derivatives) end with exit 0 and a whole file, or exit 2 naming the surface's sampling and
+/// no file: the samples' allocations are fallible and the .glb is streamed (each aborted with
+/// exit 134, "memory allocation of ... bytes failed", before).
+#[test]
+fn surfaces_near_the_process_memory_limit_never_abort() {
+    let dir = tempfile::tempdir().unwrap();
+    let net: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| [f64::from(i), f64::from(j), f64::from(i * j % 3)])
+                .collect()
+        })
+        .collect();
+    for (n, derivatives, format) in [(2500, 0, "npz"), (2300, 0, "glb"), (1800, 2, "npz")] {
+        let doc = format!(
+            r#"{{"normals": true, "derivatives": {derivatives}, "surfaces": [{{"kind": "bspline",
+               "points": {}, "sampling": {{"per_segment": [{n}, {n}]}}}}]}}"#,
+            serde_json::to_string(&net).unwrap()
+        );
+        let input = dir.path().join("near.json");
+        std::fs::write(&input, doc).unwrap();
+        let output = dir.path().join(format!("near.{format}"));
+        let out = std::process::Command::new("sh")
+            .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\""])
+            .arg(env!("CARGO_BIN_EXE_splinegpu"))
+            .args(["tessellate", input.to_str().unwrap(), "-o"])
+            .arg(&output)
+            .args(["--backend", "cpu"])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        match out.status.code() {
+            Some(0) => assert!(output.exists(), "{n} {format}"),
+            Some(2) => {
+                assert!(
+                    stderr.contains("surface 0: \"sampling\""),
+                    "{n} {format}: {stderr}"
+                );
+                assert!(!output.exists(), "{n} {format}");
+            }
+            other => panic!("{n} {format}: exit {other:?}: {stderr}"),
+        }
+        let _ = std::fs::remove_file(&output);
+    }
 }
 
 /// A surface whose values overflow f64 (a cardinal net of tension 1e308) is refused in every

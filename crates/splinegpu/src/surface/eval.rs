@@ -69,6 +69,10 @@ impl<F: SampleFloat> SurfaceSamples<F> {
     /// [`SurfaceJob::evaluate_into`](super::SurfaceJob::evaluate_into) fills through
     /// [`SurfaceSamples::planes_mut`], again and
     /// again for a surface whose plan does not change.
+    ///
+    /// # Panics
+    /// When the memory for them cannot be had ([`SurfaceSamples::try_for_plan`] says so
+    /// instead).
     #[must_use]
     pub fn for_plan(
         table: &PatchTable,
@@ -76,23 +80,44 @@ impl<F: SampleFloat> SurfaceSamples<F> {
         derivatives: Derivatives,
         normals: bool,
     ) -> Self {
+        Self::try_for_plan(table, plan, derivatives, normals)
+            .unwrap_or_else(|e| panic!("the memory for a surface's samples: {e}"))
+    }
+
+    /// [`SurfaceSamples::for_plan`], every allocation fallible: an error where the process
+    /// cannot have the memory (an address-space or control-group limit that an estimate
+    /// missed), never an abort.
+    ///
+    /// # Errors
+    /// The first allocation refused.
+    pub fn try_for_plan(
+        table: &PatchTable,
+        plan: &SurfacePlan,
+        derivatives: Derivatives,
+        normals: bool,
+    ) -> Result<Self, std::collections::TryReserveError> {
         let (dim, n, orders) = (table.dim(), plan.vertices.len(), derivatives.order());
-        let plane = |asked: bool, width: usize| asked.then(|| vec![F::default(); width * n]);
-        SurfaceSamples {
+        let plane = |asked: bool, width: usize| asked.then(|| zeros(width * n)).transpose();
+        let triangles = match &plan.triangles {
+            Some(t) => Some(collected(t.len(), t.iter().copied())?),
+            None => None,
+        };
+        Ok(SurfaceSamples {
             dim,
-            uv: plan.vertices.iter().map(|v| v.uv).collect(),
-            patch: table
-                .patch_indices()
-                .map(|_| plan.vertices.iter().map(|v| v.patch).collect()),
-            points: vec![F::default(); dim * n],
-            du: plane(orders >= 1, dim),
-            dv: plane(orders >= 1, dim),
-            duu: plane(orders >= 2, dim),
-            duv: plane(orders >= 2, dim),
-            dvv: plane(orders >= 2, dim),
-            normals: plane(normals, 3),
-            triangles: plan.triangles.clone(),
-        }
+            uv: collected(n, plan.vertices.iter().map(|v| v.uv))?,
+            patch: match table.patch_indices() {
+                Some(_) => Some(collected(n, plan.vertices.iter().map(|v| v.patch))?),
+                None => None,
+            },
+            points: zeros(dim * n)?,
+            du: plane(orders >= 1, dim)?,
+            dv: plane(orders >= 1, dim)?,
+            duu: plane(orders >= 2, dim)?,
+            duv: plane(orders >= 2, dim)?,
+            dvv: plane(orders >= 2, dim)?,
+            normals: plane(normals, 3)?,
+            triangles,
+        })
     }
 
     /// The planes present, in the GPU kernel's order: positions, du, dv, duu, duv, dvv,
@@ -154,16 +179,37 @@ const CHUNK: usize = 4096;
 /// Evaluates `plan` on `table` in f64 into new memory: positions, the derivatives asked for,
 /// and unit normals when `normals` (a [`SurfaceJob`](super::SurfaceJob) has checked that the
 /// table is then 3-D).
-#[must_use]
+///
+/// # Errors
+/// The memory for the samples refused.
 pub(crate) fn evaluate_surfaces(
     table: &PatchTable,
     plan: &SurfacePlan,
     derivatives: Derivatives,
     normals: bool,
-) -> SurfaceSamples {
-    let mut samples = SurfaceSamples::for_plan(table, plan, derivatives, normals);
+) -> Result<SurfaceSamples, std::collections::TryReserveError> {
+    let mut samples = SurfaceSamples::try_for_plan(table, plan, derivatives, normals)?;
     evaluate_surfaces_into(table, plan, samples.planes_mut());
-    samples
+    Ok(samples)
+}
+
+/// The `n` items of `items` in a new vector, the allocation fallible.
+fn collected<T>(
+    n: usize,
+    items: impl Iterator<Item = T>,
+) -> Result<Vec<T>, std::collections::TryReserveError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)?;
+    v.extend(items);
+    Ok(v)
+}
+
+/// `n` zeros, the allocation fallible.
+fn zeros<F: SampleFloat>(n: usize) -> Result<Vec<F>, std::collections::TryReserveError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)?;
+    v.resize(n, F::default());
+    Ok(v)
 }
 
 /// Evaluates `plan` on `table` into a caller's planes on every thread: the planes present are

@@ -345,9 +345,9 @@ impl SurfaceJob {
         });
     }
 
-    /// Refuses, before its plan is made, a surface whose plan (40 bytes a vertex) and f64
-    /// values would not fit in the memory available: a count near the u32 vertex cap would
-    /// otherwise end in an allocation failure.
+    /// Refuses, before its plan is made, a surface whose plan (64 bytes a vertex), samples
+    /// and f64 values would not fit in the memory available: a count near the u32 vertex cap
+    /// would otherwise end in an allocation failure.
     fn check_fits(&self, table: &PatchTable, sampling: &SurfaceSampling) -> Result<(), InputError> {
         let Some(vertices) = SurfacePlan::vertex_count(table, sampling) else {
             return Ok(());
@@ -356,7 +356,10 @@ impl SurfaceJob {
             return Ok(());
         };
         let planes = 1 + [0, 2, 5][self.derivatives.order()];
-        let per_vertex = 40 + 8 * (2 + planes * table.dim() as u128 + 3 * u128::from(self.normals));
+        // The plan's vertex (40 bytes) and two triangles (24), the samples' (u, v), their
+        // copy of the triangles and their values.
+        let values = 8 * (planes * table.dim() as u128 + 3 * u128::from(self.normals));
+        let per_vertex = 40 + 24 + 16 + 24 + values;
         let bytes = u128::from(vertices) * per_vertex;
         if bytes > u128::from(available) {
             return Err(InputError::field(
@@ -460,14 +463,49 @@ impl SurfaceJob {
     /// The surfaces of `range` evaluated on the CPU in f64.
     ///
     /// # Panics
-    /// If `range` is not within the job.
+    /// If `range` is not within the job, or the memory for the samples cannot be had
+    /// ([`SurfaceJob::try_evaluate_cpu_group`] says so instead).
     #[must_use]
     pub fn evaluate_cpu_group(&self, range: Range<usize>) -> Vec<SurfaceSamples> {
+        self.try_evaluate_cpu_group(range)
+            .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// [`SurfaceJob::evaluate_cpu_group`], the samples' memory allocated fallibly: a surface
+    /// whose samples the process cannot have (under an address-space or control-group limit
+    /// that the estimate made when it was pushed missed) is an error, never an abort.
+    ///
+    /// # Errors
+    /// The first surface (by index) whose samples could not be allocated, naming its sampling
+    /// and vertex count.
+    ///
+    /// # Panics
+    /// If `range` is not within the job.
+    pub fn try_evaluate_cpu_group(
+        &self,
+        range: Range<usize>,
+    ) -> Result<Vec<SurfaceSamples>, InputError> {
         // Surfaces on every thread (each also splits its vertices), a plan made again only
         // for its own surface's evaluation.
+        let first = range.start;
         self.surfaces[range]
             .par_iter()
-            .map(|s| evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals))
+            .enumerate()
+            .map(|(i, s)| {
+                evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals).map_err(
+                    |e| {
+                        InputError::field(
+                            "sampling",
+                            format!(
+                                "gives {} vertices, whose samples the process could not \
+                                 allocate ({e})",
+                                s.vertices
+                            ),
+                        )
+                        .in_surface(first + i)
+                    },
+                )
+            })
             .collect()
     }
 
@@ -480,7 +518,8 @@ impl SurfaceJob {
         self.surfaces
             .into_par_iter()
             .map(|s| {
-                let samples = evaluate_surfaces(&s.table, &s.plan(), derivatives, normals);
+                let samples = evaluate_surfaces(&s.table, &s.plan(), derivatives, normals)
+                    .unwrap_or_else(|e| panic!("the memory for a surface's samples: {e}"));
                 drop(s);
                 samples
             })
