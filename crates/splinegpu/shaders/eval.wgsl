@@ -76,9 +76,9 @@ const MODE_ARC: u32 = 3u;
 @group(0) @binding(6) var<storage, read> coeff_floats: array<f32>;
 // Arc-length tables, floats as their bits (Rust twin: gpu::curves::pack::write_arc_table): a header
 // (m - 1, 1/(m - 1), 0, 0); per segment (start / L, the vec4 of its first piece, pieces, 0);
-// per piece of its length model two vec4s (start / L, u at its start, c1, c2),
-// (c3, c4, c5, u at its end): the length from its start over its length is
-// c1 x + ... + c5 x^5 in x = (u - u at its start) / its width.
+// per piece of its explicit inverse two vec4s (start / L, u at its start, c1, c2),
+// (c3, c4, c5, u at its end): u = u at its start + (u at its end - u at its start) x with
+// x = c1 y + ... + c5 y^5, y the length from its start over its length.
 @group(0) @binding(7) var<storage, read> arcs: array<vec4<u32>>;
 
 const WG_SIZE: u32 = 64u;
@@ -425,20 +425,9 @@ fn explicit_run(run: Run, lane: u32) {
     }
 }
 
-// Steps of the safeguarded Newton iteration that solves a length model (Rust twin:
-// sampling::arc_length::SOLVE_STEPS, checked by gpu/curves/abi_tests.rs).
-const SOLVE_STEPS: u32 = 12u;
-// The step in x below which the solve stops: 2^-22 (its error in length is below 2.4e-7 of
-// the piece's length).
-const SOLVE_RESOLUTION: f32 = 2.384185791015625e-7;
-
-// c1 x + c2 x^2 + ... + c5 x^5, and its slope.
-fn model_at(c: vec4<f32>, c5: f32, x: f32) -> f32 {
-    return x * (c.x + x * (c.y + x * (c.z + x * (c.w + x * c5))));
-}
-
-fn model_slope(c: vec4<f32>, c5: f32, x: f32) -> f32 {
-    return c.x + x * (2.0 * c.y + x * (3.0 * c.z + x * (4.0 * c.w + x * 5.0 * c5)));
+// c1 y + c2 y^2 + ... + c5 y^5.
+fn model_at(c: vec4<f32>, c5: f32, y: f32) -> f32 {
+    return y * (c.x + y * (c.y + y * (c.z + y * (c.w + y * c5))));
 }
 
 // The last of `count` nondecreasing starts (the first float of arcs[first + stride * n]) that
@@ -473,9 +462,8 @@ struct ArcHint {
 
 // Sample i of an arc-length run's curve: the first at u = 0 of the first segment, the last
 // at u = 1 of the last; between them, at length i/(m - 1) of L, the segment that starts last
-// at or before it, the piece of its length model that does, and the x where the model reaches
-// it: Newton's method from the linear guess, kept inside the bracket the signs leave
-// (bisecting where a step would leave it). Rust twin of the solve: sampling::arc_length::solve_model.
+// at or before it, the piece of its explicit inverse that does, and the inverse's u there (the
+// host's twin: sampling::arc_length::InversePiece::at).
 fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> GpuLoc {
     let header = arcs[run.arc];
     if i == 0u {
@@ -496,7 +484,7 @@ fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> GpuLoc {
     let piece = bitcast<vec4<f32>>(arcs[record.y + 2u * k]);
     let c = bitcast<vec4<f32>>(arcs[record.y + 2u * k + 1u]);
     let end = bitcast<f32>(arcs[record.y + 2u * k + 2u].x);
-    // The model's coefficients c1..c5.
+    // The inverse's coefficients c1..c5.
     let c14 = vec4(piece.z, piece.w, c.x, c.y);
     let c5 = c.z;
     let span = end - piece.x;
@@ -504,34 +492,7 @@ fn arc_place(run: Run, i: u32, hint: ptr<function, ArcHint>) -> GpuLoc {
     if span > 0.0 {
         y = clamp((at_length - piece.x) / span, 0.0, 1.0);
     }
-    var x = y;
-    var x_lo = 0.0;
-    var x_hi = 1.0;
-    for (var iteration = 0u; iteration < SOLVE_STEPS; iteration++) {
-        let f = model_at(c14, c5, x) - y;
-        if f == 0.0 {
-            break;
-        }
-        if f < 0.0 {
-            x_lo = x;
-        } else {
-            x_hi = x;
-        }
-        let slope = model_slope(c14, c5, x);
-        let step = f / slope;
-        let next = x - step;
-        // A step within 2^-22 (two ulps at 1): converged. Near the root f32's rounding can make
-        // Newton alternate between neighbouring floats, and a bisection would undo it. (The
-        // step, not next - x: a driver may fold the one into the other.)
-        if abs(step) <= SOLVE_RESOLUTION {
-            break;
-        }
-        if slope > 0.0 && next > x_lo && next < x_hi {
-            x = next;
-        } else {
-            x = 0.5 * (x_lo + x_hi);
-        }
-    }
+    let x = clamp(model_at(c14, c5, y), 0.0, 1.0);
     return GpuLoc(run.segment + lo, clamp(piece.y + x * (c.w - piece.y), 0.0, 1.0));
 }
 

@@ -372,9 +372,10 @@ pub(crate) struct ArcTable {
     bend: f64,
 }
 
-/// The accuracy of the length model, relative to the curve's length: the GPU's inverse solves
-/// the model (its f32 arithmetic adds errors of this order), and the CPU's Newton step starts
-/// from the model's solution.
+/// The accuracy of the length model, relative to the curve's length, and of its explicit
+/// inverse against it: the samples' places (the CPU's in f64, the GPU's in f32, which adds
+/// errors of this order) are the inverse's; a precise inverse's Newton steps start from the
+/// model's solution.
 pub(crate) const MODEL_ACCURACY: f64 = 1e-7;
 
 /// Steps of the safeguarded Newton iteration that solves a model piece: its solution moves
@@ -690,16 +691,16 @@ impl ArcTable {
         u
     }
 
-    /// The model's pieces as (u at the start, its width in u, s at the start, its length,
-    /// the model's coefficients), for the GPU's f32 table.
-    pub(crate) fn model_pieces(
+    /// The explicit inverse's pieces as (the length where each starts, its u there, its u at
+    /// its end, p's coefficients c1..c5 (c0 is 0: p(0) = 0)), for the GPU's f32 table: the
+    /// kernel places a sample as the CPU does, one polynomial a sample.
+    pub(crate) fn inverse_pieces(
         &self,
-    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, f64, &[f64; 5])> {
-        let (ms, mu) = (&self.model_s, &self.model_u);
-        self.model
-            .iter()
-            .enumerate()
-            .map(|(k, c)| (mu[k], mu[k + 1] - mu[k], ms[k], ms[k + 1] - ms[k], c))
+    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, [f64; 5])> {
+        self.inverse.iter().map(|p| {
+            let c = [p.c[1], p.c[2], p.c[3], p.c[4], p.c[5]];
+            (p.s0, p.u0, p.u0 + p.du, c)
+        })
     }
 }
 
@@ -826,9 +827,7 @@ fn polynomial_slope(c: &[f64; 5], x: f64) -> f64 {
 /// up to [`SOLVE_STEPS`] steps of Newton's method from the linear guess s/length, each kept
 /// inside the bracket the signs so far leave (bisecting it when a step would leave it or the
 /// slope is not positive), stopping once the model is within `within` of `s` or a step no
-/// longer moves x. The GPU solves the same way in f32 (`arc_place` in `shaders/eval.wgsl`),
-/// stopping once a step is below 2^-22 (near the root f32's rounding can make Newton alternate
-/// between neighbouring floats).
+/// longer moves x.
 pub(crate) fn solve_model(c: &[f64; 5], s: f64, length: f64, within: f64) -> f64 {
     if length <= 0.0 {
         return 0.0;

@@ -30,7 +30,7 @@ pub enum Sampling {
     /// model inverted explicitly, one polynomial a sample; see [`SegmentTable::arclen`]). A
     /// caller who needs places to 1e-10 L takes them from [`SegmentTable::inv_arclen`] and
     /// samples them with [`Sampling::At`]. The GPU places the samples itself, in f32 from the
-    /// host's per-segment length models, within 1e-5 L; its t are formed from them in f64.
+    /// same explicit inverses, within 1e-5 L; its t are formed from them in f64.
     ArcLength(u32),
     /// Per segment, as few samples as this method guarantees such that the polyline through
     /// them stays within `tol` (> 0, in the curve's units and D dimensions) of the curve; never

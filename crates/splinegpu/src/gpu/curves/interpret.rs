@@ -17,7 +17,6 @@ use crate::gpu::KernelShape;
 use crate::gpu::readback::unpack_device_planes;
 use crate::job::EvalJob;
 use crate::job::samples::{Samples, fill_t};
-use crate::sampling::arc_length::SOLVE_STEPS;
 
 /// Evaluates `job` as the kernel does, in f32 on the CPU: packs it for `shape` within
 /// `limits`, runs every invocation of every dispatch, and lays the samples out as the GPU
@@ -108,9 +107,6 @@ struct Piece {
 
 const NO_SEGMENT: u32 = u32::MAX;
 
-/// WGSL `SOLVE_RESOLUTION`: 2^-22.
-const SOLVE_RESOLUTION: f32 = 2.384_185_8e-7;
-
 /// WGSL `Loaded`.
 struct Loaded {
     segment: u32,
@@ -193,10 +189,6 @@ fn rational_value(piece: &Piece, w: Vec4, u: f32, order: u32) -> Vec4 {
 
 fn model_at(c: Vec4, c5: f32, x: f32) -> f32 {
     x * (c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * c5))))
-}
-
-fn model_slope(c: Vec4, c5: f32, x: f32) -> f32 {
-    c[0] + x * (2.0 * c[1] + x * (3.0 * c[2] + x * (4.0 * c[3] + x * 5.0 * c5)))
 }
 
 fn derive(piece: &Piece, order: u32) -> Cubic {
@@ -519,31 +511,7 @@ impl Kernel<'_> {
         if span > 0.0 {
             y = ((at_length - piece[0]) / span).clamp(0.0, 1.0);
         }
-        let mut x = y;
-        let mut x_lo = 0.0;
-        let mut x_hi = 1.0;
-        for _ in 0..SOLVE_STEPS {
-            let f = model_at(c14, c5, x) - y;
-            if f == 0.0 {
-                break;
-            }
-            if f < 0.0 {
-                x_lo = x;
-            } else {
-                x_hi = x;
-            }
-            let slope = model_slope(c14, c5, x);
-            let step = f / slope;
-            let next = x - step;
-            if step.abs() <= SOLVE_RESOLUTION {
-                break;
-            }
-            if slope > 0.0 && next > x_lo && next < x_hi {
-                x = next;
-            } else {
-                x = 0.5 * (x_lo + x_hi);
-            }
-        }
+        let x = model_at(c14, c5, y).clamp(0.0, 1.0);
         GpuLoc {
             segment: run.segment + lo,
             u: (piece[1] + x * (c[3] - piece[1])).clamp(0.0, 1.0),

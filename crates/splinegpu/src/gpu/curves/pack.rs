@@ -453,11 +453,11 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
 /// floats are stored as their bits.
 /// - A header: (m − 1, 1/(m − 1), 0, 0).
 /// - Per segment: (its start / L, the vec4 of its first piece, its number of pieces, 0).
-/// - Per piece of the segments' length models ([`ArcTable`](crate::sampling::arc_length::ArcTable)), segment
-///   after segment, two vec4s: (its start / L, u at its start, c1, c2), (c3, c4, c5, u at its
-///   end): the length from its start, as a fraction of its length, is c1 x + … + c5 x⁵ in
-///   x = (u − u at its start) / its width, within 1e-7 L. Its end / L is the next piece's start,
-///   and after the last piece comes one whose start is 1.
+/// - Per piece of the segments' explicit inverses ([`ArcTable`](crate::sampling::arc_length::ArcTable)),
+///   segment after segment, two vec4s: (its start / L, u at its start, c1, c2), (c3, c4, c5, u
+///   at its end): u = u at its start + (u at its end − u at its start) x, x = c1 y + … + c5 y⁵
+///   in y = (s − its start) / its length, the length model's inverse within 1e-7 L. Its end / L
+///   is the next piece's start, and after the last piece comes one whose start is 1.
 ///
 /// Where a piece's ends round to the same f32 (a piece of zero length, or shorter than 2^-24
 /// L), the kernel places its samples at its start, within its length. On a curve of zero
@@ -480,20 +480,16 @@ pub(crate) fn write_arc_table(data: &ArcSamples, out: &mut [[u32; 4]], at: u32) 
     let mut w = records + tables.len();
     for (i, table) in tables.iter().enumerate() {
         let first_piece = w;
-        for (u, width, s, piece_length, c) in table.model_pieces() {
+        for (s, u, end, c) in table.inverse_pieces() {
+            // x = c1 y + ... + c5 y^5 in the piece's y (its lengths from 0 to 1); straight where
+            // f32 cannot hold it.
             let mut model = [1.0f32, 0.0, 0.0, 0.0, 0.0];
-            if piece_length > 0.0 {
-                let normalized = c.map(|v| (v / piece_length) as f32);
-                if normalized.iter().all(|v| v.is_finite()) {
-                    model = normalized;
-                }
+            let inverse = c.map(|v| v as f32);
+            if inverse.iter().all(|v| v.is_finite()) {
+                model = inverse;
             }
             // On a curve of zero length, every piece holds u = 0 only.
-            let (u, end) = if length > 0.0 {
-                (u, u + width)
-            } else {
-                (0.0, 0.0)
-            };
+            let (u, end) = if length > 0.0 { (u, end) } else { (0.0, 0.0) };
             let start = fraction(starts[i] + s);
             out[w] = [start, u as f32, model[0], model[1]].map(bits);
             out[w + 1] = [model[2], model[3], model[4], end as f32].map(bits);
@@ -516,7 +512,7 @@ pub(crate) fn write_arc_table(data: &ArcSamples, out: &mut [[u32; 4]], at: u32) 
 
 /// Vec4s of a curve's table in [`write_arc_table`]'s layout.
 fn arc_table_len(data: &ArcSamples) -> usize {
-    let pieces: usize = data.tables().iter().map(|t| t.model_pieces().len()).sum();
+    let pieces: usize = data.tables().iter().map(|t| t.inverse_pieces().len()).sum();
     1 + data.tables().len() + ARC_PIECE_VEC4S * pieces + 2
 }
 
@@ -562,7 +558,7 @@ fn fill_arc_tables(job: &EvalJob, arcs: &mut Vec<[u32; 4]>) -> Vec<u32> {
     starts
 }
 
-/// Vec4s per piece of a segment's length model in the arc-length table.
+/// Vec4s per piece of a segment's explicit inverse in the arc-length table.
 const ARC_PIECE_VEC4S: usize = 2;
 
 /// Cuts the runs (with absolute float offsets) into dispatches within `limits`, and makes
