@@ -22,6 +22,7 @@ pub(crate) mod tree;
 pub use closest::{ClosestPoint, ClosestPoints, CurveIndex, closest_on_segment};
 pub use columns::{IntersectionColumns, RayHitColumns, SurfacePointColumns};
 pub use intersect::{Intersection, Pairs, intersections};
+pub(crate) use surfaces::CheckedRay;
 pub use surfaces::{RayHit, SurfaceIndex, SurfacePoint};
 
 /// Why a query on the GPU was not answered: its input, or the device.

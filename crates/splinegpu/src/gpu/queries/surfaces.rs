@@ -14,7 +14,7 @@ use crate::gpu::queries::abi::{
 use crate::gpu::queries::device::{DeviceTables, row_width};
 use crate::gpu::queries::dispatch::query_budget;
 use crate::gpu::queries::pack::PackedNets;
-use crate::query::{QueryError, RayHit, SurfaceIndex, SurfacePoint};
+use crate::query::{CheckedRay, QueryError, RayHit, SurfaceIndex, SurfacePoint};
 use crate::surface::Derivs;
 
 /// Which entry point of the kernel.
@@ -75,16 +75,15 @@ pub(crate) fn closest_on_surfaces_with(
     Ok(out)
 }
 
-/// The checked `rays` (6 values each) answered by `dispatch` in dispatches of at most
-/// `budget`, each hit finished on the host at its patch and (u, v).
+/// The `checked` rays ([`SurfaceIndex::check_rays`]) answered by `dispatch` in dispatches of
+/// at most `budget`, each hit finished on the host at its patch and (u, v).
 pub(crate) fn ray_hits_with(
     index: &SurfaceIndex<'_>,
     packed: &PackedNets,
-    rays: &[f64],
+    checked: &[CheckedRay],
     budget: usize,
     dispatch: &mut SurfaceDispatch<'_>,
 ) -> Result<Vec<Option<RayHit>>, QueryError> {
-    let checked = index.check_rays(rays)?;
     let mut out = Vec::with_capacity(checked.len());
     let mut derivs = Derivs::default();
     derivs.iter_mut().for_each(|d| d.resize(3, 0.0));
@@ -183,11 +182,11 @@ impl GpuContext {
         index: &SurfaceIndex<'_>,
         rays: &[f64],
     ) -> Result<Vec<Option<RayHit>>, QueryError> {
-        index.check_rays(rays)?;
+        let checked = index.check_rays(rays)?;
         let packed = PackedNets::new(index)?;
         let tables = self.upload_nets(&packed)?;
         let budget = query_budget(self.binding_limit(), RAY_WIDTH);
-        ray_hits_with(index, &packed, rays, budget, &mut |frame| {
+        ray_hits_with(index, &packed, &checked, budget, &mut |frame| {
             self.run_surface_queries(Entry::Rays, &packed, &tables, frame)
         })
     }

@@ -32,9 +32,9 @@ pub(crate) fn ray_hits_twin(
     rays: &[f64],
     budget: usize,
 ) -> Result<Vec<Option<RayHit>>, QueryError> {
-    index.check_rays(rays)?;
+    let checked = index.check_rays(rays)?;
     let packed = PackedNets::new(index)?;
-    ray_hits_with(index, &packed, rays, budget, &mut |frame| {
+    ray_hits_with(index, &packed, &checked, budget, &mut |frame| {
         Ok(Kernel::new(&packed, frame, Entry::Rays).run(Entry::Rays))
     })
 }
