@@ -465,7 +465,9 @@ impl ArcTable {
     /// there and the pieces halve toward it.
     fn fit_inverse(&mut self, k: usize, (xa, xb): (f64, f64), depth: u32) {
         let (c, tol) = (&self.model[k], self.model_accuracy);
-        let length = self.model_s[k + 1] - self.model_s[k];
+        // A piece of length 0 (a segment that stands still) may end a rounding below its
+        // start.
+        let length = (self.model_s[k + 1] - self.model_s[k]).max(0.0);
         let model = |x: f64| {
             if x >= 1.0 {
                 length

@@ -374,6 +374,48 @@ mod random_curves {
     }
 }
 
+/// A segment that stands still (three equal points windowed by the Bezier matrix) has a
+/// length model whose ends differ by a rounding below 0: its inverse took that as the
+/// length to clamp to, and panicked (the property test above met it once in ~2,000 runs).
+#[test]
+fn a_segment_of_length_zero_is_placed_without_a_panic() {
+    let bezier = Basis::Matrix([
+        [-1.0, 3.0, -3.0, 1.0],
+        [3.0, -6.0, 3.0, 0.0],
+        [-3.0, 3.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+    ]);
+    let kind = CurveKind::Uniform {
+        basis: bezier,
+        ends: Ends::Repeat,
+    };
+    let points = vec![
+        0.0,
+        0.0,
+        0.0,
+        -1.0995758933572848,
+        1.5728417360929017,
+        -2.35949201790612,
+    ];
+    let curve = Curve::new(kind, Points::new(1, points).unwrap()).unwrap();
+    for m in [2, 3, 17] {
+        let mut job = EvalJob::new(Derivatives::None);
+        job.push(&curve, &Sampling::ArcLength(m)).unwrap();
+        let table = job.table(0);
+        let ts: Vec<f64> = (0..m as usize).map(|j| job.plan(0).loc(j).t).collect();
+        let (t0, t1) = table.t_range();
+        let total = lengths_at(table, &[t0, t1], 1e-15)[1];
+        let s = lengths_at(table, &ts, 1e-15 * total);
+        for (j, s_j) in s.iter().enumerate() {
+            let want = total * j as f64 / f64::from(m - 1);
+            assert!(
+                (s_j - want).abs() <= 1e-6 * total,
+                "sample {j}: {s_j} vs {want}"
+            );
+        }
+    }
+}
+
 #[test]
 fn curves_whose_squares_overflow_are_measured_and_flattened() {
     // Points near 1e200: |P'|² overflows f64 unless the segment is scaled first (a property
