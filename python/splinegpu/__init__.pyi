@@ -199,7 +199,7 @@ class Context:
         kind: str = "catmull-rom",
         *,
         radius: float | _Batch,
-        sides: int = 8,
+        sides: int | None = None,
         up: _ArrayLike | None = None,
         caps: bool = False,
         dash: _ArrayLike | None = None,

@@ -145,8 +145,12 @@ class Context:
         drawn as a bevel; `sides`: chords per full turn of round joins and caps (>= 4). `dash`:
         on and off lengths by arc length (an even count, >= 0, a sum > 0), `dash_offset` how
         far into the pattern each curve starts; each dash is an open stroke with its caps.
-        Cross-sections: `per_segment=k` (default 16) or `arc_length=m`; a corner always gets
-        its join (`tolerance=` raises NotImplementedError: not built yet). Meshes are made on
+        Cross-sections: `per_segment=k` (default 16), `arc_length=m` or `tolerance=tol` (the
+        mesh certified within tol of the exact area: every triangle within tol of it, every
+        point of it farther than tol from its edge covered; round joins and caps then take
+        the fewest chords within tol, `sides` aside); a corner always gets its join. Tolerance
+        needs a curve whose speed does not vanish (ValueError naming "tolerance" and the t
+        otherwise). Meshes are made on
         the context's backend: float64 on the CPU; on the GPU tubes and ribbons in float32,
         strokes on the host rounded to float32. `out`: an earlier result of
         the same shapes, whose arrays are filled again.
@@ -158,13 +162,21 @@ class Context:
                       dash_offset=dash_offset, per_segment=per_segment, at=at,
                       arc_length=arc_length, tolerance=tolerance, out=out, fields=fields)
 
-    def tubes(self, points, kind: str = "catmull-rom", *, radius, sides: int = 8, up=None,
+    def tubes(self, points, kind: str = "catmull-rom", *, radius, sides: int | None = None,
+              up=None,
               caps: bool = False, dash=None, dash_offset: float | None = None,
               per_segment: int | None = None, at=None, arc_length: int | None = None,
               tolerance: float | None = None, out: Meshes | None = None, **fields) -> Meshes:
         """Tubes about a batch of 3-D curves of one kind: rings of `sides` vertices at radius
         r(t) about each curve, in its rotation-minimizing frames (closed up on closed curves),
         with the exact surface's unit normals.
+
+        `sides`: vertices per ring (>= 3); by default 8, or with `tolerance=tol` the method's
+        choice (half of tol to the rings' polygons at the largest radius). With tolerance the
+        mesh and the exact tube are within tol of each other both ways (ribbons likewise), on
+        curves whose tangent is continuous and whose speed does not vanish (ValueError naming
+        "tolerance" and the t otherwise); given sides whose polygon alone strays more than tol
+        are refused naming "sides".
 
         `radius`: a number or one value per point, as `strokes`' width. `up`: 3 numbers, the
         first frame's normal before it is made perpendicular to the first tangent (default:

@@ -119,12 +119,9 @@ def meshes(context, shape: str, points, kind: str, *, width, width_name: str, ca
            dash_offset=None, per_segment=None, at=None, arc_length=None, tolerance=None,
            out: Meshes | None = None, fields: dict) -> Meshes:
     """See `Context.strokes`, `Context.tubes` and `Context.ribbons`."""
-    if tolerance is not None:
-        raise NotImplementedError("not supported yet: tolerance cross-sections with geometry "
-                                  "(use per_segment= or arc_length=)")
     curves = _curves(points)
     sampling = _curve_sampling(len(curves), per_segment=per_segment, at=at,
-                               arc_length=arc_length, tolerance=None)
+                               arc_length=arc_length, tolerance=tolerance)
     kind_fields = _curve_fields(len(curves), **fields)
     widths = _per_point(width_name, width, len(curves))
     pattern, offset = _dash(dash, dash_offset)

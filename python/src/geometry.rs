@@ -82,7 +82,7 @@ impl GeometryFields<'_> {
             }
             "tube" => Geometry::Tube(Tube {
                 radius: width,
-                sides: self.sides.unwrap_or(Tube::default().sides),
+                sides: self.sides,
                 up: self.up,
                 caps: self.caps.unwrap_or(false),
                 dash,

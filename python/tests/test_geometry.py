@@ -36,6 +36,12 @@ CASES = [
                  "dash_offset": 0.05}},
      "strokes", {"width": 0.08, "cap": "square", "miter_limit": 2, "dash": [0.3, 0.1, 0, 0.1],
                  "dash_offset": 0.05}, ("arc_length", 30)),
+    (LOOPS, "catmull-rom", {"ends": "closed"}, {"tube": {"radius": 0.05}},
+     "tubes", {"radius": 0.05}, ("tolerance", 2e-3)),
+    (LOOPS, "natural", {}, {"ribbon": {"width": 0.1, "dash": [0.4, 0.2]}},
+     "ribbons", {"width": 0.1, "dash": [0.4, 0.2]}, ("tolerance", 1e-3)),
+    (PATHS, "catmull-rom", {}, {"stroke": {"width": 0.1, "join": "round", "cap": "round"}},
+     "strokes", {"width": 0.1, "join": "round", "cap": "round"}, ("tolerance", 1e-3)),
 ]
 
 
@@ -123,8 +129,9 @@ def test_meshes_open_in_trimesh(cpu):
      'curve 0: "dash" must hold an even number'),
     ("tubes", {"radius": 0.1, "dash_offset": 1.0}, ValueError, "dash_offset: needs a dash"),
     ("tubes", {"radius": 0.1, "at": [0.5]}, ValueError, 'curve 0: "sampling"'),
-    ("tubes", {"radius": 0.1, "tolerance": 1e-3}, NotImplementedError,
-     "tolerance cross-sections"),
+    ("tubes", {"radius": 0.1, "tolerance": 1e-3, "sides": 3}, ValueError,
+     'curve 0: "sides" 3 sides stray'),
+    ("tubes", {"radius": 0.1, "tolerance": -1.0}, ValueError, '"tolerance"'),
     ("tubes", {"radius": 0.1, "colour": "red"}, TypeError, "colour"),
     ("strokes", {"width": 0.1}, ValueError, 'curve 0: "geometry" a stroke needs 2-D points'),
 ])
@@ -144,6 +151,7 @@ def test_stroke_fields_are_named(cpu):
     ("tubes", {"radius": 0.05, "ends": "closed", "caps": True}),
     ("ribbons", {"width": 0.1, "kind": "natural", "arc_length": 50}),
     ("tubes", {"radius": 0.05, "dash": [0.4, 0.1]}),
+    ("tubes", {"radius": 0.05, "ends": "closed", "tolerance": 1e-3}),
 ])
 def test_a_gpu_context_makes_float32_meshes_beside_the_cpus(cpu, gpu, method, keywords):
     want = getattr(cpu, method)(LOOPS, **keywords)

@@ -13,7 +13,6 @@ use splinegpu::query::{
     intersections,
 };
 use splinegpu::surface::SurfaceJob;
-use splinegpu_cli::document::geometry::GeometryDocument;
 use splinegpu_cli::document::queries::{Queries, QueryTarget};
 use splinegpu_cli::geometry_output::{self, MeshFormat};
 use splinegpu_cli::output::{self, OutputError};
@@ -206,11 +205,8 @@ fn tessellate(
     let job = match read_document(input)? {
         Document::Curves(job) => job,
         Document::Surfaces(job) => return tessellate_surfaces(&job, output, format, backend),
-        Document::Geometry(GeometryDocument::Meshes(job)) => {
+        Document::Geometry(job) => {
             return tessellate_geometry(&job, output, format, backend);
-        }
-        Document::Geometry(GeometryDocument::Unsupported(what)) => {
-            return Err(Failure::other(format!("not supported yet: {}", what.0)));
         }
         Document::Query(_) => {
             return Err(Failure::input(

@@ -59,7 +59,7 @@ pub(crate) fn run(
     let work: Vec<(Curve, Geometry, Sampling)> = if name == "tubes" {
         let tube = Geometry::Tube(Tube {
             radius: Width::Constant(0.02 * extent),
-            sides: 8,
+            sides: Some(8),
             ..Tube::default()
         });
         curves(10_000, 3, Ends::Closed, 7)

@@ -1,10 +1,6 @@
 //! A document's "geometry" (contract: "Geometry: strokes, tubes and ribbons"): the object read
 //! into the library's [`Geometry`], every field's error naming the field and its value, and
 //! the curves' meshes planned into a [`GeometryJob`].
-//!
-//! What this build does not make yet (tolerance cross-sections) is read and checked like the
-//! rest, then reported as [`Unsupported`]: the command line exits 1 for it, after every rule
-//! of the document has been checked (exit 2 comes first).
 
 use serde_json::{Map, Value};
 
@@ -13,20 +9,6 @@ use splinegpu::{Curve, Derivatives, InputError, Sampling};
 
 use crate::document::curves::{ParsedCurve, sampling_spec};
 use crate::document::values::{describe, number, number_array};
-
-/// A feature of the contract that this build does not have yet, named for the message
-/// "not supported yet: ...".
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Unsupported(pub String);
-
-/// A geometry document: its job, or the first feature it asks for that is not built yet.
-#[derive(Debug)]
-pub enum GeometryDocument {
-    /// Every curve's mesh, planned and counted.
-    Meshes(GeometryJob),
-    /// The document is valid but needs what this build lacks.
-    Unsupported(Unsupported),
-}
 
 /// The geometry keys and each one's fields.
 const STROKE_FIELDS: [&str; 7] = [
@@ -136,7 +118,7 @@ fn tube(fields: &Map<String, Value>) -> Result<Tube, InputError> {
         ..Tube::default()
     };
     if let Some(v) = fields.get("sides") {
-        tube.sides = sides(v)?;
+        tube.sides = Some(sides(v)?);
     }
     if let Some(v) = fields.get("caps") {
         tube.caps = v
@@ -210,7 +192,7 @@ pub(crate) fn geometry_job(
     document: Option<&Value>,
     curves: Vec<ParsedCurve>,
     derivatives: Derivatives,
-) -> Result<GeometryDocument, InputError> {
+) -> Result<GeometryJob, InputError> {
     if derivatives != Derivatives::None {
         return Err(InputError::field(
             "derivatives",
@@ -230,7 +212,6 @@ pub(crate) fn geometry_job(
         .map(parse_geometry)
         .transpose()
         .map_err(InputError::in_document)?;
-    let mut unsupported = None;
     let mut meshes: Vec<(Curve, Geometry, Sampling)> = Vec::with_capacity(curves.len());
     for (i, curve) in curves.into_iter().enumerate() {
         let geometry = curve.geometry.or_else(|| document.clone()).ok_or_else(|| {
@@ -240,22 +221,11 @@ pub(crate) fn geometry_job(
             )
             .in_curve(i)
         })?;
-        let mut sampling = curve.sampling.unwrap_or_else(|| sampling.clone());
-        if let Sampling::Tolerance(_) = sampling {
-            unsupported.get_or_insert_with(|| {
-                Unsupported(format!("curve {i}: tolerance cross-sections with geometry"))
-            });
-            // Everything else the mesh asks is still checked: planned with a sampling it
-            // takes, in its place among the others.
-            sampling = Sampling::PerSegment(1);
-        }
+        let sampling = curve.sampling.unwrap_or_else(|| sampling.clone());
         meshes.push((curve.curve, geometry, sampling));
     }
     let mut job = GeometryJob::new();
     // Errors are placed at the curve's index in the job, which is the document's.
     job.push_many(&meshes)?;
-    Ok(match unsupported {
-        Some(what) => GeometryDocument::Unsupported(what),
-        None => GeometryDocument::Meshes(job),
-    })
+    Ok(job)
 }

@@ -23,7 +23,7 @@ use splinegpu::InputError;
 use splinegpu::surface::SurfaceJob;
 
 use crate::document::curves::curve_job;
-use crate::document::geometry::{GeometryDocument, geometry_job};
+use crate::document::geometry::geometry_job;
 use crate::document::queries::{QueryDocument, query_document};
 use crate::document::surfaces::surface_job;
 use crate::document::walk::{ParsedDocument, parse, syntax};
@@ -35,9 +35,8 @@ pub enum Document {
     Curves(EvalJob),
     /// A surface document's job.
     Surfaces(SurfaceJob),
-    /// A curve document with "geometry": its meshes' job (or what it needs that this build
-    /// lacks).
-    Geometry(GeometryDocument),
+    /// A curve document with "geometry": its meshes' job.
+    Geometry(splinegpu::geometry::GeometryJob),
     /// A document with "queries": closest points, intersections or rays (`splinegpu query`).
     Query(QueryDocument),
 }

@@ -378,13 +378,10 @@ fn valid_geometry_document() -> impl Strategy<Value = String> {
 /// are what it announced, finite (small jobs). Returns whether it made meshes.
 fn check_input(text: &str) -> bool {
     use splinegpu_cli::Document;
-    use splinegpu_cli::document::geometry::GeometryDocument;
     let from_memory = splinegpu_cli::parse_input(text);
     let from_reader = splinegpu_cli::parse_input_from_reader(text.as_bytes());
     let meshes = |d: &Document| match d {
-        Document::Geometry(GeometryDocument::Meshes(job)) => {
-            Some((job.vertex_count(), job.triangle_count()))
-        }
+        Document::Geometry(job) => Some((job.vertex_count(), job.triangle_count())),
         _ => None,
     };
     match (&from_memory, &from_reader) {
@@ -394,7 +391,7 @@ fn check_input(text: &str) -> bool {
         _ => panic!("one entry point accepted, the other refused: {text}"),
     }
     match from_memory {
-        Ok(Document::Geometry(GeometryDocument::Meshes(job))) => {
+        Ok(Document::Geometry(job)) => {
             if job.vertex_count() > 200_000 {
                 return true;
             }

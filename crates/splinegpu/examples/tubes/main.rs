@@ -79,7 +79,7 @@ fn strand(i: usize, j: usize, grid: usize, time: f64) -> Curve {
 fn tube() -> Geometry {
     Geometry::Tube(Tube {
         radius: Width::PerPoint(vec![0.16, 0.14, 0.12, 0.09, 0.06, 0.04]),
-        sides: 8,
+        sides: Some(8),
         caps: true,
         ..Tube::default()
     })

@@ -169,6 +169,27 @@ fn reflected_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
         .unwrap_or_else(|| first_normal(t1, None).expect("no up to refuse"))
 }
 
+/// The angle about `t1` by which the double-reflection step from (x0, t0) to (x1, t1) turns a
+/// normal beyond the minimal rotation taking `t0` onto `t1` (the rotation about t0 × t1): the
+/// same for every normal, a step being a rotation. Used to bound the frames' error
+/// (`geometry::tolerance`); the tangents are within a right angle of each other there.
+pub(crate) fn step_twist(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3) -> f64 {
+    let n0 = first_normal(t0, None).expect("no up to refuse");
+    let reflected = reflected_twice(x0, x1, t0, t1, n0);
+    // Rodrigues with k = t0 × t1, c = t0 · t1: R v = c v + k × v + k (k · v) / (1 + c).
+    let (k, c) = (cross(t0, t1), dot(t0, t1));
+    if c <= 0.0 {
+        return std::f64::consts::PI;
+    }
+    let minimal = axpy(
+        dot(k, n0) / (1.0 + c),
+        k,
+        axpy(1.0, cross(k, n0), n0.map(|x| x * c)),
+    );
+    let minimal = perpendicular(minimal, t1).unwrap_or(minimal);
+    angle_about(t1, minimal, reflected)
+}
+
 /// `v` (⟂ the unit `axis`) turned by `angle` about `axis`: v cos a + (axis × v) sin a.
 fn turned(v: Vec3, axis: Vec3, angle: f64) -> Vec3 {
     let (sin, cos) = angle.sin_cos();

@@ -8,10 +8,11 @@ use rayon::prelude::*;
 use super::frames::{self, Vec3};
 use super::mesh::{self, MeshOut, Section, Shape};
 use super::stroke::StrokePlan;
+use super::tolerance::{self, Carried, FrameSlack, Swept};
 use super::{Cap, Geometry, dash, widen};
 use crate::conventions::Ends;
 use crate::curve::{Curve, CurveKind};
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::fit::interp::EndCondition;
 use crate::job::Derivatives;
 use crate::job::samples::SampleFloat;
@@ -205,10 +206,13 @@ impl GeometryJob {
     /// # Errors
     /// A curve whose dimension the geometry does not take (field "geometry"); a radius or
     /// width that is not finite and > 0 or not one per point ("radius", "width"); a tube of
-    /// fewer than 3 sides ("sides"); an `up` not 3 finite numbers or parallel to the first
-    /// tangent ("up"); "at" or tolerance sampling, more than [`MAX_SECTIONS`] cross-sections,
-    /// more than 2^32 - 1 vertices in the mesh, or a mesh larger than the memory the process
-    /// has ("sampling"). The caller places the error in its curve
+    /// fewer than 3 sides, or with tolerance sides whose polygon alone strays more than tol
+    /// ("sides"); an `up` not 3 finite numbers or parallel to the first tangent ("up"); a
+    /// tolerance not finite and > 0, or one that cannot be certified (the curve's speed
+    /// vanishes, or a tube's or ribbon's tangent turns a corner: "tolerance"); "at" sampling,
+    /// more than [`MAX_SECTIONS`] cross-sections, more than 2^32 - 1 vertices in the mesh, or
+    /// a mesh larger than the memory the process has ("sampling"). The caller places the
+    /// error in its curve
     /// ([`InputError::in_curve`]); the job is then unchanged.
     pub fn push(
         &mut self,
@@ -571,56 +575,71 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             ),
         ));
     }
+    if let Sampling::At(_) = sampling {
+        return Err(InputError::field(
+            "sampling",
+            "\"at\" places no cross-sections: geometry takes per_segment, arc_length or tolerance",
+        ));
+    }
+    let tolerance = match *sampling {
+        Sampling::Tolerance(tol) if !(tol.is_finite() && tol > 0.0) => {
+            return Err(InputError::field(
+                "tolerance",
+                format!("must be a finite number > 0, got {}", Shown(tol)),
+            ));
+        }
+        Sampling::Tolerance(tol) => Some(tol),
+        _ => None,
+    };
+    let (width, field) = geometry.width();
+    let table = widen::widened(curve, width, field)?.fit();
+    table.check_range(Derivatives::Second)?;
     let shape = match geometry {
         Geometry::Stroke(_) => None,
         Geometry::Tube(tube) => {
-            if tube.sides < 3 {
-                return Err(InputError::field(
-                    "sides",
-                    format!("a tube needs at least 3 sides, got {}", tube.sides),
-                ));
-            }
+            let sides = tube_sides(tube.sides, &table, tolerance)?;
             Some(Shape::Tube {
-                sides: tube.sides,
+                sides,
                 caps: tube.caps,
             })
         }
         Geometry::Ribbon(_) => Some(Shape::Ribbon),
     };
-    match sampling {
-        Sampling::At(_) => {
-            return Err(InputError::field(
-                "sampling",
-                "\"at\" places no cross-sections: geometry takes per_segment or arc_length",
-            ));
-        }
-        Sampling::Tolerance(_) => {
-            return Err(InputError::field(
-                "sampling",
-                "tolerance cross-sections for geometry are not built yet: use per_segment or \
-                 arc_length",
-            ));
-        }
-        Sampling::PerSegment(_) | Sampling::ArcLength(_) => {}
-    }
-    let (width, field) = geometry.width();
-    let table = widen::widened(curve, width, field)?.fit();
-    table.check_range(Derivatives::Second)?;
     // The places are the position's: its arc length, not the widened curve's.
     let position = curve.fit();
-    let plan = SamplePlan::new(&position, sampling)?;
-    if plan.len() > MAX_SECTIONS {
-        return Err(InputError::field(
-            "sampling",
-            format!("places {} cross-sections, more than 2^20", plan.len()),
-        ));
-    }
-    let locs: Vec<SampleLoc> = (0..plan.len()).map(|i| plan.loc(i)).collect();
     let closed = is_closed(curve.kind());
     // The arc length, where dashes are laid by it or a closed tube's frames closed up by it.
     let map = (geometry.dash().is_some() || (closed && shape.is_some()))
         .then(|| dash::ArcMap::new(&position));
-    let pieces = match (geometry.dash(), &map) {
+    let mut locs = match tolerance {
+        None => {
+            let plan = SamplePlan::new(&position, sampling)?;
+            if plan.len() > MAX_SECTIONS {
+                return Err(InputError::field(
+                    "sampling",
+                    format!("places {} cross-sections, more than 2^20", plan.len()),
+                ));
+            }
+            (0..plan.len()).map(|i| plan.loc(i)).collect()
+        }
+        Some(tol) => {
+            let swept = swept_kind(shape);
+            let closing = map.as_ref().filter(|_| closed).map(dash::ArcMap::length);
+            tolerance::places(
+                &table,
+                tol,
+                swept,
+                |bounds, h| {
+                    let slack = FrameSlack {
+                        closed_length: closing,
+                    };
+                    slack.a_priori(bounds, h)
+                },
+                MAX_SECTIONS,
+            )?
+        }
+    };
+    let pattern = match (geometry.dash(), &map) {
         (Some(pattern), Some(map)) => {
             pattern.check()?;
             let mut intervals = pattern.intervals(map.length())?;
@@ -629,27 +648,34 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             if !flat_caps {
                 intervals.retain(|(a, b)| b > a);
             }
-            let pieces = dash::places(map, &intervals, &locs, sampling);
-            let sections: usize = pieces.iter().map(Vec::len).sum();
-            if sections + locs.len() > MAX_SECTIONS {
-                return Err(InputError::field(
-                    "dash",
-                    format!("places {sections} cross-sections in its dashes, more than 2^20"),
-                ));
-            }
-            Some(pieces)
+            Some((map, intervals))
         }
         _ => None,
     };
+    let lay = |locs: &[SampleLoc]| -> Result<Option<Vec<Vec<SampleLoc>>>, InputError> {
+        let Some((map, intervals)) = &pattern else {
+            return Ok(None);
+        };
+        let pieces = dash::places(map, intervals, locs, sampling);
+        let sections: usize = pieces.iter().map(Vec::len).sum();
+        if sections + locs.len() > MAX_SECTIONS {
+            return Err(InputError::field(
+                "dash",
+                format!("places {sections} cross-sections in its dashes, more than 2^20"),
+            ));
+        }
+        Ok(Some(pieces))
+    };
+    let mut pieces = lay(&locs)?;
     let Some(shape) = shape else {
         let Geometry::Stroke(style) = geometry else {
             unreachable!("a shape for every swept geometry")
         };
         let strokes = match &pieces {
-            None => vec![StrokePlan::new(&table, &locs, style, closed)?],
+            None => vec![StrokePlan::new(&table, &locs, style, closed, tolerance)?],
             Some(pieces) => pieces
                 .iter()
-                .map(|piece| StrokePlan::new(&table, piece, style, false))
+                .map(|piece| StrokePlan::new(&table, piece, style, false, tolerance))
                 .collect::<Result<_, _>>()?,
         };
         let vertices = strokes.iter().map(|s| s.vertices).sum();
@@ -676,26 +702,51 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         frames::tangents(&d1, &d2)[0]
     });
     let n0 = frames::first_normal(t0, geometry.up())?;
-    let (locs, dashes, vertices, triangles) = match pieces {
-        None => {
-            let (vertices, triangles) = mesh::counts(shape, locs.len() as u64, closed);
-            (locs, None, vertices, triangles)
-        }
-        Some(pieces) => {
-            let (mut vertices, mut triangles) = (0, 0);
-            for piece in &pieces {
-                let (v, f) = mesh::counts(shape, piece.len() as u64, false);
-                vertices += v;
-                triangles += f;
+    // Tolerance: the frames' own error is known once they are carried through every place
+    // (the dashes' too); cells that fail are halved and the places laid again.
+    let (locs, dashes, lengths) = loop {
+        let (merged, indices) = match pieces.clone() {
+            None => (locs.clone(), None),
+            Some(pieces) => {
+                let (merged, indices) = merge_by_t(locs.clone(), pieces);
+                (merged, Some(indices))
             }
-            let (merged, indices) = merge_by_t(locs, pieces);
-            (merged, Some(indices), vertices, triangles)
+        };
+        // The arc length to each cross-section of a closed curve, whose frames are closed up.
+        let lengths: Option<Vec<f64>> = map
+            .as_ref()
+            .filter(|_| closed)
+            .map(|map| merged.iter().map(|&loc| map.length_to(loc)).collect());
+        let Some(tol) = tolerance else {
+            break (merged, indices, lengths);
+        };
+        let carried = Carried::of(&table, &merged, n0, lengths.as_deref());
+        let slack = FrameSlack {
+            closed_length: lengths.as_ref().and_then(|l| l.last().copied()),
+        };
+        let swept = swept_kind(Some(shape));
+        let failing = carried.failing_cells(indices.as_deref(), swept, tol, slack)?;
+        if failing.is_empty() {
+            break (merged, indices, lengths);
         }
+        locs.extend(failing);
+        locs.sort_by(|a, b| a.t.total_cmp(&b.t));
+        locs.dedup_by(|a, b| a.t == b.t && a.segment == b.segment);
+        if locs.len() > MAX_SECTIONS {
+            return Err(InputError::field(
+                "sampling",
+                format!("tolerance places more than {MAX_SECTIONS} cross-sections"),
+            ));
+        }
+        pieces = lay(&locs)?;
     };
-    // The arc length to each cross-section of a closed curve, whose frames are closed up.
-    let lengths = map
-        .filter(|_| closed)
-        .map(|map| locs.iter().map(|&loc| map.length_to(loc)).collect());
+    let (vertices, triangles) = match &dashes {
+        None => mesh::counts(shape, locs.len() as u64, closed),
+        Some(indices) => indices.iter().fold((0, 0), |(v, f), piece| {
+            let (pv, pf) = mesh::counts(shape, piece.len() as u64, false);
+            (v + pv, f + pf)
+        }),
+    };
     Ok(Planned {
         table,
         geometry: geometry.clone(),
@@ -710,6 +761,68 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         vertices,
         triangles,
     })
+}
+
+/// A tube's sides: as given, or 8, or with tolerance the method's choice; given sides whose
+/// polygon alone strays more than tol from the largest radius's circle are refused.
+fn tube_sides(
+    sides: Option<u32>,
+    table: &SegmentTable,
+    tolerance: Option<f64>,
+) -> Result<u32, InputError> {
+    let Some(tol) = tolerance else {
+        let sides = sides.unwrap_or(8);
+        if sides < 3 {
+            return Err(InputError::field(
+                "sides",
+                format!("a tube needs at least 3 sides, got {sides}"),
+            ));
+        }
+        return Ok(sides);
+    };
+    let Some(sides) = sides else {
+        return Ok(tolerance::default_sides(
+            tolerance::largest_width(table),
+            tol,
+        ));
+    };
+    if sides < 3 {
+        return Err(InputError::field(
+            "sides",
+            format!("a tube needs at least 3 sides, got {sides}"),
+        ));
+    }
+    // The largest radius met on a grid of each segment (the refusal must not rest on a bound).
+    let dim = table.dim();
+    let mut p = vec![0.0; dim];
+    let mut largest = 0.0f64;
+    for s in 0..table.len() {
+        for i in 0..=32 {
+            table.segment(s).eval(f64::from(i) / 32.0, &mut p);
+            largest = largest.max(p[dim - 1]);
+        }
+    }
+    let sagitta = largest * (1.0 - (std::f64::consts::PI / f64::from(sides)).cos());
+    if sagitta > tol {
+        return Err(InputError::field(
+            "sides",
+            format!(
+                "{sides} sides stray {} from the circle of radius {largest}, more than the \
+                 tolerance {tol}",
+                Shown(sagitta)
+            ),
+        ));
+    }
+    Ok(sides)
+}
+
+/// What the tolerance bound is measured for.
+fn swept_kind(shape: Option<Shape>) -> Swept {
+    match shape {
+        None => Swept::Stroke,
+        Some(Shape::Tube { sides, .. }) => Swept::Tube { sides },
+        Some(Shape::Ribbon) => Swept::Ribbon,
+    }
 }
 
 /// The undashed curve's places and every dash's, in one list in order of t (the frames are

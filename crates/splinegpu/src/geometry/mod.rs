@@ -10,9 +10,9 @@
 //! The counts of a mesh (vertices, triangles) are decided on the host when the curve is pushed
 //! into a [`GeometryJob`], before any work: a renderer sizes its buffers from them.
 //!
-//! Built so far: strokes (joins and caps), tubes and ribbons, dashes, per_segment and
-//! arc_length cross-sections, on the CPU in f64. The certified tolerance sampling and the GPU
-//! kernel are the stages to come (issue 45).
+//! Cross-sections per_segment, by arc length, or by a certified tolerance (the
+//! `tolerance` module: the mesh within tol of the exact shape); tubes and ribbons are made on
+//! the GPU too ([`GpuContext::evaluate_geometry`](crate::GpuContext::evaluate_geometry)).
 //!
 //! ```
 //! use splinegpu::geometry::{Geometry, GeometryJob, Tube, Width};
@@ -37,6 +37,7 @@ pub mod frames;
 pub(crate) mod job;
 pub mod mesh;
 mod stroke;
+mod tolerance;
 mod widen;
 
 pub use dash::Dash;
@@ -61,13 +62,15 @@ impl Default for Width {
 }
 
 /// A tube: the surface swept by the circle of radius r(t) about C(t) in the plane
-/// perpendicular to the tangent (3-D curves).
-#[derive(Clone, Debug, PartialEq)]
+/// perpendicular to the tangent (3-D curves); by default of radius 1, without caps.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tube {
     /// The radius r.
     pub radius: Width,
-    /// Vertices per ring (>= 3; the contract's default 8).
-    pub sides: u32,
+    /// Vertices per ring (>= 3). `None`: the contract's 8 with per_segment or arc_length
+    /// cross-sections, the method's choice with tolerance (half the tolerance to the rings'
+    /// polygons at the largest radius).
+    pub sides: Option<u32>,
     /// The first frame's normal before it is made perpendicular to the first tangent; `None`:
     /// the coordinate axis least aligned with the tangent.
     pub up: Option<[f64; 3]>,
@@ -75,18 +78,6 @@ pub struct Tube {
     pub caps: bool,
     /// A dash pattern: each on interval an open tube of its own (capped with `caps`).
     pub dash: Option<Dash>,
-}
-
-impl Default for Tube {
-    fn default() -> Self {
-        Self {
-            radius: Width::default(),
-            sides: 8,
-            up: None,
-            caps: false,
-            dash: None,
-        }
-    }
 }
 
 /// A ribbon: the strip C(t) + s B(t), |s| <= w(t)/2, facing the rotation-minimizing normal

@@ -114,7 +114,8 @@ pub(crate) struct StrokePlan {
     /// corner of a closed curve.
     corners: Vec<(usize, Corner)>,
     cap: Option<Cap>,
-    cap_chords: u32,
+    /// A round cap's chords at the start and at the end.
+    cap_chords: [u32; 2],
     pub(crate) vertices: u64,
     pub(crate) triangles: u64,
 }
@@ -196,6 +197,7 @@ impl StrokePlan {
         locs: &[SampleLoc],
         style: &Stroke,
         closed: bool,
+        tolerance: Option<f64>,
     ) -> Result<Self, InputError> {
         if !(style.miter_limit.is_finite() && style.miter_limit >= 1.0) {
             return Err(InputError::field(
@@ -210,15 +212,24 @@ impl StrokePlan {
             ));
         }
         let half_turn = u64::from(style.sides.div_ceil(2));
-        let chords = |theta: f64| {
-            let c = (theta / std::f64::consts::PI * half_turn as f64).ceil();
-            c.clamp(1.0, half_turn as f64) as u32
+        // A round join's or cap's chords for a turn θ at `loc`: sides/2 a half turn, or with
+        // tolerance the fewest whose sagitta is within it at the half width there.
+        let chords = |theta: f64, loc: &SampleLoc| match tolerance {
+            None => {
+                let c = (theta / std::f64::consts::PI * half_turn as f64).ceil();
+                c.clamp(1.0, half_turn as f64) as u32
+            }
+            Some(tol) => {
+                let mut p = [0.0; 3];
+                table.segment(loc.segment).eval(loc.u, &mut p);
+                super::tolerance::round_chords(theta, 0.5 * p[2].max(0.0), tol)
+            }
         };
-        let join = |arriving: [f64; 2], leaving: [f64; 2], cusp: bool| {
+        let join = |arriving: [f64; 2], leaving: [f64; 2], cusp: bool, at: &SampleLoc| {
             let theta = turn(arriving, leaving);
             if cusp || style.join == Join::Round {
                 return Corner::Round {
-                    chords: chords(theta),
+                    chords: chords(theta, at),
                 };
             }
             let reach = 1.0 / (0.5 * theta).cos();
@@ -255,13 +266,13 @@ impl StrokePlan {
                         t: loc.t,
                         tangent: arriving,
                     });
-                    corners.push((sections.len() - 1, join(arriving, leaving, false)));
+                    corners.push((sections.len() - 1, join(arriving, leaving, false, &loc)));
                 }
             } else if interior && d1 == [0.0, 0.0] && here.is_some() {
                 // A cusp inside a segment: arriving from below, leaving from above.
                 let arriving = tangent_of(d1, d2, true).unwrap_or(previous);
                 sections.push(section(arriving));
-                corners.push((sections.len() - 1, join(arriving, leaving, true)));
+                corners.push((sections.len() - 1, join(arriving, leaving, true, &loc)));
             }
             sections.push(section(leaving));
             previous = leaving;
@@ -269,15 +280,16 @@ impl StrokePlan {
         if closed {
             let (arriving, leaving) = (sections[sections.len() - 1].tangent, sections[0].tangent);
             if turn(arriving, leaving) > CORNER {
-                corners.push((sections.len() - 1, join(arriving, leaving, false)));
+                corners.push((sections.len() - 1, join(arriving, leaving, false, &locs[0])));
             }
         }
         let cap = (!closed).then_some(style.cap);
+        let pi = std::f64::consts::PI;
         let mut plan = Self {
             sections,
             corners,
             cap,
-            cap_chords: half_turn as u32,
+            cap_chords: [chords(pi, &locs[0]), chords(pi, &locs[last])],
             vertices: 0,
             triangles: 0,
         };
@@ -305,10 +317,13 @@ impl StrokePlan {
         }
         let (v, f) = match self.cap {
             None | Some(Cap::Butt) => (0, 0),
-            Some(Cap::Square) => (2, 2),
-            Some(Cap::Round) => (u64::from(self.cap_chords), u64::from(self.cap_chords)),
+            Some(Cap::Square) => (4, 4),
+            Some(Cap::Round) => {
+                let c = u64::from(self.cap_chords[0]) + u64::from(self.cap_chords[1]);
+                (c, c)
+            }
         };
-        (vertices + 2 * v, triangles + 2 * f)
+        (vertices + v, triangles + f)
     }
 
     /// Writes the stroke's mesh into `out` (points with z = 0, normals +z).
@@ -393,7 +408,7 @@ impl StrokePlan {
         }
         if let Some(cap) = self.cap {
             let last = self.sections.len() - 1;
-            for (j, forward) in [(0, -1.0), (last, 1.0)] {
+            for (end, (j, forward)) in [(0, -1.0), (last, 1.0)].into_iter().enumerate() {
                 let t = self.sections[j].tangent;
                 let along = [forward * t[0], forward * t[1]];
                 let (centre, h) = centres[j];
@@ -423,7 +438,7 @@ impl StrokePlan {
                             h,
                             start,
                             sweep,
-                            self.cap_chords,
+                            self.cap_chords[end],
                             l,
                             r,
                             self.sections[j].t,

@@ -33,7 +33,7 @@ fn curve(kind: CurveKind, dim: usize, coords: Vec<f64>) -> Curve {
 fn tube(radius: Width, sides: u32, caps: bool) -> Geometry {
     Geometry::Tube(Tube {
         radius,
-        sides,
+        sides: Some(sides),
         caps,
         ..Tube::default()
     })
@@ -119,6 +119,45 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         Sampling::PerSegment(8),
         0.05,
     ));
+    // Tolerance cross-sections: a loop far from the origin whose sides the method chooses, a
+    // rational ribbon, a dashed tube.
+    out.push((
+        curve(closed_again(), 3, loop_points(&mut rng, 9, 1e6)),
+        Geometry::Tube(Tube {
+            radius: Width::Constant(0.05),
+            ..Tube::default()
+        }),
+        Sampling::Tolerance(1e-3),
+        0.05,
+    ));
+    let nurbs = CurveKind::Nurbs {
+        knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
+        weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
+    };
+    out.push((
+        curve(nurbs, 3, loop_points(&mut rng, 6, 5.0)),
+        Geometry::Ribbon(Ribbon {
+            width: Width::PerPoint(vec![0.2, 0.1, 0.3, 0.2, 0.1, 0.2]),
+            ..Ribbon::default()
+        }),
+        Sampling::Tolerance(1e-3),
+        0.3,
+    ));
+    out.push((
+        curve(closed_again(), 3, loop_points(&mut rng, 8, 0.0)),
+        Geometry::Tube(Tube {
+            radius: Width::Constant(0.05),
+            sides: Some(24),
+            caps: true,
+            dash: Some(Dash {
+                lengths: vec![0.5, 0.2],
+                offset: 0.1,
+            }),
+            ..Tube::default()
+        }),
+        Sampling::Tolerance(1e-3),
+        0.05,
+    ));
     let flat: Vec<f64> = loop_points(&mut rng, 7, 0.0)
         .chunks(3)
         .flat_map(|p| [p[0], p[1]])
@@ -137,6 +176,13 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         0.05,
     ));
     out
+}
+
+fn closed_again() -> CurveKind {
+    CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    }
 }
 
 fn range(offsets: &[u64], c: usize) -> std::ops::Range<usize> {

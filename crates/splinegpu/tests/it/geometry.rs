@@ -95,7 +95,7 @@ fn edge_uses(m: &Meshes) -> HashMap<(u32, u32), usize> {
 fn a_tube_about_a_line_has_its_rings_at_the_radius_facing_out_and_capped_watertight() {
     let tube = Geometry::Tube(Tube {
         radius: Width::Constant(0.25),
-        sides: 7,
+        sides: Some(7),
         caps: true,
         ..Tube::default()
     });
@@ -143,7 +143,7 @@ fn a_tube_of_growing_radius_has_the_cones_exact_normals() {
     let radii = (0..5).map(|i| 1.0 + 0.5 * f64::from(i)).collect();
     let tube = Geometry::Tube(Tube {
         radius: Width::PerPoint(radii),
-        sides: 5,
+        sides: Some(5),
         ..Tube::default()
     });
     let (_, m) = meshes(&axis(), &tube, &Sampling::ArcLength(9));
@@ -171,7 +171,7 @@ fn a_tube_of_growing_radius_has_the_cones_exact_normals() {
 fn a_closed_tube_wraps_its_rings_without_a_twist_at_the_seam() {
     let tube = Geometry::Tube(Tube {
         radius: Width::Constant(0.1),
-        sides: 6,
+        sides: Some(6),
         caps: true, // a closed tube has no ends to cap
         ..Tube::default()
     });
@@ -232,7 +232,7 @@ fn bad_geometry_is_refused_by_name() {
     let tube = |radius, sides| {
         Geometry::Tube(Tube {
             radius,
-            sides,
+            sides: Some(sides),
             ..Tube::default()
         })
     };
@@ -334,7 +334,7 @@ fn every_kind_carries_a_radius_per_point_as_one_more_coordinate() {
         let curve = Curve::new(kind.clone(), rng.points(n, 3, -3.0, 3.0)).unwrap();
         let tube = Geometry::Tube(Tube {
             radius: Width::PerPoint(vec![0.5; n]),
-            sides: 4,
+            sides: Some(4),
             ..Tube::default()
         });
         let (_, m) = meshes(&curve, &tube, &Sampling::PerSegment(5));
@@ -361,6 +361,8 @@ fn every_kind_carries_a_radius_per_point_as_one_more_coordinate() {
         }
     }
 }
+
+mod tolerance;
 
 mod strokes {
     //! Strokes against their exact areas: straight Bezier pieces, so that the exact area is
@@ -865,7 +867,7 @@ fn random_curves_make_the_meshes_they_announce() {
             let radius = 0.01 + 0.05 * rng.range(0.0, 1.0);
             let tube = Geometry::Tube(Tube {
                 radius: Width::Constant(radius),
-                sides: 3 + (round % 6) as u32,
+                sides: Some(3 + (round % 6) as u32),
                 caps: true,
                 ..Tube::default()
             });

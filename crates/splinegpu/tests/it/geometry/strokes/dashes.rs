@@ -51,7 +51,7 @@ fn a_dashed_straight_tube_is_capped_pieces_where_the_pattern_puts_them() {
     for (sampling, offset, want) in cases {
         let tube = Geometry::Tube(Tube {
             radius: Width::Constant(0.25),
-            sides: 8,
+            sides: Some(8),
             caps: true,
             up: None,
             dash: dash(&[1.0, 1.0], offset),
@@ -105,7 +105,7 @@ fn a_dashed_closed_tube_takes_the_frames_carried_around_the_whole_loop() {
     let tube = |dash| {
         Geometry::Tube(Tube {
             radius: Width::Constant(0.1),
-            sides: 6,
+            sides: Some(6),
             caps: false,
             up: None,
             dash,
