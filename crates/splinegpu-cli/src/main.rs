@@ -49,7 +49,8 @@ enum Command {
     /// GPUs), s1 (1,000 bicubic bspline surfaces of 20 x 20 points, per_segment 8, normals:
     /// 18.8 M vertices) and teapot (1,000 Utah teapots within 1e-3 of their extent, normals),
     /// tubes (10,000 closed 3-D loops, 8 sides, 16 rings a segment: 20.5 M vertices) and
-    /// strokes (10,000 open 2-D curves, round joins and caps, per_segment 16), and q1 (the
+    /// strokes (10,000 open 2-D curves, round joins and caps, tolerance 1e-4 of the extent; its
+    /// paths carry "max_error", the mesh's largest distance from the exact stroke), and q1 (the
     /// closest points of 100,000 points on 100 open 2-D Catmull-Rom curves of 16 points).
     /// Paths: memset, gpu-first-call, gpu-device, gpu-end-to-end, cpu-1t, cpu-all, fit,
     /// plain-loop (on w1, w1-nurbs, w1-b, w1-x10, eval-at, fit-1m, s1 and teapot: a plain loop
@@ -57,7 +58,9 @@ enum Command {
     /// memory cpu-all f32 fills); the surfaces' cpu-call (the whole call into new memory, every
     /// plane of the output: (u, v), positions, normals, triangles); tubes' and strokes' cpu-all
     /// (the planned job's meshes into new memory, f64), cpu-into (into kept f32 buffers) and
-    /// cpu-call (planned and made);
+    /// cpu-call (planned and made); strokes' cpu-call-1t (planned and made on one thread) and
+    /// lyon (lyon's stroke tessellator on the same curves as cubic Beziers at the same width,
+    /// joins, caps and tolerance, one thread);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
     /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64
@@ -622,6 +625,7 @@ fn bench(workloads: &[String], json: bool) -> Result<(), Failure> {
                 },
                 m.misses
                     .map(|n| format!("  misses {n}"))
+                    .or_else(|| m.max_error.map(|e| format!("  max_error {e:.3e}")))
                     .unwrap_or_default()
             );
         }

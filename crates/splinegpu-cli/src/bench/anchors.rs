@@ -80,6 +80,7 @@ pub(crate) fn anchor(
         bytes: samples * 16,
         float: Some("f64"),
         misses: None,
+        max_error: None,
     }
 }
 
@@ -169,5 +170,6 @@ pub(crate) fn wang(report: &mut impl FnMut(&Measurement)) {
         bytes: 0,
         float: None,
         misses: None,
+        max_error: None,
     });
 }

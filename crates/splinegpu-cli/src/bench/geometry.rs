@@ -1,15 +1,18 @@
 //! The geometry workloads: tubes (10,000 closed Catmull-Rom loops of 16 3-D points, radius 0.02
 //! of a curve's extent, per_segment 16, 8 sides: 20.5 M vertices with normals) and strokes
 //! (10,000 open Catmull-Rom curves of 16 2-D points, width 0.01 of the extent, round joins and
-//! caps; per_segment 16 until the certified tolerance sampling lands, where the contract asks
-//! a tolerance of 1e-4 of the extent). Paths: memset (the meshes' bytes), cpu-all (the job's
+//! caps, tolerance 1e-4 of the extent; every path's "max_error" the largest distance of its
+//! mesh from the exact stroke over the first 100 curves, `bench::strokes`). Paths: memset (the
+//! meshes' bytes), cpu-all (the job's
 //! meshes made into new memory on every thread, f64), cpu-1t (the same on one thread),
 //! cpu-into (into kept f32 buffers, a renderer's frame), cpu-call (the whole call: every curve
 //! planned on every thread, then made); for tubes also plain-loop (the same rings hand-written
 //! into the same f32 buffers as cpu-into, on every thread: Catmull-Rom from its points,
 //! parallel-transport frames, radial normals), gpu-device (the renderer's recording of the job
 //! into kept vertex buffers, from submission to completion: no packing, no readback) and
-//! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back).
+//! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back); for
+//! strokes also cpu-call-1t (the whole call on one thread) and lyon (lyon's stroke tessellator
+//! on the same curves' Bezier segments, same width, joins, caps and tolerance, one thread).
 
 use std::hint::black_box;
 
@@ -18,7 +21,14 @@ use splinegpu::geometry::{Cap, Geometry, GeometryJob, Join, MeshPlanes, Stroke, 
 use splinegpu::{Basis, Curve, CurveKind, Ends, GpuContext, GpuError, Points, Sampling};
 
 use crate::bench::measure::{Measurement, memset, time};
+use crate::bench::strokes;
 use crate::bench::workloads::Rng;
+
+/// The strokes' tolerance, in units of a curve's extent (the contract's 1e-4).
+const STROKE_TOLERANCE: f64 = 1e-4;
+
+/// The strokes whose meshes' errors are measured (ours and lyon's).
+const ERROR_CURVES: usize = 100;
 
 /// `count` curves of 16 points in `dim` dimensions about a unit circle (radius 1 ± 0.3,
 /// out of its plane ± 0.3 in 3-D), closed or open, each with its extent (about 2).
@@ -75,7 +85,13 @@ pub(crate) fn run(
         });
         curves(10_000, 2, Ends::Control, 8)
             .into_iter()
-            .map(|c| (c, stroke.clone(), Sampling::PerSegment(16)))
+            .map(|c| {
+                (
+                    c,
+                    stroke.clone(),
+                    Sampling::Tolerance(STROKE_TOLERANCE * extent),
+                )
+            })
             .collect()
     };
     let plan = || {
@@ -85,6 +101,24 @@ pub(crate) fn run(
     };
     let job = plan();
     let (vertices, triangles) = (job.vertex_count(), job.triangle_count());
+    let (stroke_width, tol) = (0.01 * extent, STROKE_TOLERANCE * extent);
+    let beziers: Vec<strokes::Beziers> = if name == "strokes" {
+        work.iter().map(|(c, _, _)| strokes::beziers(c)).collect()
+    } else {
+        Vec::new()
+    };
+    // The strokes' accuracy, ours and lyon's, on the first curves.
+    let errors = (name == "strokes").then(|| {
+        let first = &work[..ERROR_CURVES];
+        let mut part = GeometryJob::new();
+        part.push_many(first).expect("the workload's curves");
+        strokes::max_errors(
+            &beziers[..ERROR_CURVES],
+            &part.evaluate_cpu(),
+            stroke_width,
+            tol,
+        )
+    });
     // Useful bytes: f64 positions and normals.
     let bytes = vertices * 6 * 8;
     let measure = |path: &'static str, times: (f64, f64, f64)| Measurement {
@@ -97,6 +131,7 @@ pub(crate) fn run(
         bytes,
         float: Some("f64"),
         misses: None,
+        max_error: errors.map(|e| e.0),
     };
     report(&memset(name, (vertices * 7 * 8 + triangles * 12) as usize));
     report(&measure(
@@ -125,6 +160,7 @@ pub(crate) fn run(
         bytes: vertices * 6 * 4,
         float: Some("f32"),
         misses: None,
+        max_error: None,
         ..measure("cpu-into", times)
     };
     report(&f32_measure(time(|| {
@@ -159,6 +195,30 @@ pub(crate) fn run(
             None
         }),
     ));
+    if let Some((_, lyon_error)) = errors {
+        report(&measure(
+            "cpu-call-1t",
+            time(|| {
+                one_thread.install(|| black_box(plan().evaluate_cpu()));
+                None
+            }),
+        ));
+        let mut lyon_vertices = 0;
+        let lyon = time(|| {
+            let mut out = lyon_tessellation::VertexBuffers::new();
+            strokes::lyon_strokes(&beziers, stroke_width, tol, &mut out);
+            lyon_vertices = out.vertices.len() as u64;
+            black_box(out);
+            None
+        });
+        report(&Measurement {
+            samples: lyon_vertices,
+            bytes: lyon_vertices * 2 * 4,
+            float: Some("f32"),
+            max_error: Some(lyon_error),
+            ..measure("lyon", lyon)
+        });
+    }
     if let (Some(gpu), "tubes") = (gpu, name) {
         gpu_paths(gpu, &work, &job, report)?;
     }
@@ -237,6 +297,7 @@ fn gpu_paths(
         bytes: vertices * 6 * 4,
         float: Some("f32"),
         misses: None,
+        max_error: None,
     };
     report(&measure("gpu-device", device));
     let mut failure = None;

@@ -41,6 +41,9 @@ pub struct Measurement {
     /// For an anchor that answers queries (q1's and q2's), how many of its answers missed
     /// the certified one (the contract's "misses"); None elsewhere.
     pub misses: Option<u64>,
+    /// For the strokes, the largest distance of the path's mesh from the exact stroke (the
+    /// contract's "max_error"); None elsewhere.
+    pub max_error: Option<f64>,
 }
 
 impl Measurement {
@@ -61,9 +64,13 @@ impl Measurement {
             .misses
             .map(|m| format!(", \"misses\": {m}"))
             .unwrap_or_default();
+        let max_error = self
+            .max_error
+            .map(|e| format!(", \"max_error\": {e:e}"))
+            .unwrap_or_default();
         format!(
             "{{\"workload\": \"{}\", \"path\": \"{}\", \"seconds\": {:e}, \"min_seconds\": {:e}, \
-             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}{misses}}}",
+             \"max_seconds\": {:e}, \"samples\": {}, \"bytes\": {}, \"gbps\": {:.4}{float}{misses}{max_error}}}",
             self.workload,
             self.path,
             self.seconds,
@@ -114,6 +121,7 @@ pub fn memset(workload: &'static str, bytes: usize) -> Measurement {
         bytes: bytes as u64,
         float: None,
         misses: None,
+        max_error: None,
     }
 }
 

@@ -11,6 +11,7 @@ mod anchors;
 mod geometry;
 mod measure;
 mod queries;
+mod strokes;
 mod surfaces;
 mod workloads;
 
@@ -185,6 +186,7 @@ fn fit_1m(report: &mut impl FnMut(&Measurement)) {
         bytes: bytes as u64,
         float: Some("f64"),
         misses: None,
+        max_error: None,
     };
     let fit = time(|| {
         fitter
@@ -275,6 +277,7 @@ fn cli_w1(
         bytes: values * float.bytes(),
         float: Some(float.name()),
         misses: None,
+        max_error: None,
     };
     let paths = [
         ("csv-cpu", stream::Format::Csv, "csv", false),
@@ -380,6 +383,7 @@ fn measured(
         bytes: values * bytes_per_value,
         float: Some(if bytes_per_value == 4 { "f32" } else { "f64" }),
         misses: None,
+        max_error: None,
     }
 }
 
@@ -831,12 +835,18 @@ mod tests {
             bytes: 400,
             float: Some("f64"),
             misses: Some(3),
+            max_error: None,
         };
         let line: serde_json::Value = serde_json::from_str(&m.to_json()).unwrap();
         assert_eq!(line["misses"], 3);
         assert_eq!(line["float"], "f64");
         m.misses = None;
         assert!(!m.to_json().contains("misses"));
+        assert!(!m.to_json().contains("max_error"));
+        // A strokes path's accuracy.
+        m.max_error = Some(1.5e-4);
+        let line: serde_json::Value = serde_json::from_str(&m.to_json()).unwrap();
+        assert_eq!(line["max_error"], 1.5e-4);
     }
 
     #[test]

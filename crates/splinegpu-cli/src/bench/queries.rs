@@ -219,6 +219,7 @@ fn answers(
         bytes: count * bytes,
         float: Some("f64"),
         misses,
+        max_error: None,
     }
 }
 

@@ -127,6 +127,7 @@ pub(crate) fn run(
         bytes: bytes(per_value),
         float: Some(if per_value == 4 { "f32" } else { "f64" }),
         misses: None,
+        max_error: None,
     };
     report(&memset(name, bytes(4) as usize));
     // Fit, plan and evaluate into memory kept from the last call (as a renderer or a repeated

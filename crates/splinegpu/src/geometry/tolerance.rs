@@ -38,9 +38,11 @@
 //!
 //! plus 2 max(0, −w) (a tube's, w below 0 counting as 0) or max(0, −w) (the others'). A cell
 //! whose speed may vanish, or on which the tangent may turn by more than 1/2 rad (the
-//! rotation-minimizing frame's bound needs it), is split; so is a cell whose error exceeds
-//! tol, into about sqrt(error / tol) equal cells (the error falls as h² away from the first
-//! order terms), until every cell passes.
+//! rotation-minimizing frame's bound needs it), fails. Placement: an interval's bounds hold
+//! on every cell inside it, so each interval (a segment at first) takes the fewest equal
+//! cells, up to 4, that pass under its own bounds; an interval that needs more is cut into
+//! parts of about 4 cells each (the error falls as h² once the bounds are tight) and each
+//! part is bounded again.
 
 use super::frames::{self, Vec3};
 use crate::error::InputError;
@@ -54,6 +56,10 @@ const LARGEST_TURN: f64 = 0.5;
 /// The smallest turn between a joint's tangents that makes it a corner, in radians (as a
 /// stroke's).
 const CORNER: f64 = 1e-6;
+
+/// The most equal cells placed under one interval's bounds: more would be placed under
+/// bounds looser than a smaller interval's (more cells), fewer would compute bounds more often.
+const CELLS_PER_BOUND: usize = 4;
 
 /// Below this width in u a cell that cannot be certified is given up on.
 const SMALLEST_CELL: f64 = 1.0 / (1u64 << 40) as f64;
@@ -107,34 +113,38 @@ fn taylor(coeffs: [f64; 4], m: f64) -> Taylor {
     ]
 }
 
-/// max over |x| <= ρ of the i-th derivative's norm, for a vector polynomial given as its
-/// coordinates' Taylor coefficients: Σ_{j>=i} |c_j| j!/(j−i)! ρ^(j−i).
-fn max_derivative(coords: &[Taylor], i: usize, rho: f64) -> f64 {
-    let mut total = 0.0;
-    let mut power = 1.0;
-    for j in i..6 {
-        let falling: f64 = ((j - i + 1)..=j).map(|k| k as f64).product();
-        let norm = coords
-            .iter()
-            .map(|c| (c[j] * falling).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        total += norm * power;
-        power *= rho;
-    }
-    total
+/// The norm of each Taylor coefficient of a vector polynomial given by its coordinates'.
+fn norms(coords: &[Taylor]) -> [f64; 6] {
+    std::array::from_fn(|j| coords.iter().map(|c| c[j] * c[j]).sum::<f64>().sqrt())
+}
+
+/// j!/(j−i)!, for i <= 3 and j < 6.
+const FALLING: [[f64; 6]; 4] = [
+    [1.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+    [0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+    [0.0, 0.0, 2.0, 6.0, 12.0, 20.0],
+    [0.0, 0.0, 0.0, 6.0, 24.0, 60.0],
+];
+
+/// max over |x| <= ρ of the norms of a vector polynomial's derivatives 0..3, from its
+/// coefficients' norms: Σ_{j>=i} |c_j| j!/(j−i)! ρ^(j−i).
+fn derivative_maxima(norms: &[f64; 6], rho: f64) -> [f64; 4] {
+    std::array::from_fn(|i| {
+        let mut total = 0.0;
+        for j in (i..6).rev() {
+            total = total * rho + norms[j] * FALLING[i][j];
+        }
+        total
+    })
 }
 
 /// min over |x| <= ρ of a vector polynomial's norm, from below: |c_0| − Σ_{j>=1} |c_j| ρ^j.
-fn min_norm(coords: &[Taylor], rho: f64) -> f64 {
-    let norm = |j: usize| coords.iter().map(|c| c[j] * c[j]).sum::<f64>().sqrt();
+fn min_norm(norms: &[f64; 6], rho: f64) -> f64 {
     let mut rest = 0.0;
-    let mut power = rho;
-    for j in 1..6 {
-        rest += norm(j) * power;
-        power *= rho;
+    for j in (1..6).rev() {
+        rest = (rest + norms[j]) * rho;
     }
-    norm(0) - rest
+    norms[0] - rest
 }
 
 /// The product's Taylor coefficients (degrees beyond 5 are 0 here: cubic times quadratic).
@@ -179,8 +189,8 @@ impl CellBounds {
             [wd, wc, wb, wa]
         });
         let w = taylor(w_coeffs, m);
-        let w_max: [f64; 4] = std::array::from_fn(|i| max_derivative(&[w], i, rho));
-        let w_lo = w[0] - (max_derivative(&[w], 0, rho) - w[0].abs());
+        let w_max = derivative_maxima(&norms(&[w]), rho);
+        let w_lo = w[0] - (w_max[0] - w[0].abs());
         if w_lo.is_nan() || w_lo <= 0.0 {
             return None;
         }
@@ -194,22 +204,21 @@ impl CellBounds {
             }
         }
         let (pos, width) = shifted[..dim].split_at(position);
-        let n_max: [f64; 4] = std::array::from_fn(|i| max_derivative(pos, i, rho));
+        let n_max = derivative_maxima(&norms(pos), rho);
         let [_, _, k2, k3] = quotient_bounds(n_max, w_max, w_lo);
-        let nw_max: [f64; 4] = std::array::from_fn(|i| max_derivative(width, i, rho));
+        let nw_max = derivative_maxima(&norms(width), rho);
         let [kw0, kw1, kw2, _] = quotient_bounds(nw_max, w_max, w_lo);
         // The speed's numerator Ñ' W − Ñ W'.
         let dw = derivative(&w);
-        let speed: Vec<Taylor> = pos
-            .iter()
-            .map(|n| {
-                let (a, b) = (product(&derivative(n), &w), product(n, &dw));
-                std::array::from_fn(|j| a[j] - b[j])
-            })
-            .collect();
+        let mut speed = [[0.0; 6]; crate::points::MAX_DIM];
+        for (out, n) in speed.iter_mut().zip(pos) {
+            let (a, b) = (product(&derivative(n), &w), product(n, &dw));
+            *out = std::array::from_fn(|j| a[j] - b[j]);
+        }
+        let speed = norms(&speed[..pos.len()]);
         let w_hi = w_max[0];
         let v_lo = min_norm(&speed, rho) / (w_hi * w_hi);
-        let v_hi = max_derivative(&speed, 0, rho) / (w_lo * w_lo);
+        let v_hi = derivative_maxima(&speed, rho)[0] / (w_lo * w_lo);
         // The width at m.
         let mut p = [0.0; crate::points::MAX_DIM + 1];
         segment.eval(m, &mut p[..dim]);
@@ -555,21 +564,32 @@ pub(crate) fn places(
         let segment = table.segment(s);
         let mut stack = vec![(0.0f64, 1.0f64)];
         while let Some((ua, ub)) = stack.pop() {
-            let h = ub - ua;
-            let error = CellBounds::of(&segment, ua, ub)
-                .map_or(f64::INFINITY, |b| b.error(swept, h, slope(&b, h)));
-            if error <= tol {
-                locs.push(loc(&segment, s, ua));
+            let width = ub - ua;
+            // The interval's bounds hold on each of its cells: the fewest equal cells that
+            // pass under them, up to CELLS_PER_BOUND.
+            let bounds = CellBounds::of(&segment, ua, ub);
+            let error = |n: usize| {
+                let h = width / n as f64;
+                bounds.map_or(f64::INFINITY, |b| b.error(swept, h, slope(&b, h)))
+            };
+            if let Some(n) = (1..=CELLS_PER_BOUND).find(|&n| error(n) <= tol) {
+                for i in 0..n {
+                    locs.push(loc(&segment, s, ua + width * i as f64 / n as f64));
+                }
                 if locs.len() > limit {
                     return Err(too_many(limit));
                 }
                 continue;
             }
-            if h < SMALLEST_CELL {
+            if width < SMALLEST_CELL {
                 return Err(uncertified(&segment, ua, swept));
             }
-            let parts = if error.is_finite() {
-                (error / tol).sqrt().ceil().clamp(2.0, 1024.0) as usize
+            // Each part about CELLS_PER_BOUND cells, as the error falls with h² once the bounds
+            // are tight; while a loose bound (a speed near 0 at this width) inflates it,
+            // cutting in many would overshoot: at most 8 parts.
+            let most = error(CELLS_PER_BOUND);
+            let parts = if most.is_finite() {
+                (most / tol).sqrt().ceil().clamp(2.0, 8.0) as usize
             } else {
                 2
             };
@@ -578,7 +598,10 @@ pub(crate) fn places(
             }
             for i in (0..parts).rev() {
                 let (a, b) = (i as f64 / parts as f64, (i + 1) as f64 / parts as f64);
-                stack.push((ua + a * h, if i + 1 == parts { ub } else { ua + b * h }));
+                stack.push((
+                    ua + a * width,
+                    if i + 1 == parts { ub } else { ua + b * width },
+                ));
             }
         }
     }
