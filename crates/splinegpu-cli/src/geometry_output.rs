@@ -235,14 +235,31 @@ fn write_json<F: Number>(
 ) -> Result<(), OutputError> {
     let mut number = zmij::Buffer::new();
     let mut text = Vec::new();
-    let rows = |text: &mut Vec<u8>, number: &mut zmij::Buffer, plane: &[F], d: usize| {
+    // A mesh's text is written out whenever it passes this, so that memory holds a bounded
+    // part of it however large the mesh.
+    const FLUSH: usize = 1 << 16;
+    let flush = |text: &mut Vec<u8>, out: &mut dyn Write| -> io::Result<()> {
+        if text.len() >= FLUSH {
+            out.write_all(text)?;
+            text.clear();
+        }
+        Ok(())
+    };
+    let rows = |text: &mut Vec<u8>,
+                number: &mut zmij::Buffer,
+                plane: &[F],
+                d: usize,
+                out: &mut dyn Write|
+     -> io::Result<()> {
         text.push(b'[');
         for (i, p) in plane.chunks_exact(3).enumerate() {
             text.extend_from_slice(if i > 0 { b", [" } else { b"[" });
             put(text, number, &p[..d], b", ");
             text.push(b']');
+            flush(text, out)?;
         }
         text.push(b']');
+        Ok(())
     };
     out.write_all(b"{\"meshes\": [")?;
     for group in groups {
@@ -257,9 +274,16 @@ fn write_json<F: Number>(
                 &mut number,
                 &meshes.points[3 * v.start..3 * v.end],
                 dim(job, curve),
-            );
+                out,
+            )?;
             text.extend_from_slice(b", \"t\": [");
-            put(&mut text, &mut number, &meshes.t[v.clone()], b", ");
+            for (i, ts) in meshes.t[v.clone()].chunks(1024).enumerate() {
+                if i > 0 {
+                    text.extend_from_slice(b", ");
+                }
+                put(&mut text, &mut number, ts, b", ");
+                flush(&mut text, out)?;
+            }
             text.push(b']');
             if has_normals(job, curve) {
                 text.extend_from_slice(b", \"normals\": ");
@@ -268,11 +292,13 @@ fn write_json<F: Number>(
                     &mut number,
                     &meshes.normals[3 * v.start..3 * v.end],
                     3,
-                );
+                    out,
+                )?;
             }
             text.extend_from_slice(b", \"triangles\": [");
             for (i, [a, b, c]) in meshes.triangles[f].iter().enumerate() {
                 write!(text, "{}[{a}, {b}, {c}]", if i > 0 { ", " } else { "" })?;
+                flush(&mut text, out)?;
             }
             text.extend_from_slice(b"]}");
             out.write_all(&text)?;
@@ -306,25 +332,27 @@ fn write_npz<F: Number>(
         if d == 3 {
             npz.write(bytemuck::cast_slice(&meshes.points))?;
         } else {
-            let flat: Vec<F> = meshes
-                .points
-                .chunks_exact(3)
-                .flat_map(|p| [p[0], p[1]])
-                .collect();
-            npz.write(bytemuck::cast_slice(&flat))?;
+            // A stroke's (x, y), a bounded run at a time.
+            let mut flat: Vec<F> = Vec::with_capacity(2 * 4096);
+            for run in meshes.points.chunks(3 * 4096) {
+                flat.clear();
+                flat.extend(run.chunks_exact(3).flat_map(|p| [p[0], p[1]]));
+                npz.write(bytemuck::cast_slice(&flat))?;
+            }
         }
         waiting[0].write_all(bytemuck::cast_slice(&meshes.t))?;
         if normals {
             waiting[1].write_all(bytemuck::cast_slice(&meshes.normals))?;
         }
+        // Indices into the whole vertex array, a bounded run at a time.
+        let mut shifted: Vec<i64> = Vec::with_capacity(3 * 4096);
         for c in 0..group.len() {
             let base = (first + meshes.vertex_offsets[c]) as i64;
-            let shifted: Vec<i64> = meshes.triangles[triangle_range(&meshes, c)]
-                .iter()
-                .flatten()
-                .map(|&i| i64::from(i) + base)
-                .collect();
-            waiting[2].write_all(bytemuck::cast_slice(&shifted))?;
+            for run in meshes.triangles[triangle_range(&meshes, c)].chunks(4096) {
+                shifted.clear();
+                shifted.extend(run.iter().flatten().map(|&i| i64::from(i) + base));
+                waiting[2].write_all(bytemuck::cast_slice(&shifted))?;
+            }
         }
     }
     npz.end()?;

@@ -457,7 +457,7 @@ fn tessellate_geometry(
     let context = choose_backend(backend)?;
     let result = match &context {
         None => write_meshes(job, format, output, &mut |range| {
-            Ok(job.evaluate_cpu_group(range))
+            Ok(job.try_evaluate_cpu_group(range)?)
         }),
         Some(gpu) => write_meshes(job, format, output, &mut |range| {
             Ok(gpu.evaluate_geometry_group(job, range)?)

@@ -707,3 +707,39 @@ fn dashes_are_read_into_the_library_pattern() {
     assert_eq!(numbers(&mesh["t"]), want.t);
     assert!(want.triangles.len() > 100);
 }
+
+/// One tube mesh of 3.2 M vertices near a 512 MiB address-space limit (`ulimit -v`) ends with
+/// exit 0 and a whole file, or exit 2 naming "sampling" and no file: the meshes' allocations
+/// are fallible, JSON writes a mesh's text as it goes and NPZ its indices in runs (the JSON
+/// text of the whole mesh and the NPZ's shifted indices aborted with exit 134, "memory
+/// allocation of ... bytes failed", before).
+#[test]
+fn geometry_near_the_process_memory_limit_never_aborts() {
+    let dir = tempfile::tempdir().unwrap();
+    let doc = r#"{"sampling": {"per_segment": 20000}, "curves": [{"kind": "catmull-rom",
+        "points": [[0,0,0],[1,0,0],[1,1,0],[0,1,1],[0,2,2]],
+        "geometry": {"tube": {"radius": 0.1, "sides": 80}}}]}"#;
+    let input = dir.path().join("near.json");
+    std::fs::write(&input, doc).unwrap();
+    for format in ["json", "npz"] {
+        let output = dir.path().join(format!("near-out.{format}"));
+        let out = std::process::Command::new("sh")
+            .args(["-c", "ulimit -v 524288 && exec \"$0\" \"$@\""])
+            .arg(env!("CARGO_BIN_EXE_splinegpu"))
+            .args(["tessellate", input.to_str().unwrap(), "-o"])
+            .arg(&output)
+            .args(["--backend", "cpu"])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        match out.status.code() {
+            Some(0) => assert!(output.exists(), "{format}"),
+            Some(2) => {
+                assert!(stderr.contains("\"sampling\""), "{format}: {stderr}");
+                assert!(!output.exists(), "{format}");
+            }
+            other => panic!("{format}: exit {other:?}: {stderr}"),
+        }
+        let _ = std::fs::remove_file(&output);
+    }
+}

@@ -384,9 +384,24 @@ impl GeometryJob {
     /// offsets of the result start at 0 with the range's first curve.
     ///
     /// # Panics
-    /// If `range` is not within the job.
+    /// If `range` is not within the job, or the process cannot have the memory (with the
+    /// reason; [`GeometryJob::try_evaluate_cpu_group`] returns it instead).
     #[must_use]
     pub fn evaluate_cpu_group(&self, range: Range<usize>) -> Meshes {
+        self.try_evaluate_cpu_group(range)
+            .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// [`GeometryJob::evaluate_cpu_group`], its allocations fallible: where the process
+    /// cannot have the meshes' memory (a limit the estimate made at `push` missed), an error
+    /// naming "sampling", never an abort.
+    ///
+    /// # Errors
+    /// The meshes' memory refused.
+    ///
+    /// # Panics
+    /// If `range` is not within the job.
+    pub fn try_evaluate_cpu_group(&self, range: Range<usize>) -> Result<Meshes, InputError> {
         let first_vertex = self.vertex_offsets[range.start];
         let first_triangle = self.triangle_offsets[range.start];
         let vertex_offsets: Vec<u64> = self.vertex_offsets[range.start..=range.end]
@@ -401,11 +416,23 @@ impl GeometryJob {
             usize::try_from(vertex_offsets[range.len()]).expect("checked against memory");
         let triangles =
             usize::try_from(triangle_offsets[range.len()]).expect("checked against memory");
+        let refused = |_| {
+            InputError::field(
+                "sampling",
+                format!(
+                    "makes {vertices} vertices and {triangles} triangles for curves {} to {}, \
+                     {} bytes, more than the process can have",
+                    range.start,
+                    range.end.saturating_sub(1),
+                    vertices as u64 * 56 + triangles as u64 * 12
+                ),
+            )
+        };
         let mut meshes = Meshes {
-            points: vec![0.0; 3 * vertices],
-            normals: vec![0.0; 3 * vertices],
-            t: vec![0.0; vertices],
-            triangles: vec![[0; 3]; triangles],
+            points: memory::try_filled(3 * vertices, 0.0).map_err(refused)?,
+            normals: memory::try_filled(3 * vertices, 0.0).map_err(refused)?,
+            t: memory::try_filled(vertices, 0.0).map_err(refused)?,
+            triangles: memory::try_filled(triangles, [0; 3]).map_err(refused)?,
             vertex_offsets,
             triangle_offsets,
         };
@@ -420,7 +447,7 @@ impl GeometryJob {
             .par_iter()
             .zip(outs)
             .for_each(|(planned, mut out)| make(planned, &mut out));
-        meshes
+        Ok(meshes)
     }
 
     /// Every curve's mesh into the caller's memory (a renderer's, kept from frame to frame),

@@ -29,6 +29,18 @@ pub(crate) fn reserve_on_huge_pages<T>(v: &mut Vec<T>, n: usize) {
     }
 }
 
+/// `n` copies of `value` in a new vector, the allocation fallible: where the process cannot
+/// have the memory (a limit an estimate missed) an error, never an abort.
+pub(crate) fn try_filled<T: Clone>(
+    n: usize,
+    value: T,
+) -> Result<Vec<T>, std::collections::TryReserveError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)?;
+    v.resize(n, value);
+    Ok(v)
+}
+
 /// Asks Linux to back the whole 2 MiB pages inside `[start, start + bytes)` with huge pages.
 #[cfg(target_os = "linux")]
 fn advise_huge_pages(start: *mut u8, bytes: usize) {

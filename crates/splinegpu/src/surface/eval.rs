@@ -206,10 +206,7 @@ fn collected<T>(
 
 /// `n` zeros, the allocation fallible.
 fn zeros<F: SampleFloat>(n: usize) -> Result<Vec<F>, std::collections::TryReserveError> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n)?;
-    v.resize(n, F::default());
-    Ok(v)
+    crate::memory::try_filled(n, F::default())
 }
 
 /// Evaluates `plan` on `table` into a caller's planes on every thread: the planes present are
