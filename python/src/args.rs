@@ -148,9 +148,32 @@ pub(crate) fn zeros(rows: usize, width: usize, what: &str) -> PyResult<Vec<f64>>
         ))
     };
     let len = rows.checked_mul(width).ok_or_else(refuse)?;
+    filled(len, 0.0, what)
+}
+
+/// A new NumPy array of zeros of `shape`, made by `numpy.zeros`: where the process cannot
+/// have the memory NumPy raises MemoryError, which this returns (numpy's Rust constructors
+/// panic on NumPy's refusal: "PyObject pointer is null").
+pub(crate) fn new_zeros<'py, F: numpy::Element, D: numpy::ndarray::Dimension>(
+    py: Python<'py>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, numpy::PyArray<F, D>>> {
+    let zeros = py
+        .import("numpy")?
+        .call_method1("zeros", (shape.to_vec(), numpy::dtype::<F>(py)))?;
+    Ok(zeros.cast_into::<numpy::PyArray<F, D>>()?)
+}
+
+/// `n` copies of `value`, allocated fallibly: a MemoryError naming `what` where the process
+/// cannot have them, never an abort.
+pub(crate) fn filled<T: Clone>(n: usize, value: T, what: &str) -> PyResult<Vec<T>> {
     let mut values = Vec::new();
-    values.try_reserve_exact(len).map_err(|_| refuse())?;
-    values.resize(len, 0.0);
+    values.try_reserve_exact(n).map_err(|_| {
+        PyMemoryError::new_err(format!(
+            "{what}: {n} values do not fit in the memory the process may take"
+        ))
+    })?;
+    values.resize(n, value);
     Ok(values)
 }
 
@@ -163,7 +186,7 @@ pub(crate) fn array<'py, F: numpy::Element>(
     shape: [usize; 2],
 ) -> PyResult<Bound<'py, PyArray2<F>>> {
     let Some(given) = out.map(|o| o.get_item(name)).transpose()?.flatten() else {
-        return Ok(PyArray2::<F>::zeros(py, shape, false));
+        return new_zeros(py, &shape);
     };
     let wrong = |what: String| value_error(format!("out: \"{name}\" {what}"));
     let Ok(given) = given.cast_into::<PyArray2<F>>() else {

@@ -3,7 +3,7 @@
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 
-use crate::args::{PerCurve, Stack1, Stack2, runtime_error, threads, value_error};
+use crate::args::{PerCurve, Stack1, Stack2, new_zeros, runtime_error, threads, value_error};
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use splinegpu::PerPoint;
@@ -408,13 +408,15 @@ impl<'py> Out<'py> {
         let layout = job.layout();
         let (rows, dim) = (layout.samples(), layout.max_dim());
         let order = job.derivatives().order();
-        let plane = || PyArray2::<F>::zeros(py, [rows, dim], false).into_any();
+        let plane = || -> PyResult<Bound<'py, PyAny>> {
+            Ok(new_zeros::<F, numpy::Ix2>(py, &[rows, dim])?.into_any())
+        };
         Ok(Out(
-            PyArray1::<f64>::zeros(py, rows, false),
-            plane(),
-            (order >= 1).then(plane),
-            (order >= 2).then(plane),
-            PyArray1::<i64>::zeros(py, job.len() + 1, false),
+            new_zeros(py, &[rows])?,
+            plane()?,
+            (order >= 1).then(plane).transpose()?,
+            (order >= 2).then(plane).transpose()?,
+            new_zeros(py, &[job.len() + 1])?,
         ))
     }
 

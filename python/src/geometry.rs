@@ -12,7 +12,7 @@ use splinegpu::geometry::{Cap, Dash, Geometry, GeometryJob, Join, MeshPlanes, Ri
 use splinegpu::geometry::{Tube, Width};
 use splinegpu::{Curve, InputError, Points};
 
-use crate::args::{PerCurve, Stack2, array, runtime_error, value_error};
+use crate::args::{PerCurve, Stack2, array, filled, new_zeros, runtime_error, value_error};
 use crate::context::{Context, CurveFields, KindSource, SamplingArg, on_threads};
 
 /// The geometry's fields as the Python side normalises them: the shape's name, its width or
@@ -205,7 +205,7 @@ fn write<'py>(
     } else {
         Some(array::<f64>(py, out, "normals", [v, 3])?)
     };
-    let mut local = vec![[0u32; 3]; m];
+    let mut local = filled(m, [0u32; 3], "triangles")?;
     {
         let mut points_view = points.readwrite();
         let mut t_view = t.readwrite();
@@ -223,7 +223,8 @@ fn write<'py>(
                     .map_err(runtime_error)?;
             }
             None => {
-                let (mut xyz, mut up) = (vec![0.0; 3 * v], vec![0.0; 3 * v]);
+                let (mut xyz, mut up) =
+                    (filled(3 * v, 0.0, "points")?, filled(3 * v, 0.0, "points")?);
                 let planes = MeshPlanes {
                     points: &mut xyz,
                     normals: &mut up,
@@ -300,7 +301,7 @@ fn t_array<'py>(
             }
             given
         }
-        None => PyArray1::<f64>::zeros(py, v, false),
+        None => new_zeros(py, &[v])?,
     })
 }
 

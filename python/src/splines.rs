@@ -630,5 +630,5 @@ pub(crate) fn values_array(
              {available} bytes of memory available"
         )));
     }
-    Ok(PyArray2::<f64>::zeros(py, [rows, dim], false))
+    crate::args::new_zeros(py, &[rows, dim])
 }

@@ -179,3 +179,33 @@ def test_a_mesh_that_overflows_is_refused_by_name(cpu):
     far = np.array([[1e308, 0.0, 0.0], [1e308, 1.0, 0.0], [1e308, 2.0, 0.0], [1e308, 3.0, 0.0]])
     with pytest.raises(ValueError, match="curve 1: mesh vertex 0 is not finite"):
         cpu.tubes([LOOPS[0][:4], far], "natural", radius=1e308, per_segment=2)
+
+
+_TUBES_UNDER_A_LIMIT = """
+import resource, sys, numpy as np, splinegpu
+ctx = splinegpu.Context(backend="cpu")
+points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 1], [0, 2, 2]], float)[None]
+size = int(open("/proc/self/status").read().split("VmSize:")[1].split()[0]) * 1024
+resource.setrlimit(resource.RLIMIT_AS, (size + 700_000_000, resource.RLIM_INFINITY))
+for sides in (40, 200):
+    try:
+        mesh = ctx.tubes(points, radius=0.1, sides=sides, per_segment=20000)
+        print("made", mesh.points.shape[0])
+    except MemoryError as e:
+        print("MemoryError", e)
+"""
+
+
+def test_meshes_past_the_process_limit_are_a_memory_error_not_a_panic(tmp_path):
+    """Tubes of 1.6 M and 8 M vertices under an address-space limit (RLIMIT_AS, in a child
+    process of its own) about 700 MB above what the interpreter holds: made, or a MemoryError
+    (NumPy's refusal became a PanicException, "PyObject pointer is null", before)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _TUBES_UNDER_A_LIMIT], capture_output=True,
+                          text=True, timeout=120, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.splitlines()
+    assert lines[0] == "made 1600040", done.stdout
+    assert lines[1].startswith("MemoryError"), (done.stdout, done.stderr[-2000:])
