@@ -148,7 +148,7 @@ pub(crate) fn zeros(rows: usize, width: usize, what: &str) -> PyResult<Vec<f64>>
         ))
     };
     let len = rows.checked_mul(width).ok_or_else(refuse)?;
-    filled(len, 0.0, what)
+    filled(len, what)
 }
 
 /// A new NumPy array of zeros of `shape`, made by `numpy.zeros`: where the process cannot
@@ -164,17 +164,16 @@ pub(crate) fn new_zeros<'py, F: numpy::Element, D: numpy::ndarray::Dimension>(
     Ok(zeros.cast_into::<numpy::PyArray<F, D>>()?)
 }
 
-/// `n` copies of `value`, allocated fallibly: a MemoryError naming `what` where the process
-/// cannot have them, never an abort.
-pub(crate) fn filled<T: Clone>(n: usize, value: T, what: &str) -> PyResult<Vec<T>> {
-    let mut values = Vec::new();
-    values.try_reserve_exact(n).map_err(|_| {
-        PyMemoryError::new_err(format!(
-            "{what}: {n} values do not fit in the memory the process may take"
-        ))
-    })?;
-    values.resize(n, value);
-    Ok(values)
+/// `n` zeros, allocated fallibly and zeroed by the allocator (as `vec![0; n]`, nothing
+/// written): a MemoryError naming `what` where the process cannot have them, never an abort.
+pub(crate) fn filled<T: bytemuck::Zeroable>(n: usize, what: &str) -> PyResult<Vec<T>> {
+    bytemuck::allocation::try_zeroed_slice_box(n)
+        .map(Vec::from)
+        .map_err(|()| {
+            PyMemoryError::new_err(format!(
+                "{what}: {n} values do not fit in the memory the process may take"
+            ))
+        })
 }
 
 /// The array `name` of shape `shape`: `out`'s (checked: dtype, shape, C order, writeable),

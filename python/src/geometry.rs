@@ -205,7 +205,7 @@ fn write<'py>(
     } else {
         Some(array::<f64>(py, out, "normals", [v, 3])?)
     };
-    let mut local = filled(m, [0u32; 3], "triangles")?;
+    let mut local = filled(m, "triangles")?;
     {
         let mut points_view = points.readwrite();
         let mut t_view = t.readwrite();
@@ -223,8 +223,7 @@ fn write<'py>(
                     .map_err(runtime_error)?;
             }
             None => {
-                let (mut xyz, mut up) =
-                    (filled(3 * v, 0.0, "points")?, filled(3 * v, 0.0, "points")?);
+                let (mut xyz, mut up) = (filled(3 * v, "points")?, filled(3 * v, "points")?);
                 let planes = MeshPlanes {
                     points: &mut xyz,
                     normals: &mut up,

@@ -429,10 +429,10 @@ impl GeometryJob {
             )
         };
         let mut meshes = Meshes {
-            points: memory::try_filled(3 * vertices, 0.0).map_err(refused)?,
-            normals: memory::try_filled(3 * vertices, 0.0).map_err(refused)?,
-            t: memory::try_filled(vertices, 0.0).map_err(refused)?,
-            triangles: memory::try_filled(triangles, [0; 3]).map_err(refused)?,
+            points: memory::try_zeroed(3 * vertices).map_err(refused)?,
+            normals: memory::try_zeroed(3 * vertices).map_err(refused)?,
+            t: memory::try_zeroed(vertices).map_err(refused)?,
+            triangles: memory::try_zeroed(triangles).map_err(refused)?,
             vertex_offsets,
             triangle_offsets,
         };

@@ -40,8 +40,8 @@
 //! whose speed may vanish, or on which the tangent may turn by more than 1/2 rad (the
 //! rotation-minimizing frame's bound needs it), fails. Placement: an interval's bounds hold
 //! on every cell inside it, so each interval (a segment at first) takes the fewest equal
-//! cells, up to 4, that pass under its own bounds; an interval that needs more is cut into
-//! parts of about 4 cells each (the error falls as h² once the bounds are tight) and each
+//! cells, up to 8, that pass under its own bounds; an interval that needs more is cut into
+//! parts of about 8 cells each (the error falls as h² once the bounds are tight) and each
 //! part is bounded again.
 
 use super::frames::{self, Vec3};
@@ -59,7 +59,7 @@ const CORNER: f64 = 1e-6;
 
 /// The most equal cells placed under one interval's bounds: more would be placed under
 /// bounds looser than a smaller interval's (more cells), fewer would compute bounds more often.
-const CELLS_PER_BOUND: usize = 4;
+const CELLS_PER_BOUND: usize = 8;
 
 /// Below this width in u a cell that cannot be certified is given up on.
 const SMALLEST_CELL: f64 = 1.0 / (1u64 << 40) as f64;

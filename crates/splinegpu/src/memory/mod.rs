@@ -41,6 +41,19 @@ pub(crate) fn try_filled<T: Clone>(
     Ok(v)
 }
 
+/// `n` zeros in a new vector, the allocation fallible and zeroed by the allocator (fresh pages
+/// from the system come zeroed: nothing is written until the caller writes, as `vec![0; n]`
+/// does, where [`try_filled`] writes every element first).
+pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
+    n: usize,
+) -> Result<Vec<T>, std::collections::TryReserveError> {
+    // bytemuck's refusal carries no reason: the standard one is made from an impossible
+    // reservation, which fails the same way.
+    bytemuck::allocation::try_zeroed_slice_box(n)
+        .map(Vec::from)
+        .map_err(|()| Vec::<u8>::new().try_reserve_exact(usize::MAX).unwrap_err())
+}
+
 /// Asks Linux to back the whole 2 MiB pages inside `[start, start + bytes)` with huge pages.
 #[cfg(target_os = "linux")]
 fn advise_huge_pages(start: *mut u8, bytes: usize) {
