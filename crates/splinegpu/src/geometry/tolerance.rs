@@ -29,8 +29,9 @@
 //! unit vectors e of the frame's normal plane then have |e_u| <= E1 = T1 + P and
 //! |e_uu| <= F2 = T2 + T1² + E1². A cell's error (`CellBounds::error`) is:
 //!
-//! - tube (s sides, α = π/s, k = 2π/s; r = w): r(1 − cos α) + (A h² + 2 B h k) / 8,
-//!   A = K2 + |r''| + 2 |r'| E1 + r F2, B = |r'| + r E1;
+//! - tube (s sides, α = π/s; r = w): r(1 − cos α) + A h² / 8, A = K2 + |r''| + 2 |r'| E1 +
+//!   r F2, plus the most any of the cell's quads stands out of its plane, measured on the
+//!   quads as the mesh makes them ([`Carried`]);
 //! - ribbon (r = w/2, the strip linear across): A h²/8 with A as a tube's, plus the height of
 //!   the cell's quad out of its plane, measured on the quad as the mesh makes it
 //!   ([`Carried`]);
@@ -267,13 +268,11 @@ impl CellBounds {
         let f2 = t2 + t1 * t1 + e1 * e1;
         let a = self.k2 + r2 + 2.0 * r1 * e1 + r0 * f2;
         let error = match swept {
+            // The quads' twists across the cell are measured on the quads ([`Carried`]).
             Swept::Tube { sides } => {
                 let alpha = std::f64::consts::PI / f64::from(sides);
-                let k = 2.0 * alpha;
-                let b = r1 + r0 * e1;
-                r0 * (1.0 - alpha.cos()) + (a * h * h + 2.0 * b * h * k) / 8.0
+                r0 * (1.0 - alpha.cos()) + a * h * h / 8.0
             }
-            // The strip's twist across the cell is measured on its quad ([`Carried`]).
             Swept::Ribbon => a * h * h / 8.0,
             Swept::Stroke => (self.k2 + r2 + 2.0 * r1 * t1 + r0 * t2) * h * h / 8.0,
         };
@@ -393,13 +392,8 @@ impl<'a> Carried<'a> {
         }
     }
 
-    /// How far a ribbon's two triangles between places i and j and the bilinear patch
-    /// through their four corners stray from each other: where the corners project onto the
-    /// plane through three of them as a convex quad, both lie in the tetrahedron of the four
-    /// and project onto that same quad, so each point of one is within the tetrahedron's
-    /// height over that plane of a point of the other; otherwise a quarter of the patch's
-    /// twist |P11 − P10 − P01 + P00| (the bilinear patch minus the triangles' interpolant is
-    /// −y(1 − x) times it).
+    /// How far a ribbon's two triangles between places i and j stray from the bilinear patch
+    /// through their corners, and back ([`quad_warp`]).
     fn ribbon_warp(&self, i: usize, j: usize) -> f64 {
         let corner = |k: usize, side: f64| {
             let b = frames::cross(self.tangents[k], self.normals[k]);
@@ -407,41 +401,33 @@ impl<'a> Carried<'a> {
             let x = self.positions[k];
             [x[0] + half * b[0], x[1] + half * b[1], x[2] + half * b[2]]
         };
-        // In order around the quad: P00, P10, P11, P01.
-        let quad = [
+        quad_warp([
             corner(i, -1.0),
             corner(j, -1.0),
             corner(j, 1.0),
             corner(i, 1.0),
-        ];
-        let sub = |a: Vec3, b: Vec3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-        let twist = sub(sub(quad[2], quad[1]), sub(quad[3], quad[0]));
-        let mut best = 0.25 * frames::dot(twist, twist).sqrt();
-        for omit in 0..4 {
-            let [a, b, c] = [1, 2, 3].map(|k| quad[(omit + k) % 4]);
-            let Some(n) = frames::unit(frames::cross(sub(b, a), sub(c, a))) else {
-                continue;
-            };
-            let Some(e1) = frames::unit(sub(b, a)) else {
-                continue;
-            };
-            let e2 = frames::cross(n, e1);
-            let flat = quad.map(|p| {
-                let d = sub(p, a);
-                [frames::dot(d, e1), frames::dot(d, e2)]
-            });
-            let turns: Vec<f64> = (0..4)
-                .map(|k| {
-                    let (p, q, r) = (flat[k], flat[(k + 1) % 4], flat[(k + 2) % 4]);
-                    (q[0] - p[0]) * (r[1] - q[1]) - (q[1] - p[1]) * (r[0] - q[0])
-                })
-                .collect();
-            let convex = turns.iter().all(|&x| x > 0.0) || turns.iter().all(|&x| x < 0.0);
-            if convex {
-                best = best.min(frames::dot(sub(quad[omit], a), n).abs());
+        ])
+    }
+
+    /// The most any of a tube's quads between the rings at places i and j strays from the
+    /// bilinear patch through its corners, and back ([`quad_warp`]).
+    fn tube_warp(&self, i: usize, j: usize, sides: u32) -> f64 {
+        let ring = |k: usize| {
+            let (n, x, r) = (self.normals[k], self.positions[k], self.widths[k]);
+            let b = frames::cross(self.tangents[k], n);
+            move |side: u32| {
+                let angle = std::f64::consts::TAU * f64::from(side) / f64::from(sides);
+                let (sin, cos) = angle.sin_cos();
+                std::array::from_fn(|d| x[d] + r * (cos * n[d] + sin * b[d]))
             }
-        }
-        best
+        };
+        let (a, b) = (ring(i), ring(j));
+        (0..sides)
+            .map(|k| {
+                let next = (k + 1) % sides;
+                quad_warp([a(k), b(k), b(next), a(next)])
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The midpoints of the mesh cells whose error, with the frames' slope measured on the
@@ -528,10 +514,10 @@ impl<'a> Carried<'a> {
                 let segment = self.table.segment(s);
                 let slope = slopes[i..j].iter().copied().fold(0.0, f64::max);
                 let turn: f64 = corners[i..j].iter().sum();
-                let warp = if swept == Swept::Ribbon {
-                    self.ribbon_warp(i, j)
-                } else {
-                    0.0
+                let warp = match swept {
+                    Swept::Ribbon => self.ribbon_warp(i, j),
+                    Swept::Tube { sides } => self.tube_warp(i, j, sides),
+                    Swept::Stroke => 0.0,
                 };
                 let error = CellBounds::of(&segment, ua, ub).map_or(f64::INFINITY, |b| {
                     b.error(swept, h, slope) + b.w_max * turn + warp
@@ -543,6 +529,43 @@ impl<'a> Carried<'a> {
         }
         Ok(failing)
     }
+}
+
+/// How far the two triangles of the quad P00, P10, P11, P01 (in order around) and the
+/// bilinear patch through its corners stray from each other: where the corners project onto
+/// the plane through three of them as a convex quad, both lie in the tetrahedron of the four
+/// and project onto that same quad, so each point of one is within the tetrahedron's height
+/// over that plane of a point of the other; otherwise a quarter of the patch's twist
+/// |P11 − P10 − P01 + P00| (the bilinear patch minus the triangles' interpolant is −y(1 − x)
+/// times it).
+fn quad_warp(quad: [Vec3; 4]) -> f64 {
+    let sub = |a: Vec3, b: Vec3| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let twist = sub(sub(quad[2], quad[1]), sub(quad[3], quad[0]));
+    let mut best = 0.25 * frames::dot(twist, twist).sqrt();
+    for omit in 0..4 {
+        let [a, b, c] = [1, 2, 3].map(|k| quad[(omit + k) % 4]);
+        let Some(n) = frames::unit(frames::cross(sub(b, a), sub(c, a))) else {
+            continue;
+        };
+        let Some(e1) = frames::unit(sub(b, a)) else {
+            continue;
+        };
+        let e2 = frames::cross(n, e1);
+        let flat = quad.map(|p| {
+            let d = sub(p, a);
+            [frames::dot(d, e1), frames::dot(d, e2)]
+        });
+        let turn = |k: usize| {
+            let (p, q, r) = (flat[k], flat[(k + 1) % 4], flat[(k + 2) % 4]);
+            (q[0] - p[0]) * (r[1] - q[1]) - (q[1] - p[1]) * (r[0] - q[0])
+        };
+        let turns = [turn(0), turn(1), turn(2), turn(3)];
+        let convex = turns.iter().all(|&x| x > 0.0) || turns.iter().all(|&x| x < 0.0);
+        if convex {
+            best = best.min(frames::dot(sub(quad[omit], a), n).abs());
+        }
+    }
+    best
 }
 
 /// The tolerance places of a whole curve's widened `table`: every segment from u = 0, cut
