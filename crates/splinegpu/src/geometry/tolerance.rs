@@ -184,7 +184,8 @@ impl CellBounds {
         let dim = segment.power()[0].len();
         let position = dim - 1;
         let (m, rho) = (0.5 * (ua + ub), 0.5 * (ub - ua));
-        let [a, b, c, _] = segment.power();
+        let [a, b, c, d] = segment.power();
+        let rational = segment.denominator().is_some();
         let w_coeffs = segment.denominator().map_or([1.0, 0.0, 0.0, 0.0], |w| {
             let [wa, wb, wc, wd] = w.coeffs;
             [wd, wc, wb, wa]
@@ -197,11 +198,16 @@ impl CellBounds {
         }
         // Ñ = N − c W about m, coordinate by coordinate (N has no constant term).
         let mut shifted = [[0.0; 6]; crate::points::MAX_DIM + 1];
+        // The width at m: D + N(m) / W(m).
+        let mut w_mid = 0.0;
         for k in 0..dim {
             let n = taylor([0.0, c[k], b[k], a[k]], m);
             let value = n[0] / w[0];
             for j in 0..6 {
                 shifted[k][j] = n[j] - value * w[j];
+            }
+            if k == position {
+                w_mid = d[k] + value;
             }
         }
         let (pos, width) = shifted[..dim].split_at(position);
@@ -209,21 +215,21 @@ impl CellBounds {
         let [_, _, k2, k3] = quotient_bounds(n_max, w_max, w_lo);
         let nw_max = derivative_maxima(&norms(width), rho);
         let [kw0, kw1, kw2, _] = quotient_bounds(nw_max, w_max, w_lo);
-        // The speed's numerator Ñ' W − Ñ W'.
+        // The speed's numerator Ñ' W − Ñ W' (Ñ' where W ≡ 1).
         let dw = derivative(&w);
         let mut speed = [[0.0; 6]; crate::points::MAX_DIM];
         for (out, n) in speed.iter_mut().zip(pos) {
-            let (a, b) = (product(&derivative(n), &w), product(n, &dw));
-            *out = std::array::from_fn(|j| a[j] - b[j]);
+            *out = if rational {
+                let (a, b) = (product(&derivative(n), &w), product(n, &dw));
+                std::array::from_fn(|j| a[j] - b[j])
+            } else {
+                derivative(n)
+            };
         }
         let speed = norms(&speed[..pos.len()]);
         let w_hi = w_max[0];
         let v_lo = min_norm(&speed, rho) / (w_hi * w_hi);
         let v_hi = derivative_maxima(&speed, rho)[0] / (w_lo * w_lo);
-        // The width at m.
-        let mut p = [0.0; crate::points::MAX_DIM + 1];
-        segment.eval(m, &mut p[..dim]);
-        let w_mid = p[position];
         let bounds = Self {
             k2,
             k3,
