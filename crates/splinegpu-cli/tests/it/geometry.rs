@@ -723,14 +723,7 @@ fn geometry_near_the_process_memory_limit_never_aborts() {
     std::fs::write(&input, doc).unwrap();
     for format in ["json", "npz"] {
         let output = dir.path().join(format!("near-out.{format}"));
-        let out = std::process::Command::new("sh")
-            .args(["-c", "ulimit -v 524288 && exec \"$0\" \"$@\""])
-            .arg(env!("CARGO_BIN_EXE_splinegpu"))
-            .args(["tessellate", input.to_str().unwrap(), "-o"])
-            .arg(&output)
-            .args(["--backend", "cpu"])
-            .output()
-            .unwrap();
+        let out = crate::support::tessellate_under_limit(524288, &input, &output);
         let stderr = String::from_utf8_lossy(&out.stderr);
         match out.status.code() {
             Some(0) => assert!(output.exists(), "{format}"),

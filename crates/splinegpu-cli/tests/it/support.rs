@@ -18,3 +18,22 @@ pub(crate) fn run_cli(args: &[&str], envs: &[(&str, &str)], stdin: &str) -> std:
     let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
     child.wait_with_output().unwrap()
 }
+
+/// `splinegpu tessellate input -o output --backend cpu` under an address-space limit of
+/// `kib` KiB (`ulimit -v`, in the child's shell only).
+pub(crate) fn tessellate_under_limit(
+    kib: u64,
+    input: &std::path::Path,
+    output: &std::path::Path,
+) -> std::process::Output {
+    std::process::Command::new("sh")
+        .args(["-c", &format!("ulimit -v {kib} && exec \"$0\" \"$@\"")])
+        .arg(env!("CARGO_BIN_EXE_splinegpu"))
+        .arg("tessellate")
+        .arg(input)
+        .arg("-o")
+        .arg(output)
+        .args(["--backend", "cpu"])
+        .output()
+        .unwrap()
+}

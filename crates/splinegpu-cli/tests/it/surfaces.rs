@@ -444,14 +444,7 @@ fn surfaces_near_the_process_memory_limit_never_abort() {
         let input = dir.path().join("near.json");
         std::fs::write(&input, doc).unwrap();
         let output = dir.path().join(format!("near.{format}"));
-        let out = std::process::Command::new("sh")
-            .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\""])
-            .arg(env!("CARGO_BIN_EXE_splinegpu"))
-            .args(["tessellate", input.to_str().unwrap(), "-o"])
-            .arg(&output)
-            .args(["--backend", "cpu"])
-            .output()
-            .unwrap();
+        let out = crate::support::tessellate_under_limit(1048576, &input, &output);
         let stderr = String::from_utf8_lossy(&out.stderr);
         match out.status.code() {
             Some(0) => assert!(output.exists(), "{n} {format}"),

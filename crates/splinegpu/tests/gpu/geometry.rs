@@ -86,7 +86,7 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
     };
     out.push((
-        curve(nurbs, 3, loop_points(&mut rng, 6, 5.0)),
+        curve(nurbs.clone(), 3, loop_points(&mut rng, 6, 5.0)),
         Geometry::Ribbon(Ribbon {
             width: Width::Constant(0.2),
             up: Some([0.0, 0.0, 1.0]),
@@ -130,10 +130,6 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         Sampling::Tolerance(1e-3),
         0.05,
     ));
-    let nurbs = CurveKind::Nurbs {
-        knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
-        weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
-    };
     out.push((
         curve(nurbs, 3, loop_points(&mut rng, 6, 5.0)),
         Geometry::Ribbon(Ribbon {

@@ -346,17 +346,7 @@ mod random_curves {
 
         #[test]
         fn arc_length_spacing_meets_1e_6_of_the_length(curve in curve(), m in 2u32..60) {
-            let mut job = EvalJob::new(Derivatives::None);
-            job.push(&curve, &Sampling::ArcLength(m)).unwrap();
-            let table = job.table(0);
-            let ts: Vec<f64> = (0..m as usize).map(|j| job.plan(0).loc(j).t).collect();
-            let (t0, t1) = table.t_range();
-            let total = lengths_at(table, &[t0, t1], 1e-15)[1];
-            let s = lengths_at(table, &ts, 1e-15 * total.max(1e-300));
-            for (j, s_j) in s.iter().enumerate() {
-                let want = total * j as f64 / f64::from(m - 1);
-                prop_assert!((s_j - want).abs() <= 1e-6 * total, "sample {j}: {s_j} vs {want}");
-            }
+            super::assert_arc_spacing(&curve, m);
         }
     }
 
@@ -399,20 +389,26 @@ fn a_segment_of_length_zero_is_placed_without_a_panic() {
     ];
     let curve = Curve::new(kind, Points::new(1, points).unwrap()).unwrap();
     for m in [2, 3, 17] {
-        let mut job = EvalJob::new(Derivatives::None);
-        job.push(&curve, &Sampling::ArcLength(m)).unwrap();
-        let table = job.table(0);
-        let ts: Vec<f64> = (0..m as usize).map(|j| job.plan(0).loc(j).t).collect();
-        let (t0, t1) = table.t_range();
-        let total = lengths_at(table, &[t0, t1], 1e-15)[1];
-        let s = lengths_at(table, &ts, 1e-15 * total);
-        for (j, s_j) in s.iter().enumerate() {
-            let want = total * j as f64 / f64::from(m - 1);
-            assert!(
-                (s_j - want).abs() <= 1e-6 * total,
-                "sample {j}: {s_j} vs {want}"
-            );
-        }
+        assert_arc_spacing(&curve, m);
+    }
+}
+
+/// `curve`'s m arc-length samples lie within 1e-6 L of j L / (m - 1), against the independent
+/// quadrature.
+fn assert_arc_spacing(curve: &Curve, m: u32) {
+    let mut job = EvalJob::new(Derivatives::None);
+    job.push(curve, &Sampling::ArcLength(m)).unwrap();
+    let table = job.table(0);
+    let ts: Vec<f64> = (0..m as usize).map(|j| job.plan(0).loc(j).t).collect();
+    let (t0, t1) = table.t_range();
+    let total = lengths_at(table, &[t0, t1], 1e-15)[1];
+    let s = lengths_at(table, &ts, 1e-15 * total.max(1e-300));
+    for (j, s_j) in s.iter().enumerate() {
+        let want = total * j as f64 / f64::from(m - 1);
+        assert!(
+            (s_j - want).abs() <= 1e-6 * total,
+            "sample {j}: {s_j} vs {want}"
+        );
     }
 }
 

@@ -8,7 +8,7 @@
 //! triangles and the surface.
 
 use splinegpu::geometry::{Geometry, GeometryJob, Meshes, Ribbon, Stroke, Tube, Width};
-use splinegpu::{Basis, Curve, CurveKind, EndCondition, Ends, Points, Sampling, SegmentTable};
+use splinegpu::{Curve, CurveKind, EndCondition, Points, Sampling, SegmentTable};
 
 type V3 = [f64; 3];
 
@@ -319,18 +319,41 @@ fn point_circle(p: V3, c: V3, t: V3, r: f64) -> f64 {
     along.hypot(across - r)
 }
 
+/// The 3-D curve's mesh of `geometry` at tolerance `tol`, made on the CPU.
+fn tolerance_mesh(kind: &CurveKind, points: &[f64], geometry: &Geometry, tol: f64) -> Meshes {
+    let curve = Curve::new(kind.clone(), Points::new(3, points.to_vec()).unwrap()).unwrap();
+    let mut job = GeometryJob::new();
+    job.push(&curve, geometry, &Sampling::Tolerance(tol))
+        .unwrap();
+    job.evaluate_cpu()
+}
+
+/// Both directions' largest distances within tol, printed as fractions of it.
+fn assert_within(what: &str, m: &Meshes, out: f64, back: f64, tol: f64) {
+    eprintln!(
+        "{what} tol {tol}: {} vertices, mesh to surface {:.3} tol, surface to mesh {:.3} tol",
+        m.t.len(),
+        out / tol,
+        back / tol
+    );
+    assert!(
+        out <= tol,
+        "a triangle strays {out} from the {what} (tol {tol})"
+    );
+    assert!(
+        back <= tol,
+        "the {what} strays {back} from the mesh (tol {tol})"
+    );
+}
+
 fn tubes_within(kind: &CurveKind, points: &[f64], radii: &[f64], tol: f64, caps: bool) -> f64 {
     let exact = Exact::new(kind, points, 3, radii);
-    let curve = Curve::new(kind.clone(), Points::new(3, points.to_vec()).unwrap()).unwrap();
     let geometry = Geometry::Tube(Tube {
         radius: Width::PerPoint(radii.to_vec()),
         caps,
         ..Tube::default()
     });
-    let mut job = GeometryJob::new();
-    job.push(&curve, &geometry, &Sampling::Tolerance(tol))
-        .unwrap();
-    let m = job.evaluate_cpu();
+    let m = tolerance_mesh(kind, points, &geometry, tol);
     let range = exact.range();
     // With caps, the discs at the ends are part of the shape.
     let disc = |p: V3, t: f64| {
@@ -362,37 +385,15 @@ fn tubes_within(kind: &CurveKind, points: &[f64], radii: &[f64], tol: f64, caps:
         })
     });
     let back = shape_to_mesh(&m, range, samples);
-    eprintln!(
-        "tube tol {tol}: {} vertices, mesh to surface {:.3} tol, surface to mesh {:.3} tol",
-        m.t.len(),
-        out / tol,
-        back / tol
-    );
-    assert!(
-        out <= tol,
-        "a triangle strays {out} from the tube (tol {tol})"
-    );
-    assert!(
-        back <= tol,
-        "the tube strays {back} from the mesh (tol {tol})"
-    );
+    assert_within("tube", &m, out, back, tol);
     out.max(back)
 }
 
-/// The trefoil of tests/it/geometry.rs, closed Catmull-Rom through 24 points.
+/// The trefoil of tests/it/geometry.rs (closed Catmull-Rom through 24 points): its kind and
+/// points.
 fn trefoil() -> (CurveKind, Vec<f64>) {
-    let points = (0..24)
-        .flat_map(|i| {
-            let a = std::f64::consts::TAU * f64::from(i) / 24.0;
-            let r = 2.0 + (3.0 * a).cos();
-            [r * (2.0 * a).cos(), r * (2.0 * a).sin(), (3.0 * a).sin()]
-        })
-        .collect();
-    let kind = CurveKind::Uniform {
-        basis: Basis::CatmullRom,
-        ends: Ends::Closed,
-    };
-    (kind, points)
+    let curve = super::trefoil();
+    (curve.kind().clone(), curve.points().coords().to_vec())
 }
 
 /// A helix of 1.5 turns through 10 points, natural spline.
@@ -515,15 +516,11 @@ impl Frame {
 fn ribbons_within(kind: &CurveKind, points: &[f64], widths: &[f64], tol: f64, closed: bool) {
     let exact = Exact::new(kind, points, 3, widths);
     let frame = Frame::new(&exact, closed);
-    let curve = Curve::new(kind.clone(), Points::new(3, points.to_vec()).unwrap()).unwrap();
     let geometry = Geometry::Ribbon(Ribbon {
         width: Width::PerPoint(widths.to_vec()),
         ..Ribbon::default()
     });
-    let mut job = GeometryJob::new();
-    job.push(&curve, &geometry, &Sampling::Tolerance(tol))
-        .unwrap();
-    let m = job.evaluate_cpu();
+    let m = tolerance_mesh(kind, points, &geometry, tol);
     let range = exact.range();
     let across = |t: f64| {
         let (c, _, w) = exact.at(t);
@@ -540,20 +537,7 @@ fn ribbons_within(kind: &CurveKind, points: &[f64], widths: &[f64], tol: f64, cl
         (0..=8).map(move |k| (t, add(a, scale(sub(b, a), f64::from(k) / 8.0))))
     });
     let back = shape_to_mesh(&m, range, samples);
-    eprintln!(
-        "ribbon tol {tol}: {} vertices, mesh to surface {:.3} tol, surface to mesh {:.3} tol",
-        m.t.len(),
-        out / tol,
-        back / tol
-    );
-    assert!(
-        out <= tol,
-        "a triangle strays {out} from the ribbon (tol {tol})"
-    );
-    assert!(
-        back <= tol,
-        "the ribbon strays {back} from the mesh (tol {tol})"
-    );
+    assert_within("ribbon", &m, out, back, tol);
 }
 
 #[test]
