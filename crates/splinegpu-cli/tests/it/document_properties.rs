@@ -364,6 +364,9 @@ fn valid_geometry_document() -> impl Strategy<Value = String> {
     let sampling = prop_oneof![
         (1u32..5).prop_map(|k| format!(r#"{{"per_segment": {k}}}"#)),
         (2u32..24).prop_map(|m| format!(r#"{{"arc_length": {m}}}"#)),
+        // Certified cross-sections: refused where they cannot be had (a cusp, a corner of a
+        // tube, sides too few), located.
+        (0.01f64..0.5).prop_map(|tol| format!(r#"{{"tolerance": {tol:?}}}"#)),
     ];
     (sampling, prop::collection::vec(curve, 1..4)).prop_map(|(sampling, curves)| {
         format!(

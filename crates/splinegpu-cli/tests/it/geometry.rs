@@ -657,6 +657,17 @@ fn tolerance_geometry_is_the_librarys_and_its_limits_exit_2() {
         assert!(stderr.contains(want), "{text}: {stderr}");
         assert!(!dir.path().join("bad.json").exists());
     }
+    // A tolerance no polygon of at most 2^20 sides meets.
+    let fine = doc(
+        r#""sampling": {"tolerance": 1e-300},"#,
+        &format!(r#"{LINE3}, "geometry": {{"tube": {{"radius": 0.1}}}}"#),
+    );
+    let (status, stderr) = tessellate(dir.path(), &fine, "bad.json", "cpu");
+    assert_eq!(status, 2, "{stderr}");
+    assert!(
+        stderr.contains("curve 0: \"tolerance\" 1e-300 asks more than 2^20 sides"),
+        "{stderr}"
+    );
     // A Bezier chain that turns a corner: one ring cannot stand for both sides' circles.
     let corner = r#"{"curves": [{"kind": "bezier", "sampling": {"tolerance": 0.01},
  "points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0],[3,1,0],[3,2,0],[3,3,0]],

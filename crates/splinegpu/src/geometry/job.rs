@@ -756,9 +756,20 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         if failing.is_empty() {
             break (merged, indices, lengths);
         }
+        let (before, first_failing) = (locs.len(), failing[0].t);
         locs.extend(failing);
         locs.sort_by(|a, b| a.t.total_cmp(&b.t));
         locs.dedup_by(|a, b| a.t == b.t && a.segment == b.segment);
+        if locs.len() == before {
+            // Cells too small to halve in f64, and still failing.
+            return Err(InputError::field(
+                "tolerance",
+                format!(
+                    "cannot be certified near t = {first_failing}: its cells cannot be halved \
+                     further (use per_segment or arc_length sampling)"
+                ),
+            ));
+        }
         if locs.len() > MAX_SECTIONS {
             return Err(InputError::field(
                 "sampling",
@@ -808,10 +819,20 @@ fn tube_sides(
         return Ok(sides);
     };
     let Some(sides) = sides else {
-        return Ok(tolerance::default_sides(
-            tolerance::largest_width(table),
-            tol,
-        ));
+        let radius = tolerance::largest_width(table);
+        let sides = tolerance::default_sides(radius, tol);
+        if sides as usize > MAX_SECTIONS {
+            return Err(InputError::field(
+                "tolerance",
+                format!(
+                    "{} asks more than 2^20 sides of a tube of radius up to {} (its polygon \
+                     alone must stay within tol/2 of the circle)",
+                    Shown(tol),
+                    Shown(radius)
+                ),
+            ));
+        }
+        return Ok(sides);
     };
     if sides < 3 {
         return Err(InputError::field(
