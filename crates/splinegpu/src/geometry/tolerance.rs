@@ -54,6 +54,10 @@ use crate::segment::{Segment, SegmentTable};
 /// against the minimal rotation is bounded for it (see [`FrameSlack`]).
 const LARGEST_TURN: f64 = 0.5;
 
+/// The most coordinates a widened table has here: a tube's or ribbon's 3 and the width (a
+/// stroke's table has 3).
+const COORDS: usize = 4;
+
 /// The smallest turn between a joint's tangents that makes it a corner, in radians (as a
 /// stroke's).
 const CORNER: f64 = 1e-6;
@@ -182,6 +186,9 @@ impl CellBounds {
     /// overflow).
     pub(crate) fn of(segment: &Segment<'_>, ua: f64, ub: f64) -> Option<Self> {
         let dim = segment.power()[0].len();
+        if dim > COORDS {
+            return None;
+        }
         let position = dim - 1;
         let (m, rho) = (0.5 * (ua + ub), 0.5 * (ub - ua));
         let [a, b, c, d] = segment.power();
@@ -197,7 +204,7 @@ impl CellBounds {
             return None;
         }
         // Ñ = N − c W about m, coordinate by coordinate (N has no constant term).
-        let mut shifted = [[0.0; 6]; crate::points::MAX_DIM + 1];
+        let mut shifted = [[0.0; 6]; COORDS];
         // The width at m: D + N(m) / W(m).
         let mut w_mid = 0.0;
         for k in 0..dim {
@@ -217,7 +224,7 @@ impl CellBounds {
         let [kw0, kw1, kw2, _] = quotient_bounds(nw_max, w_max, w_lo);
         // The speed's numerator Ñ' W − Ñ W' (Ñ' where W ≡ 1).
         let dw = derivative(&w);
-        let mut speed = [[0.0; 6]; crate::points::MAX_DIM];
+        let mut speed = [[0.0; 6]; COORDS - 1];
         for (out, n) in speed.iter_mut().zip(pos) {
             *out = if rational {
                 let (a, b) = (product(&derivative(n), &w), product(n, &dw));
@@ -369,11 +376,11 @@ impl<'a> Carried<'a> {
         let mut positions = Vec::with_capacity(places.len());
         let mut widths = Vec::with_capacity(places.len());
         let (mut d1s, mut d2s) = (Vec::with_capacity(places.len()), Vec::new());
-        let mut p = [0.0; crate::points::MAX_DIM + 1];
+        let mut p = [0.0; COORDS];
         let dim = table.dim();
         for loc in places {
             let segment = table.segment(loc.segment);
-            let (mut d1, mut d2) = ([0.0; crate::points::MAX_DIM + 1], [0.0; 4]);
+            let (mut d1, mut d2) = ([0.0; COORDS], [0.0; COORDS]);
             segment.eval(loc.u, &mut p[..dim]);
             segment.deriv(loc.u, &mut d1[..dim]);
             segment.deriv2(loc.u, &mut d2[..dim]);
@@ -460,7 +467,7 @@ impl<'a> Carried<'a> {
             let segment = self.table.segment(s);
             if b.segment != a.segment || ub == 1.0 {
                 // The tangent the ring at b stands for, against the arriving side's.
-                let mut d = [[0.0; crate::points::MAX_DIM + 1]; 2];
+                let mut d = [[0.0; COORDS]; 2];
                 let dim = self.table.dim();
                 let [d1, d2] = &mut d;
                 segment.deriv(1.0, &mut d1[..dim]);
