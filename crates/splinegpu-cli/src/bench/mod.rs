@@ -141,10 +141,16 @@ pub fn run(
             )?,
             "w1-arc" => {
                 evaluation(name, &w1_arc_job(), None, gpu, &mut report)?;
+                whole_call(name, |_| Sampling::ArcLength(993), &mut report);
                 kurbo_arclen(&mut report);
             }
             "w1-tol" => {
                 evaluation(name, &w1_tol_job(), None, gpu, &mut report)?;
+                whole_call(
+                    name,
+                    |curve| Sampling::Tolerance(workloads::w1_tolerance(curve)),
+                    &mut report,
+                );
                 wang(&mut report);
                 kurbo_flatten(&mut report);
             }
@@ -163,7 +169,7 @@ pub fn run(
                     gpu,
                     &mut report,
                 )?;
-                whole_call(name, &mut report);
+                whole_call(name, |_| Sampling::PerSegment(32), &mut report);
             }
         }
     }
@@ -723,13 +729,21 @@ fn eval_at(
     Ok(())
 }
 
-/// w1's `cpu-whole`: the library call as a caller with w1's points makes it, each run from the
-/// points: the curves fitted and planned on every thread (`EvalJob::push_many`), then evaluated
-/// in f64 with t into reused samples. The Python bench compares its `tessellate(out=...)`
-/// against this figure: the difference is the bindings' own cost.
-fn whole_call(workload: &'static str, report: &mut impl FnMut(&Measurement)) {
+/// `cpu-whole` of w1 (per_segment 32), w1-arc and w1-tol (their samplings): the library call as
+/// a caller with w1's points makes it, each run from the points: the curves fitted and planned
+/// on every thread (`EvalJob::push_many`), then evaluated in f64 with t into reused samples.
+/// The Python bench compares its `tessellate(out=...)` against w1's figure: the difference is
+/// the bindings' own cost.
+fn whole_call(
+    workload: &'static str,
+    sampling: impl Fn(&Curve) -> Sampling,
+    report: &mut impl FnMut(&Measurement),
+) {
     let curves: Vec<(Curve, Sampling)> = w1_curves(&Basis::CatmullRom)
-        .map(|curve| (curve, Sampling::PerSegment(32)))
+        .map(|curve| {
+            let sampling = sampling(&curve);
+            (curve, sampling)
+        })
         .collect();
     let build = || {
         let mut job = EvalJob::new(Derivatives::None);

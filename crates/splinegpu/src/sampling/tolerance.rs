@@ -133,16 +133,27 @@ impl<'a> Cubic<'a> {
     /// A bound on the distance from the curve on [u_a, u_b] to the chord P(u_a)P(u_b) (see the
     /// module docs): it holds exactly, up to rounding.
     fn chord_bound(&self, ua: f64, ub: f64) -> f64 {
+        // Scratch on the stack, sized for the common 1 to 4 coordinates where it can be:
+        // zeroing MAX_DIM's worth on every interval checked costs more than the check.
+        if self.dim() <= 4 {
+            self.chord_bound_in::<4>(ua, ub)
+        } else {
+            self.chord_bound_in::<MAX_DIM>(ua, ub)
+        }
+    }
+
+    /// [`Cubic::chord_bound`] with scratch for N >= dim coordinates.
+    fn chord_bound_in<const N: usize>(&self, ua: f64, ub: f64) -> f64 {
         let dim = self.dim();
         let h = ub - ua;
-        let mut d2 = [[0.0; MAX_DIM]; 2];
+        let mut d2 = [[0.0; N]; 2];
         let [at_a, at_b] = &mut d2;
         for (k, (a, b)) in at_a.iter_mut().zip(at_b.iter_mut()).enumerate().take(dim) {
             (*a, *b) = (self.d2(ua, k), self.d2(ub, k));
         }
         let full = residual_bound(&d2[0][..dim], &d2[1][..dim], h);
         // The chord's direction e, on the stack (this runs for every interval placed).
-        let mut e = [0.0; MAX_DIM];
+        let mut e = [0.0; N];
         for (k, v) in e.iter_mut().enumerate().take(dim) {
             *v = self.point(ub, k) - self.point(ua, k);
         }
