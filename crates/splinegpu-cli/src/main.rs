@@ -63,8 +63,8 @@ enum Command {
     /// joins, caps and tolerance, one thread);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per
     /// invocation) and gpu-store-ceiling (the same in runs of 192 vec4s, the looping shape);
-    /// w1's cpu-whole (from the points: fitted and planned on every thread, evaluated in f64
-    /// with t into reused memory, the whole library call);
+    /// w1's, w1-arc's and w1-tol's cpu-whole (from the points: fitted and planned on every
+    /// thread, evaluated in f64 with t into reused memory, the whole library call);
     /// q1's cpu-1t and cpu-all (the whole call: fitted, indexed, answered into new arrays),
     /// gpu-device (the kernel's dispatches) and gpu-end-to-end (the whole call to f32 answers, with
     /// "misses": answers beyond the contract's GPU bound),
