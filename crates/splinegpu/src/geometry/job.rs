@@ -808,15 +808,14 @@ fn tube_sides(
     table: &SegmentTable,
     tolerance: Option<f64>,
 ) -> Result<u32, InputError> {
+    if let Some(sides) = sides.filter(|&s| s < 3) {
+        return Err(InputError::field(
+            "sides",
+            format!("a tube needs at least 3 sides, got {sides}"),
+        ));
+    }
     let Some(tol) = tolerance else {
-        let sides = sides.unwrap_or(8);
-        if sides < 3 {
-            return Err(InputError::field(
-                "sides",
-                format!("a tube needs at least 3 sides, got {sides}"),
-            ));
-        }
-        return Ok(sides);
+        return Ok(sides.unwrap_or(8));
     };
     let Some(sides) = sides else {
         let radius = tolerance::largest_width(table);
@@ -834,12 +833,6 @@ fn tube_sides(
         }
         return Ok(sides);
     };
-    if sides < 3 {
-        return Err(InputError::field(
-            "sides",
-            format!("a tube needs at least 3 sides, got {sides}"),
-        ));
-    }
     // The largest radius met on a grid of each segment (the refusal must not rest on a bound).
     let dim = table.dim();
     let mut p = vec![0.0; dim];
