@@ -461,6 +461,8 @@ impl<'a> Carried<'a> {
         // Each step's slope, and the turn at its end where a joint ends it.
         let mut slopes = vec![0.0; n.saturating_sub(1)];
         let mut corners = vec![0.0; n.saturating_sub(1)];
+        // Each step's bounds, kept for a cell that is one step (every cell of an undashed curve).
+        let mut step_bounds = vec![None; n.saturating_sub(1)];
         for k in 0..n.saturating_sub(1) {
             let (a, b) = (&self.places[k], &self.places[k + 1]);
             let (s, ua, ub) = span(a, b);
@@ -497,7 +499,8 @@ impl<'a> Carried<'a> {
             if h <= 0.0 {
                 continue;
             }
-            let Some(bounds) = CellBounds::of(&segment, ua, ub) else {
+            step_bounds[k] = CellBounds::of(&segment, ua, ub);
+            let Some(bounds) = step_bounds[k] else {
                 slopes[k] = f64::INFINITY;
                 continue;
             };
@@ -532,7 +535,12 @@ impl<'a> Carried<'a> {
                     Swept::Tube { sides } => self.tube_warp(i, j, sides),
                     Swept::Stroke => 0.0,
                 };
-                let error = CellBounds::of(&segment, ua, ub).map_or(f64::INFINITY, |b| {
+                let bounds = if j == i + 1 {
+                    step_bounds[i]
+                } else {
+                    CellBounds::of(&segment, ua, ub)
+                };
+                let error = bounds.map_or(f64::INFINITY, |b| {
                     b.error(swept, h, slope) + b.w_max * turn + warp
                 });
                 if error.is_nan() || error > tol {
