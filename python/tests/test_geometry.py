@@ -165,8 +165,11 @@ def test_a_gpu_context_makes_float32_meshes_beside_the_cpus(cpu, gpu, method, ke
     cosines = np.einsum("ij,ij->i", got.normals.astype(np.float64), want.normals)
     angles = np.arccos(np.clip(cosines / np.linalg.norm(got.normals, axis=1), -1.0, 1.0))
     assert angles.max() <= 1e-3, angles.max()
-    flat = gpu.strokes(PATHS, width=0.05)
+    flat, exact = gpu.strokes(PATHS, width=0.05), cpu.strokes(PATHS, width=0.05)
     assert flat.points.dtype == np.float32 and flat.points.shape[1] == 2
+    for name in ("t", "triangles", "curve_offsets", "triangle_offsets"):
+        np.testing.assert_array_equal(getattr(flat, name), getattr(exact, name), err_msg=name)
+    np.testing.assert_allclose(flat.points, exact.points, atol=1e-5)
 
 
 def test_curves_that_cannot_be_made_are_named_by_their_index(cpu):

@@ -1,5 +1,6 @@
-// Makes tubes' and ribbons' vertices and unit normals from curves whose width (or radius) is a
-// fourth coordinate of the same spline (src/geometry/widen.rs), one invocation per curve.
+// Makes tubes', ribbons' and strokes' vertices and unit normals from curves whose width (or
+// radius) is a fourth coordinate of the same spline (src/geometry/widen.rs): `main` one
+// invocation per tube or ribbon, `strokes` one per stroke vertex.
 // Rust twins of the structs: src/gpu/geometry/abi.rs. CPU twin, line by line in f32 (same
 // names, loop order and arithmetic): src/gpu/geometry/twin.rs. The f64 reference this follows:
 // src/geometry/frames.rs (the frames) and src/geometry/mesh.rs (rings, strips, normals).
@@ -9,6 +10,12 @@
 // has gone around), so an invocation walks its curve's cross-sections in order, carrying the
 // frame, and writes each ring as it passes it; a closed curve is walked twice, the first time
 // for its closing angle alone. Nothing is stored between cross-sections but the last frame.
+//
+// Why one invocation per stroke vertex: a stroke carries no frame, so each of its vertices is
+// C + h v at its own place, h half the width there and v an offset the host planned in f64
+// (the side's unit normal, a join's or round cap's direction, a miter's reach along its
+// bisector, a square cap's corner: src/geometry/stroke.rs, `build`); neighbouring invocations
+// write neighbouring vertices.
 
 // Rust twin: gpu::geometry::abi::GeometryParams.
 struct GeometryParams {
@@ -18,7 +25,12 @@ struct GeometryParams {
     row_width: u32,
     // The float the curves' `out` count from in the bound output.
     out_base: u32,
+    // Stroke vertices in this dispatch, and invocations per row of the `strokes` dispatch.
+    stroke_vertex_count: u32,
+    stroke_row_width: u32,
     _padding0: u32,
+    _padding1: u32,
+    _padding2: u32,
 }
 
 // Rust twin: gpu::geometry::abi::GpuMeshCurve. Its segments' blocks start at vec4 `first_block`,
@@ -31,7 +43,8 @@ struct GpuMeshCurve {
     rational: u32,
     first_section: u32,
     sections: u32,
-    // 0: a tube, 1: a ribbon.
+    // 0: a tube, 1: a ribbon, 2: a stroke (its curve record holds its table and origin; its
+    // vertices are GpuStrokeVertex records, `sections` 0).
     shape: u32,
     sides: u32,
     _padding2: u32,
@@ -65,11 +78,22 @@ struct GpuSection {
     _padding1: u32,
 }
 
+// Rust twin: gpu::geometry::abi::GpuStrokeVertex. Vertex `vertex` of curve `curve`'s mesh is
+// C + h v at (segment, u), C relative to the curve's origin, h half the width there.
+struct GpuStrokeVertex {
+    curve: u32,
+    vertex: u32,
+    segment: u32,
+    u: f32,
+    v: vec2<f32>,
+}
+
 @group(0) @binding(0) var<uniform> params: GeometryParams;
 @group(0) @binding(1) var<storage, read> curves: array<GpuMeshCurve>;
 @group(0) @binding(2) var<storage, read> blocks: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> sections: array<GpuSection>;
 @group(0) @binding(4) var<storage, read_write> out: array<f32>;
+@group(0) @binding(5) var<storage, read> stroke_vertices: array<GpuStrokeVertex>;
 
 // Rust twin: gpu::geometry::abi::GEOMETRY_WG_SIZE.
 const WG_SIZE: u32 = 64u;
@@ -89,14 +113,13 @@ struct Place {
     width_d1: f32,
 }
 
-fn place(curve: GpuMeshCurve, s: GpuSection) -> Place {
-    let at = curve.first_block + s.segment * curve.block_vec4s;
+fn place(curve: GpuMeshCurve, segment: u32, u: f32) -> Place {
+    let at = curve.first_block + segment * curve.block_vec4s;
     let a = blocks[at];
     let b = blocks[at + 1u];
     let c = blocks[at + 2u];
     let d = blocks[at + 3u];
     let e = blocks[at + 4u];
-    let u = s.u;
     let inv = e.x;
     var value = d + ((a * u + b) * u + c) * u;
     var first = ((3.0 * a * u + 2.0 * b) * u + c) * inv;
@@ -236,7 +259,7 @@ fn walk(curve: GpuMeshCurve, alpha: f32, write: bool) -> vec3<f32> {
     var n = curve.n0.xyz;
     for (var j = 0u; j < curve.sections; j++) {
         let s = sections[curve.first_section + j];
-        let p = place(curve, s);
+        let p = place(curve, s.segment, s.u);
         let t = tangent(p, j == last && j > 0u, previous_t);
         if j > 0u {
             n = reflected_twice(previous_x, p.position, previous_t, t, n);
@@ -260,14 +283,31 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let curve = curves[index];
+    if curve.shape == 2u {
+        return;
+    }
     var alpha = 0.0;
     if curve.closed == 1u {
         // The angle about T_0 from N_0 to the normal carried once around.
         let carried = walk(curve, 0.0, false);
-        let first = place(curve, sections[curve.first_section]);
+        let head = sections[curve.first_section];
+        let first = place(curve, head.segment, head.u);
         let t0 = tangent(first, false, curve.t_first.xyz);
         let n0 = curve.n0.xyz;
         alpha = atan2(dot(cross(n0, carried), t0), dot(n0, carried));
     }
     walk(curve, alpha, true);
+}
+
+@compute @workgroup_size(WG_SIZE)
+fn strokes(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = id.y * params.stroke_row_width + id.x;
+    if index >= params.stroke_vertex_count {
+        return;
+    }
+    let r = stroke_vertices[index];
+    let curve = curves[r.curve];
+    let p = place(curve, r.segment, r.u);
+    let h = 0.5 * p.width;
+    write_vertex(curve, r.vertex, p.position + h * vec3<f32>(r.v, 0.0), vec3<f32>(0.0, 0.0, 1.0));
 }

@@ -148,18 +148,6 @@ pub enum GpuError {
         /// The device's max_storage_buffer_binding_size.
         limit: u64,
     },
-    /// A mesh the GPU kernel does not make yet (a stroke, a dashed curve): a recording takes
-    /// undashed tubes and ribbons only.
-    #[error(
-        "curve {curve}: {what} is made on the host, not recorded on the GPU (make it with \
-         GeometryJob::evaluate_into)"
-    )]
-    NotRecordable {
-        /// The curve's index in the job.
-        curve: usize,
-        /// What it is.
-        what: &'static str,
-    },
     /// A caller's target buffer cannot take the samples
     /// ([`GpuContext::record_into`](crate::GpuContext::record_into)).
     #[error(transparent)]

@@ -6,12 +6,12 @@
 //! meshes' bytes), cpu-all (the job's
 //! meshes made into new memory on every thread, f64), cpu-1t (the same on one thread),
 //! cpu-into (into kept f32 buffers, a renderer's frame), cpu-call (the whole call: every curve
-//! planned on every thread, then made); for tubes also plain-loop (the same rings hand-written
-//! into the same f32 buffers as cpu-into, on every thread: Catmull-Rom from its points,
-//! parallel-transport frames, radial normals), gpu-device (the renderer's recording of the job
-//! into kept vertex buffers, from submission to completion: no packing, no readback) and
-//! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back); for
-//! strokes also cpu-call-1t (the whole call on one thread) and lyon (lyon's stroke tessellator
+//! planned on every thread, then made), gpu-device (the renderer's recording of the job into
+//! kept vertex buffers, from submission to completion: no packing, no readback) and
+//! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back; a
+//! stroke's triangles made on the host from its f64 mesh); for tubes also plain-loop (the same
+//! rings hand-written into the same f32 buffers as cpu-into, on every thread: Catmull-Rom from
+//! its points, parallel-transport frames, radial normals); for strokes also cpu-call-1t (the whole call on one thread) and lyon (lyon's stroke tessellator
 //! on the same curves' Bezier segments, same width, joins, caps and tolerance, one thread).
 
 use std::hint::black_box;
@@ -219,8 +219,8 @@ pub(crate) fn run(
             ..measure("lyon", lyon)
         });
     }
-    if let (Some(gpu), "tubes") = (gpu, name) {
-        gpu_paths(gpu, &work, &job, report)?;
+    if let Some(gpu) = gpu {
+        gpu_paths(gpu, name, &work, &job, report)?;
     }
     Ok(())
 }
@@ -237,11 +237,12 @@ fn f32_measure_as(
     }
 }
 
-/// gpu-device and gpu-end-to-end for the tubes: the job cut into recordings that each fit a
-/// storage binding (lavapipe binds 128 MiB), recorded into kept vertex buffers in one
+/// gpu-device and gpu-end-to-end for workload `name`: the job cut into recordings that each
+/// fit a storage binding (lavapipe binds 128 MiB), recorded into kept vertex buffers in one
 /// submission; and the whole evaluation with its readback.
 fn gpu_paths(
     gpu: &GpuContext,
+    name: &'static str,
     work: &[(Curve, Geometry, Sampling)],
     job: &GeometryJob,
     report: &mut impl FnMut(&Measurement),
@@ -260,7 +261,7 @@ fn gpu_paths(
         let target = gpu
             .device()
             .create_buffer(&splinegpu::wgpu::BufferDescriptor {
-                label: Some("bench tube vertices"),
+                label: Some("bench mesh vertices"),
                 size: recording.layout().bytes.max(4),
                 usage: splinegpu::wgpu::BufferUsages::STORAGE
                     | splinegpu::wgpu::BufferUsages::VERTEX,
@@ -288,7 +289,7 @@ fn gpu_paths(
         return Err(e);
     }
     let measure = |path, times: (f64, f64, f64)| Measurement {
-        workload: "tubes",
+        workload: name,
         path,
         seconds: times.0,
         min_seconds: times.1,

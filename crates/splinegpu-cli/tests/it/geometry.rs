@@ -538,8 +538,7 @@ fn a_mesh_that_overflows_is_refused_in_every_format() {
 }
 
 /// `--backend gpu`: the same triangles, t and offsets, float32 points and normals near the
-/// CPU's (the promise itself is the library's GPU tests'), a stroke among the tubes made on the
-/// host and rounded once.
+/// CPU's (the promise itself is the library's GPU tests'), and a document of strokes.
 #[test]
 fn the_gpu_backend_writes_float32_meshes_beside_the_cpus() {
     if !crate::shared::gpu_tests_run() {

@@ -2,7 +2,8 @@
 //! renderer's vertex buffer by a `GeometryRecording`, moving curves refitted each frame without
 //! reallocating, drawn with a depth buffer and lit by the crate's exact surface normals, off
 //! screen; above them a panel of 2-D strokes (every join and cap, a width per point, dashes and
-//! dots) made on the host into the same vertex layout, and among them the Utah teapot, its
+//! dots, one of them swaying) recorded the same way into the same vertex layout, and among them
+//! the Utah teapot, its
 //! certified mesh written into its own vertex buffer by a `SurfaceRecording`. The last frame is
 //! saved as a PNG and the frame time printed.
 //!
@@ -13,9 +14,7 @@ use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use splinegpu::geometry::{
-    Cap, Dash, Geometry, GeometryJob, Join, MeshPlanes, Stroke, Tube, Width,
-};
+use splinegpu::geometry::{Cap, Dash, Geometry, GeometryJob, Join, Stroke, Tube, Width};
 use splinegpu::surface::{SurfaceJob, SurfaceSampling};
 use splinegpu::{
     Basis, Curve, CurveKind, Derivatives, EndCondition, Ends, GeometryRecording, GpuContext,
@@ -113,8 +112,11 @@ struct Teapot {
     pipeline: wgpu::RenderPipeline,
 }
 
-/// The strokes panel: its meshes in the tubes' vertex layout, and its orthographic camera.
+/// The strokes panel: its job and recording (the wave of growing width sways), its vertex
+/// buffer in the tubes' layout, its indices and its orthographic camera.
 struct Panel {
+    job: GeometryJob,
+    recording: GeometryRecording,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -138,6 +140,32 @@ fn polyline(corners: &[[f64; 2]]) -> Curve {
     }
     Curve::new(CurveKind::Bezier, Points::new(2, points).expect("points")).expect("a polyline")
 }
+
+/// `n` points of a wave from x0, `amplitude` high.
+fn wave(x0: f64, n: usize, amplitude: f64) -> Vec<f64> {
+    (0..n)
+        .flat_map(|k| {
+            let x = x0 + 1.6 * k as f64 / (n - 1) as f64;
+            [x, 1.7 + amplitude * (2.4 * k as f64).sin()]
+        })
+        .collect()
+}
+
+fn curve(points: Vec<f64>) -> Curve {
+    let catmull = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Repeat,
+    };
+    Curve::new(catmull, Points::new(2, points).expect("points")).expect("a wave")
+}
+
+/// The panel's stroke of growing width at `time`: its wave sways.
+fn swaying_wave(time: f64) -> Curve {
+    curve(wave(6.6, 7, 0.8 * (1.3 * time).cos()))
+}
+
+/// Where the swaying wave is among the panel's strokes.
+const SWAYING: usize = 3;
 
 /// The panel's strokes: a zigzag for each join (miter, round, bevel) with each cap (butt,
 /// round, square); a wave whose width grows point by point; a dashed curve; a dotted one.
@@ -169,23 +197,8 @@ fn panel_strokes() -> Vec<(Curve, Geometry, Sampling)> {
             Sampling::PerSegment(4),
         ));
     }
-    let wave = |x0: f64, n: usize, amplitude: f64| -> Vec<f64> {
-        (0..n)
-            .flat_map(|k| {
-                let x = x0 + 1.6 * k as f64 / (n - 1) as f64;
-                [x, 1.7 + amplitude * (2.4 * k as f64).sin()]
-            })
-            .collect()
-    };
-    let catmull = CurveKind::Uniform {
-        basis: Basis::CatmullRom,
-        ends: Ends::Repeat,
-    };
-    let curve = |points: Vec<f64>| {
-        Curve::new(catmull.clone(), Points::new(2, points).expect("points")).expect("a wave")
-    };
     out.push((
-        curve(wave(6.6, 7, 0.8)),
+        swaying_wave(0.0),
         stroke(
             Width::PerPoint((0..7).map(|k| 0.05 + 0.07 * f64::from(k)).collect()),
             Cap::Round,
@@ -224,37 +237,14 @@ fn panel_strokes() -> Vec<(Curve, Geometry, Sampling)> {
 }
 
 impl Panel {
-    /// The strokes made on the host into f32 buffers, laid out as the tubes' vertices
-    /// (position, normal +z), uploaded once.
-    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> Result<Self, Box<dyn Error>> {
+    /// The strokes' recording, writing the tubes' vertex layout (position, normal +z) into
+    /// the panel's vertex buffer each frame; their indices uploaded once.
+    fn new(gpu: &GpuContext, layout: &wgpu::BindGroupLayout) -> Result<Self, Box<dyn Error>> {
+        let device = gpu.device();
         let mut job = GeometryJob::new();
         job.push_many(&panel_strokes())?;
-        let (v, f) = (job.vertex_count() as usize, job.triangle_count() as usize);
-        let (mut points, mut normals) = (vec![0f32; 3 * v], vec![0f32; 3 * v]);
-        let (mut t, mut triangles) = (vec![0.0; v], vec![[0u32; 3]; f]);
-        job.evaluate_into(MeshPlanes {
-            points: &mut points,
-            normals: &mut normals,
-            t: &mut t,
-            triangles: &mut triangles,
-        })?;
-        let interleaved: Vec<f32> = points
-            .chunks_exact(3)
-            .zip(normals.chunks_exact(3))
-            .flat_map(|(p, n)| p.iter().chain(n).copied())
-            .collect();
-        let indices: Vec<u32> = (0..job.len())
-            .flat_map(|c| {
-                let first = job.vertex_offsets()[c] as u32;
-                let range =
-                    job.triangle_offsets()[c] as usize..job.triangle_offsets()[c + 1] as usize;
-                triangles[range]
-                    .iter()
-                    .flatten()
-                    .map(move |&i| first + i)
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let recording = gpu.geometry_recording(&job)?;
+        let indices = recording.indices().to_vec();
         // Stroke space onto the panel's viewport, at depth 0: in front of every tube.
         let projection = Mat4::from_cols(
             glam::Vec4::new(2.0 / PANEL_WIDTH, 0.0, 0.0, 0.0),
@@ -279,12 +269,16 @@ impl Panel {
             bytemuck::bytes_of(&camera),
             wgpu::BufferUsages::UNIFORM,
         );
+        let vertices = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("panel vertices"),
+            size: recording.layout().bytes.max(4),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+            mapped_at_creation: false,
+        });
         Ok(Self {
-            vertices: init(
-                "panel vertices",
-                bytemuck::cast_slice(&interleaved),
-                wgpu::BufferUsages::VERTEX,
-            ),
+            job,
+            recording,
+            vertices,
             indices: init(
                 "panel indices",
                 bytemuck::cast_slice(&indices),
@@ -531,12 +525,13 @@ impl Scene {
 
     /// Adds the strokes panel across the image's top.
     fn add_panel(&mut self, gpu: &GpuContext) -> Result<(), Box<dyn Error>> {
-        self.panel = Some(Panel::new(gpu.device(), &self.camera_layout)?);
+        self.panel = Some(Panel::new(gpu, &self.camera_layout)?);
         Ok(())
     }
 
-    /// One frame at `time`: the strands refitted on the host and uploaded in place, the
-    /// kernel recorded into the vertex buffer, the meshes drawn; submitted and waited for.
+    /// One frame at `time`: the strands (and the panel's swaying stroke) refitted on the host
+    /// and uploaded in place, the kernel recorded into the vertex buffers, the meshes drawn;
+    /// submitted and waited for.
     fn frame(&mut self, gpu: &GpuContext, grid: usize, time: f64) -> Result<(), Box<dyn Error>> {
         for s in 0..grid * grid {
             self.job.refit(s, &strand(s % grid, s / grid, grid, time))?;
@@ -545,6 +540,13 @@ impl Scene {
         let mut encoder = gpu.device().create_command_encoder(&Default::default());
         self.recording
             .record_into(gpu, &mut encoder, &self.vertices, 0)?;
+        if let Some(panel) = &mut self.panel {
+            panel.job.refit(SWAYING, &swaying_wave(time))?;
+            panel.recording.refit(gpu, &panel.job)?;
+            panel
+                .recording
+                .record_into(gpu, &mut encoder, &panel.vertices, 0)?;
+        }
         {
             let color = self.color.create_view(&Default::default());
             let depth = self.depth.create_view(&Default::default());

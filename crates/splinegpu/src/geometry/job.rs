@@ -50,6 +50,38 @@ pub(crate) struct SweptPlan<'a> {
     pub(crate) dashes: Option<&'a [Vec<usize>]>,
 }
 
+/// A curve's plan as the GPU packer reads it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum KernelPlan<'a> {
+    /// A tube or ribbon, dashed or not.
+    Swept(SweptPlan<'a>),
+    /// A stroke: the widened table (x, y, w) and its pieces (one, or one a dash), laid one
+    /// after the other.
+    Stroke {
+        table: &'a SegmentTable,
+        pieces: &'a [StrokePlan],
+    },
+}
+
+impl KernelPlan<'_> {
+    /// A stroke's pieces' topologies (what its triangles are made from), none for a tube or
+    /// ribbon (whose triangles follow from its counts).
+    pub(crate) fn stroke_topology(&self) -> Vec<super::stroke::StrokeTopology> {
+        match self {
+            Self::Swept(_) => Vec::new(),
+            Self::Stroke { pieces, .. } => pieces.iter().map(StrokePlan::topology_key).collect(),
+        }
+    }
+
+    /// The widened table.
+    pub(crate) fn table(&self) -> &SegmentTable {
+        match self {
+            Self::Swept(plan) => plan.table,
+            Self::Stroke { table, .. } => table,
+        }
+    }
+}
+
 /// What is made at one cross-section: its ring's (or ribbon pair's) first vertex, and a cap's
 /// vertex with the way it faces (-1: a piece's start, -T; +1: its end, T).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -328,8 +360,42 @@ impl GeometryJob {
         &self.curves[c].geometry
     }
 
-    /// Curve c's plan as the GPU kernel takes it: a tube or ribbon, dashed or not (strokes are
-    /// made on the host), else `None`.
+    /// Curve c's plan as the GPU kernel takes it.
+    pub(crate) fn kernel_plan(&self, c: usize) -> KernelPlan<'_> {
+        let planned = &self.curves[c];
+        match (self.swept(c), &planned.body) {
+            (Some(plan), _) => KernelPlan::Swept(plan),
+            (None, Body::Stroke(pieces)) => KernelPlan::Stroke {
+                table: &planned.table,
+                pieces,
+            },
+            (None, Body::Swept { .. }) => unreachable!("a swept body has a swept plan"),
+        }
+    }
+
+    /// Each vertex's t and the triangles of curve c's mesh, as the CPU makes them: a tube's
+    /// or ribbon's from its plan alone, a stroke's pieces' from their f64 positions (its
+    /// triangles are turned counter-clockwise by them), one piece after the other.
+    pub(crate) fn topology(&self, c: usize, t: &mut [f64], triangles: &mut [[u32; 3]]) {
+        let planned = &self.curves[c];
+        let pieces = match (self.swept(c), &planned.body) {
+            (Some(plan), _) => return plan.topology(t, triangles),
+            (None, Body::Stroke(pieces)) => pieces,
+            (None, Body::Swept { .. }) => unreachable!("a swept body has a swept plan"),
+        };
+        let (mut v0, mut f0) = (0, 0);
+        for piece in pieces {
+            let (v, f) = (piece.vertices as usize, piece.triangles as usize);
+            let part = &mut triangles[f0..f0 + f];
+            piece.topology(&planned.table, &mut t[v0..v0 + v], part);
+            for i in part.iter_mut().flatten() {
+                *i += v0 as u32;
+            }
+            (v0, f0) = (v0 + v, f0 + f);
+        }
+    }
+
+    /// Curve c's tube or ribbon plan, `None` for a stroke.
     pub(crate) fn swept(&self, c: usize) -> Option<SweptPlan<'_>> {
         let planned = &self.curves[c];
         match &planned.body {
@@ -349,11 +415,6 @@ impl GeometryJob {
             }),
             Body::Stroke(_) => None,
         }
-    }
-
-    /// Curve c's mesh made on the CPU into `out` (sized by its counts).
-    pub(crate) fn make_into<F: SampleFloat>(&self, c: usize, out: &mut MeshOut<'_, F>) {
-        make(&self.curves[c], out);
     }
 
     /// The job's curves cut into consecutive ranges of at most `vertices` vertices each (a

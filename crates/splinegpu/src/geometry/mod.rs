@@ -36,7 +36,7 @@ mod dash;
 pub mod frames;
 pub(crate) mod job;
 pub mod mesh;
-mod stroke;
+pub(crate) mod stroke;
 mod tolerance;
 mod widen;
 

@@ -17,7 +17,6 @@
 //!
 //! Every triangle is counter-clockwise in (x, y).
 
-use super::frames::Vec3;
 use super::mesh::MeshOut;
 use crate::error::InputError;
 use crate::job::samples::SampleFloat;
@@ -103,6 +102,17 @@ enum Corner {
     Round {
         chords: u32,
     },
+}
+
+/// What a stroke's triangles are made from (see [`StrokePlan::topology_key`]): its sections'
+/// count, each corner's arriving section and kind (0 bevel, 1 miter, 2 + chords round), its
+/// caps.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct StrokeTopology {
+    sections: usize,
+    corners: Vec<(usize, u32)>,
+    cap: Option<Cap>,
+    cap_chords: [u32; 2],
 }
 
 /// A stroke's plan: its cross-sections, its corners (after which section, and how), its caps
@@ -328,21 +338,102 @@ impl StrokePlan {
 
     /// Writes the stroke's mesh into `out` (points with z = 0, normals +z).
     pub(crate) fn write<F: SampleFloat>(&self, table: &SegmentTable, out: &mut MeshOut<'_, F>) {
+        let planes = Some((&mut *out.points, &mut *out.normals));
+        self.write_parts(table, planes, out.t, out.triangles);
+    }
+
+    /// Each vertex's t and the triangles of the mesh [`StrokePlan::write`] makes (its
+    /// positions made in f64 to turn the triangles, and dropped).
+    pub(crate) fn topology(&self, table: &SegmentTable, t: &mut [f64], triangles: &mut [[u32; 3]]) {
+        self.write_parts::<f64>(table, None, t, triangles);
+    }
+
+    fn write_parts<F: SampleFloat>(
+        &self,
+        table: &SegmentTable,
+        planes: Option<(&mut [F], &mut [F])>,
+        t: &mut [f64],
+        triangles: &mut [[u32; 3]],
+    ) {
+        let centres = self
+            .sections
+            .iter()
+            .map(|s| {
+                let mut p = [0.0; 3];
+                table.segment(s.segment).eval(s.u, &mut p);
+                ([p[0], p[1]], 0.5 * p[2].max(0.0), s.t)
+            })
+            .collect();
         let mut mesh = Writer {
-            out,
+            planes,
+            t,
+            triangles,
+            centres,
             positions: Vec::with_capacity(self.vertices as usize),
             triangle: 0,
         };
+        self.build(&mut mesh);
+        debug_assert_eq!(mesh.positions.len() as u64, self.vertices);
+        debug_assert_eq!(mesh.triangle as u64, self.triangles);
+    }
+
+    /// Every vertex as the GPU makes it, in the mesh's order: (segment, u, v), the vertex
+    /// being C + h v with C the position and h half the width there (`shaders/geometry.wgsl`'s
+    /// `strokes`).
+    pub(crate) fn gpu_vertices(&self, mut vertex: impl FnMut(usize, f64, [f64; 2])) {
+        struct Recipes<'a, V> {
+            plan: &'a StrokePlan,
+            vertex: V,
+            count: usize,
+        }
+        impl<V: FnMut(usize, f64, [f64; 2])> Build for Recipes<'_, V> {
+            fn vertex(&mut self, section: usize, v: [f64; 2]) -> usize {
+                let s = &self.plan.sections[section];
+                (self.vertex)(s.segment, s.u, v);
+                self.count += 1;
+                self.count - 1
+            }
+            fn triangle(&mut self, _: [usize; 3]) {}
+        }
+        self.build(&mut Recipes {
+            plan: self,
+            vertex: &mut vertex,
+            count: 0,
+        });
+    }
+
+    /// What the mesh's joins and caps are (its sections' count, each corner's place and
+    /// kind, the caps): two plans of the same key make the same triangles from the same
+    /// vertex recipes, up to each triangle's orientation.
+    pub(crate) fn topology_key(&self) -> StrokeTopology {
+        let corners = self
+            .corners
+            .iter()
+            .map(|&(at, corner)| {
+                let kind = match corner {
+                    Corner::Bevel => 0,
+                    Corner::Miter { .. } => 1,
+                    Corner::Round { chords } => 2 + chords,
+                };
+                (at, kind)
+            })
+            .collect();
+        StrokeTopology {
+            sections: self.sections.len(),
+            corners,
+            cap: self.cap,
+            cap_chords: self.cap_chords,
+        }
+    }
+
+    /// Makes the mesh through `mesh`: each vertex from its section and its offset v (the
+    /// vertex is C + h v there), each triangle from the vertices made so far.
+    fn build(&self, mesh: &mut impl Build) {
         // Each section's left and right vertices, 2j and 2j + 1.
-        let mut centres = Vec::with_capacity(self.sections.len());
-        for s in &self.sections {
-            let mut p = [0.0; 3];
-            table.segment(s.segment).eval(s.u, &mut p);
-            let h = 0.5 * p[2].max(0.0);
+        for (j, s) in self.sections.iter().enumerate() {
             let n = [-s.tangent[1], s.tangent[0]];
-            mesh.vertex([p[0] + h * n[0], p[1] + h * n[1]], s.t);
-            mesh.vertex([p[0] - h * n[0], p[1] - h * n[1]], s.t);
-            centres.push(([p[0], p[1]], h));
+            mesh.vertex(j, n);
+            mesh.vertex(j, [-n[0], -n[1]]);
         }
         let corner_after: std::collections::HashSet<usize> =
             self.corners.iter().map(|(at, _)| *at).collect();
@@ -357,7 +448,6 @@ impl StrokePlan {
         for &(at, corner) in &self.corners {
             let next = (at + 1) % self.sections.len();
             let (a, b) = (self.sections[at].tangent, self.sections[next].tangent);
-            let (centre, h) = centres[at];
             // Turning left, the outer side is the right one.
             let left_turn = a[0] * b[1] - a[1] * b[0] > 0.0;
             let (outer_a, outer_b) = if left_turn {
@@ -367,17 +457,13 @@ impl StrokePlan {
             };
             let sign = if left_turn { -1.0 } else { 1.0 };
             let normal = |t: [f64; 2]| [-sign * t[1], sign * t[0]];
-            let c = mesh.vertex(centre, self.sections[at].t);
+            let c = mesh.vertex(at, [0.0, 0.0]);
             match corner {
                 Corner::Bevel => mesh.triangle([c, outer_a, outer_b]),
                 Corner::Miter { reach } => {
                     let (na, nb) = (normal(a), normal(b));
                     let bisector = unit2([na[0] + nb[0], na[1] + nb[1]]).unwrap_or(na);
-                    let r = h * reach;
-                    let m = mesh.vertex(
-                        [centre[0] + r * bisector[0], centre[1] + r * bisector[1]],
-                        self.sections[at].t,
-                    );
+                    let m = mesh.vertex(at, [reach * bisector[0], reach * bisector[1]]);
                     mesh.triangle([c, outer_a, m]);
                     mesh.triangle([c, m, outer_b]);
                 }
@@ -392,17 +478,7 @@ impl StrokePlan {
                     } else {
                         cross.atan2(dot)
                     };
-                    mesh.fan(
-                        c,
-                        centre,
-                        h,
-                        start,
-                        sweep,
-                        chords,
-                        outer_a,
-                        outer_b,
-                        self.sections[at].t,
-                    );
+                    fan(mesh, at, start, sweep, chords, [c, outer_a, outer_b]);
                 }
             }
         }
@@ -411,101 +487,95 @@ impl StrokePlan {
             for (end, (j, forward)) in [(0, -1.0), (last, 1.0)].into_iter().enumerate() {
                 let t = self.sections[j].tangent;
                 let along = [forward * t[0], forward * t[1]];
-                let (centre, h) = centres[j];
+                let n = [-t[1], t[0]];
                 let (l, r) = (2 * j, 2 * j + 1);
                 match cap {
                     Cap::Butt => {}
                     Cap::Square => {
-                        let beyond = |v: usize| {
-                            let p = mesh.position(v);
-                            [p[0] + h * along[0], p[1] + h * along[1]]
-                        };
-                        let (l2, r2) = (beyond(l), beyond(r));
-                        let l2 = mesh.vertex(l2, self.sections[j].t);
-                        let r2 = mesh.vertex(r2, self.sections[j].t);
+                        let l2 = mesh.vertex(j, [n[0] + along[0], n[1] + along[1]]);
+                        let r2 = mesh.vertex(j, [along[0] - n[0], along[1] - n[1]]);
                         mesh.triangle([l, r, r2]);
                         mesh.triangle([l, r2, l2]);
                     }
                     Cap::Round => {
-                        let n = [-t[1], t[0]];
                         let start = n[1].atan2(n[0]);
                         // From the left vertex round the end to the right one.
                         let sweep = std::f64::consts::PI * -forward;
-                        let c = mesh.vertex(centre, self.sections[j].t);
-                        mesh.fan(
-                            c,
-                            centre,
-                            h,
-                            start,
-                            sweep,
-                            self.cap_chords[end],
-                            l,
-                            r,
-                            self.sections[j].t,
-                        );
+                        let c = mesh.vertex(j, [0.0, 0.0]);
+                        fan(mesh, j, start, sweep, self.cap_chords[end], [c, l, r]);
                     }
                 }
             }
         }
-        debug_assert_eq!(mesh.positions.len() as u64, self.vertices);
-        debug_assert_eq!(mesh.triangle as u64, self.triangles);
     }
 }
 
-/// Writes a stroke's vertices and triangles in order, each triangle turned counter-clockwise
-/// (by its f64 positions, kept as they are written).
-struct Writer<'a, 'b, F> {
-    out: &'a mut MeshOut<'b, F>,
+/// What a stroke's mesh is made through: [`Writer`] on the CPU, the GPU's recipes.
+trait Build {
+    /// Makes the vertex C + h v of `section` (C its position, h half its width); its index.
+    fn vertex(&mut self, section: usize, v: [f64; 2]) -> usize;
+    /// Makes a triangle of vertices made before.
+    fn triangle(&mut self, vertices: [usize; 3]);
+}
+
+/// The fan of `chords` triangles about vertex `c` (the centre of `section`) from vertex
+/// `from` round the arc of radius h (angles `start` to `start + sweep`) to vertex `to`.
+fn fan(
+    mesh: &mut impl Build,
+    section: usize,
+    start: f64,
+    sweep: f64,
+    chords: u32,
+    [c, from, to]: [usize; 3],
+) {
+    let mut previous = from;
+    for k in 1..chords {
+        let angle = start + sweep * f64::from(k) / f64::from(chords);
+        let v = mesh.vertex(section, [angle.cos(), angle.sin()]);
+        mesh.triangle([c, previous, v]);
+        previous = v;
+    }
+    mesh.triangle([c, previous, to]);
+}
+
+/// Writes a stroke's vertices (their points and normals where there are planes for them, and
+/// t) and triangles in order, each triangle turned counter-clockwise (by its f64 positions,
+/// kept as they are made).
+struct Writer<'a, F> {
+    planes: Option<(&'a mut [F], &'a mut [F])>,
+    t: &'a mut [f64],
+    triangles: &'a mut [[u32; 3]],
+    /// Each section's position, half width and t.
+    centres: Vec<([f64; 2], f64, f64)>,
     positions: Vec<[f64; 2]>,
     triangle: usize,
 }
 
-impl<F: SampleFloat> Writer<'_, '_, F> {
-    fn vertex(&mut self, p: [f64; 2], t: f64) -> usize {
-        let v = self.positions.len();
-        let position: Vec3 = [p[0], p[1], 0.0];
-        self.out.vertex(v, position, [0.0, 0.0, 1.0], t);
+impl<F: SampleFloat> Build for Writer<'_, F> {
+    fn vertex(&mut self, section: usize, v: [f64; 2]) -> usize {
+        let (c, h, t) = self.centres[section];
+        let p = [c[0] + h * v[0], c[1] + h * v[1]];
+        let index = self.positions.len();
+        if let Some((points, normals)) = &mut self.planes {
+            let at = 3 * index;
+            for (k, (x, n)) in [(p[0], 0.0), (p[1], 0.0), (0.0, 1.0)]
+                .into_iter()
+                .enumerate()
+            {
+                points[at + k] = F::from_f64(x);
+                normals[at + k] = F::from_f64(n);
+            }
+        }
+        self.t[index] = t;
         self.positions.push(p);
-        v
-    }
-
-    fn position(&self, v: usize) -> [f64; 2] {
-        self.positions[v]
+        index
     }
 
     fn triangle(&mut self, [a, b, c]: [usize; 3]) {
-        let (pa, pb, pc) = (self.position(a), self.position(b), self.position(c));
+        let (pa, pb, pc) = (self.positions[a], self.positions[b], self.positions[c]);
         let area = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
         let [a, b, c] = [a, b, c].map(|v| u32::try_from(v).expect("counted within u32"));
-        self.out.triangles[self.triangle] = if area < 0.0 { [a, c, b] } else { [a, b, c] };
+        self.triangles[self.triangle] = if area < 0.0 { [a, c, b] } else { [a, b, c] };
         self.triangle += 1;
-    }
-
-    /// The fan of `chords` triangles about `c` (at `centre`) from vertex `from` round the arc
-    /// of radius `h` (angles `start` to `start + sweep`) to vertex `to`.
-    #[allow(clippy::too_many_arguments, reason = "one fan's whole description")]
-    fn fan(
-        &mut self,
-        c: usize,
-        centre: [f64; 2],
-        h: f64,
-        start: f64,
-        sweep: f64,
-        chords: u32,
-        from: usize,
-        to: usize,
-        t: f64,
-    ) {
-        let mut previous = from;
-        for k in 1..chords {
-            let angle = start + sweep * f64::from(k) / f64::from(chords);
-            let v = self.vertex(
-                [centre[0] + h * angle.cos(), centre[1] + h * angle.sin()],
-                t,
-            );
-            self.triangle([c, previous, v]);
-            previous = v;
-        }
-        self.triangle([c, previous, to]);
     }
 }

@@ -117,7 +117,10 @@ pub struct GpuContext {
     packings: std::sync::Mutex<Vec<curves::pack::Packed>>,
     /// The surface kernel, compiled on first use.
     surface: std::sync::OnceLock<kernel::Kernel>,
+    /// The geometry kernel's entry points (tubes and ribbons; strokes), each compiled on first
+    /// use.
     geometry: std::sync::OnceLock<kernel::Kernel>,
+    geometry_strokes: std::sync::OnceLock<kernel::Kernel>,
     /// The query kernels, each compiled on first use.
     closest: std::sync::OnceLock<kernel::Kernel>,
     surface_closest: std::sync::OnceLock<kernel::Kernel>,
@@ -249,6 +252,7 @@ impl GpuContext {
             packings: std::sync::Mutex::default(),
             surface: std::sync::OnceLock::new(),
             geometry: std::sync::OnceLock::new(),
+            geometry_strokes: std::sync::OnceLock::new(),
             closest: std::sync::OnceLock::new(),
             surface_closest: std::sync::OnceLock::new(),
             rays: std::sync::OnceLock::new(),

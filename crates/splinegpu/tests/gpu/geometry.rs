@@ -1,14 +1,17 @@
-//! Tubes and ribbons made on the GPU against the f64 reference under the contract's promise:
-//! the same vertex counts, triangles and t bit for bit; positions within the curve's GPU
-//! position bound plus 1e-5 of the radius; normals within 1e-3 radians. Curves of many kinds
-//! in one call (closed and open, caps, a rational NURBS, per-point radii, arc-length places,
-//! loops near the origin and at 1e6, a dashed closed tube with capped dashes), with a stroke
-//! made on the host among them. Run under the GPU harness (lavapipe in CI).
+//! Tubes, ribbons and strokes made on the GPU against the f64 reference under the contract's
+//! promise: the same vertex counts, triangles and t bit for bit; positions within the curve's
+//! GPU position bound plus 1e-5 of the radius or width; normals within 1e-3 radians. Curves of
+//! many kinds in one call (closed and open, caps, a rational NURBS, per-point radii,
+//! arc-length places, loops near the origin and at 1e6, a dashed closed tube with capped
+//! dashes; strokes with every join and cap, dashed, rational, at 1e6, at a tolerance). Run
+//! under the GPU harness (lavapipe in CI).
 
 use crate::support::{Rng, gpu};
 use crate::surfaces::read_back;
 use splinegpu::accuracy::gpu_bound;
-use splinegpu::geometry::{Dash, Geometry, GeometryJob, Meshes, Ribbon, Stroke, Tube, Width};
+use splinegpu::geometry::{
+    Cap, Dash, Geometry, GeometryJob, Join, Meshes, Ribbon, Stroke, Tube, Width,
+};
 use splinegpu::{Basis, Curve, CurveKind, EndCondition, Ends, Points, Sampling};
 
 /// A wobbly loop of `n` points about `center`.
@@ -104,7 +107,7 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         Sampling::PerSegment(16),
         0.05,
     ));
-    // A dashed tube (capped dashes on a closed loop), and a stroke, made on the host.
+    // A dashed tube (capped dashes on a closed loop).
     out.push((
         curve(closed, 3, loop_points(&mut rng, 8, 0.0)),
         Geometry::Tube(Tube {
@@ -154,24 +157,111 @@ fn cases() -> Vec<(Curve, Geometry, Sampling, f64)> {
         Sampling::Tolerance(1e-3),
         0.05,
     ));
-    let flat: Vec<f64> = loop_points(&mut rng, 7, 0.0)
-        .chunks(3)
-        .flat_map(|p| [p[0], p[1]])
-        .collect();
-    let catmull = CurveKind::Uniform {
-        basis: Basis::CatmullRom,
-        ends: Ends::Control,
-    };
-    out.push((
-        curve(catmull, 2, flat),
-        Geometry::Stroke(Stroke {
-            width: Width::Constant(0.05),
-            ..Stroke::default()
-        }),
-        Sampling::PerSegment(8),
-        0.05,
-    ));
+    out.extend(strokes(&mut rng));
     out
+}
+
+/// Straight cubic Bezier segments through `corners` (x, y pairs), thirds as inner points.
+fn polyline(corners: &[[f64; 2]]) -> Vec<f64> {
+    let mut out = corners[0].to_vec();
+    for pair in corners.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        for k in 1..=3 {
+            let f = f64::from(k) / 3.0;
+            out.extend([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]);
+        }
+    }
+    out
+}
+
+fn stroke(width: Width, join: Join, cap: Cap) -> Geometry {
+    Geometry::Stroke(Stroke {
+        width,
+        join,
+        cap,
+        ..Stroke::default()
+    })
+}
+
+/// Strokes: a polyline with miters and a bevel past the miter limit, round joins and caps at
+/// 1e6, a cusp with square caps, a rational NURBS with a width per point, a dashed closed
+/// curve, and one at a tolerance.
+fn strokes(rng: &mut Rng) -> Vec<(Curve, Geometry, Sampling, f64)> {
+    let flat =
+        |coords: Vec<f64>| -> Vec<f64> { coords.chunks(3).flat_map(|p| [p[0], p[1]]).collect() };
+    let zigzag = |at: f64| {
+        polyline(&[
+            [at, at],
+            [at + 1.0, at],
+            [at + 2.0, at + 0.1],
+            [at + 1.0, at + 0.2],
+        ])
+    };
+    let nurbs = CurveKind::Nurbs {
+        knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
+        weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
+    };
+    vec![
+        (
+            curve(CurveKind::Bezier, 2, zigzag(0.0)),
+            stroke(Width::Constant(0.05), Join::Miter, Cap::Butt),
+            Sampling::PerSegment(4),
+            0.05,
+        ),
+        (
+            curve(CurveKind::Bezier, 2, zigzag(1e6)),
+            stroke(Width::Constant(0.05), Join::Round, Cap::Round),
+            Sampling::PerSegment(4),
+            0.05,
+        ),
+        (
+            curve(
+                CurveKind::Bezier,
+                2,
+                vec![0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+            ),
+            stroke(Width::Constant(0.05), Join::Bevel, Cap::Square),
+            Sampling::PerSegment(9),
+            0.05,
+        ),
+        (
+            curve(nurbs, 2, flat(loop_points(rng, 6, 1e6))),
+            stroke(
+                Width::PerPoint(vec![0.02, 0.05, 0.1, 0.05, 0.02, 0.08]),
+                Join::Miter,
+                Cap::Round,
+            ),
+            Sampling::PerSegment(12),
+            0.1,
+        ),
+        (
+            curve(closed_again(), 2, flat(loop_points(rng, 9, -2.0))),
+            Geometry::Stroke(Stroke {
+                width: Width::Constant(0.05),
+                cap: Cap::Round,
+                dash: Some(Dash {
+                    lengths: vec![0.8, 0.3],
+                    offset: 0.1,
+                }),
+                ..Stroke::default()
+            }),
+            Sampling::PerSegment(8),
+            0.05,
+        ),
+        (
+            curve(
+                CurveKind::Uniform {
+                    basis: Basis::CatmullRom,
+                    ends: Ends::Control,
+                },
+                2,
+                flat(loop_points(rng, 7, 0.0)),
+            ),
+            stroke(Width::Constant(0.05), Join::Round, Cap::Round),
+            Sampling::Tolerance(1e-3),
+            0.05,
+        ),
+    ]
 }
 
 fn closed_again() -> CurveKind {
@@ -236,7 +326,7 @@ fn check(cases: &[(Curve, Geometry, Sampling, f64)], cpu: &Meshes, gpu: &Meshes<
     }
 }
 
-pub(crate) fn tubes_and_ribbons_of_many_kinds_in_one_call_keep_the_promise() {
+pub(crate) fn tubes_ribbons_and_strokes_of_many_kinds_in_one_call_keep_the_promise() {
     let Some(gpu) = gpu() else { return };
     let cases = cases();
     let mut job = GeometryJob::new();
@@ -258,14 +348,13 @@ pub(crate) fn tubes_and_ribbons_of_many_kinds_in_one_call_keep_the_promise() {
 
 /// The renderer's path: the recording writes what `evaluate_geometry` gives, bit for bit, into
 /// the renderer's vertex buffer (position and normal interleaved), its indices are the
-/// triangles over all vertices, a moving curve refitted in place is recorded as a new job of
-/// it evaluates; strokes, unusable targets and a refit of another shape are refused by name.
-pub(crate) fn a_renderer_records_tubes_into_its_own_buffers_and_refits_moving_curves() {
+/// triangles over all vertices, a moving tube and a moving stroke refitted in place are
+/// recorded as a new job of them evaluates; unusable targets, a refit of another shape and a
+/// stroke whose joins changed are refused by name.
+pub(crate) fn a_renderer_records_meshes_into_its_own_buffers_and_refits_moving_curves() {
     use splinegpu::wgpu;
     let Some(gpu) = gpu() else { return };
-    // The GPU's cases without the host-made one (the stroke).
-    let mut cases = cases();
-    cases.truncate(cases.len() - 1);
+    let cases = cases();
     let mut job = GeometryJob::new();
     for (curve, geometry, sampling, _) in &cases {
         job.push(curve, geometry, sampling).unwrap();
@@ -313,16 +402,24 @@ pub(crate) fn a_renderer_records_tubes_into_its_own_buffers_and_refits_moving_cu
         })
         .collect();
     assert_eq!(recording.indices(), whole.as_slice());
-    // Curve 0 moves: refitted on the host, its tables uploaded in place.
-    let moved: Vec<f64> = cases[0]
-        .0
-        .points()
-        .coords()
+    // Curve 0 (a tube) and the first stroke move: refitted on the host, their tables uploaded
+    // in place.
+    let first_stroke = cases
         .iter()
-        .map(|x| x * 1.1 + 0.3)
-        .collect();
-    let moved = Curve::new(cases[0].0.kind().clone(), Points::new(3, moved).unwrap()).unwrap();
-    job.refit(0, &moved).unwrap();
+        .position(|(_, g, _, _)| matches!(g, Geometry::Stroke(_)))
+        .unwrap();
+    for c in [0, first_stroke] {
+        let curve = &cases[c].0;
+        let moved: Vec<f64> = curve
+            .points()
+            .coords()
+            .iter()
+            .map(|x| x * 1.1 + 0.3)
+            .collect();
+        let dim = curve.points().dim();
+        let moved = Curve::new(curve.kind().clone(), Points::new(dim, moved).unwrap()).unwrap();
+        job.refit(c, &moved).unwrap();
+    }
     recording.refit(gpu, &job).unwrap();
     let again = gpu.evaluate_geometry(&job).unwrap();
     assert!(
@@ -330,14 +427,17 @@ pub(crate) fn a_renderer_records_tubes_into_its_own_buffers_and_refits_moving_cu
         "refitted vertices differ"
     );
     assert!(again.points != made.points);
-    // Refused: another job's shape, strokes, targets it cannot write.
+    // Refused: another job's shape; a stroke whose miter and bevel swapped corners (the same
+    // counts, other triangles); targets it cannot write.
     let mut other = GeometryJob::new();
     other.push(&cases[1].0, &cases[1].1, &cases[1].2).unwrap();
     let error = recording.refit(gpu, &other).unwrap_err();
     assert_eq!(error.field.as_deref(), Some("job"));
-    let all = cases_job(&self::cases());
-    let error = gpu.geometry_recording(&all).unwrap_err().to_string();
-    assert!(error.contains("is made on the host"), "{error}");
+    let swapped = polyline(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.1], [-1.0, 0.25]]);
+    let swapped = curve(CurveKind::Bezier, 2, swapped);
+    job.refit(first_stroke, &swapped).unwrap();
+    let error = recording.refit(gpu, &job).unwrap_err();
+    assert!(error.to_string().contains("other joins or caps"), "{error}");
     let mut encoder = gpu.device().create_command_encoder(&Default::default());
     let small = gpu.device().create_buffer(&wgpu::BufferDescriptor {
         label: None,
@@ -351,12 +451,4 @@ pub(crate) fn a_renderer_records_tubes_into_its_own_buffers_and_refits_moving_cu
             .record_into(gpu, &mut encoder, &target, 4)
             .is_err()
     );
-}
-
-fn cases_job(cases: &[(Curve, Geometry, Sampling, f64)]) -> GeometryJob {
-    let mut job = GeometryJob::new();
-    for (curve, geometry, sampling, _) in cases {
-        job.push(curve, geometry, sampling).unwrap();
-    }
-    job
 }

@@ -230,7 +230,7 @@ fn surface_structs_match_their_rust_twins_and_the_workgroup_size() {
 fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
     use crate::gpu::geometry::abi::{
         GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, GpuMeshCurve,
-        GpuSection,
+        GpuSection, GpuStrokeVertex, SHAPE_STROKE,
     };
     let module = naga::front::wgsl::parse_str(GEOMETRY_WGSL).expect("geometry.wgsl parses");
     naga::valid::Validator::new(
@@ -243,7 +243,13 @@ fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
         &module,
         "GeometryParams",
         GeometryParams,
-        [curve_count, row_width, out_base]
+        [
+            curve_count,
+            row_width,
+            out_base,
+            stroke_vertex_count,
+            stroke_row_width
+        ]
     );
     assert_twin!(
         &module,
@@ -271,12 +277,24 @@ fn geometry_structs_bindings_and_workgroup_size_match_their_rust_twins() {
         GpuSection,
         [segment, u, along, first_vertex, cap_vertex, cap_sign]
     );
-    let entry = module
-        .entry_points
-        .iter()
-        .find(|e| e.name == "main")
-        .expect("entry point main");
-    assert_eq!(entry.workgroup_size, [GEOMETRY_WG_SIZE, 1, 1]);
+    assert_twin!(
+        &module,
+        "GpuStrokeVertex",
+        GpuStrokeVertex,
+        [curve, vertex, segment, u, v]
+    );
+    for name in ["main", "strokes"] {
+        let entry = module
+            .entry_points
+            .iter()
+            .find(|e| e.name == name)
+            .unwrap_or_else(|| panic!("entry point {name}"));
+        assert_eq!(entry.workgroup_size, [GEOMETRY_WG_SIZE, 1, 1], "{name}");
+    }
+    assert!(
+        GEOMETRY_WGSL.contains(&format!("if curve.shape == {SHAPE_STROKE}u {{")),
+        "SHAPE_STROKE is the Rust twin's"
+    );
     assert!(
         GEOMETRY_WGSL.contains(&format!(
             "const NONE: u32 = 0x{:x}u;",

@@ -13,14 +13,15 @@ pub(crate) const GEOMETRY_WG_SIZE: u32 = 64;
 /// Floats a vertex takes in the kernel's output: its position, then its unit normal.
 pub(crate) const VERTEX_FLOATS: usize = 6;
 
-/// The kernel's bindings, in order: the uniform, then curves, blocks, sections (read) and the
-/// output (read-write).
-pub(crate) const GEOMETRY_BINDINGS: [wgpu::BufferBindingType; 5] = [
+/// The kernel's bindings, in order: the uniform, then curves, blocks, sections (read), the
+/// output (read-write) and the strokes' vertices (read); both entry points take them all.
+pub(crate) const GEOMETRY_BINDINGS: [wgpu::BufferBindingType; 6] = [
     wgpu::BufferBindingType::Uniform,
     wgpu::BufferBindingType::Storage { read_only: true },
     wgpu::BufferBindingType::Storage { read_only: true },
     wgpu::BufferBindingType::Storage { read_only: true },
     wgpu::BufferBindingType::Storage { read_only: false },
+    wgpu::BufferBindingType::Storage { read_only: true },
 ];
 
 /// Per-dispatch uniforms. WGSL twin: `GeometryParams`.
@@ -30,7 +31,11 @@ pub(crate) struct GeometryParams {
     pub curve_count: u32,
     pub row_width: u32,
     pub out_base: u32,
+    pub stroke_vertex_count: u32,
+    pub stroke_row_width: u32,
     pub _padding0: u32,
+    pub _padding1: u32,
+    pub _padding2: u32,
 }
 
 /// One curve's mesh. WGSL twin: `GpuMeshCurve` (its fields' meaning there).
@@ -59,6 +64,19 @@ pub(crate) struct GpuMeshCurve {
 pub(crate) const SHAPE_TUBE: u32 = 0;
 /// [`GpuMeshCurve::shape`] of a ribbon.
 pub(crate) const SHAPE_RIBBON: u32 = 1;
+/// [`GpuMeshCurve::shape`] of a stroke (its vertices are [`GpuStrokeVertex`]es).
+pub(crate) const SHAPE_STROKE: u32 = 2;
+
+/// One stroke vertex: C + h v at (segment, u) of its curve. WGSL twin: `GpuStrokeVertex`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Zeroable, Pod)]
+#[repr(C)]
+pub(crate) struct GpuStrokeVertex {
+    pub curve: u32,
+    pub vertex: u32,
+    pub segment: u32,
+    pub u: f32,
+    pub v: [f32; 2],
+}
 
 /// One cross-section and what is made there. WGSL twin: `GpuSection` (its fields' meaning
 /// there).

@@ -1,42 +1,88 @@
-//! A geometry job's meshes on the GPU: tubes and ribbons, dashed or not, through
-//! `shaders/geometry.wgsl` in groups whose every binding fits the device's limits, strokes made
-//! on the host (their kernel is to come) and rounded to f32 once; every vertex's t and the
-//! triangles made on the host, as the CPU makes them.
+//! A geometry job's meshes on the GPU: tubes and ribbons (dashed or not) and strokes through
+//! `shaders/geometry.wgsl` in groups whose every binding fits the device's limits; every
+//! vertex's t and the triangles made on the host, as the CPU makes them.
 
 use rayon::prelude::*;
 
 use crate::error::GpuError;
-use crate::geometry::job::SweptPlan;
-use crate::geometry::job::split_planes;
+use crate::geometry::job::{KernelPlan, split_planes};
 use crate::geometry::mesh::MeshOut;
 use crate::geometry::{GeometryJob, MeshPlanes, Meshes};
 use crate::gpu::GpuContext;
 use crate::gpu::geometry::abi::{
-    GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, VERTEX_FLOATS,
+    GEOMETRY_BINDINGS, GEOMETRY_WG_SIZE, GEOMETRY_WGSL, GeometryParams, SHAPE_STROKE, VERTEX_FLOATS,
 };
 use crate::gpu::geometry::pack::{PackedGeometry, binding_bytes};
 use crate::gpu::kernel::{Kernel, workgroup_grid};
 use crate::gpu::pool::Lease;
 use crate::gpu::surfaces::dispatch::nonempty;
 
+/// A dispatch of packed curves: its uniforms, and each entry point's grid where it has work
+/// (`main` over the curves, when any is a tube or ribbon; `strokes` over the stroke vertices).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Launch {
+    pub(crate) params: GeometryParams,
+    main: Option<(u32, u32)>,
+    strokes: Option<(u32, u32)>,
+}
+
+impl Launch {
+    pub(crate) fn new(device: &wgpu::Device, packed: &PackedGeometry) -> Self {
+        let curves = packed.curves.len() as u32;
+        let stroke_vertices = packed.stroke_vertices.len() as u32;
+        let grid = workgroup_grid(device, curves, GEOMETRY_WG_SIZE);
+        let stroke_grid = workgroup_grid(device, stroke_vertices, GEOMETRY_WG_SIZE);
+        let swept = packed.curves.iter().any(|c| c.shape != SHAPE_STROKE);
+        Self {
+            params: GeometryParams {
+                curve_count: curves,
+                row_width: grid.0 * GEOMETRY_WG_SIZE,
+                stroke_vertex_count: stroke_vertices,
+                stroke_row_width: stroke_grid.0 * GEOMETRY_WG_SIZE,
+                ..GeometryParams::default()
+            },
+            main: swept.then_some(grid),
+            strokes: (stroke_vertices > 0).then_some(stroke_grid),
+        }
+    }
+}
+
 impl GpuContext {
-    pub(crate) fn geometry_kernel(&self) -> &Kernel {
-        self.geometry.get_or_init(|| {
-            Kernel::new(
-                &self.device,
-                "geometry.wgsl",
-                GEOMETRY_WGSL,
-                &GEOMETRY_BINDINGS,
-            )
-        })
+    /// Records `launch`'s entry points into `encoder`, bound to `resources` (in the order of
+    /// `GEOMETRY_BINDINGS`).
+    pub(crate) fn record_geometry(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        resources: &[wgpu::BindingResource<'_>],
+        launch: &Launch,
+    ) {
+        let kernels = [
+            (launch.main, &self.geometry, "main"),
+            (launch.strokes, &self.geometry_strokes, "strokes"),
+        ];
+        for (grid, kernel, entry) in kernels {
+            let Some(grid) = grid else { continue };
+            let kernel = kernel.get_or_init(|| {
+                Kernel::with_entry(
+                    &self.device,
+                    "geometry.wgsl",
+                    GEOMETRY_WGSL,
+                    entry,
+                    &GEOMETRY_BINDINGS,
+                )
+            });
+            kernel.record(&self.device, encoder, label, resources.to_vec(), grid, None);
+        }
     }
 
-    /// Every mesh of `job` with f32 positions and normals: tubes and ribbons, dashed or not,
-    /// made on the GPU (one invocation a curve carrying its frame along its cross-sections),
-    /// strokes on the host (their kernel is not built yet); t and the triangles as the
-    /// CPU makes them, bit for bit. Positions within the curve's GPU position bound plus
-    /// 1e-5 of the radius or width of [`GeometryJob::evaluate_cpu`]'s, normals within 1e-3
-    /// radians (the contract's promise, tested on lavapipe).
+    /// Every mesh of `job` with f32 positions and normals made on the GPU: tubes and ribbons
+    /// (dashed or not; one invocation a curve carrying its frame along its cross-sections)
+    /// and strokes (one invocation a vertex); t and the triangles as the CPU makes them, bit
+    /// for bit (a stroke's triangles are turned by its f64 positions, so the host makes its
+    /// f64 mesh for them). Positions within the curve's GPU position bound plus 1e-5 of the
+    /// radius or width of [`GeometryJob::evaluate_cpu`]'s, normals within 1e-3 radians (the
+    /// contract's promise, tested on lavapipe).
     ///
     /// # Errors
     /// [`GpuError`] when the device is lost or a buffer cannot be mapped,
@@ -77,49 +123,28 @@ impl GpuContext {
             vertex_offsets,
             triangle_offsets,
         };
-        // Every curve's t and triangles, and the host-made meshes, on every thread; the swept
-        // curves' plans kept in order for the kernel, with their place in `curves`.
-        let vertex_offsets = meshes.vertex_offsets.clone();
+        // Every curve's t and triangles on every thread.
         let mut outs = split(&mut meshes);
-        let swept: Vec<Option<(usize, SweptPlan<'_>)>> = curves
+        curves
             .clone()
             .into_par_iter()
             .zip(outs.par_iter_mut())
-            .map(|(c, out)| match job.swept(c) {
-                Some(plan) => {
-                    plan.topology(out.t, out.triangles);
-                    Some((c, plan))
-                }
-                None => {
-                    job.make_into(c, out);
-                    None
-                }
-            })
-            .collect();
-        let places: Vec<usize> = (0..swept.len()).filter(|&i| swept[i].is_some()).collect();
-        let on_device: Vec<(usize, SweptPlan<'_>)> = swept.iter().flatten().copied().collect();
+            .for_each(|(c, out)| job.topology(c, out.t, out.triangles));
+        let plans: Vec<(usize, KernelPlan<'_>)> =
+            curves.clone().map(|c| (c, job.kernel_plan(c))).collect();
         let limits = self.device.limits();
         let binding = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let mut done = 0;
-        for group in binding_groups(&on_device, binding)? {
-            let mine = &places[done..done + group.len()];
-            done += group.len();
+        let mut outs = outs.iter_mut();
+        for group in binding_groups(&plans, binding)? {
             // The group's curves' outputs (disjoint), and where each one's values start.
-            let mut targets: Vec<&mut MeshOut<'_, f32>> = Vec::with_capacity(mine.len());
-            let mut wanted = mine.iter().peekable();
-            for (i, out) in outs.iter_mut().enumerate() {
-                if wanted.peek() == Some(&&i) {
-                    targets.push(out);
-                    wanted.next();
-                }
-            }
-            let starts: Vec<usize> = mine
+            let mut targets: Vec<&mut MeshOut<'_, f32>> = outs.by_ref().take(group.len()).collect();
+            let starts: Vec<usize> = targets
                 .iter()
-                .scan(0, |at, &i| {
+                .scan(0, |at, out| {
                     let start = *at;
-                    *at += VERTEX_FLOATS * range(&vertex_offsets, i).len();
+                    *at += VERTEX_FLOATS * out.t.len();
                     Some(start)
                 })
                 .collect();
@@ -143,14 +168,7 @@ impl GpuContext {
     ) -> Result<(), GpuError> {
         use wgpu::util::DeviceExt;
         let device = &self.device;
-        let kernel = self.geometry_kernel();
-        let grid = workgroup_grid(device, packed.curves.len() as u32, GEOMETRY_WG_SIZE);
-        let params = GeometryParams {
-            curve_count: packed.curves.len() as u32,
-            row_width: grid.0 * GEOMETRY_WG_SIZE,
-            out_base: 0,
-            _padding0: 0,
-        };
+        let launch = Launch::new(device, packed);
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -161,7 +179,7 @@ impl GpuContext {
         let storage = wgpu::BufferUsages::STORAGE;
         let uniform = init(
             "geometry params",
-            bytemuck::bytes_of(&params),
+            bytemuck::bytes_of(&launch.params),
             wgpu::BufferUsages::UNIFORM,
         );
         let mut lease = Lease::new(&self.pool, device);
@@ -186,6 +204,10 @@ impl GpuContext {
             "geometry sections",
             bytemuck::cast_slice(&nonempty(&packed.sections)),
         );
+        let stroke_vertices = table(
+            "geometry stroke vertices",
+            bytemuck::cast_slice(&nonempty(&packed.stroke_vertices)),
+        );
         let floats = VERTEX_FLOATS * packed.vertices;
         let bytes = (4 * floats).max(4) as u64;
         let output = lease.take(
@@ -199,21 +221,24 @@ impl GpuContext {
             wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         );
         let mut encoder = device.create_command_encoder(&Default::default());
-        let resources = [&uniform, &curves, &blocks, &sections, &output]
-            .iter()
-            .map(|b| b.as_entire_binding())
-            .collect();
-        kernel.record(device, &mut encoder, "geometry", resources, grid, None);
+        let resources: Vec<_> = [
+            &uniform,
+            &curves,
+            &blocks,
+            &sections,
+            &output,
+            &stroke_vertices,
+        ]
+        .iter()
+        .map(|b| b.as_entire_binding())
+        .collect();
+        self.record_geometry(&mut encoder, "geometry", &resources, &launch);
         encoder.copy_buffer_to_buffer(&output, 0, &download, 0, bytes);
         self.queue.submit([encoder.finish()]);
         crate::gpu::readback::map_read(device, &download, |bytes| {
             consume(&bytemuck::cast_slice::<u8, f32>(bytes)[..floats]);
         })
     }
-}
-
-fn range(offsets: &[u64], c: usize) -> std::ops::Range<usize> {
-    offsets[c] as usize..offsets[c + 1] as usize
 }
 
 /// Interleaved vertices (position, normal) from the start of `values` into `out`'s planes.
@@ -240,42 +265,43 @@ fn split(meshes: &mut Meshes<f32>) -> Vec<MeshOut<'_, f32>> {
     split_planes(planes, &meshes.vertex_offsets, &meshes.triangle_offsets)
 }
 
-/// The swept curves cut into consecutive groups whose every binding (curve records, blocks,
-/// sections, output) fits `binding` bytes.
+/// The curves cut into consecutive groups whose every binding (curve records, blocks,
+/// sections, output, stroke vertices) fits `binding` bytes.
 ///
 /// # Errors
 /// [`GpuError::TooLarge`] for a curve that alone does not fit.
 fn binding_groups<'p, 'a>(
-    swept: &'p [(usize, SweptPlan<'a>)],
+    plans: &'p [(usize, KernelPlan<'a>)],
     binding: u64,
-) -> Result<Vec<&'p [(usize, SweptPlan<'a>)]>, GpuError> {
-    const TABLES: [&str; 4] = [
+) -> Result<Vec<&'p [(usize, KernelPlan<'a>)]>, GpuError> {
+    const TABLES: [&str; 5] = [
         "geometry curve records",
         "geometry blocks",
         "geometry sections",
         "geometry output",
+        "geometry stroke vertices",
     ];
     let mut groups = Vec::new();
-    let (mut start, mut held) = (0, [0u64; 4]);
-    for (i, (_, plan)) in swept.iter().enumerate() {
+    let (mut start, mut held) = (0, [0u64; 5]);
+    for (i, (_, plan)) in plans.iter().enumerate() {
         let bytes = binding_bytes(plan);
-        if let Some(k) = (0..4).find(|&k| bytes[k] > binding) {
+        if let Some(k) = (0..5).find(|&k| bytes[k] > binding) {
             return Err(GpuError::TooLarge {
                 table: TABLES[k],
                 bytes: bytes[k],
                 limit: binding,
             });
         }
-        if (0..4).any(|k| held[k] + bytes[k] > binding) {
-            groups.push(&swept[start..i]);
-            (start, held) = (i, [0; 4]);
+        if (0..5).any(|k| held[k] + bytes[k] > binding) {
+            groups.push(&plans[start..i]);
+            (start, held) = (i, [0; 5]);
         }
-        for k in 0..4 {
+        for k in 0..5 {
             held[k] += bytes[k];
         }
     }
-    if start < swept.len() {
-        groups.push(&swept[start..]);
+    if start < plans.len() {
+        groups.push(&plans[start..]);
     }
     Ok(groups)
 }

@@ -1,18 +1,21 @@
-//! The renderer path for tubes and ribbons: a [`GeometryRecording`] keeps a job's packed curves
-//! on the device and records the kernel into a renderer's command encoder, writing each vertex
-//! (position, then unit normal: 6 f32, a 24-byte stride) straight into the renderer's vertex
-//! buffer; the triangles go into its index buffer once ([`GeometryRecording::indices`]).
-//! Moving curves are refitted on the host ([`GeometryJob::refit`]) and their tables uploaded
-//! in place ([`GeometryRecording::refit`]): nothing is allocated or read back per frame.
+//! The renderer path for tubes, ribbons and strokes: a [`GeometryRecording`] keeps a job's
+//! packed curves on the device and records the kernel into a renderer's command encoder,
+//! writing each vertex (position, then unit normal: 6 f32, a 24-byte stride) straight into the
+//! renderer's vertex buffer; the triangles go into its index buffer once
+//! ([`GeometryRecording::indices`]). Moving curves are refitted on the host
+//! ([`GeometryJob::refit`]) and their tables (a stroke's vertex offsets too) uploaded in place
+//! ([`GeometryRecording::refit`]): nothing is allocated or read back per frame.
 
 use wgpu::util::DeviceExt;
 
 use crate::error::{GpuError, InputError};
-use crate::geometry::{Geometry, GeometryJob};
+use crate::geometry::GeometryJob;
+use crate::geometry::job::KernelPlan;
+use crate::geometry::stroke::StrokeTopology;
 use crate::gpu::GpuContext;
-use crate::gpu::geometry::abi::{GEOMETRY_WG_SIZE, GeometryParams, VERTEX_FLOATS};
+use crate::gpu::geometry::abi::VERTEX_FLOATS;
+use crate::gpu::geometry::dispatch::Launch;
 use crate::gpu::geometry::pack::PackedGeometry;
-use crate::gpu::kernel::workgroup_grid;
 use crate::gpu::surfaces::dispatch::nonempty;
 
 /// Where a geometry recording writes: `stride` bytes a vertex (position x, y, z, then normal
@@ -30,7 +33,7 @@ pub struct GeometryOutputLayout {
     pub index_starts: Vec<u32>,
 }
 
-/// A job's tubes and ribbons kept on the device for recording, frame after frame (see the
+/// A job's tubes, ribbons and strokes kept on the device for recording, frame after frame (see the
 /// module docs).
 #[derive(Debug)]
 pub struct GeometryRecording {
@@ -39,39 +42,47 @@ pub struct GeometryRecording {
     curves: wgpu::Buffer,
     blocks: wgpu::Buffer,
     sections: wgpu::Buffer,
+    stroke_vertices: wgpu::Buffer,
     indices: Vec<u32>,
-    curve_count: u32,
+    launch: Launch,
     /// The packed tables' lengths, which a refit must keep.
-    sizes: [usize; 3],
+    sizes: [usize; 4],
+    /// Every stroke's pieces' topologies, in order: a refit must keep them (the indices
+    /// were made from them).
+    strokes: Vec<StrokeTopology>,
 }
 
-/// `job`'s curves packed for the kernel, or the first that it does not make.
-fn packed(job: &GeometryJob) -> Result<PackedGeometry, GpuError> {
-    let mut plans = Vec::with_capacity(job.len());
-    for c in 0..job.len() {
-        match job.swept(c) {
-            Some(plan) => plans.push((c, plan)),
-            None => {
-                let what = match job.geometry(c) {
-                    Geometry::Stroke(_) => "a stroke",
-                    _ => unreachable!("every tube and ribbon is swept"),
-                };
-                return Err(GpuError::NotRecordable { curve: c, what });
-            }
-        }
+/// `job`'s curves packed for the kernel, and its strokes' topologies.
+fn packed(job: &GeometryJob) -> Result<(PackedGeometry, Vec<StrokeTopology>), GpuError> {
+    let plans: Vec<(usize, KernelPlan<'_>)> =
+        (0..job.len()).map(|c| (c, job.kernel_plan(c))).collect();
+    let strokes = plans
+        .iter()
+        .flat_map(|(_, p)| p.stroke_topology())
+        .collect();
+    Ok((PackedGeometry::new(&plans)?, strokes))
+}
+
+impl PackedGeometry {
+    /// The lengths of the packed tables (curves, blocks, sections, stroke vertices).
+    fn sizes(&self) -> [usize; 4] {
+        [
+            self.curves.len(),
+            self.blocks.len(),
+            self.sections.len(),
+            self.stroke_vertices.len(),
+        ]
     }
-    PackedGeometry::new(&plans)
 }
 
 impl GpuContext {
     /// A recording of `job`'s meshes, its curves packed and uploaded once.
     ///
     /// # Errors
-    /// [`GpuError::NotRecordable`] for a stroke or a dashed curve, [`GpuError::OutOfRange`] for
-    /// coefficients beyond f32, [`GpuError::TooLarge`] when a table or the vertices exceed one
-    /// storage binding.
+    /// [`GpuError::OutOfRange`] for coefficients beyond f32, [`GpuError::TooLarge`] when a
+    /// table or the vertices exceed one storage binding.
     pub fn geometry_recording(&self, job: &GeometryJob) -> Result<GeometryRecording, GpuError> {
-        let packed = packed(job)?;
+        let (packed, strokes) = packed(job)?;
         let limits = self.device.limits();
         let limit = limits
             .max_storage_buffer_binding_size
@@ -88,6 +99,10 @@ impl GpuContext {
                 std::mem::size_of_val(&packed.sections[..]),
             ),
             ("geometry vertices", bytes as usize),
+            (
+                "geometry stroke vertices",
+                std::mem::size_of_val(&packed.stroke_vertices[..]),
+            ),
         ] {
             if size as u64 > limit {
                 return Err(GpuError::TooLarge {
@@ -97,24 +112,17 @@ impl GpuContext {
                 });
             }
         }
-        let grid = workgroup_grid(&self.device, packed.curves.len() as u32, GEOMETRY_WG_SIZE);
-        let params = GeometryParams {
-            curve_count: packed.curves.len() as u32,
-            row_width: grid.0 * GEOMETRY_WG_SIZE,
-            out_base: 0,
-            _padding0: 0,
-        };
+        let launch = Launch::new(&self.device, &packed);
         let meshes_triangles = job.triangle_count() as usize;
         let mut indices = Vec::with_capacity(3 * meshes_triangles);
         let mut triangles = vec![[0u32; 3]; meshes_triangles];
         let mut t = vec![0.0; job.vertex_count() as usize];
         for c in 0..job.len() {
-            let plan = job.swept(c).expect("checked when packed");
             let (v, f) = (
                 range(job.vertex_offsets(), c),
                 range(job.triangle_offsets(), c),
             );
-            plan.topology(&mut t[v.clone()], &mut triangles[f.clone()]);
+            job.topology(c, &mut t[v.clone()], &mut triangles[f.clone()]);
             let first = v.start as u32;
             indices.extend(triangles[f].iter().flatten().map(|&i| first + i));
         }
@@ -140,7 +148,7 @@ impl GpuContext {
             },
             params: init(
                 "geometry params",
-                bytemuck::bytes_of(&params),
+                bytemuck::bytes_of(&launch.params),
                 wgpu::BufferUsages::UNIFORM,
             ),
             curves: init(
@@ -158,13 +166,15 @@ impl GpuContext {
                 bytemuck::cast_slice(&nonempty(&packed.sections)),
                 storage,
             ),
+            stroke_vertices: init(
+                "geometry stroke vertices",
+                bytemuck::cast_slice(&nonempty(&packed.stroke_vertices)),
+                storage,
+            ),
             indices,
-            curve_count: params.curve_count,
-            sizes: [
-                packed.curves.len(),
-                packed.blocks.len(),
-                packed.sections.len(),
-            ],
+            launch,
+            sizes: packed.sizes(),
+            strokes,
         })
     }
 }
@@ -181,7 +191,8 @@ impl GeometryRecording {
     }
 
     /// Every mesh's triangles as u32 indices over all vertices, counter-clockwise as the
-    /// CPU's: for the renderer's index buffer, written once.
+    /// CPU's: for the renderer's index buffer, written once. (A stroke's triangles are turned
+    /// by its positions when the recording was made; a refit keeps them.)
     #[must_use]
     pub fn indices(&self) -> &[u32] {
         &self.indices
@@ -193,20 +204,28 @@ impl GeometryRecording {
     ///
     /// # Errors
     /// A job whose packed tables are not the recording's size (another job, or curves of
-    /// another number of segments or kind), naming "job"; the recording is then unchanged.
+    /// another number of segments or kind), or a stroke whose joins or caps changed (its
+    /// triangles with them), naming "job"; the recording is then unchanged.
     pub fn refit(&mut self, gpu: &GpuContext, job: &GeometryJob) -> Result<(), InputError> {
-        let packed = packed(job).map_err(|e| InputError::field("job", e.to_string()))?;
-        let sizes = [
-            packed.curves.len(),
-            packed.blocks.len(),
-            packed.sections.len(),
-        ];
+        let (packed, strokes) = packed(job).map_err(|e| InputError::field("job", e.to_string()))?;
+        let sizes = packed.sizes();
         if sizes != self.sizes {
             return Err(InputError::field(
                 "job",
                 format!(
-                    "packs {sizes:?} (curves, blocks, sections) where the recording holds {:?}",
+                    "packs {sizes:?} (curves, blocks, sections, stroke vertices) where the \
+                     recording holds {:?}",
                     self.sizes
+                ),
+            ));
+        }
+        if let Some(k) = (0..strokes.len()).find(|&k| strokes[k] != self.strokes[k]) {
+            return Err(InputError::field(
+                "job",
+                format!(
+                    "stroke piece {k} has other joins or caps than when recorded ({:?}, was \
+                     {:?}): its triangles changed, make the recording again",
+                    strokes[k], self.strokes[k]
                 ),
             ));
         }
@@ -214,6 +233,10 @@ impl GeometryRecording {
             (&self.curves, bytemuck::cast_slice::<_, u8>(&packed.curves)),
             (&self.blocks, bytemuck::cast_slice(&packed.blocks)),
             (&self.sections, bytemuck::cast_slice(&packed.sections)),
+            (
+                &self.stroke_vertices,
+                bytemuck::cast_slice(&packed.stroke_vertices),
+            ),
         ] {
             if !bytes.is_empty() {
                 gpu.queue.write_buffer(buffer, 0, bytes);
@@ -237,10 +260,7 @@ impl GeometryRecording {
     ) -> Result<(), GpuError> {
         let needed = self.layout.bytes.max(4);
         gpu.check_target(target, offset, needed)?;
-        if self.curve_count == 0 {
-            return Ok(());
-        }
-        let resources = vec![
+        let resources = [
             self.params.as_entire_binding(),
             self.curves.as_entire_binding(),
             self.blocks.as_entire_binding(),
@@ -250,16 +270,9 @@ impl GeometryRecording {
                 offset,
                 size: std::num::NonZeroU64::new(needed),
             }),
+            self.stroke_vertices.as_entire_binding(),
         ];
-        let grid = workgroup_grid(&gpu.device, self.curve_count, GEOMETRY_WG_SIZE);
-        gpu.geometry_kernel().record(
-            &gpu.device,
-            encoder,
-            "geometry recording",
-            resources,
-            grid,
-            None,
-        );
+        gpu.record_geometry(encoder, "geometry recording", &resources, &self.launch);
         Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! names, loop order and arithmetic), run on the packed tables, so that the packer and the
 //! kernel's arithmetic are held to the contract's promise without a GPU.
 
-use crate::gpu::geometry::abi::{GpuMeshCurve, GpuSection, NONE, VERTEX_FLOATS};
+use crate::gpu::geometry::abi::{GpuMeshCurve, NONE, SHAPE_STROKE, VERTEX_FLOATS};
 use crate::gpu::geometry::pack::PackedGeometry;
 
 type V3 = [f32; 3];
@@ -43,8 +43,8 @@ struct Place {
     width_d1: f32,
 }
 
-fn place(blocks: &[[f32; 4]], curve: &GpuMeshCurve, s: &GpuSection) -> Place {
-    let at = (curve.first_block + s.segment * curve.block_vec4s) as usize;
+fn place(blocks: &[[f32; 4]], curve: &GpuMeshCurve, segment: u32, u: f32) -> Place {
+    let at = (curve.first_block + segment * curve.block_vec4s) as usize;
     let (a, b, c, d, e) = (
         blocks[at],
         blocks[at + 1],
@@ -52,7 +52,6 @@ fn place(blocks: &[[f32; 4]], curve: &GpuMeshCurve, s: &GpuSection) -> Place {
         blocks[at + 3],
         blocks[at + 4],
     );
-    let u = s.u;
     let inv = e[0];
     let mut value = [0.0f32; 4];
     let mut first = [0.0f32; 4];
@@ -199,7 +198,7 @@ impl Kernel<'_> {
         let mut n = xyz(curve.n0);
         for j in 0..curve.sections {
             let s = self.packed.sections[(curve.first_section + j) as usize];
-            let p = place(&self.packed.blocks, curve, &s);
+            let p = place(&self.packed.blocks, curve, s.segment, s.u);
             let t = tangent(&p, j == last && j > 0, previous_t);
             if j > 0 {
                 n = reflected_twice(previous_x, p.position, previous_t, t, n);
@@ -218,20 +217,33 @@ impl Kernel<'_> {
 
     fn main(&mut self, index: usize) {
         let curve = self.packed.curves[index];
+        if curve.shape == SHAPE_STROKE {
+            return;
+        }
         let mut alpha = 0.0;
         if curve.closed == 1 {
             let carried = self.walk(&curve, 0.0, false);
-            let section = self.packed.sections[curve.first_section as usize];
-            let first = place(&self.packed.blocks, &curve, &section);
+            let head = self.packed.sections[curve.first_section as usize];
+            let first = place(&self.packed.blocks, &curve, head.segment, head.u);
             let t0 = tangent(&first, false, xyz(curve.t_first));
             let n0 = xyz(curve.n0);
             alpha = dot(cross(n0, carried), t0).atan2(dot(n0, carried));
         }
         self.walk(&curve, alpha, true);
     }
+
+    fn strokes(&mut self, index: usize) {
+        let r = self.packed.stroke_vertices[index];
+        let curve = self.packed.curves[r.curve as usize];
+        let p = place(&self.packed.blocks, &curve, r.segment, r.u);
+        let h = 0.5 * p.width;
+        let offset = add(p.position, scale(h, [r.v[0], r.v[1], 0.0]));
+        self.write_vertex(&curve, r.vertex, offset, [0.0, 0.0, 1.0]);
+    }
 }
 
-/// The kernel's output for `packed` (every curve's vertices, 6 floats each), made on the CPU.
+/// The kernel's output for `packed` (every curve's vertices, 6 floats each), made on the CPU:
+/// both entry points.
 pub(crate) fn run(packed: &PackedGeometry) -> Vec<f32> {
     let mut out = vec![0.0; VERTEX_FLOATS * packed.vertices];
     let mut kernel = Kernel {
@@ -240,6 +252,9 @@ pub(crate) fn run(packed: &PackedGeometry) -> Vec<f32> {
     };
     for index in 0..packed.curves.len() {
         kernel.main(index);
+    }
+    for index in 0..packed.stroke_vertices.len() {
+        kernel.strokes(index);
     }
     out
 }
@@ -336,21 +351,33 @@ mod tests {
                 0.05,
             ),
         ];
+        let cases: Vec<_> = cases
+            .into_iter()
+            .map(|(kind, coords, geometry, width)| (kind, 3, coords, geometry, width))
+            .collect();
+        assert_twin_keeps_the_promise(&cases);
+    }
+
+    /// Every curve of `cases` (kind, dimension, coordinates, geometry, largest width or
+    /// radius) made by the twin against the f64 reference: positions within the curve's GPU
+    /// position bound plus 1e-5 of the width, normals within 1e-3 rad.
+    fn assert_twin_keeps_the_promise(cases: &[(CurveKind, usize, Vec<f64>, Geometry, f64)]) {
         let mut job = GeometryJob::new();
         let mut tables = Vec::new();
-        for (kind, coords, geometry, _) in &cases {
-            let curve = Curve::new(kind.clone(), Points::new(3, coords.clone()).unwrap()).unwrap();
+        for (kind, dim, coords, geometry, _) in cases {
+            let points = Points::new(*dim, coords.clone()).unwrap();
+            let curve = Curve::new(kind.clone(), points).unwrap();
             job.push(&curve, geometry, &Sampling::PerSegment(12))
                 .unwrap();
             tables.push(curve.fit());
         }
         let want = job.evaluate_cpu();
-        let plans: Vec<_> = (0..job.len()).map(|c| (c, job.swept(c).unwrap())).collect();
+        let plans: Vec<_> = (0..job.len()).map(|c| (c, job.kernel_plan(c))).collect();
         let packed = PackedGeometry::new(&plans).unwrap();
         let got = run(&packed);
-        for (c, (_, coords, _, radius)) in cases.iter().enumerate() {
-            let axis = |k: usize| coords.iter().skip(k).step_by(3).copied();
-            let extent = (0..3)
+        for (c, (_, dim, coords, _, radius)) in cases.iter().enumerate() {
+            let axis = |k: usize| coords.iter().skip(k).step_by(*dim).copied();
+            let extent = (0..*dim)
                 .map(|k| axis(k).fold(f64::MIN, f64::max) - axis(k).fold(f64::MAX, f64::min))
                 .fold(0.0, f64::max);
             let table = &tables[c];
@@ -358,10 +385,13 @@ mod tests {
             for v in vertices {
                 for k in 0..3 {
                     let exact = want.points[3 * v + k];
-                    let bound = (0..table.len())
-                        .map(|s| gpu_bound(&table.segment(s), extent, 0, k, exact))
-                        .fold(0.0, f64::max)
-                        + 1e-5 * radius;
+                    let bound = if k < *dim {
+                        (0..table.len())
+                            .map(|s| gpu_bound(&table.segment(s), extent, 0, k, exact))
+                            .fold(0.0, f64::max)
+                    } else {
+                        0.0
+                    } + 1e-5 * radius;
                     let error = (f64::from(got[6 * v + k]) - exact).abs();
                     assert!(error <= bound, "curve {c} vertex {v}: {error} > {bound}");
                 }
@@ -374,5 +404,139 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Strokes through the twin's `strokes` entry: every join (miter, round, bevel, a miter
+    /// past its limit), square and round caps, a cusp, a width per point on uneven knots, a
+    /// weighted NURBS, a dashed closed curve, and a polyline at 1e6; mixed with a tube in the
+    /// same packing.
+    #[test]
+    fn the_twin_strokes_keep_the_promise() {
+        use crate::geometry::{Cap, Join, Stroke};
+        let stroke = |join, cap, width: Width| {
+            Geometry::Stroke(Stroke {
+                width,
+                join,
+                cap,
+                ..Stroke::default()
+            })
+        };
+        // Straight Bezier segments through `corners` (x, y pairs), thirds as inner points.
+        let polyline = |corners: &[f64]| -> Vec<f64> {
+            let mut out = corners[..2].to_vec();
+            for pair in corners.chunks(2).collect::<Vec<_>>().windows(2) {
+                let (a, b) = (pair[0], pair[1]);
+                for k in 1..=3 {
+                    let f = f64::from(k) / 3.0;
+                    out.extend([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]);
+                }
+            }
+            out
+        };
+        let zigzag = |at: f64| -> Vec<f64> {
+            let corners: Vec<f64> = (0..7)
+                .flat_map(|j| {
+                    let up = if j % 2 == 0 {
+                        0.0
+                    } else {
+                        0.4 + 0.1 * j as f64
+                    };
+                    [at + j as f64, at + up]
+                })
+                .collect();
+            polyline(&corners)
+        };
+        let linear = CurveKind::Bezier;
+        let natural = CurveKind::Interpolating {
+            condition: EndCondition::Natural,
+            t: Some(vec![0.0, 1e-3, 1.0, 1.5, 40.0, 41.0]),
+        };
+        let nurbs = CurveKind::Nurbs {
+            knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
+            weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
+        };
+        let flat = |coords: Vec<f64>| -> Vec<f64> {
+            coords.chunks(3).flat_map(|p| [p[0], p[1]]).collect()
+        };
+        let cases = vec![
+            (
+                linear.clone(),
+                2,
+                zigzag(0.0),
+                stroke(Join::Miter, Cap::Square, Width::Constant(0.1)),
+                0.1,
+            ),
+            (
+                linear.clone(),
+                2,
+                zigzag(1e6),
+                stroke(Join::Round, Cap::Round, Width::Constant(0.1)),
+                0.1,
+            ),
+            (
+                linear,
+                2,
+                polyline(&[0.0, 0.0, 1.0, 0.0, 0.0, 0.05, 1.0, 0.1]),
+                stroke(Join::Miter, Cap::Butt, Width::Constant(0.05)),
+                0.05,
+            ),
+            (
+                CurveKind::Bezier,
+                2,
+                vec![0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+                stroke(Join::Bevel, Cap::Round, Width::Constant(0.05)),
+                0.05,
+            ),
+            (
+                natural,
+                2,
+                flat(wobbly(6, 3.0, 1.3)),
+                stroke(
+                    Join::Round,
+                    Cap::Square,
+                    Width::PerPoint(vec![0.02, 0.05, 0.1, 0.05, 0.02, 0.08]),
+                ),
+                0.1,
+            ),
+            (
+                nurbs,
+                2,
+                flat(wobbly(6, 5.0, 2.1)),
+                stroke(Join::Miter, Cap::Round, Width::Constant(0.2)),
+                0.2,
+            ),
+            (
+                CurveKind::Uniform {
+                    basis: Basis::BSpline,
+                    ends: Ends::Closed,
+                },
+                2,
+                flat(wobbly(9, -2.0, 0.4)),
+                Geometry::Stroke(Stroke {
+                    width: Width::Constant(0.05),
+                    cap: Cap::Round,
+                    dash: Some(crate::geometry::Dash {
+                        lengths: vec![0.8, 0.3],
+                        offset: 0.1,
+                    }),
+                    ..Stroke::default()
+                }),
+                0.05,
+            ),
+            (
+                CurveKind::Uniform {
+                    basis: Basis::CatmullRom,
+                    ends: Ends::Closed,
+                },
+                3,
+                wobbly(12, 0.0, 0.1),
+                Geometry::Tube(Tube {
+                    radius: Width::Constant(0.05),
+                    ..Tube::default()
+                }),
+                0.05,
+            ),
+        ];
+        assert_twin_keeps_the_promise(&cases);
     }
 }
