@@ -281,6 +281,22 @@ mod tests {
             .collect()
     }
 
+    /// A natural spline of 6 points on knots 1e-3 to 38.5 apart.
+    fn uneven_natural() -> CurveKind {
+        CurveKind::Interpolating {
+            condition: EndCondition::Natural,
+            t: Some(vec![0.0, 1e-3, 1.0, 1.5, 40.0, 41.0]),
+        }
+    }
+
+    /// A cubic NURBS of 6 weighted points.
+    fn weighted_nurbs() -> CurveKind {
+        CurveKind::Nurbs {
+            knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
+            weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
+        }
+    }
+
     /// The twin's meshes against the f64 reference under the contract's promise: positions
     /// within the curve's GPU position bound plus 1e-5 r, normals within 1e-3 rad; closed
     /// loops near the origin and at 1e6, caps, uneven knots with per-point radii, a rational
@@ -291,14 +307,7 @@ mod tests {
             basis: Basis::CatmullRom,
             ends: Ends::Closed,
         };
-        let natural = CurveKind::Interpolating {
-            condition: EndCondition::Natural,
-            t: Some(vec![0.0, 1e-3, 1.0, 1.5, 40.0, 41.0]),
-        };
-        let nurbs = CurveKind::Nurbs {
-            knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
-            weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
-        };
+        let (natural, nurbs) = (uneven_natural(), weighted_nurbs());
         let tube = |radius, caps| {
             Geometry::Tube(Tube {
                 radius,
@@ -447,14 +456,7 @@ mod tests {
             polyline(&corners)
         };
         let linear = CurveKind::Bezier;
-        let natural = CurveKind::Interpolating {
-            condition: EndCondition::Natural,
-            t: Some(vec![0.0, 1e-3, 1.0, 1.5, 40.0, 41.0]),
-        };
-        let nurbs = CurveKind::Nurbs {
-            knots: vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0],
-            weights: Some(vec![1.0, 2.0, 0.5, 1.5, 1.0, 3.0]),
-        };
+        let (natural, nurbs) = (uneven_natural(), weighted_nurbs());
         let flat = |coords: Vec<f64>| -> Vec<f64> {
             coords.chunks(3).flat_map(|p| [p[0], p[1]]).collect()
         };
