@@ -17,6 +17,7 @@
 use std::collections::HashMap;
 
 use crate::error::{InputError, Shown};
+use crate::surface::graded::{graded_counts, graded_plan, patch_triangles};
 use crate::surface::patch::PatchTable;
 
 /// How a surface is sampled.
@@ -53,9 +54,13 @@ pub struct SurfacePlan {
     /// Three vertex indices per triangle, counter-clockwise in (u, v); `None` for explicit
     /// (u, v).
     pub triangles: Option<Vec<[u32; 3]>>,
-    /// Per patch, the cells (k_u, k_v) of its grid. A patch list's patch p owns the next
-    /// 2 k_u k_v triangles, cell by cell (u outer); a net's grid is of all patches together.
-    /// Empty for explicit (u, v).
+    /// Per patch, the cells (k_u, k_v) of its grid. Where neighbouring patches agree on the
+    /// count along every shared edge (per_segment's one k), a patch list's patch p owns the
+    /// next 2 k_u k_v triangles, cell by cell (u outer), and a net's grid is of all patches
+    /// together; otherwise (a tolerance mesh graded patch by patch, [`crate::surface`]'s
+    /// `graded`) each patch's triangles follow the patch before's, its grid making the
+    /// transition to edges counted at the finer neighbour's
+    /// ([`SurfacePlan::patch_triangles`] says which are whose). Empty for explicit (u, v).
     pub cells: Vec<[u32; 2]>,
 }
 
@@ -116,17 +121,11 @@ impl SurfacePlan {
     /// # Errors
     /// Cells that are not one per patch, or a grid past u32 indices.
     pub fn from_cells(table: &PatchTable, cells: &[[u32; 2]]) -> Result<Self, InputError> {
-        if cells.len() != table.len() {
-            return Err(InputError::field(
-                "cells",
-                format!(
-                    "must be one per patch ({}), got {}",
-                    table.len(),
-                    cells.len()
-                ),
-            ));
-        }
+        Self::check_cells(table, cells)?;
         let cells: Vec<[usize; 2]> = cells.iter().map(|c| c.map(|k| k as usize)).collect();
+        if let Some(plan) = graded_plan(table, &cells) {
+            return plan;
+        }
         match (table.knots(), table.patch_indices()) {
             (Some(knots), _) => {
                 let across = knots[1].len() - 1;
@@ -137,6 +136,34 @@ impl SurfacePlan {
             (None, Some(patches)) => welded(patches, &cells),
             (None, None) => unreachable!("a table is a net or a patch list"),
         }
+    }
+
+    /// A patch list's triangles of this plan, each with its patch and its corners' local
+    /// (u, v) there, in the order of [`SurfacePlan::triangles`] (a vertex on an edge keeps
+    /// one patch's local (u, v); a texture per patch needs each triangle's own); `None` on a
+    /// net (its vertices' (u, v) are the surface's own) or without triangles.
+    #[must_use]
+    pub fn patch_triangles(&self, table: &PatchTable) -> Option<Vec<(u32, [[f64; 2]; 3])>> {
+        if table.knots().is_some() || self.triangles.is_none() {
+            return None;
+        }
+        let cells: Vec<[usize; 2]> = self.cells.iter().map(|c| c.map(|k| k as usize)).collect();
+        Some(patch_triangles(table, &cells))
+    }
+
+    /// Refuses cells that are not one per patch.
+    fn check_cells(table: &PatchTable, cells: &[[u32; 2]]) -> Result<(), InputError> {
+        if cells.len() != table.len() {
+            return Err(InputError::field(
+                "cells",
+                format!(
+                    "must be one per patch ({}), got {}",
+                    table.len(),
+                    cells.len()
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -216,7 +243,7 @@ fn lines(knots: &[f64], closed: bool, ks: &[usize]) -> Vec<(usize, f64, f64)> {
 }
 
 /// Refuses a mesh of more vertices than u32 indices reach.
-fn check_count(vertices: u64) -> Result<(), InputError> {
+pub(crate) fn check_count(vertices: u64) -> Result<(), InputError> {
     if vertices > MAX_VERTICES {
         return Err(InputError::field(
             "sampling",
@@ -320,9 +347,10 @@ fn edge(indices: [usize; 4], place: usize, k: usize) -> Weld {
 }
 
 /// The vertex and triangle counts of the plan [`SurfacePlan::from_cells`] makes of `cells`,
-/// read off them: a net's (Σ k_u + open) x (Σ k_v + open) vertices, a patch list's interior
-/// vertices (k_u - 1)(k_v - 1) a patch and one for each distinct boundary place (its weld
-/// key, as [`welded`] shares them); 2 k_u k_v triangles a patch.
+/// read off them: a graded mesh's as it counts them; a net's grid's (Σ k_u + open) x
+/// (Σ k_v + open) vertices, a patch list's interior vertices (k_u - 1)(k_v - 1) a patch and
+/// one for each distinct boundary place (its weld key, as [`welded`] shares them); 2 k_u k_v
+/// triangles a patch.
 ///
 /// # Errors
 /// More vertices than one surface may have.
@@ -331,6 +359,10 @@ pub(crate) fn cell_counts(
     cells: &[[u32; 2]],
 ) -> Result<(usize, usize), InputError> {
     let cells: Vec<[usize; 2]> = cells.iter().map(|c| c.map(|k| k as usize)).collect();
+    if let Some((vertices, triangles)) = graded_counts(table, &cells) {
+        check_count(vertices)?;
+        return Ok((vertices as usize, triangles as usize));
+    }
     let triangles = cells.iter().map(|[ku, kv]| 2 * ku * kv).sum();
     let vertices = match (table.knots(), table.patch_indices()) {
         (Some(knots), _) => {

@@ -23,6 +23,7 @@
 pub(crate) mod bounds;
 pub(crate) mod direction;
 pub(crate) mod eval;
+pub(crate) mod graded;
 pub(crate) mod job;
 pub(crate) mod kinds;
 pub(crate) mod mesh;

@@ -61,7 +61,8 @@ fn worst_gap(table: &PatchTable, triangles: &[PatchTriangle]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// A plan's triangles with their patch and local corners (nets: the patch of the centroid).
+/// A plan's triangles with their patch and local corners (nets: the patch of the centroid; a
+/// patch list's as the plan says).
 fn triangles_in_patches(
     table: &PatchTable,
     plan: &SurfacePlan,
@@ -105,29 +106,13 @@ fn triangles_in_patches(
                 (p, local, t.map(corner))
             })
             .collect(),
-        None => {
-            let mut out = Vec::new();
-            let mut next = 0;
-            for (p, &[ku, kv]) in plan.cells.iter().enumerate() {
-                for a in 0..ku {
-                    for b in 0..kv {
-                        let at = |a: u32, b: u32| {
-                            [f64::from(a) / f64::from(ku), f64::from(b) / f64::from(kv)]
-                        };
-                        let quad = [at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)];
-                        for (t, local) in [[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]]
-                            .into_iter()
-                            .enumerate()
-                        {
-                            let tri = triangles[next + t];
-                            out.push((p, local, tri.map(corner)));
-                        }
-                        next += 2;
-                    }
-                }
-            }
-            out
-        }
+        None => plan
+            .patch_triangles(table)
+            .unwrap()
+            .into_iter()
+            .zip(triangles)
+            .map(|((p, local), t)| (p as usize, local, t.map(corner)))
+            .collect(),
     }
 }
 
@@ -257,6 +242,34 @@ fn net_meshes_are_within_tol_under_the_cap_and_closed_ones_watertight() {
     }
 }
 
+/// A flat field with one sharp bump: the bump's patches need many cells, the rest one. A mesh
+/// giving every patch of a row (column) the row's largest count made 2.07x the contract's cap
+/// here; graded, each patch keeps its own counts and the mesh is within the cap, within tol,
+/// and watertight (every inner edge in two triangles).
+#[test]
+fn one_sharp_bump_in_a_flat_field_stays_within_the_cap() {
+    let n = 16;
+    let mut coords = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let bump = if (i, j) == (n / 2, n / 2) { 40.0 } else { 0.0 };
+            coords.extend([i as f64, j as f64, bump]);
+        }
+    }
+    let kind = SurfaceKind::Uniform {
+        basis: splinegpu::Basis::CatmullRom,
+        ends: [splinegpu::Ends::Control; 2],
+    };
+    let surface = Surface::new(kind, Net::new(3, n, n, coords).unwrap()).unwrap();
+    for (tol, plan) in certify(&surface, &[0.1, 0.01], "one bump") {
+        let edges = edge_counts(plan.triangles.as_ref().unwrap());
+        assert!(edges.values().all(|&k| k == 1 || k == 2), "{tol}");
+        let boundary = edges.values().filter(|&&k| k == 1).count();
+        // The field's outer sides are flat: one cell each, 4 (n - 3) patches round the net.
+        assert_eq!(boundary, 4 * (n - 3), "{tol}: T-junctions inside");
+    }
+}
+
 #[test]
 fn rational_bounds_are_bounds_within_4x_and_the_torus_mesh_is_certified() {
     let surface = crate::shapes::torus_surface(3.0, 1.0, [0.0; 3]);
@@ -316,24 +329,40 @@ fn uneven_patch_list() -> Surface {
     .unwrap()
 }
 
+/// Graded patch lists: each patch keeps its own counts (they differ here), and every inner
+/// edge is still meshed once: the edges in one triangle are the outer boundary's alone, as
+/// many as the four outer sides' own counts sum to (a T-junction would leave inner edges in
+/// one triangle).
 #[test]
-fn welded_patch_lists_share_every_inner_edge_and_mesh_it_once() {
+fn graded_patch_lists_share_every_inner_edge_and_mesh_it_once() {
     let surface = uneven_patch_list();
+    let table = surface.fit();
     for (tol, plan) in certify(&surface, &[0.5, 0.05], "uneven patch list") {
         let counts: Vec<[u32; 2]> = plan.cells.clone();
-        // Shared edges force one count: the patches of a row agree along u, of a column along v.
-        assert_eq!(counts[0][0], counts[1][0], "{tol}");
-        assert_eq!(counts[0][1], counts[2][1], "{tol}");
+        assert!(counts.iter().any(|c| c != &counts[0]), "{tol}: {counts:?}");
+        for (p, got) in counts.iter().enumerate() {
+            // The contract's n_u, n_v from the patch's bounds.
+            let [uu, uv, vv] = table.patch(p).second_derivative_bounds();
+            let n = |m: f64| ((m / (4.0 * tol)).sqrt().ceil()).max(1.0) as u32;
+            assert_eq!(
+                *got,
+                [n(uu + uv), n(vv + uv)],
+                "{tol}: patch {p}'s own counts"
+            );
+        }
         let edges = edge_counts(plan.triangles.as_ref().unwrap());
         assert!(edges.values().all(|&n| n == 1 || n == 2));
         let boundary = edges.values().filter(|&&n| n == 1).count() as u32;
-        // The outer boundary only: the net's four sides, two patches each.
-        let outer = 2 * (counts[0][0] + counts[2][0]) + 2 * (counts[0][1] + counts[1][1]);
+        // Patches 0 1 / 2 3 (u down, v across): the outer sides along u are 0's and 2's at
+        // v = 0, 1's and 3's at v = 1; along v, 0's and 1's at u = 0, 2's and 3's at u = 1.
+        let outer = (counts[0][0] + counts[2][0])
+            + (counts[1][0] + counts[3][0])
+            + (counts[0][1] + counts[1][1])
+            + (counts[2][1] + counts[3][1]);
         assert_eq!(
             boundary, outer,
             "{tol}: T-junctions leave inner edges in one triangle"
         );
-        assert!(counts.iter().any(|c| c != &counts[0]) || tol > 0.1);
     }
 }
 
