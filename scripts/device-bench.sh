@@ -23,7 +23,7 @@ BIN=.device/bin
 # tests (the kernels' twins, their ABI).
 TESTS=(splinegpu-gpu splinegpu-it splinegpu-unit)
 # Most telling first: a run cut short by the time limit still has them.
-WORKLOADS=(w1 tubes w1-x10 eval-at w1-d fit-1m w1-tol w1-arc cli-w1 q1)
+WORKLOADS=(w1 tubes strokes w1-x10 eval-at w1-d fit-1m w1-tol w1-arc cli-w1 q1)
 
 if [[ "${1:-}" == "--prepare" ]]; then
     set -e
