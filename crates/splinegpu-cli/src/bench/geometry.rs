@@ -11,8 +11,9 @@
 //! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back; a
 //! stroke's triangles made on the host from its f64 mesh); for tubes also plain-loop (the same
 //! rings hand-written into the same f32 buffers as cpu-into, on every thread: Catmull-Rom from
-//! its points, parallel-transport frames, radial normals); for strokes also cpu-call-1t (the whole call on one thread) and lyon (lyon's stroke tessellator
-//! on the same curves' Bezier segments, same width, joins, caps and tolerance, one thread).
+//! its points, parallel-transport frames, radial normals); for strokes also cpu-call-1t (the
+//! whole call on one thread) and lyon (lyon's stroke tessellator on the same curves' Bezier
+//! segments, same width, joins, caps and tolerance, one thread).
 
 use std::hint::black_box;
 
