@@ -57,8 +57,8 @@ enum Command {
     /// over the same work; the surfaces' from the control points with basis weights, into the
     /// memory cpu-all f32 fills); the surfaces' cpu-call (the whole call into new memory, every
     /// plane of the output: (u, v), positions, normals, triangles); tubes' and strokes' cpu-all
-    /// (the planned job's meshes into new memory, f64), cpu-into (into kept f32 buffers) and
-    /// cpu-call (planned and made); strokes' cpu-call-1t (planned and made on one thread) and
+    /// (the planned job's meshes into new memory, f64), cpu-into (into kept f32 buffers),
+    /// cpu-refit (their vertices alone) and cpu-call (planned and made); strokes' cpu-call-1t (planned and made on one thread) and
     /// lyon (lyon's stroke tessellator on the same curves as cubic Beziers at the same width,
     /// joins, caps and tolerance, one thread);
     /// on w1 and w1-x10 gpu-memset (a store-only kernel writing the output's bytes, one vec4 per

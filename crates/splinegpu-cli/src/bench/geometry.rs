@@ -5,7 +5,8 @@
 //! mesh from the exact stroke over the first 100 curves, `bench::strokes`). Paths: memset (the
 //! meshes' bytes), cpu-all (the job's
 //! meshes made into new memory on every thread, f64), cpu-1t (the same on one thread),
-//! cpu-into (into kept f32 buffers, a renderer's frame), cpu-call (the whole call: every curve
+//! cpu-into (into kept f32 buffers, t and triangles too), cpu-refit (the vertices alone into
+//! kept f32 buffers: a renderer's frame after a refit, `evaluate_vertices_into`), cpu-call (the whole call: every curve
 //! planned on every thread, then made), gpu-device (the renderer's recording of the job into
 //! kept vertex buffers, from submission to completion: no packing, no readback) and
 //! gpu-end-to-end (`GpuContext::evaluate_geometry`: packed, uploaded, made, read back; a
@@ -176,6 +177,16 @@ pub(crate) fn run(
         black_box(&points);
         None
     })));
+    report(&f32_measure_as(
+        "cpu-refit",
+        f32_measure,
+        time(|| {
+            job.evaluate_vertices_into(&mut points, &mut normals)
+                .expect("buffers sized for the job");
+            black_box(&points);
+            None
+        }),
+    ));
     if name == "tubes" {
         let curves: Vec<&Curve> = work.iter().map(|(c, _, _)| c).collect();
         let rings = 16 * 16;

@@ -543,20 +543,80 @@ impl GeometryJob {
         Ok(())
     }
 
-    /// Fits curve c again from `curve` (its points moved; its geometry and sampling kept),
-    /// keeping its place: for a renderer's moving curves, refitted each frame and evaluated
-    /// into the same buffers.
+    /// Every curve's vertices alone (positions and normals, 3 values a vertex each, f32 or
+    /// f64) into the caller's memory, on every thread: a renderer's frame after
+    /// [`GeometryJob::refit`], whose counts and triangles the first
+    /// [`GeometryJob::evaluate_into`] wrote and a refit keeps (a stroke's triangles keep the
+    /// orientation they were made with). Half the bytes of `evaluate_into` or less: no t, no
+    /// triangles.
     ///
     /// # Errors
-    /// The new curve's own errors (as [`GeometryJob::push`]'s), or a mesh of other counts
-    /// than curve c's (a stroke that gains or loses a corner, another number of segments):
-    /// the job is then unchanged and must be made again.
+    /// A plane whose length is not the job's; the error names "planes".
+    pub fn evaluate_vertices_into<F: SampleFloat>(
+        &self,
+        points: &mut [F],
+        normals: &mut [F],
+    ) -> Result<(), InputError> {
+        let want = 3 * self.vertex_count();
+        for (name, len) in [("points", points.len()), ("normals", normals.len())] {
+            if len as u64 != want {
+                return Err(InputError::field(
+                    "planes",
+                    format!("\"{name}\" holds {len} entries, the job's meshes {want}"),
+                ));
+            }
+        }
+        let (mut points, mut normals) = (points, normals);
+        let mut outs = Vec::with_capacity(self.len());
+        for v in self.vertex_offsets.windows(2) {
+            let v = 3 * (v[1] - v[0]) as usize;
+            let (p, rest_p) = std::mem::take(&mut points).split_at_mut(v);
+            let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(v);
+            (points, normals) = (rest_p, rest_n);
+            outs.push(MeshOut {
+                points: p,
+                normals: n,
+                t: &mut [],
+                triangles: &mut [],
+                topology: false,
+            });
+        }
+        self.curves
+            .par_iter()
+            .zip(outs)
+            .for_each(|(planned, mut out)| make(planned, &mut out));
+        Ok(())
+    }
+
+    /// Fits curve c again from `curve` (its points moved; its geometry and sampling kept),
+    /// keeping its place and its triangles: for a renderer's moving curves, refitted each
+    /// frame and evaluated into the same buffers ([`GeometryJob::evaluate_vertices_into`]).
+    ///
+    /// # Errors
+    /// The new curve's own errors (as [`GeometryJob::push`]'s), a mesh of other counts than
+    /// curve c's (a stroke that gains or loses a corner, another number of segments), or a
+    /// stroke whose joins or caps changed with the same counts (a miter and a bevel trading
+    /// corners: other triangles), naming "curve": the job is then unchanged and must be made
+    /// again.
     ///
     /// # Panics
     /// If c is not a curve of the job.
     pub fn refit(&mut self, c: usize, curve: &Curve) -> Result<(), InputError> {
         let old = &self.curves[c];
         let planned = plan(curve, &old.geometry, &old.sampling)?;
+        let joins = |p: &Planned| match &p.body {
+            Body::Stroke(pieces) => pieces.iter().map(StrokePlan::topology_key).collect(),
+            Body::Swept { .. } => Vec::new(),
+        };
+        if (planned.vertices, planned.triangles) == (old.vertices, old.triangles)
+            && joins(&planned) != joins(old)
+        {
+            return Err(InputError::field(
+                "curve",
+                "makes a stroke whose joins or caps are not the job's (the same counts, other \
+                 triangles)",
+            ));
+        }
         if (planned.vertices, planned.triangles) != (old.vertices, old.triangles) {
             return Err(InputError::field(
                 "curve",
@@ -606,6 +666,7 @@ pub(crate) fn split_planes<'a, F>(
             normals: n,
             t: tt,
             triangles: tri,
+            topology: true,
         });
     }
     outs

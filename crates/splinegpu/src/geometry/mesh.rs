@@ -82,12 +82,14 @@ pub fn counts(shape: Shape, sections: u64, closed: bool) -> (u64, u64) {
 }
 
 /// Where one mesh goes, in the caller's float type: 3 coordinates a vertex of points and
-/// normals, one t a vertex, and triangles of indices local to the mesh.
+/// normals, one t a vertex, and triangles of indices local to the mesh; without `topology`,
+/// the vertices alone (t and triangles empty: a renderer's refit keeps them).
 pub(crate) struct MeshOut<'a, F> {
     pub(crate) points: &'a mut [F],
     pub(crate) normals: &'a mut [F],
     pub(crate) t: &'a mut [f64],
     pub(crate) triangles: &'a mut [[u32; 3]],
+    pub(crate) topology: bool,
 }
 
 impl<F: SampleFloat> MeshOut<'_, F> {
@@ -96,7 +98,9 @@ impl<F: SampleFloat> MeshOut<'_, F> {
             self.points[3 * v + i] = F::from_f64(position[i]);
             self.normals[3 * v + i] = F::from_f64(normal[i]);
         }
-        self.t[v] = t;
+        if self.topology {
+            self.t[v] = t;
+        }
     }
 }
 
@@ -110,6 +114,7 @@ impl<F> MeshOut<'_, F> {
                 normals: &mut *self.normals,
                 t: &mut *self.t,
                 triangles: &mut *self.triangles,
+                topology: self.topology,
             },
             base: 0,
         }
@@ -136,13 +141,20 @@ impl<F> Pieces<'_, F> {
             std::mem::take(&mut self.rest.points).split_at_mut(3 * vertices);
         let (normals, rest_normals) =
             std::mem::take(&mut self.rest.normals).split_at_mut(3 * vertices);
-        let (t, rest_t) = std::mem::take(&mut self.rest.t).split_at_mut(vertices);
-        let (tri, rest_tri) = std::mem::take(&mut self.rest.triangles).split_at_mut(triangles);
+        let topology = self.rest.topology;
+        let (tv, tf) = if topology {
+            (vertices, triangles)
+        } else {
+            (0, 0)
+        };
+        let (t, rest_t) = std::mem::take(&mut self.rest.t).split_at_mut(tv);
+        let (tri, rest_tri) = std::mem::take(&mut self.rest.triangles).split_at_mut(tf);
         let mut piece = MeshOut {
             points,
             normals,
             t,
             triangles: tri,
+            topology,
         };
         write(&mut piece);
         for triangle in piece.triangles.iter_mut() {
@@ -155,6 +167,7 @@ impl<F> Pieces<'_, F> {
             normals: rest_normals,
             t: rest_t,
             triangles: rest_tri,
+            topology,
         };
         self.base += index(vertices as u64);
     }
@@ -222,7 +235,9 @@ fn tube(
         out.vertex(start, first.position, first.tangent.map(|x| -x), first.t);
         out.vertex(start + 1, last.position, last.tangent, last.t);
     }
-    tube_triangles(sections.len(), sides, caps, closed, out.triangles);
+    if out.topology {
+        tube_triangles(sections.len(), sides, caps, closed, out.triangles);
+    }
 }
 
 /// A tube's triangles: rings j and j + 1 joined by quads of two triangles (a closed curve's
@@ -267,7 +282,9 @@ fn ribbon(sections: &[Section], closed: bool, out: &mut MeshOut<'_, impl SampleF
         out.vertex(2 * j, left, section.normal, section.t);
         out.vertex(2 * j + 1, right, section.normal, section.t);
     }
-    ribbon_triangles(sections.len(), closed, out.triangles);
+    if out.topology {
+        ribbon_triangles(sections.len(), closed, out.triangles);
+    }
 }
 
 /// A ribbon's triangles: pair j and pair j + 1 joined by two (a closed curve's last pair its

@@ -339,21 +339,23 @@ impl StrokePlan {
     /// Writes the stroke's mesh into `out` (points with z = 0, normals +z).
     pub(crate) fn write<F: SampleFloat>(&self, table: &SegmentTable, out: &mut MeshOut<'_, F>) {
         let planes = Some((&mut *out.points, &mut *out.normals));
-        self.write_parts(table, planes, out.t, out.triangles);
+        let topology = out.topology.then_some((&mut *out.t, &mut *out.triangles));
+        self.write_parts(table, planes, topology);
     }
 
     /// Each vertex's t and the triangles of the mesh [`StrokePlan::write`] makes (its
     /// positions made in f64 to turn the triangles, and dropped).
     pub(crate) fn topology(&self, table: &SegmentTable, t: &mut [f64], triangles: &mut [[u32; 3]]) {
-        self.write_parts::<f64>(table, None, t, triangles);
+        self.write_parts::<f64>(table, None, Some((t, triangles)));
     }
 
+    /// Writes what there are planes for: the points and normals, and each vertex's t and the
+    /// triangles.
     fn write_parts<F: SampleFloat>(
         &self,
         table: &SegmentTable,
         planes: Option<(&mut [F], &mut [F])>,
-        t: &mut [f64],
-        triangles: &mut [[u32; 3]],
+        topology: Option<(&mut [f64], &mut [[u32; 3]])>,
     ) {
         let centres = self
             .sections
@@ -366,15 +368,14 @@ impl StrokePlan {
             .collect();
         let mut mesh = Writer {
             planes,
-            t,
-            triangles,
+            topology,
             centres,
             positions: Vec::with_capacity(self.vertices as usize),
             triangle: 0,
         };
         self.build(&mut mesh);
         debug_assert_eq!(mesh.positions.len() as u64, self.vertices);
-        debug_assert_eq!(mesh.triangle as u64, self.triangles);
+        debug_assert!(mesh.topology.is_none() || mesh.triangle as u64 == self.triangles);
     }
 
     /// Every vertex as the GPU makes it, in the mesh's order: (segment, u, v), the vertex
@@ -543,8 +544,7 @@ fn fan(
 /// kept as they are made).
 struct Writer<'a, F> {
     planes: Option<(&'a mut [F], &'a mut [F])>,
-    t: &'a mut [f64],
-    triangles: &'a mut [[u32; 3]],
+    topology: Option<(&'a mut [f64], &'a mut [[u32; 3]])>,
     /// Each section's position, half width and t.
     centres: Vec<([f64; 2], f64, f64)>,
     positions: Vec<[f64; 2]>,
@@ -566,16 +566,21 @@ impl<F: SampleFloat> Build for Writer<'_, F> {
                 normals[at + k] = F::from_f64(n);
             }
         }
-        self.t[index] = t;
+        if let Some((ts, _)) = &mut self.topology {
+            ts[index] = t;
+        }
         self.positions.push(p);
         index
     }
 
     fn triangle(&mut self, [a, b, c]: [usize; 3]) {
+        let Some((_, triangles)) = &mut self.topology else {
+            return;
+        };
         let (pa, pb, pc) = (self.positions[a], self.positions[b], self.positions[c]);
         let area = (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
         let [a, b, c] = [a, b, c].map(|v| u32::try_from(v).expect("counted within u32"));
-        self.triangles[self.triangle] = if area < 0.0 { [a, c, b] } else { [a, b, c] };
+        triangles[self.triangle] = if area < 0.0 { [a, c, b] } else { [a, b, c] };
         self.triangle += 1;
     }
 }

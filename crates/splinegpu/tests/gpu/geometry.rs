@@ -435,8 +435,12 @@ pub(crate) fn a_renderer_records_meshes_into_its_own_buffers_and_refits_moving_c
     assert_eq!(error.field.as_deref(), Some("job"));
     let swapped = polyline(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.1], [-1.0, 0.25]]);
     let swapped = curve(CurveKind::Bezier, 2, swapped);
-    job.refit(first_stroke, &swapped).unwrap();
-    let error = recording.refit(gpu, &job).unwrap_err();
+    let mut other = GeometryJob::new();
+    for (c, (curve, geometry, sampling, _)) in cases.iter().enumerate() {
+        let curve = if c == first_stroke { &swapped } else { curve };
+        other.push(curve, geometry, sampling).unwrap();
+    }
+    let error = recording.refit(gpu, &other).unwrap_err();
     assert!(error.to_string().contains("other joins or caps"), "{error}");
     let mut encoder = gpu.device().create_command_encoder(&Default::default());
     let small = gpu.device().create_buffer(&wgpu::BufferDescriptor {

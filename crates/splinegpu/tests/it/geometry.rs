@@ -786,7 +786,17 @@ fn meshes_go_into_the_callers_buffers_and_moving_curves_are_refitted_in_place() 
         Curve::new(trefoil().kind().clone(), Points::new(3, p).unwrap()).unwrap()
     };
     job.refit(0, &moved).unwrap();
+    // A renderer's frame: the vertices alone, the first frame's t and triangles kept.
+    let (kept_t, kept_triangles) = (b.t.clone(), b.triangles.clone());
+    job.evaluate_vertices_into(&mut b.points, &mut b.normals)
+        .unwrap();
+    let (vertices_only, normals_only) = (b.points.clone(), b.normals.clone());
     job.evaluate_into(b.planes()).unwrap();
+    assert_eq!(
+        (vertices_only, normals_only),
+        (b.points.clone(), b.normals.clone())
+    );
+    assert_eq!((&kept_t, &kept_triangles), (&b.t, &b.triangles));
     let mut fresh = GeometryJob::new();
     fresh.push(&moved, &tube, &Sampling::PerSegment(4)).unwrap();
     fresh.push(&axis(), &tube, &Sampling::ArcLength(7)).unwrap();
@@ -797,6 +807,10 @@ fn meshes_go_into_the_callers_buffers_and_moving_curves_are_refitted_in_place() 
         .map(|&x| x as f32)
         .collect();
     assert_eq!(b.points, rounded);
+    let error = job
+        .evaluate_vertices_into(&mut b.points[3..], &mut b.normals)
+        .unwrap_err();
+    assert!(error.message.contains("\"points\""), "{error}");
     // A buffer of the wrong length.
     let error = job
         .evaluate_into(MeshPlanes {
@@ -830,6 +844,28 @@ fn meshes_go_into_the_callers_buffers_and_moving_curves_are_refitted_in_place() 
     let error = strokes.refit(0, &straight(2.0)).unwrap_err();
     assert!(error.message.contains("vertices"), "{error}");
     assert_eq!(strokes.vertex_offsets(), &before[..]);
+    // A miter and a bevel trading corners: the same counts, other triangles: refused too.
+    let zigzag = |corners: &[[f64; 2]]| {
+        let mut p = corners[0].to_vec();
+        for w in corners.windows(2) {
+            for k in 1..=3 {
+                let f = f64::from(k) / 3.0;
+                p.extend([
+                    w[0][0] + f * (w[1][0] - w[0][0]),
+                    w[0][1] + f * (w[1][1] - w[0][1]),
+                ]);
+            }
+        }
+        Curve::new(CurveKind::Bezier, Points::new(2, p).unwrap()).unwrap()
+    };
+    let mut mitered = GeometryJob::new();
+    let first = zigzag(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.1], [1.0, 0.2]]);
+    mitered
+        .push(&first, &stroke, &Sampling::PerSegment(4))
+        .unwrap();
+    let swapped = zigzag(&[[0.0, 0.0], [1.0, 0.0], [0.0, 0.1], [-1.0, 0.25]]);
+    let error = mitered.refit(0, &swapped).unwrap_err();
+    assert!(error.message.contains("joins or caps"), "{error}");
 }
 
 /// Random curves of the uniform kinds, closed and open, each as a capped tube, a ribbon and
