@@ -130,8 +130,16 @@ pub(crate) struct StrokePlan {
     pub(crate) triangles: u64,
 }
 
+/// v / |v|, `None` where |v| is 0 or not finite. |v| is sqrt(x² + y²) where the sum of the
+/// squares is a normal f64 (within an ulp or so of hypot's), and hypot where it would
+/// overflow or underflow (hypot costs about as much as the rest of a section's planning).
 fn unit2(v: [f64; 2]) -> Option<[f64; 2]> {
-    let length = v[0].hypot(v[1]);
+    let squares = v[0] * v[0] + v[1] * v[1];
+    let length = if squares.is_normal() {
+        squares.sqrt()
+    } else {
+        v[0].hypot(v[1])
+    };
     (length > 0.0 && length.is_finite()).then(|| [v[0] / length, v[1] / length])
 }
 
