@@ -50,7 +50,7 @@
 //! same points: made once, bit-identical, and no point of one side inside a triangle edge of
 //! the other.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use crate::error::InputError;
 use crate::surface::mesh::{SurfacePlan, Vertex, check_count};
@@ -116,29 +116,38 @@ impl PatchCounts {
     /// The patch's triangles, counter-clockwise in (u, v), each as its three points.
     fn triangles(&self, emit: &mut impl FnMut([Local; 3])) {
         let [nu, nv] = self.cells;
-        let mut push = |t: [Local; 3]| {
-            let [p, q, r] = t.map(|x| self.local(x));
-            let area = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-            emit(if area < 0.0 { [t[0], t[2], t[1]] } else { t });
-        };
-        let cell = |push: &mut dyn FnMut([Local; 3]), a: usize, b: usize| {
+        // A cell's two triangles, counter-clockwise as made.
+        let cell = |emit: &mut dyn FnMut([Local; 3]), a: usize, b: usize| {
             let (p, q, r, s) = (
                 Local::Inner(a, b),
                 Local::Inner(a + 1, b),
                 Local::Inner(a + 1, b + 1),
                 Local::Inner(a, b + 1),
             );
-            push([p, q, r]);
-            push([p, r, s]);
+            emit([p, q, r]);
+            emit([p, r, s]);
         };
         if self.plain() {
             for a in 0..nu {
                 for b in 0..nv {
-                    cell(&mut push, a, b);
+                    cell(emit, a, b);
                 }
             }
             return;
         }
+        if nu >= 2 && nv >= 2 {
+            for a in 1..nu - 1 {
+                for b in 1..nv - 1 {
+                    cell(emit, a, b);
+                }
+            }
+        }
+        // The zippers' and fans' triangles, turned counter-clockwise by their (u, v).
+        let mut push = |t: [Local; 3]| {
+            let [p, q, r] = t.map(|x| self.local(x));
+            let area = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+            emit(if area < 0.0 { [t[0], t[2], t[1]] } else { t });
+        };
         let side = |s: usize| -> Vec<(f64, Local)> {
             (0..=self.sides[s])
                 .map(|k| {
@@ -148,11 +157,6 @@ impl PatchCounts {
                 .collect()
         };
         if nu >= 2 && nv >= 2 {
-            for a in 1..nu - 1 {
-                for b in 1..nv - 1 {
-                    cell(&mut push, a, b);
-                }
-            }
             let inner_u = |b: usize| -> Vec<(f64, Local)> {
                 (1..nu)
                     .map(|a| (a as f64 / nu as f64, Local::Inner(a, b)))
@@ -230,6 +234,62 @@ enum Key {
     /// A patch list's edge point: the edge's indices in the smaller order, the place along
     /// them, the edge's count.
     Edge([usize; 4], usize, usize),
+}
+
+/// Where a side's inner points are shared (see [`Graded::edge`]).
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+enum EdgeId {
+    /// A net's: the direction it runs along, its segment there, the line across it.
+    Net(usize, usize, usize),
+    /// A patch list's: its four control indices in the smaller order.
+    List([usize; 4]),
+}
+
+/// The points numbered so far: the next number, corners (and a collapsed side's points) by
+/// key, each edge's first inner point.
+#[derive(Default)]
+struct Seen {
+    next: u32,
+    keyed: HashMap<Key, u32>,
+    edges: HashMap<EdgeId, u32>,
+}
+
+impl Seen {
+    /// A new point's number, made by `make` where there is `made`.
+    fn fresh(
+        &mut self,
+        made: &mut Option<&mut Vec<Vertex>>,
+        make: impl FnOnce(&mut Vec<Vertex>),
+    ) -> u32 {
+        if let Some(made) = made {
+            make(made);
+        }
+        self.next += 1;
+        self.next - 1
+    }
+
+    /// The number of the point of `key`, new (and made) the first time.
+    fn shared(
+        &mut self,
+        key: Key,
+        made: &mut Option<&mut Vec<Vertex>>,
+        make: impl FnOnce(&mut Vec<Vertex>),
+    ) -> u32 {
+        if let Some(&id) = self.keyed.get(&key) {
+            return id;
+        }
+        let id = self.fresh(made, make);
+        self.keyed.insert(key, id);
+        id
+    }
+}
+
+/// A patch's points' vertex numbers (see [`Graded::assign`]).
+struct Ids {
+    sides: [Vec<u32>; 4],
+    inner_first: u32,
+    /// Inner points a row: N_v − 1.
+    across: usize,
 }
 
 /// A surface's patches with their sides counted: each side at the larger of its own patch's
@@ -404,60 +464,145 @@ impl<'a> Graded<'a> {
         }
     }
 
-    /// (vertices, triangles) of the mesh, counted without making it.
-    fn counts(&self) -> (u64, u64) {
-        let mut boundary = HashSet::new();
-        let (mut inner, mut triangles) = (0u64, 0u64);
-        for (p, counts) in self.patches.iter().enumerate() {
-            let [nu, nv] = counts.cells;
-            inner += ((nu - 1) * (nv - 1)) as u64;
-            let extra: usize = (0..4).map(|s| counts.sides[s] - [nv, nv, nu, nu][s]).sum();
-            triangles += (2 * nu * nv + extra) as u64;
-            for s in 0..4 {
-                for k in 0..=counts.sides[s] {
-                    boundary.insert(self.key(p, counts.canonical(Local::Side(s, k))));
+    /// Where side s of patch p shares its inner points, and whether the patch runs along it
+    /// against the shared order: a net's segment of a line (its direction, segment and line,
+    /// a closed direction's last line its first), a patch list's edge (its indices in the
+    /// smaller order); `None` for a collapsed side (its points keyed one by one).
+    fn edge(&self, p: usize, s: usize) -> Option<(EdgeId, bool)> {
+        match (self.table.knots(), self.table.patch_indices()) {
+            (Some(knots), _) => {
+                let (rows, across) = (knots[0].len() - 1, knots[1].len() - 1);
+                let closed = self.table.closed();
+                let (iu, iv) = (p / across, p % across);
+                let line = |i: usize, n: usize, d: usize| if i == n && closed[d] { 0 } else { i };
+                Some(match s {
+                    0 => (EdgeId::Net(1, iv, line(iu, rows, 0)), false),
+                    1 => (EdgeId::Net(1, iv, line(iu + 1, rows, 0)), false),
+                    2 => (EdgeId::Net(0, iu, line(iv, across, 1)), false),
+                    _ => (EdgeId::Net(0, iu, line(iv + 1, across, 1)), false),
+                })
+            }
+            (None, Some(lists)) => {
+                let edge = shared_edge(&lists[p], s)?;
+                Some((EdgeId::List(edge), edge != side_indices(&lists[p], s)))
+            }
+            (None, None) => unreachable!("a table is a net or a patch list"),
+        }
+    }
+
+    /// Patch p's points' vertex indices: each side's, then its inner grid's from
+    /// `inner_first`, (a, b) at (a − 1)(N_v − 1) + b − 1. A point seen before (a corner, an
+    /// edge another patch made) takes its vertex; a new one is numbered from `made`'s length
+    /// and made there, or (`made` None) counted alone. An edge's inner points are numbered
+    /// together in the edge's shared order, so the other patch finds them by arithmetic.
+    fn assign(&self, p: usize, made: &mut Option<&mut Vec<Vertex>>, seen: &mut Seen) -> Ids {
+        let counts = &self.patches[p];
+        let mut sides: [Vec<u32>; 4] = Default::default();
+        for (s, ids) in sides.iter_mut().enumerate() {
+            let e = counts.sides[s];
+            ids.resize(e + 1, 0);
+            for k in [0, e] {
+                let corner = counts.canonical(Local::Side(s, k));
+                let key = self.key(p, corner);
+                ids[k] = seen.shared(key, made, |made| {
+                    made.push(self.vertex(p, corner, Some(key)))
+                });
+            }
+            match self.edge(p, s) {
+                Some((edge, reversed)) => {
+                    // Place c of the shared order is this side's point k.
+                    let point = |c: usize| if reversed { e - c } else { c };
+                    let first = match seen.edges.get(&edge) {
+                        Some(&first) => first,
+                        None => {
+                            let first = seen.next;
+                            for c in 1..e {
+                                let side = Local::Side(s, point(c));
+                                seen.fresh(made, |made| {
+                                    made.push(self.vertex(p, side, Some(self.key(p, side))));
+                                });
+                            }
+                            seen.edges.insert(edge, first);
+                            first
+                        }
+                    };
+                    for c in 1..e {
+                        ids[point(c)] = first + (c - 1) as u32;
+                    }
+                }
+                None => {
+                    for (k, id) in ids.iter_mut().enumerate().take(e).skip(1) {
+                        let side = Local::Side(s, k);
+                        let key = self.key(p, side);
+                        *id = seen
+                            .shared(key, made, |made| made.push(self.vertex(p, side, Some(key))));
+                    }
                 }
             }
         }
-        (inner + boundary.len() as u64, triangles)
+        let [nu, nv] = counts.cells;
+        let inner_first = seen.next;
+        for a in 1..nu {
+            for b in 1..nv {
+                seen.fresh(made, |made| {
+                    made.push(self.vertex(p, Local::Inner(a, b), None))
+                });
+            }
+        }
+        Ids {
+            sides,
+            inner_first,
+            across: nv.saturating_sub(1),
+        }
     }
 
-    /// The mesh: each patch's triangles in patch order, its points made as it first names
-    /// them.
-    fn plan(&self) -> Result<SurfacePlan, InputError> {
-        check_count(self.counts().0)?;
-        let mut vertices = Vec::new();
-        let mut shared: HashMap<Key, u32> = HashMap::new();
-        let mut triangles = Vec::new();
-        // Patch p's inner points' vertices, (a, b) at a (N_v + 1) + b; NONE before made.
-        const NONE: u32 = u32::MAX;
-        let mut inner: Vec<u32> = Vec::new();
+    /// (vertices, triangles) of the mesh, counted without making it.
+    fn counts(&self) -> (u64, u64) {
+        let mut seen = Seen::default();
+        let mut triangles = 0u64;
         for (p, counts) in self.patches.iter().enumerate() {
             let [nu, nv] = counts.cells;
-            inner.clear();
-            inner.resize((nu + 1) * (nv + 1), NONE);
+            let extra: usize = (0..4).map(|s| counts.sides[s] - [nv, nv, nu, nu][s]).sum();
+            triangles += (2 * nu * nv + extra) as u64;
+            self.assign(p, &mut None, &mut seen);
+        }
+        (u64::from(seen.next), triangles)
+    }
+
+    /// The mesh: each patch's points numbered (and made) as [`Graded::assign`] says, then its
+    /// triangles.
+    fn plan(&self) -> Result<SurfacePlan, InputError> {
+        // At most every patch's own points: counted exactly only where that bound is large.
+        let most: u64 = self
+            .patches
+            .iter()
+            .map(|c| {
+                let [nu, nv] = c.cells;
+                ((nu - 1) * (nv - 1) + c.sides.iter().map(|e| e + 1).sum::<usize>()) as u64
+            })
+            .sum();
+        if most > u64::from(u32::MAX) {
+            check_count(self.counts().0)?;
+        }
+        // Room for the usual mesh at once (the bound counts each shared point twice).
+        let mut vertices = Vec::with_capacity(most.min(1 << 24) as usize);
+        let mut triangles = Vec::with_capacity(
+            self.patches
+                .iter()
+                .map(|c| {
+                    let [nu, nv] = c.cells;
+                    2 * nu * nv + c.sides.iter().sum::<usize>() - 2 * (nu + nv)
+                })
+                .sum(),
+        );
+        let mut seen = Seen::default();
+        for (p, counts) in self.patches.iter().enumerate() {
+            let ids = self.assign(p, &mut Some(&mut vertices), &mut seen);
             counts.triangles(&mut |t| {
-                let ids = t.map(|point| {
-                    let point = counts.canonical(point);
-                    let mut fresh = |key| {
-                        vertices.push(self.vertex(p, point, key));
-                        (vertices.len() - 1) as u32
-                    };
-                    match point {
-                        Local::Inner(a, b) => {
-                            let slot = &mut inner[a * (nv + 1) + b];
-                            if *slot == NONE {
-                                *slot = fresh(None);
-                            }
-                            *slot
-                        }
-                        side => {
-                            let key = self.key(p, side);
-                            *shared.entry(key).or_insert_with(|| fresh(Some(key)))
-                        }
-                    }
-                });
-                triangles.push(ids);
+                triangles.push(t.map(|point| match counts.canonical(point) {
+                    Local::Side(s, k) => ids.sides[s][k],
+                    Local::Inner(a, b) => ids.inner_first + ((a - 1) * ids.across + (b - 1)) as u32,
+                }));
             });
         }
         Ok(SurfacePlan {
@@ -538,6 +683,8 @@ pub(crate) fn patch_triangles(
 
 #[cfg(test)]
 mod tests {
+    use std::collections::HashSet;
+
     use super::*;
 
     /// Random cells and sides (each side at least its cells' count).
