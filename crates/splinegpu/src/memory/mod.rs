@@ -43,15 +43,19 @@ pub(crate) fn try_filled<T: Clone>(
 
 /// `n` zeros in a new vector, the allocation fallible and zeroed by the allocator (fresh pages
 /// from the system come zeroed: nothing is written until the caller writes, as `vec![0; n]`
-/// does, where [`try_filled`] writes every element first).
+/// does, where [`try_filled`] writes every element first); from 4 MiB on, advised onto huge
+/// pages before the caller's first touch.
 pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
     n: usize,
 ) -> Result<Vec<T>, std::collections::TryReserveError> {
     // bytemuck's refusal carries no reason: the standard one is made from an impossible
     // reservation, which fails the same way.
-    bytemuck::allocation::try_zeroed_slice_box(n)
-        .map(Vec::from)
-        .map_err(|()| Vec::<u8>::new().try_reserve_exact(usize::MAX).unwrap_err())
+    let mut zeros: Box<[T]> = bytemuck::allocation::try_zeroed_slice_box(n)
+        .map_err(|()| Vec::<u8>::new().try_reserve_exact(usize::MAX).unwrap_err())?;
+    if size_of_val(&*zeros) >= ADVISED_BYTES {
+        advise_huge_pages(zeros.as_mut_ptr().cast(), size_of_val(&*zeros));
+    }
+    Ok(Vec::from(zeros))
 }
 
 /// Asks Linux to back the whole 2 MiB pages inside `[start, start + bytes)` with huge pages.
