@@ -29,22 +29,9 @@ pub(crate) fn reserve_on_huge_pages<T>(v: &mut Vec<T>, n: usize) {
     }
 }
 
-/// `n` copies of `value` in a new vector, the allocation fallible: where the process cannot
-/// have the memory (a limit an estimate missed) an error, never an abort.
-pub(crate) fn try_filled<T: Clone>(
-    n: usize,
-    value: T,
-) -> Result<Vec<T>, std::collections::TryReserveError> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n)?;
-    v.resize(n, value);
-    Ok(v)
-}
-
 /// `n` zeros in a new vector, the allocation fallible and zeroed by the allocator (fresh pages
 /// from the system come zeroed: nothing is written until the caller writes, as `vec![0; n]`
-/// does, where [`try_filled`] writes every element first); from 4 MiB on, advised onto huge
-/// pages before the caller's first touch.
+/// does); from 4 MiB on, advised onto huge pages before the caller's first touch.
 pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
     n: usize,
 ) -> Result<Vec<T>, std::collections::TryReserveError> {

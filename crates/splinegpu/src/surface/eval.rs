@@ -204,9 +204,9 @@ fn collected<T>(
     Ok(v)
 }
 
-/// `n` zeros, the allocation fallible.
+/// `n` zeros, the allocation fallible (zeroed by the allocator, on huge pages where large).
 fn zeros<F: SampleFloat>(n: usize) -> Result<Vec<F>, std::collections::TryReserveError> {
-    crate::memory::try_filled(n, F::default())
+    crate::memory::try_zeroed(n)
 }
 
 /// Evaluates `plan` on `table` into a caller's planes on every thread: the planes present are
