@@ -45,6 +45,15 @@ pub(crate) fn try_zeroed<T: bytemuck::Zeroable>(
     Ok(Vec::from(zeros))
 }
 
+/// [`try_zeroed`] where the caller has checked the job against the memory it may take: an
+/// allocation that fails nonetheless ends the process as `vec![0; n]`'s does.
+pub(crate) fn zeroed<T: bytemuck::Zeroable>(n: usize) -> Vec<T> {
+    try_zeroed(n).unwrap_or_else(|_| {
+        let layout = std::alloc::Layout::array::<T>(n).unwrap_or(std::alloc::Layout::new::<T>());
+        std::alloc::handle_alloc_error(layout)
+    })
+}
+
 /// Asks Linux to back the whole 2 MiB pages inside `[start, start + bytes)` with huge pages.
 #[cfg(target_os = "linux")]
 fn advise_huge_pages(start: *mut u8, bytes: usize) {

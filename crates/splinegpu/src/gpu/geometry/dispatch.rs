@@ -115,11 +115,13 @@ impl GpuContext {
             (from(job.vertex_offsets()), from(job.triangle_offsets()));
         let v = usize::try_from(vertex_offsets[curves.len()]).expect("checked against memory");
         let f = usize::try_from(triangle_offsets[curves.len()]).expect("checked against memory");
+        // Checked against the memory the job may take when it was grouped; fresh pages on
+        // huge pages.
         let mut meshes = Meshes {
-            points: vec![0.0f32; 3 * v],
-            normals: vec![0.0f32; 3 * v],
-            t: vec![0.0; v],
-            triangles: vec![[0; 3]; f],
+            points: crate::memory::zeroed(3 * v),
+            normals: crate::memory::zeroed(3 * v),
+            t: crate::memory::zeroed(v),
+            triangles: crate::memory::zeroed(f),
             vertex_offsets,
             triangle_offsets,
         };
