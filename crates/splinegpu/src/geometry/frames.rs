@@ -47,9 +47,19 @@ fn sub(a: Vec3, b: Vec3) -> Vec3 {
 }
 
 /// `v` / |v|, or `None` where |v| is 0 (or not finite).
+#[inline]
 pub(crate) fn unit(v: Vec3) -> Option<Vec3> {
     let length = dot(v, v).sqrt();
-    (length > 0.0 && length.is_finite()).then(|| v.map(|x| x / length))
+    if !(length > 0.0 && length.is_finite()) {
+        return None;
+    }
+    // One division a vector where its reciprocal is finite (a normal length), three else.
+    Some(if length >= f64::MIN_POSITIVE {
+        let inverse = 1.0 / length;
+        v.map(|x| x * inverse)
+    } else {
+        v.map(|x| x / length)
+    })
 }
 
 /// `v` made perpendicular to the unit vector `t` and normalized (`None` where nothing is left).
