@@ -4,17 +4,18 @@
 //!
 //! # A patch's triangles
 //!
-//! A patch of cells N = (N_u, N_v) whose four sides carry e_s >= N points' intervals (sides 0
-//! and 1 at u = 0 and 1, along v; sides 2 and 3 at v = 0 and 1, along u):
+//! A patch of N = (N_u, N_v) cells whose four sides are cut into e_s >= N intervals each
+//! (sides 0 and 1 at u = 0 and 1, along v; sides 2 and 3 at v = 0 and 1, along u; N the
+//! patch's count along the side):
 //!
 //! - every e_s equal to its N: the N_u x N_v grid, two triangles a cell;
 //! - else, N_u, N_v >= 2: the inner grid of the vertices (a/N_u, b/N_v), 0 < a < N_u,
 //!   0 < b < N_v, two triangles a cell, and a ring round it: each side's e_s + 1 points zipped
 //!   to the inner grid's side facing it (from inner corner to inner corner), by their place
 //!   along the side: the zipper steps along whichever row's next point comes first;
-//! - else (N_u or N_v is 1): a strip: the two sides along the direction of count 1's
-//!   complement zipped by their place, and each end's side fanned onto the zipper's first
-//!   (last) triangle's far vertex.
+//! - else (N_u or N_v is 1): a strip: the two sides that run across the direction of count 1
+//!   (at u = 0 and 1 where N_u is 1) zipped by their place, and each of the other two sides
+//!   fanned onto the far vertex of the zipper's triangle at its end.
 //!
 //! # Within tol
 //!
