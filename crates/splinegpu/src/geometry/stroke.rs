@@ -444,10 +444,11 @@ impl StrokePlan {
             mesh.vertex(j, n);
             mesh.vertex(j, [-n[0], -n[1]]);
         }
-        let corner_after: std::collections::HashSet<usize> =
-            self.corners.iter().map(|(at, _)| *at).collect();
+        // The corners are in their arriving sections' order: walked along with the sections.
+        debug_assert!(self.corners.windows(2).all(|w| w[0].0 < w[1].0));
+        let mut corner_after = self.corners.iter().map(|(at, _)| *at).peekable();
         for j in 0..self.sections.len() - 1 {
-            if corner_after.contains(&j) {
+            if corner_after.next_if_eq(&j).is_some() {
                 continue;
             }
             let (l0, r0, l1, r1) = (2 * j, 2 * j + 1, 2 * j + 2, 2 * j + 3);
