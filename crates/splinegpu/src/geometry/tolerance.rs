@@ -604,9 +604,11 @@ pub(crate) fn places(
     limit: usize,
 ) -> Result<Vec<SampleLoc>, InputError> {
     let mut locs = Vec::new();
+    // The intervals still to place, one segment's at a time.
+    let mut stack = Vec::new();
     for s in 0..table.len() {
         let segment = table.segment(s);
-        let mut stack = vec![(0.0f64, 1.0f64)];
+        stack.push((0.0f64, 1.0f64));
         while let Some((ua, ub)) = stack.pop() {
             let width = ub - ua;
             // The interval's bounds hold on each of its cells: the fewest equal cells that
