@@ -224,7 +224,9 @@ fn zip(outer: &[(f64, Local)], inner: &[(f64, Local)], push: &mut impl FnMut([Lo
     }
 }
 
-/// Where a boundary point is on the surface, whatever patch names it.
+/// Where a boundary point that is keyed one by one is on the surface, whatever patch names it:
+/// a corner, or a point of a patch list's collapsed side (an edge's other points are found by
+/// [`Graded::edge`]).
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
 enum Key {
     /// A net's point: in each direction (segment, k, e), the place k/e along the segment
@@ -232,9 +234,9 @@ enum Key {
     Net([(usize, usize, usize); 2]),
     /// A patch list's corner: its control index.
     Corner(usize),
-    /// A patch list's edge point: the edge's indices in the smaller order, the place along
-    /// them, the edge's count.
-    Edge([usize; 4], usize, usize),
+    /// A point of a patch list's collapsed side (one point: its places weld whatever the
+    /// side's count): its control index and the place.
+    Collapsed(usize, usize),
 }
 
 /// Where a side's inner points are shared (see [`Graded::edge`]).
@@ -369,7 +371,8 @@ impl<'a> Graded<'a> {
         self.patches.iter().all(PatchCounts::plain)
     }
 
-    /// The key of patch p's boundary `point` (a canonical side point).
+    /// The key of patch p's boundary `point` (a canonical side point): any on a net; on a
+    /// patch list a corner or a collapsed side's point (the points it is asked for there).
     fn key(&self, p: usize, point: Local) -> Key {
         let counts = &self.patches[p];
         let Local::Side(s, k) = point else {
@@ -406,62 +409,52 @@ impl<'a> Graded<'a> {
                     (0, k) if k == e => corner(0, 3),
                     (1, 0) => corner(3, 0),
                     (1, k) if k == e => corner(3, 3),
-                    _ => match shared_edge(controls, s) {
-                        Some(edge) if edge == side_indices(controls, s) => Key::Edge(edge, k, e),
-                        Some(edge) => Key::Edge(edge, e - k, e),
-                        // A collapsed side is one point: its places weld whatever its count.
-                        None => Key::Edge(side_indices(controls, s), k, 0),
-                    },
+                    _ => {
+                        debug_assert!(shared_edge(controls, s).is_none(), "a collapsed side");
+                        Key::Collapsed(side_indices(controls, s)[0], k)
+                    }
                 }
             }
             (None, None) => unreachable!("a table is a net or a patch list"),
         }
     }
 
-    /// The vertex a point of patch p is made as (`key`: a boundary point's): on a net, the
-    /// patch that starts there (the last line on the last patch at 1); on a patch list, where
-    /// patch p names it.
-    fn vertex(&self, p: usize, point: Local, key: Option<Key>) -> Vertex {
+    /// The vertex a point of patch p is made as: on a net, a boundary point on the patch that
+    /// starts there (the last line on the last patch at 1); on a patch list, where patch p
+    /// names it.
+    fn vertex(&self, p: usize, point: Local) -> Vertex {
         let local = self.patches[p].local(point);
-        // Parameter at place l of segment s, as a net's grid makes it.
-        let at = |knots: &[f64], s: usize, l: f64| {
-            if l == 1.0 {
-                knots[s + 1]
-            } else {
-                knots[s] + l * (knots[s + 1] - knots[s])
-            }
-        };
-        match (self.table.knots(), key) {
-            (Some(knots), Some(Key::Net(parts))) => {
-                let across = knots[1].len() - 1;
-                let place = |d: usize| {
-                    let (s, k, e) = parts[d];
-                    let l = k as f64 / e as f64;
-                    (s, l, at(knots[d], s, l))
-                };
-                let (u, v) = (place(0), place(1));
-                Vertex {
-                    patch: (u.0 * across + v.0) as u32,
-                    local: [u.1, v.1],
-                    uv: [u.2, v.2],
-                }
-            }
-            (Some(knots), _) => {
-                // An inner point of patch p.
-                let across = knots[1].len() - 1;
-                let segment = [p / across, p % across];
-                let uv = [0, 1].map(|d| at(knots[d], segment[d], local[d]));
-                Vertex {
-                    patch: p as u32,
-                    local,
-                    uv,
-                }
-            }
-            (None, _) => Vertex {
+        let Some(knots) = self.table.knots() else {
+            return Vertex {
                 patch: p as u32,
                 local,
                 uv: local,
-            },
+            };
+        };
+        // Parameter at place l of segment s, as a net's grid makes it.
+        let at = |d: usize, s: usize, l: f64| {
+            if l == 1.0 {
+                knots[d][s + 1]
+            } else {
+                knots[d][s] + l * (knots[d][s + 1] - knots[d][s])
+            }
+        };
+        let across = knots[1].len() - 1;
+        // Each direction's (segment, local): a boundary point's as its key places it.
+        let places: [(usize, f64); 2] = match point {
+            Local::Side(..) => {
+                let Key::Net(parts) = self.key(p, point) else {
+                    unreachable!("a net's points have net keys")
+                };
+                parts.map(|(s, k, e)| (s, k as f64 / e as f64))
+            }
+            Local::Inner(..) => [(p / across, local[0]), (p % across, local[1])],
+        };
+        let [(su, lu), (sv, lv)] = places;
+        Vertex {
+            patch: (su * across + sv) as u32,
+            local: [lu, lv],
+            uv: [at(0, su, lu), at(1, sv, lv)],
         }
     }
 
@@ -505,9 +498,7 @@ impl<'a> Graded<'a> {
             for k in [0, e] {
                 let corner = counts.canonical(Local::Side(s, k));
                 let key = self.key(p, corner);
-                ids[k] = seen.shared(key, made, |made| {
-                    made.push(self.vertex(p, corner, Some(key)))
-                });
+                ids[k] = seen.shared(key, made, |made| made.push(self.vertex(p, corner)));
             }
             match self.edge(p, s) {
                 Some((edge, reversed)) => {
@@ -520,7 +511,7 @@ impl<'a> Graded<'a> {
                             for c in 1..e {
                                 let side = Local::Side(s, point(c));
                                 seen.fresh(made, |made| {
-                                    made.push(self.vertex(p, side, Some(self.key(p, side))));
+                                    made.push(self.vertex(p, side));
                                 });
                             }
                             seen.edges.insert(edge, first);
@@ -535,8 +526,7 @@ impl<'a> Graded<'a> {
                     for (k, id) in ids.iter_mut().enumerate().take(e).skip(1) {
                         let side = Local::Side(s, k);
                         let key = self.key(p, side);
-                        *id = seen
-                            .shared(key, made, |made| made.push(self.vertex(p, side, Some(key))));
+                        *id = seen.shared(key, made, |made| made.push(self.vertex(p, side)));
                     }
                 }
             }
@@ -545,9 +535,7 @@ impl<'a> Graded<'a> {
         let inner_first = seen.next;
         for a in 1..nu {
             for b in 1..nv {
-                seen.fresh(made, |made| {
-                    made.push(self.vertex(p, Local::Inner(a, b), None))
-                });
+                seen.fresh(made, |made| made.push(self.vertex(p, Local::Inner(a, b))));
             }
         }
         Ids {
