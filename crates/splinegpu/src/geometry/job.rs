@@ -377,17 +377,15 @@ impl GeometryJob {
     /// or ribbon's from its plan alone, a stroke's pieces' from their f64 positions (its
     /// triangles are turned counter-clockwise by them), one piece after the other.
     pub(crate) fn topology(&self, c: usize, t: &mut [f64], triangles: &mut [[u32; 3]]) {
-        let planned = &self.curves[c];
-        let pieces = match (self.swept(c), &planned.body) {
-            (Some(plan), _) => return plan.topology(t, triangles),
-            (None, Body::Stroke(pieces)) => pieces,
-            (None, Body::Swept { .. }) => unreachable!("a swept body has a swept plan"),
+        let (table, pieces) = match self.kernel_plan(c) {
+            KernelPlan::Swept(plan) => return plan.topology(t, triangles),
+            KernelPlan::Stroke { table, pieces } => (table, pieces),
         };
         let (mut v0, mut f0) = (0, 0);
         for piece in pieces {
             let (v, f) = (piece.vertices as usize, piece.triangles as usize);
             let part = &mut triangles[f0..f0 + f];
-            piece.topology(&planned.table, &mut t[v0..v0 + v], part);
+            piece.topology(table, &mut t[v0..v0 + v], part);
             for i in part.iter_mut().flatten() {
                 *i += v0 as u32;
             }
@@ -566,21 +564,13 @@ impl GeometryJob {
                 ));
             }
         }
-        let (mut points, mut normals) = (points, normals);
-        let mut outs = Vec::with_capacity(self.len());
-        for v in self.vertex_offsets.windows(2) {
-            let v = 3 * (v[1] - v[0]) as usize;
-            let (p, rest_p) = std::mem::take(&mut points).split_at_mut(v);
-            let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(v);
-            (points, normals) = (rest_p, rest_n);
-            outs.push(MeshOut {
-                points: p,
-                normals: n,
-                t: &mut [],
-                triangles: &mut [],
-                topology: false,
-            });
-        }
+        let planes = MeshPlanes {
+            points,
+            normals,
+            t: &mut [],
+            triangles: &mut [],
+        };
+        let outs = split_planes(planes, &self.vertex_offsets, &self.triangle_offsets, false);
         self.curves
             .par_iter()
             .zip(outs)
@@ -604,19 +594,6 @@ impl GeometryJob {
     pub fn refit(&mut self, c: usize, curve: &Curve) -> Result<(), InputError> {
         let old = &self.curves[c];
         let planned = plan(curve, &old.geometry, &old.sampling)?;
-        let joins = |p: &Planned| match &p.body {
-            Body::Stroke(pieces) => pieces.iter().map(StrokePlan::topology_key).collect(),
-            Body::Swept { .. } => Vec::new(),
-        };
-        if (planned.vertices, planned.triangles) == (old.vertices, old.triangles)
-            && joins(&planned) != joins(old)
-        {
-            return Err(InputError::field(
-                "curve",
-                "makes a stroke whose joins or caps are not the job's (the same counts, other \
-                 triangles)",
-            ));
-        }
         if (planned.vertices, planned.triangles) != (old.vertices, old.triangles) {
             return Err(InputError::field(
                 "curve",
@@ -624,6 +601,17 @@ impl GeometryJob {
                     "makes {} vertices and {} triangles where the job holds {} and {}",
                     planned.vertices, planned.triangles, old.vertices, old.triangles
                 ),
+            ));
+        }
+        let joins = |p: &Planned| match &p.body {
+            Body::Stroke(pieces) => pieces.iter().map(StrokePlan::topology_key).collect(),
+            Body::Swept { .. } => Vec::new(),
+        };
+        if joins(&planned) != joins(old) {
+            return Err(InputError::field(
+                "curve",
+                "makes a stroke whose joins or caps are not the job's (the same counts, other \
+                 triangles)",
             ));
         }
         self.curves[c] = planned;
@@ -636,16 +624,19 @@ impl GeometryJob {
             planes,
             &self.vertex_offsets[range.start..=range.end],
             &self.triangle_offsets[range.start..=range.end],
+            true,
         )
     }
 }
 
 /// `planes` cut into each mesh's part, mesh c owning the vertices and triangles between
-/// entries c and c + 1 of the offsets (counted from any start).
+/// entries c and c + 1 of the offsets (counted from any start); without `topology`, the
+/// vertices alone (`t` and `triangles` empty).
 pub(crate) fn split_planes<'a, F>(
     planes: MeshPlanes<'a, F>,
     vertex_offsets: &[u64],
     triangle_offsets: &[u64],
+    topology: bool,
 ) -> Vec<MeshOut<'a, F>> {
     let MeshPlanes {
         mut points,
@@ -658,15 +649,16 @@ pub(crate) fn split_planes<'a, F>(
         let (v, f) = ((v[1] - v[0]) as usize, (f[1] - f[0]) as usize);
         let (p, rest_p) = std::mem::take(&mut points).split_at_mut(3 * v);
         let (n, rest_n) = std::mem::take(&mut normals).split_at_mut(3 * v);
-        let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(v);
-        let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(f);
+        let (tv, tf) = if topology { (v, f) } else { (0, 0) };
+        let (tt, rest_t) = std::mem::take(&mut t).split_at_mut(tv);
+        let (tri, rest_tri) = std::mem::take(&mut triangles).split_at_mut(tf);
         (points, normals, t, triangles) = (rest_p, rest_n, rest_t, rest_tri);
         outs.push(MeshOut {
             points: p,
             normals: n,
             t: tt,
             triangles: tri,
-            topology: true,
+            topology,
         });
     }
     outs

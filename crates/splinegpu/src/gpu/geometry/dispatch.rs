@@ -264,7 +264,12 @@ fn split(meshes: &mut Meshes<f32>) -> Vec<MeshOut<'_, f32>> {
         t: &mut meshes.t,
         triangles: &mut meshes.triangles,
     };
-    split_planes(planes, &meshes.vertex_offsets, &meshes.triangle_offsets)
+    split_planes(
+        planes,
+        &meshes.vertex_offsets,
+        &meshes.triangle_offsets,
+        true,
+    )
 }
 
 /// The curves cut into consecutive groups whose every binding (curve records, blocks,
