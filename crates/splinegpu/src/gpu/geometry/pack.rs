@@ -53,20 +53,15 @@ pub(crate) fn kernel_plan_vertices(plan: &KernelPlan<'_>) -> u64 {
 /// The bytes a plan takes in each binding: its curve record, blocks, sections, output and
 /// stroke vertices.
 pub(crate) fn binding_bytes(plan: &KernelPlan<'_>) -> [u64; 5] {
-    let table = plan.table();
-    let blocks = table.len() * block_vec4s(table.is_rational()) * 16;
-    let vertices = kernel_plan_vertices(plan);
-    let (sections, stroke_vertices) = match plan {
-        KernelPlan::Swept(plan) => (plan.locs.len(), 0),
-        KernelPlan::Stroke { .. } => (0, vertices),
-    };
+    let [blocks, sections, stroke_vertices, vertices] = shares(plan);
     [
-        std::mem::size_of::<GpuMeshCurve>() as u64,
-        blocks as u64,
-        (sections * std::mem::size_of::<GpuSection>()) as u64,
-        vertices * (VERTEX_FLOATS * 4) as u64,
-        stroke_vertices * std::mem::size_of::<GpuStrokeVertex>() as u64,
+        std::mem::size_of::<GpuMeshCurve>(),
+        blocks * 16,
+        sections * std::mem::size_of::<GpuSection>(),
+        vertices * VERTEX_FLOATS * 4,
+        stroke_vertices * std::mem::size_of::<GpuStrokeVertex>(),
     ]
+    .map(|bytes| bytes as u64)
 }
 
 /// A plan's share of each table: blocks (vec4s), sections, stroke vertices, output vertices.
