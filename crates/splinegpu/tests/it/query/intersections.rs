@@ -388,7 +388,13 @@ proptest! {
             .iter()
             .find(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-4);
         prop_assert!(touch.is_some_and(|x| x.tangent && !x.overlap), "{:?} at {:?}", found, p);
-        prop_assert_eq!(found.iter().filter(|x| (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-3).count(), 1);
+        // Reported once: no other answer near it on the same stretch of the curve (another
+        // stretch may pass close by and cross the line there: a draw's t = 4.89 crossed it
+        // 8e-4 from the touch at t = 1.57).
+        let near = |x: &&Intersection| {
+            (x.point[0] - p[0]).hypot(x.point[1] - p[1]) < 1e-3 && (x.t_i - t0).abs() < 0.5
+        };
+        prop_assert_eq!(found.iter().filter(near).count(), 1, "{:?}", found);
     }
 }
 
