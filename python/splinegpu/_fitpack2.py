@@ -1,8 +1,10 @@
 """SciPy's object-oriented FITPACK splines (its `_fitpack2`), answered by this package's
 B-splines.
 
-Curves: `UnivariateSpline` (smoothing, FITPACK's knots as `make_splrep` places them;
-`set_smoothing_factor` goes on with FITPACK's knot search from where it stopped),
+Curves: `UnivariateSpline` (smoothing by FITPACK's curfit itself, `bsplines::curfit`: its
+knots, coefficients, fp and ier, its room for m // 2 knots first and then for all, its class
+changes and warnings; `set_smoothing_factor` goes on with the knot search from where it
+stopped, as curfit's iopt = 1),
 `InterpolatedUnivariateSpline` (s = 0) and `LSQUnivariateSpline` (given interior knots), with
 their methods.
 
@@ -33,6 +35,30 @@ from ._ndbspline import NdBSpline, solve_grid
 
 _EXT = {"extrapolate": 0, "zeros": 1, "raise": 2, "const": 3}
 
+# SciPy's UnivariateSpline warnings for FITPACK's ier (its `_curfit_messages`, word for word:
+# callers match them).
+_CURFIT_MESSAGES = {
+    1: """
+The required storage space exceeds the available storage space, as
+specified by the parameter nest: nest too small. If nest is already
+large (say nest > m/2), it may also indicate that s is too small.
+The approximation returned is the weighted least-squares spline
+according to the knots t[0],t[1],...,t[n-1]. (n=nest) the parameter fp
+gives the corresponding weighted sum of squared residuals (fp>s).
+""",
+    2: """
+A theoretically impossible result was found during the iteration
+process for finding a smoothing spline with fp = s: s too small.
+There is an approximation returned but the corresponding weighted sum
+of squared residuals does not satisfy the condition abs(fp-s)/s < tol.""",
+    3: """
+The maximal number of iterations maxit (set to 20 by the program)
+allowed for finding a smoothing spline with fp=s has been reached: s
+too small.
+There is an approximation returned but the corresponding weighted sum
+of squared residuals does not satisfy the condition abs(fp-s)/s < tol.""",
+}
+
 
 def _ext(ext) -> int:
     if isinstance(ext, str):
@@ -51,9 +77,12 @@ class UnivariateSpline:
 
     # The data it was fitted to (x, y, w, bbox, k); None for a derived spline.
     _data: tuple | None
-    # Where FITPACK's knot search stopped, (t, fpold, nplus), for set_smoothing_factor; None
-    # where it has not searched (s = 0, given knots, a derived spline).
+    # Where FITPACK's knot search stopped (`_native.fit_curfit`'s state, or None: start from
+    # the polynomial) and the room for knots (nest) it had, for set_smoothing_factor; None
+    # where it cannot go on (given knots, a derived spline).
     _search: tuple | None = None
+    # FITPACK's fp of the fit (None: summed at the data when asked).
+    _fp: float | None = None
 
     def __init__(self, x, y, w=None, bbox=(None, None), k: int = 3, s=None, ext=0,
                  check_finite: bool = False, context: Context | None = None):
@@ -64,24 +93,46 @@ class UnivariateSpline:
         self.context = context
         if s == 0:
             self._spline = _interpolating(x, y, w, bbox, k, context)
+            # FITPACK's room for the interpolating knots; a later s searches afresh.
+            self._search = (None, len(x) + k + 1)
+            self._reset_class(-1)
         else:
-            self._smooth(s, None)
+            # fpcurf0's room for knots when smoothing: m // 2 (at least 2k + 2).
+            self._smooth(s, None, max(len(x) // 2, 2 * (k + 1)))
 
-    def _smooth(self, s: float, search) -> None:
-        """The smoothing spline for s, FITPACK's knot search from the polynomial (search None)
-        or on from an earlier search's (t, fpold, nplus); FITPACK's stop short of fp = s
-        warns as SciPy's class warns it (a UserWarning)."""
+    def _smooth(self, s: float, state, nest: int) -> None:
+        """The smoothing spline for s by FITPACK's curfit, from the polynomial (state None)
+        or on from an earlier search (curfit's iopt = 1), with room for nest knots; where
+        they are too few (ier 1), the search goes on with room for every knot, as SciPy's
+        class does. The class and warnings then follow ier as SciPy's."""
         assert self._data is not None
         x, y, w, bbox, k = self._data
         x, y, w, k, s, xb, xe = _fitpack_repro._validated(x, y, w, k, s, bbox[0], bbox[1], False)
         if len(x) <= k:
             raise ValueError(f"x: m > k must hold, got m = {len(x)} points for k = {k}")
-        t, c, ier, self._search = _native.fit_splrep_from(
-            _aligned(x, "x"), _aligned(np.ascontiguousarray(y[:, 0]), "y"), _aligned(w, "w"),
-            xb, xe, k, s, search)
-        if ier:
-            warnings.warn(_fitpack_repro._STOPPED[ier], UserWarning, stacklevel=3)
-        self._spline = BSpline.construct_fast(t, c, k, context=self.context)
+        if k > 5:
+            raise ValueError("k should be 1 <= k <= 5")
+        t, c, fp, ier, state = _native.fit_curfit(
+            _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, state)
+        if ier == 1:
+            nest = len(x) + k + 1
+            t, c, fp, ier, state = _native.fit_curfit(
+                _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, state)
+        self._search, self._fp = (state, nest), fp
+        self._spline = BSpline.construct_fast(t, c[:, 0], k, context=self.context)
+        self._reset_class(ier)
+
+    def _reset_class(self, ier: int) -> None:
+        """SciPy's class after a fit with FITPACK's ier: InterpolatedUnivariateSpline for an
+        interpolating spline (-1), LSQUnivariateSpline for the least-squares polynomial (-2)
+        or too few knots (1); a warning for 1, 2 and 3. Subclasses keep their class."""
+        made = {-1: InterpolatedUnivariateSpline, -2: LSQUnivariateSpline,
+                1: LSQUnivariateSpline}.get(ier)
+        if made is not None and type(self) in (UnivariateSpline, InterpolatedUnivariateSpline,
+                                               LSQUnivariateSpline):
+            self.__class__ = made
+        if ier > 0:
+            warnings.warn(_CURFIT_MESSAGES.get(ier, f"ier={ier}"), stacklevel=4)
 
     @staticmethod
     def validate_input(x, y, w, bbox, k, s, ext, check_finite):
@@ -148,6 +199,8 @@ class UnivariateSpline:
         """sum (w_i (y_i - f(x_i)))^2 over the data."""
         if self._data is None:
             raise ValueError("get_residual: a derived spline has no data")
+        if self._fp is not None:
+            return self._fp
         x, y, w, _, _ = self._data
         weights = np.ones_like(x) if w is None else w
         return float(np.sum((weights * (y - self._spline(x))) ** 2))
@@ -188,13 +241,15 @@ class UnivariateSpline:
         them and smooths on them), or starts again from the polynomial where that meets s."""
         if self._data is None:
             raise ValueError("set_smoothing_factor: a derived spline has no data to fit")
-        if self._search is None and isinstance(self, LSQUnivariateSpline):
+        if self._search is None:
+            # Only LSQUnivariateSpline's own knots leave no search to go on from.
             warnings.warn("smoothing factor unchanged forLSQ spline with fixed knots",
                           stacklevel=2)
             return
         if not s > 0:
             raise ValueError(f"s: set_smoothing_factor takes s > 0, got {s}")
-        self._smooth(float(s), self._search)
+        state, nest = self._search
+        self._smooth(float(s), state, nest)
 
 
 def _interpolating(x, y, w, bbox, k, context) -> BSpline:
@@ -222,6 +277,8 @@ class InterpolatedUnivariateSpline(UnivariateSpline):
             raise ValueError("x must be strictly increasing")
         self._data, self.context = (x, y, w, bbox, k), context
         self._spline = _interpolating(x, y, w, bbox, k, context)
+        # FITPACK's room for the interpolating knots; a later s searches afresh.
+        self._search = (None, len(x) + k + 1)
 
 
 class LSQUnivariateSpline(UnivariateSpline):

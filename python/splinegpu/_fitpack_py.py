@@ -3,13 +3,15 @@
 padded with zeros to len(t), as SciPy's; a parametric one holds a list of coordinate
 arrays). A BSpline given in place of a tck is answered with a BSpline, as SciPy does.
 
+Smoothing (s > 0) of splrep and splprep is FITPACK's curfit and parcur themselves
+(`bsplines::curfit`: the same knots, coefficients, fp and ier as SciPy's for the same data);
+splrep's task=1 goes on with the last smoothing search for another s (curfit's iopt = 1).
 `per=1` fits periodic splines as FITPACK's percur and clocur do: the period x[-1] - x[0],
 the last point standing for the first (its value is not fitted; splprep sets it to the
-first). task=-1 fits least squares on given knots. Differences, refused by name: task=1
-(FITPACK's continued search), and given knots with `per=1`, raise NotImplementedError.
-Smoothing (s > 0) places knots as SciPy's `make_splrep` does, which is FITPACK's rule
-re-derived; SciPy's Fortran curfit and percur can place some knots elsewhere for the same s
-(both meet fp <= s)."""
+first); its smoothing places knots as SciPy's `make_splrep` re-derives percur's rule (SciPy's
+own percur can place some elsewhere for the same s; both meet fp <= s). task=-1 fits least
+squares on given knots. Refused by name (NotImplementedError): splrep's task=1 with per=1,
+splprep's task=1, and given knots with per=1."""
 
 from __future__ import annotations
 
@@ -17,9 +19,10 @@ import warnings
 
 import numpy as np
 
-from . import _bspl, _collocation
+from . import _bspl, _collocation, _native
 from ._bsplines import BSpline, make_interp_spline
 from ._fitpack_repro import chord_lengths, fpcheck, make_splprep, make_splrep
+from ._helpers import _aligned
 from ._lsq import make_lsq_spline
 from ._ppoly import PPoly
 
@@ -61,24 +64,79 @@ def _default_s(m: int, w) -> float:
     return m - np.sqrt(2 * m) if w is not None else 0.0
 
 
+# FITPACK's ier and SciPy's words for it (its `_iermess`): the message full_output returns,
+# the warning for 1 to 3 and for every ier when quiet=0.
+_IERMESS = {
+    0: "The spline has a residual sum of squares fp such that abs(fp-s)/s<=0.001",
+    -1: "The spline is an interpolating spline (fp=0)",
+    -2: "The spline is weighted least-squares polynomial of degree k.\n"
+        "fp gives the upper bound fp0 for the smoothing factor s",
+    1: "The required storage space exceeds the available storage space.\n"
+       "Probable causes: data (x,y) size is too small or smoothing parameter\n"
+       "s is too small (fp>s).",
+    2: "A theoretically impossible result when finding a smoothing spline\n"
+       "with fp = s. Probable cause: s too small. (abs(fp-s)/s>0.001)",
+    3: "The maximal number of iterations (20) allowed for finding smoothing\n"
+       "spline with fp=s has been reached. Probable cause: s too small.\n"
+       "(abs(fp-s)/s>0.001)",
+}
+
+# Where splrep's last smoothing search stopped (`_native.fit_curfit`'s state, None: from the
+# polynomial) and its nest, for task=1; None before any fit (SciPy's `_curfit_cache`).
+_last_search: tuple | None = None
+
+
+def _curfit(x: np.ndarray, y: np.ndarray, w, xb: float, xe: float, k: int, s: float,
+            nest: int, parametric: bool = False, state=None):
+    """FITPACK's curfit (parcur where `parametric`) with s > 0 of (x, y (m, d)): (t, c (n, d),
+    fp, ier, state)."""
+    weights = np.ones_like(x) if w is None else np.asarray(w, dtype=np.float64)
+    return _native.fit_curfit(_aligned(x, "x"), np.ascontiguousarray(y, dtype=np.float64),
+                              _aligned(weights, "w"), float(xb), float(xe), k, float(s),
+                              int(nest), parametric, state)
+
+
+def _reported(result, fp: float, ier: int, full_output, quiet, k: int, n: int, m: int, s):
+    """splrep's and splprep's answer for FITPACK's ier, as SciPy's: with full_output (result,
+    fp, ier, message); else result, warning for ier 1 to 3 (and every ier when quiet=0)."""
+    message = _IERMESS[ier]
+    if ier <= 0 and not quiet:
+        warnings.warn(RuntimeWarning(f"{message}\tk={k} n={n} m={m} fp={fp} s={s}"),
+                      stacklevel=3)
+    if full_output:
+        return result, fp, ier, message
+    if ier > 0:
+        warnings.warn(RuntimeWarning(message), stacklevel=3)
+    return result
+
+
 def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=None,
            full_output: int = 0, per: int = 0, quiet: int = 1):
     """`scipy.interpolate.splrep`: the tck of the interpolating (s = 0), smoothing (s > 0,
-    FITPACK's knots as make_splrep places them) or least-squares (interior knots t) spline
-    of (x, y). full_output adds (fp, ier, msg)."""
+    FITPACK's curfit) or least-squares (interior knots t) spline of (x, y); task=1 smooths
+    for this s going on from the last smoothing search (curfit's iopt = 1). full_output
+    adds (fp, ier, msg); ier 1 to 3 warn otherwise, as SciPy's."""
+    global _last_search
+    if not -1 <= task <= 1:
+        raise TypeError("task must be -1, 0 or 1")
+    if t is not None:
+        task = -1
     if task == -1 and t is None:
         raise TypeError("Knots must be given for task=-1")
-    if task not in (0, -1):
-        raise NotImplementedError(f"task: only task=0 and task=-1 (given knots t) are "
-                                  f"implemented, got {task}")
+    if task == 1 and per:
+        raise NotImplementedError("task: periodic splrep going on from the last search "
+                                  "(task=1 with per=1) is not implemented here")
+    if task == 1 and _last_search is None:
+        raise TypeError("must call with task=1 only after call with task=0,-1")
     x = _check_finite_input(x, "x")
     y = _check_finite_input(y, "y")
     if y.ndim != 1:
         raise ValueError(f"y: one value per x (a 1-D array), got shape {y.shape}")
-    if len(x) <= k:
-        raise TypeError(f"m > k must hold: {len(x)} points for k = {k}")
+    m = len(x)
+    if m <= k:
+        raise TypeError(f"m > k must hold: {m} points for k = {k}")
     if s is None:
-        s = _default_s(len(x), w)
+        s = _default_s(m, w)
     if per:
         if t is not None:
             raise NotImplementedError("t: periodic splrep with given knots (per=1 and t) "
@@ -88,9 +146,13 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         columns = _periodic(x, y[:, None], w, k, s)
         spline = BSpline.construct_fast(columns.t, columns.c[:, 0], k)
         result = (spline.t, _padded(spline.t, spline.c), spline.k)
-        if full_output:
-            return result, _fp(x[:-1], y[:-1], w, spline), 0, ""
-        return result
+        ier = -1 if s == 0 else 0
+        return _reported(result, _fp(x[:-1], y[:-1], w, spline), ier, full_output, quiet, k,
+                         len(spline.t), m, s)
+    if task == 1:
+        state, nest = _last_search
+    else:
+        state, nest = None, max(m + k + 1, 2 * k + 3)
     if t is not None:
         xb = x[0] if xb is None else xb
         xe = x[-1] if xe is None else xe
@@ -102,14 +164,22 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
             # FITPACK's curfit refuses such knots before it fits; SciPy raises TypeError.
             raise TypeError(f"t: {e}") from e
         spline = make_lsq_spline(x, y, knots, k, w=w)
-    elif s == 0 and w is None and xb is None and xe is None:
-        spline = make_interp_spline(x, y, k=k)
+        # A later task=1 searches afresh, with room for as many knots as these.
+        _last_search = (None, len(knots))
+        fp, ier = _fp(x, y, w, spline), 0
+    elif s == 0:
+        spline = (make_interp_spline(x, y, k=k) if w is None and xb is None and xe is None
+                  else make_splrep(x, y, w=w, xb=xb, xe=xe, k=k, s=0))
+        _last_search = (None, nest)
+        fp, ier = _fp(x, y, w, spline), -1
     else:
-        spline = make_splrep(x, y, w=w, xb=xb, xe=xe, k=k, s=s)
+        knots, c, fp, ier, state = _curfit(x, y[:, None], w, x[0] if xb is None else xb,
+                                           x[-1] if xe is None else xe, k, s, nest,
+                                           state=state)
+        spline = BSpline.construct_fast(knots, c[:, 0], k)
+        _last_search = (state, nest)
     result = (spline.t, _padded(spline.t, spline.c), spline.k)
-    if full_output:
-        return result, _fp(x, y, w, spline), 0, ""
-    return result
+    return _reported(result, fp, ier, full_output, quiet, k, len(spline.t), m, s)
 
 
 def _fp(x: np.ndarray, y: np.ndarray, w, spline: BSpline) -> float:
@@ -179,6 +249,10 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
                              "twice in a row)")
     elif np.any(np.diff(np.asarray(u, dtype=np.float64)) <= 0):
         raise ValueError("Invalid inputs: u must be strictly increasing")
+    if w is not None and (len(np.atleast_1d(w)) != m
+                          or not np.all(np.asarray(w, dtype=np.float64) > 0)):
+        # parcur and clocur take positive weights only.
+        raise ValueError("Invalid inputs: w must hold one positive weight per point")
     if task == -1:
         u = chord_lengths(x.T) if u is None else np.asarray(u, dtype=np.float64)
         inner = np.asarray(t, dtype=np.float64)[k + 1:len(t) - k - 1]
@@ -191,12 +265,43 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
     elif s == 0:
         spline, u = make_splprep(points, u=u, k=k, s=0)
     else:
-        spline, u = make_splprep(points, w=w, u=u, ub=ub, ue=ue, k=k, s=s, nest=nest)
+        spline, u, fp, ier = _parcur(x, w, u, ub, ue, k, s, nest)
     # SciPy's parametric tck keeps each coordinate's n coefficients unpadded.
     tck = [spline.t, list(np.asarray(spline.c).T), spline.k]
-    if full_output:
-        return (tck, u), 0.0, 0, ""
-    return tck, u
+    if s == 0 or task == -1 or per:
+        fp = _fp_curve(u, x, w, spline)
+        ier = -1 if s == 0 and task == 0 else 0
+    return _reported((tck, u), fp, ier, full_output, quiet, k, len(spline.t), m, s)
+
+
+def _parcur(x: np.ndarray, w, u, ub, ue, k: int, s: float, nest):
+    """FITPACK's parcur with s > 0 of the points x (d, m) at u (None: the chord lengths,
+    [ub, ue] = [0, 1]), room for nest knots (None: m + 2k; negative: m + k + 1; at least
+    2k + 3): (spline with c (n, d), u, fp, ier)."""
+    m = x.shape[1]
+    if u is None:
+        u, ub, ue = chord_lengths(x.T), 0.0, 1.0
+    else:
+        u = np.asarray(u, dtype=np.float64)
+        ub = u[0] if ub is None else float(ub)
+        ue = u[-1] if ue is None else float(ue)
+    if ub > u[0] or ue < u[-1]:
+        raise ValueError(f"Invalid inputs: ub <= u[0] and u[-1] <= ue must hold, got "
+                         f"[{ub}, {ue}] around [{u[0]}, {u[-1]}]")
+    if nest is None:
+        nest = m + 2 * k
+    elif nest < 0:
+        nest = m + k + 1
+    nest = max(int(nest), 2 * k + 3)
+    knots, c, fp, ier, _ = _curfit(u, x.T, w, ub, ue, k, s, nest, parametric=True)
+    return BSpline.construct_fast(knots, c, k), u, fp, ier
+
+
+def _fp_curve(u: np.ndarray, x: np.ndarray, w, spline: BSpline) -> float:
+    """parcur's fp of a curve: sum_i w_i^2 |x_i - s(u_i)|^2 (x (d, m))."""
+    weights = np.ones(x.shape[1]) if w is None else np.asarray(w, dtype=np.float64)
+    along_u = BSpline.construct_fast(spline.t, np.asarray(spline.c), spline.k)
+    return float(np.sum(weights ** 2 * np.sum((x.T - along_u(u)) ** 2, axis=1)))
 
 
 def splev(x, tck, der: int = 0, ext: int = 0):

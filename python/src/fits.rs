@@ -5,7 +5,7 @@ use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 
-use bsplines::{banded, fitpack, lsq, smoothing};
+use bsplines::{banded, curfit, fitpack, lsq, smoothing};
 
 use crate::args::{Stack1, Stack2, ragged, value_error};
 use pyo3::exceptions::PyValueError;
@@ -63,12 +63,17 @@ pub(crate) type Series<'a> = (&'a [f64], &'a [f64], &'a [f64]);
 pub(crate) type LsqFits<'py> = (Bound<'py, PyArray2<f64>>, Vec<f64>, Option<usize>);
 
 /// FITPACK fits: the knots stacked, their offsets, the coefficients stacked, each ier.
-/// `fit_splrep_from`'s answer: knots, coefficients, ier and where the search stopped.
-pub(crate) type SearchedFit<'py> = (
+/// Where FITPACK's knot search stopped (`bsplines::curfit::Search`): knots, nrdata, fp0,
+/// fpold, nplus, ier.
+pub(crate) type CurfitState = (Vec<f64>, Vec<usize>, f64, f64, usize, i32);
+
+/// `fit_curfit`'s answer: knots, coefficients (rows of d), fp, ier and the search's state.
+pub(crate) type CurfitAnswer<'py> = (
     Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<f64>>,
-    u8,
-    (Vec<f64>, f64, usize),
+    Bound<'py, PyArray2<f64>>,
+    f64,
+    i32,
+    CurfitState,
 );
 
 pub(crate) type FitpackFits<'py> = (
@@ -435,62 +440,88 @@ pub(crate) fn fit_splrep<'py>(
     ))
 }
 
-/// UnivariateSpline's fit, one series, with where its knot search stopped: from the
-/// polynomial, or (`from` = (t, fpold, nplus) of an earlier fit of these data)
-/// on from there, as curfit's iopt = 1 (`fitpack::knots_from`). Returns (t, c (rows, d),
-/// ier, (t, fpold, nplus)).
+/// FITPACK's own smoothing fit (`bsplines::curfit::smoothing_fit`) of one series, for the
+/// legacy doors (splrep, splprep, UnivariateSpline): x (m,), y (m, d), w (m,), [xb, xe],
+/// degree k, s > 0, at most `nest` knots, parcur's sums where `parametric`, from the
+/// polynomial or on from an earlier search's state (`from`, as this returns it: curfit's
+/// iopt = 1). Returns (t, c (len(t) - k - 1, d), fp, ier, state).
 #[pyfunction]
-#[pyo3(signature = (x, y, w, xb, xe, k, s, from = None))]
+#[pyo3(signature = (x, y, w, xb, xe, k, s, nest, parametric = false, from = None))]
 #[expect(
     clippy::too_many_arguments,
     clippy::needless_pass_by_value,
-    reason = "curfit's arguments, one each; PyO3 extracts the state's knots as a Vec"
+    reason = "curfit's arguments, one each; PyO3 extracts the state's vectors as Vecs"
 )]
-pub(crate) fn fit_splrep_from<'py>(
+pub(crate) fn fit_curfit<'py>(
     py: Python<'py>,
     x: PyReadonlyArray1<'py, f64>,
-    y: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray2<'py, f64>,
     w: PyReadonlyArray1<'py, f64>,
     xb: f64,
     xe: f64,
     k: usize,
     s: f64,
-    from: Option<(Vec<f64>, f64, usize)>,
-) -> PyResult<SearchedFit<'py>> {
+    nest: usize,
+    parametric: bool,
+    from: Option<CurfitState>,
+) -> PyResult<CurfitAnswer<'py>> {
+    let d = y.shape()[1];
     let (x, y, w) = (x.as_slice()?, y.as_slice()?, w.as_slice()?);
-    if y.len() != x.len() || w.len() != x.len() {
-        return Err(value_error(
-            "fit_splrep_from: x, y and w must have one length",
-        ));
-    }
-    if !((1..=6).contains(&k) && s > 0.0 && s.is_finite()) {
+    if y.len() != x.len() * d || w.len() != x.len() {
         return Err(value_error(format!(
-            "fit_splrep_from: k 1 to 6 and s > 0, got k = {k}, s = {s}"
+            "fit_curfit: {} x, {} rows of y and {} w",
+            x.len(),
+            y.len() / d.max(1),
+            w.len()
         )));
     }
-    let data = fitpack::Data {
-        x,
-        y,
-        d: 1,
-        w,
-        xb,
-        xe,
-    };
+    if !((1..=5).contains(&k) && (1..=10).contains(&d) && s > 0.0 && s.is_finite()) {
+        return Err(value_error(format!(
+            "fit_curfit: k 1 to 5, 1 to 10 coordinates and s > 0, got k = {k}, d = {d}, s = {s}"
+        )));
+    }
+    if nest < 2 * k + 2 {
+        return Err(value_error(format!(
+            "nest: at least 2k + 2 = {} knots, got {nest}",
+            2 * k + 2
+        )));
+    }
+    let data = fitpack::Data { x, y, d, w, xb, xe };
     fitpack::check(&data, k, false).map_err(|e| value_error(series_error(&e.in_series(0))))?;
-    let from = from.map(|(t, fpold, nplus)| fitpack::Search { t, fpold, nplus });
-    let nest = fitpack::default_nest(x.len(), k, false);
-    let fitted = py.detach(|| {
-        let search = fitpack::knots_from(&data, k, s, nest, from.as_ref())?;
-        fitpack::smooth(&data, &search.t, k, s).map(|spline| (spline, search))
+    let from = from.map(|(t, nrdata, fp0, fpold, nplus, ier)| curfit::Search {
+        t,
+        nrdata,
+        fp0,
+        fpold,
+        nplus,
+        ier,
     });
-    let (spline, search) = fitted.map_err(|_| {
-        value_error("x: a least-squares system is singular (the knots and x violate the Schoenberg-Whitney conditions)")
-    })?;
+    let door = if parametric {
+        curfit::Door::Parcur
+    } else {
+        curfit::Door::Curfit
+    };
+    let fit = py.detach(|| curfit::smoothing_fit(&data, k, s, nest, from.as_ref(), door));
+    if fit.c.iter().any(|v| !v.is_finite()) {
+        return Err(value_error(
+            "x: a least-squares system is singular (the knots and x violate the \
+             Schoenberg-Whitney conditions)",
+        ));
+    }
+    let curfit::Search {
+        t,
+        nrdata,
+        fp0,
+        fpold,
+        nplus,
+        ier,
+    } = fit.search;
     Ok((
-        PyArray1::from_vec(py, spline.t),
-        PyArray1::from_vec(py, spline.c),
-        spline.ier,
-        (search.t, search.fpold, search.nplus),
+        PyArray1::from_vec(py, fit.t),
+        stacked(py, vec![fit.c], d)?,
+        fit.fp,
+        fit.ier,
+        (t, nrdata, fp0, fpold, nplus, ier),
     ))
 }
 

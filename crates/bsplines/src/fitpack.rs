@@ -15,7 +15,9 @@
 //!    (`root_rati`) where fp(p) = s_target (within s_target / 1000).
 //!
 //! Every step, tolerance and tie as SciPy's `_fitpack_repro` (SciPy 1.17), so that the same
-//! data and s give the same knots and coefficients.
+//! data and s give the same knots and coefficients. SciPy's legacy doors (splrep, splprep,
+//! UnivariateSpline) run FITPACK's Fortran itself, whose bookkeeping places knots elsewhere:
+//! `curfit` reproduces that one.
 
 use crate::InputError;
 use crate::interp::not_a_knot;
@@ -152,12 +154,11 @@ pub fn with_new_knot(x: &[f64], t: &[f64], k: usize, residuals: &[f64]) -> Vec<f
     out
 }
 
-/// Where FITPACK's knot search stopped: its knots, the fp of the set before them and the
-/// number of knots it added last (curfit's fpint(n - 1) and nrdata(n)), from which a search
-/// for another s goes on (`knots_from`, UnivariateSpline's set_smoothing_factor).
+/// Where FITPACK's knot search stands: its knots, the fp of the set before them and the
+/// number of knots it added last (curfit's fpint(n - 1) and nrdata(n)).
 #[derive(Clone, Debug)]
 pub struct Search {
-    /// The knots where the search stopped.
+    /// The knots where the search stands.
     pub t: Vec<f64>,
     /// fp of the knot set before `t`.
     pub fpold: f64,
@@ -165,52 +166,27 @@ pub struct Search {
     pub nplus: usize,
 }
 
-/// The knots of FITPACK's search for fp <= s (step 1 of the module's description).
+/// The knots of FITPACK's search for fp <= s from the polynomial (step 1 of the module's
+/// description).
 pub fn knots(data: &Data<'_>, k: usize, s: f64, nest: usize) -> Result<Vec<f64>, Failure> {
-    Ok(knots_from(data, k, s, nest, None)?.t)
-}
-
-/// The search from the polynomial (`from` None), or, as curfit's iopt = 1, on from where an
-/// earlier search stopped: from its knots, fpold and nplus, unless those are the
-/// polynomial's or the polynomial already meets s (then from the polynomial). Knots are only
-/// ever added. Returns where this search stopped.
-pub fn knots_from(
-    data: &Data<'_>,
-    k: usize,
-    s: f64,
-    nest: usize,
-    from: Option<&Search>,
-) -> Result<Search, Failure> {
     let m = data.x.len();
-    let (nmin, nmax) = (2 * (k + 1), m + k + 1);
-    let polynomial: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
+    let t: Vec<f64> = std::iter::repeat_n(data.xb, k + 1)
         .chain(std::iter::repeat_n(data.xe, k + 1))
         .collect();
-    let (mut t, mut fp, mut nplus) = (polynomial.clone(), 0.0_f64, 1_usize);
-    if let Some(earlier) = from
-        && earlier.t.len() > nmin
-        && least_squares(data, &polynomial, k)?.2 > s
-    {
-        (t, fp, nplus) = (earlier.t.clone(), earlier.fpold, earlier.nplus);
-    }
     let rules = Rules {
         s,
         nest,
-        nmax,
+        nmax: m + k + 1,
         least_squares: &|t| least_squares(data, t, k).map(|(_, each, fp)| (each, fp)),
         ends: &|_| {},
         interpolation: &|| not_a_knot(data.x, k),
     };
-    search(
-        data.x,
-        k,
-        &rules,
-        Search {
-            t,
-            fpold: fp,
-            nplus,
-        },
-    )
+    let start = Search {
+        t,
+        fpold: 0.0,
+        nplus: 1,
+    };
+    Ok(search(data.x, k, &rules, start)?.t)
 }
 
 /// A least-squares fit on knots t: each point's residual and their sum, fp.

@@ -26,7 +26,8 @@
 //! | `banded` | banded linear systems (collocation) |
 //! | `interp` | interpolation of any degree, SciPy's not-a-knot knots |
 //! | `lsq` | weighted least squares by Givens rotations, the basis rows of data |
-//! | `fitpack`, `periodic` | FITPACK's knot search and smoothing, open and periodic |
+//! | `fitpack`, `periodic` | FITPACK's knot search and smoothing as SciPy's `make_splrep` re-derives it, open and periodic |
+//! | `curfit` | FITPACK's own curfit and parcur, step for step (SciPy's splrep, splprep, UnivariateSpline) |
 //! | `smoothing` | cubic smoothing splines, GCV, four series side by side (`lanes`) |
 //! | `bounded_search` | Brent's bounded minimisation, as SciPy runs it |
 //! | `grid`, `tensor_values` | tensor-product splines and gridded PCHIP |
@@ -35,6 +36,7 @@
 pub mod banded;
 pub mod bounded_search;
 pub mod bspline;
+pub mod curfit;
 pub mod de_boor;
 pub mod error;
 pub mod fitpack;
