@@ -113,11 +113,11 @@ class UnivariateSpline:
         if k > 5:
             raise ValueError("k should be 1 <= k <= 5")
         t, c, fp, ier, state = _native.fit_curfit(
-            _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, state)
+            _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, False, state)
         if ier == 1:
             nest = len(x) + k + 1
             t, c, fp, ier, state = _native.fit_curfit(
-                _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, state)
+                _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, False, state)
         self._search, self._fp = (state, nest), fp
         self._spline = BSpline.construct_fast(t, c[:, 0], k, context=self.context)
         self._reset_class(ier)

@@ -3,15 +3,13 @@
 padded with zeros to len(t), as SciPy's; a parametric one holds a list of coordinate
 arrays). A BSpline given in place of a tck is answered with a BSpline, as SciPy does.
 
-Smoothing (s > 0) of splrep and splprep is FITPACK's curfit and parcur themselves
-(`bsplines::curfit`: the same knots, coefficients, fp and ier as SciPy's for the same data);
-splrep's task=1 goes on with the last smoothing search for another s (curfit's iopt = 1).
-`per=1` fits periodic splines as FITPACK's percur and clocur do: the period x[-1] - x[0],
-the last point standing for the first (its value is not fitted; splprep sets it to the
-first); its smoothing places knots as SciPy's `make_splrep` re-derives percur's rule (SciPy's
-own percur can place some elsewhere for the same s; both meet fp <= s). task=-1 fits least
-squares on given knots. Refused by name (NotImplementedError): splrep's task=1 with per=1,
-splprep's task=1, and given knots with per=1."""
+Smoothing (s > 0) of splrep and splprep is FITPACK's curfit, parcur, percur and clocur
+themselves (`bsplines::curfit`, `bsplines::percur`: the same knots, coefficients, fp and ier
+as SciPy's for the same data); splrep's task=1 goes on with the last smoothing search for
+another s (curfit's iopt = 1). `per=1` fits periodic splines: the period x[-1] - x[0], the
+last point standing for the first (its value is not fitted; splprep sets it to the first).
+task=-1 fits least squares on given knots. Refused by name (NotImplementedError): splrep's
+task=1 with per=1, splprep's task=1, and given knots with per=1."""
 
 from __future__ import annotations
 
@@ -87,13 +85,13 @@ _last_search: tuple | None = None
 
 
 def _curfit(x: np.ndarray, y: np.ndarray, w, xb: float, xe: float, k: int, s: float,
-            nest: int, parametric: bool = False, state=None):
-    """FITPACK's curfit (parcur where `parametric`) with s > 0 of (x, y (m, d)): (t, c (n, d),
-    fp, ier, state)."""
+            nest: int, parametric: bool = False, periodic: bool = False, state=None):
+    """FITPACK's curfit (parcur where `parametric`; percur, clocur where `periodic`) with
+    s > 0 of (x, y (m, d)): (t, c (n, d), fp, ier, state)."""
     weights = np.ones_like(x) if w is None else np.asarray(w, dtype=np.float64)
     return _native.fit_curfit(_aligned(x, "x"), np.ascontiguousarray(y, dtype=np.float64),
                               _aligned(weights, "w"), float(xb), float(xe), k, float(s),
-                              int(nest), parametric, state)
+                              int(nest), parametric, periodic, state)
 
 
 def _reported(result, fp: float, ier: int, full_output, quiet, k: int, n: int, m: int, s):
@@ -143,12 +141,12 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
                                       "is not implemented here")
         # percur: the last point stands for the first (its y is not fitted).
         y = np.concatenate([y[:-1], y[:1]])
-        columns = _periodic(x, y[:, None], w, k, s)
+        columns, fp, ier = _periodic(x, y[:, None], w, k, s)
         spline = BSpline.construct_fast(columns.t, columns.c[:, 0], k)
         result = (spline.t, _padded(spline.t, spline.c), spline.k)
-        ier = -1 if s == 0 else 0
-        return _reported(result, _fp(x[:-1], y[:-1], w, spline), ier, full_output, quiet, k,
-                         len(spline.t), m, s)
+        if s == 0:
+            fp = _fp(x[:-1], y[:-1], w, spline)
+        return _reported(result, fp, ier, full_output, quiet, k, len(spline.t), m, s)
     if task == 1:
         state, nest = _last_search
     else:
@@ -188,21 +186,25 @@ def _fp(x: np.ndarray, y: np.ndarray, w, spline: BSpline) -> float:
     return float(np.sum((weights * (y - spline(x))) ** 2))
 
 
-def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None) -> BSpline:
+def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None,
+              parametric: bool = False):
     """FITPACK's periodic fit of y ((m, d), y[-1] = y[0]) over x, period x[-1] - x[0]: the
-    interpolating spline on the periodic knots for s = 0, the smoothing spline otherwise;
-    c (n - k - 1, d)."""
+    interpolating spline on the periodic knots for s = 0, else FITPACK's percur (clocur
+    where `parametric`) with room for nest knots (None: m + 2k; at least 2k + 3). Returns
+    (spline with c (n - k - 1, d), fp, ier)."""
     if s == 0:
         t = _collocation.periodic(x, k)
         if k == 1:
             # percur's k = 1: the coefficients are the values.
-            return BSpline.construct_fast(t, y, 1)
-        return make_interp_spline(x, y, k=k, bc_type="periodic")
-    if y.shape[1] == 1:
-        spline = make_splrep(x, y[:, 0], w=w, k=k, s=s, bc_type="periodic")
-        return BSpline.construct_fast(spline.t, spline.c[:, None], k)
-    spline, _ = make_splprep(list(y.T), w=w, u=x, k=k, s=s, nest=nest, bc_type="periodic")
-    return BSpline.construct_fast(spline.t, np.asarray(spline.c), k)
+            spline = BSpline.construct_fast(t, y, 1)
+        else:
+            spline = make_interp_spline(x, y, k=k, bc_type="periodic")
+        return spline, 0.0, -1
+    m = len(x)
+    nest = max(m + 2 * k if nest is None or nest < 0 else int(nest), 2 * k + 3)
+    knots, c, fp, ier, _ = _curfit(x, y, w, x[0], x[-1], k, s, nest, parametric=parametric,
+                                   periodic=True)
+    return BSpline.construct_fast(knots, c, k), fp, ier
 
 
 def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=None, t=None,
@@ -261,15 +263,16 @@ def splprep(x, w=None, u=None, ub=None, ue=None, k: int = 3, task: int = 0, s=No
         spline = make_lsq_spline(u, x.T, knots, k, w=w)
     elif per:
         u = chord_lengths(x.T) if u is None else np.asarray(u, dtype=np.float64)
-        spline = _periodic(u, x.T.copy(), w, k, s, nest)
+        spline, fp, ier = _periodic(u, x.T.copy(), w, k, s, nest, parametric=True)
     elif s == 0:
         spline, u = make_splprep(points, u=u, k=k, s=0)
     else:
         spline, u, fp, ier = _parcur(x, w, u, ub, ue, k, s, nest)
     # SciPy's parametric tck keeps each coordinate's n coefficients unpadded.
     tck = [spline.t, list(np.asarray(spline.c).T), spline.k]
-    if s == 0 or task == -1 or per:
-        fp = _fp_curve(u, x, w, spline)
+    if s == 0 or task == -1:
+        fp = _fp_curve(u[:-1], x[:, :-1], None if w is None else np.asarray(w)[:-1], spline) \
+            if per else _fp_curve(u, x, w, spline)
         ier = -1 if s == 0 and task == 0 else 0
     return _reported((tck, u), fp, ier, full_output, quiet, k, len(spline.t), m, s)
 

@@ -5,7 +5,7 @@ use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 
-use bsplines::{banded, curfit, fitpack, lsq, smoothing};
+use bsplines::{banded, curfit, fitpack, lsq, percur, smoothing};
 
 use crate::args::{Stack1, Stack2, ragged, value_error};
 use pyo3::exceptions::PyValueError;
@@ -442,11 +442,12 @@ pub(crate) fn fit_splrep<'py>(
 
 /// FITPACK's own smoothing fit (`bsplines::curfit::smoothing_fit`) of one series, for the
 /// legacy doors (splrep, splprep, UnivariateSpline): x (m,), y (m, d), w (m,), [xb, xe],
-/// degree k, s > 0, at most `nest` knots, parcur's sums where `parametric`, from the
-/// polynomial or on from an earlier search's state (`from`, as this returns it: curfit's
+/// degree k, s > 0, at most `nest` knots, parcur's sums where `parametric`, periodic
+/// (percur, clocur: period x[-1] - x[0], the last point not fitted) where `periodic`, from
+/// the polynomial or on from an earlier search's state (`from`, as this returns it: curfit's
 /// iopt = 1). Returns (t, c (len(t) - k - 1, d), fp, ier, state).
 #[pyfunction]
-#[pyo3(signature = (x, y, w, xb, xe, k, s, nest, parametric = false, from = None))]
+#[pyo3(signature = (x, y, w, xb, xe, k, s, nest, parametric = false, periodic = false, from = None))]
 #[expect(
     clippy::too_many_arguments,
     clippy::needless_pass_by_value,
@@ -463,6 +464,7 @@ pub(crate) fn fit_curfit<'py>(
     s: f64,
     nest: usize,
     parametric: bool,
+    periodic: bool,
     from: Option<CurfitState>,
 ) -> PyResult<CurfitAnswer<'py>> {
     let d = y.shape()[1];
@@ -480,14 +482,28 @@ pub(crate) fn fit_curfit<'py>(
             "fit_curfit: k 1 to 5, 1 to 10 coordinates and s > 0, got k = {k}, d = {d}, s = {s}"
         )));
     }
-    if nest < 2 * k + 2 {
+    let least = 2 * k + 2 + usize::from(periodic);
+    if nest < least {
         return Err(value_error(format!(
-            "nest: at least 2k + 2 = {} knots, got {nest}",
-            2 * k + 2
+            "nest: at least {least} knots for k = {k}, got {nest}"
         )));
     }
     let data = fitpack::Data { x, y, d, w, xb, xe };
-    fitpack::check(&data, k, false).map_err(|e| value_error(series_error(&e.in_series(0))))?;
+    fitpack::check(&data, k, periodic).map_err(|e| value_error(series_error(&e.in_series(0))))?;
+    if periodic && let Some(i) = x.windows(2).position(|p| p[0] >= p[1]) {
+        return Err(value_error(format!(
+            "x: a periodic fit needs x strictly increasing, x[{i}] = {} >= x[{}] = {}",
+            x[i],
+            i + 1,
+            x[i + 1]
+        )));
+    }
+    if periodic && let Some(i) = w[..w.len() - 1].iter().position(|&v| v <= 0.0) {
+        return Err(value_error(format!(
+            "w: a periodic fit needs positive weights, w[{i}] = {}",
+            w[i]
+        )));
+    }
     let from = from.map(|(t, nrdata, fp0, fpold, nplus, ier)| curfit::Search {
         t,
         nrdata,
@@ -496,12 +512,19 @@ pub(crate) fn fit_curfit<'py>(
         nplus,
         ier,
     });
-    let door = if parametric {
-        curfit::Door::Parcur
-    } else {
-        curfit::Door::Curfit
+    let door = match (parametric, periodic) {
+        (false, false) => curfit::Door::Curfit,
+        (true, false) => curfit::Door::Parcur,
+        (false, true) => curfit::Door::Percur,
+        (true, true) => curfit::Door::Clocur,
     };
-    let fit = py.detach(|| curfit::smoothing_fit(&data, k, s, nest, from.as_ref(), door));
+    let fit = py.detach(|| {
+        if periodic {
+            percur::smoothing_fit(&data, k, s, nest, from.as_ref(), door)
+        } else {
+            curfit::smoothing_fit(&data, k, s, nest, from.as_ref(), door)
+        }
+    });
     if fit.c.iter().any(|v| !v.is_finite()) {
         return Err(value_error(
             "x: a least-squares system is singular (the knots and x violate the \

@@ -1,8 +1,9 @@
 """The legacy FITPACK doors (splrep, splprep, UnivariateSpline) against SciPy's own, which run
-FITPACK's curfit and parcur: the same knots (bit for bit), coefficients within 1e-10 of the
-data's range, fp within 1e-10 relative, the same ier, class and warnings. A grid over n
-(10 to 10,000 points of sin x + N(0, 0.1^2)), s (0.1 to 10 n sigma^2), k, weights and room
-for knots (nest too small included), and a property test drawing all of them at random.
+FITPACK's curfit, parcur, percur and clocur: the same knots (bit for bit), coefficients within
+1e-10 of the data's range, fp within 1e-10 relative, the same ier, class and warnings. A grid
+over n (10 to 10,000 points of sin x + N(0, 0.1^2)), s (0.1 to 10 n sigma^2), k, weights,
+room for knots (nest too small included), periodic and parametric, and a property test
+drawing all of them at random.
 
 The make_splrep / make_splprep doors are SciPy's Python re-derivation and are held to it in
 test_fitting.py."""
@@ -186,27 +187,65 @@ def test_where_fitpacks_knot_placement_fails_the_fit_still_meets_s():
     assert abs(spline.get_residual() - 109) <= 109e-3
 
 
+def periodic_data(n: int, seed: int):
+    rng = np.random.default_rng(seed)
+    x = np.sort(rng.uniform(0, 10, n))
+    x[0], x[-1] = 0.0, 10.0
+    y = np.sin(x * np.pi / 5) + rng.normal(0, SIGMA, n)
+    y[-1] = y[0]
+    points = np.array([np.cos(x * np.pi / 5), np.sin(x * 2 * np.pi / 5)]) + \
+        rng.normal(0, SIGMA / 2, (2, n))
+    points[:, -1] = points[:, 0]
+    return x, y, points
+
+
+@pytest.mark.parametrize("n", [8, 15, 40, 300, 2000])
+@pytest.mark.parametrize("k", [1, 2, 3, 5])
+def test_periodic_doors_are_fitpacks_percur_and_clocur(n, k):
+    """splrep(per=1) against percur, splprep(per=1) against clocur (which close the curve)."""
+    x, y, points = periodic_data(n, n * k)
+    for factor in (0.05, 0.3, 1.0, 3.0, 30.0):
+        s = factor * n * SIGMA ** 2
+        ours, theirs = splrep_pair(x, y, k=k, s=s, per=1)
+        same_fit(ours, theirs, 2.0)
+        for nest in (None, max(2 * k + 3, n // 4)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                (tck, u), fp, ier, _ = G.splprep(list(points), k=k, s=s, per=1, nest=nest,
+                                                 full_output=1)
+                (tck2, u2), fp2, ier2, _ = S.splprep(list(points), k=k, s=s, per=1, nest=nest,
+                                                     full_output=1)
+            np.testing.assert_array_equal(u, u2)
+            same_fit((tck[0], tck[1], fp, ier), (tck2[0], tck2[1], fp2, ier2), 2.0)
+
+
 @settings(max_examples=60, deadline=None, derandomize=True,
           suppress_health_check=list(HealthCheck))
 @given(n=st.integers(6, 3000), factor=st.floats(0.05, 20.0), k=st.integers(1, 5),
        seed=st.integers(0, 2 ** 32 - 1), weighted=st.booleans(), d=st.integers(1, 3),
-       nest_share=st.one_of(st.none(), st.floats(0.02, 1.0)))
-def test_any_draw_is_fitpacks(n, factor, k, seed, weighted, d, nest_share):
-    """Random data, s, degree, weights, coordinates and room for knots: splrep (d = 1) or
-    splprep (d > 1) gives FITPACK's knots, coefficients, fp and ier."""
+       nest_share=st.one_of(st.none(), st.floats(0.02, 1.0)), per=st.booleans())
+def test_any_draw_is_fitpacks(n, factor, k, seed, weighted, d, nest_share, per):
+    """Random data, s, degree, weights, coordinates, room for knots and periodicity: splrep
+    (d = 1) or splprep (d > 1) gives FITPACK's knots, coefficients, fp and ier."""
     if n <= k + 1:
         return
     x, y, rng = noisy(n, seed, d)
+    if per:
+        # The last point stands for the first (splrep's y, splprep closes the curve itself).
+        if d == 1:
+            y[-1] = y[0]
     w = rng.uniform(0.2, 5.0, n) if weighted else None
     s = factor * n * d * SIGMA ** 2
     if d == 1:
-        ours, theirs = splrep_pair(x, y, w=w, k=k, s=s)
+        ours, theirs = splrep_pair(x, y, w=w, k=k, s=s, per=int(per))
         same_fit(ours, theirs, np.ptp(y))
         return
     nest = None if nest_share is None else max(2 * k + 3, int(nest_share * n))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        (tck, u), fp, ier, _ = G.splprep(y, w=w, s=s, k=k, nest=nest, full_output=1)
-        (tck2, u2), fp2, ier2, _ = S.splprep(y, w=w, s=s, k=k, nest=nest, full_output=1)
+        (tck, u), fp, ier, _ = G.splprep(y, w=w, s=s, k=k, nest=nest, per=int(per),
+                                         full_output=1)
+        (tck2, u2), fp2, ier2, _ = S.splprep(y, w=w, s=s, k=k, nest=nest, per=int(per),
+                                             full_output=1)
     np.testing.assert_array_equal(u, u2)
     same_fit((tck[0], tck[1], fp, ier), (tck2[0], tck2[1], fp2, ier2), 2.0)

@@ -353,9 +353,8 @@ def test_periodic_fits_are_periodic_and_meet_s():
 def test_periodic_curves_and_legacy_doors_match_scipy():
     """Closed curves (make_splprep and a batch of them) and the tck doors with per=1: SciPy's
     knots, and coefficients within 1e-10; splrep(per=1) on data that is not periodic (percur
-    leaves the last value out): SciPy's Fortran percur's interpolation, and make_splrep's
-    smoothing (SciPy's re-derivation of percur, whose knots the Fortran can place elsewhere
-    for the same s) meeting s."""
+    leaves the last value out): SciPy's Fortran percur's interpolation and smoothing, meeting
+    s. splprep(per=1) is FITPACK's clocur, whose knots SciPy's make_splprep places elsewhere."""
     rng = np.random.default_rng(44)
     u = np.linspace(0, 2 * np.pi, 70)
     curves = []
@@ -372,25 +371,25 @@ def test_periodic_curves_and_legacy_doors_match_scipy():
         np.testing.assert_array_equal(batch[i].t, ours.t)
         np.testing.assert_array_equal(batch[i].c, ours.c)
         np.testing.assert_array_equal(us[i], u_ours)
-        # splprep(per=1) is make_splprep's fit (SciPy's Fortran clocur may place knots
-        # elsewhere for the same s).
+        # splprep(per=1) is FITPACK's clocur (SciPy's splprep).
         tck, u_legacy = G.splprep(points, s=0.05, per=1)
+        tck2, u2 = S.splprep(points, s=0.05, per=1)
         np.testing.assert_array_equal(u_legacy, u_ours)
-        np.testing.assert_array_equal(tck[0], ours.t)
-        close(np.asarray(G.splev(u_ours, tck)), ours(u_ours), 1e-12)
+        np.testing.assert_array_equal(u_legacy, u2)
+        np.testing.assert_array_equal(tck[0], tck2[0])
+        close(np.asarray(G.splev(u2, tck)), np.asarray(S.splev(u2, tck2)), 1e-10)
     x = np.linspace(0, 2 * np.pi, 25)
     y = np.exp(x / 3)
-    closed = np.r_[y[:-1], y[0]]
     for k in (1, 2, 3, 5):
         ours, theirs = G.splrep(x, y, k=k, s=0, per=1), S.splrep(x, y, k=k, s=0, per=1)
         close(ours[0], theirs[0], 1e-15)  # the knots past the ends: an ulp apart
         close(ours[1], theirs[1], 1e-9)
         for s in (0.5, 3.0):
             (t, c, _), fp, _, _ = G.splrep(x, y, k=k, s=s, per=1, full_output=1)
-            theirs = S.make_splrep(x, closed, k=k, s=s, bc_type="periodic")
-            np.testing.assert_array_equal(t, theirs.t)
-            close(c[:len(theirs.c)], theirs.c, 1e-10)
-            assert abs(fp - s) < s * 1e-3
+            (t2, c2, _), fp2, _, _ = S.splrep(x, y, k=k, s=s, per=1, full_output=1)
+            np.testing.assert_array_equal(t, t2)
+            close(c, c2, 1e-10)
+            assert abs(fp - s) < s * 1e-3 and abs(fp - fp2) <= 1e-10 * fp2
 
 
 def test_fitpack_bad_input_is_refused_by_name():

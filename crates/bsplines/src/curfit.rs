@@ -30,24 +30,60 @@ use crate::fitpack::{Data, TOLERANCE};
 /// The most iterations of part 2's root finder (FITPACK's maxit).
 const MAX_ITERATIONS: usize = 20;
 
-/// How part 2 sums fp at the data: curfit's sum_i (w_i (s_i - y_i))^2, or parcur's
-/// sum_i w_i^2 sum_j (s_ij - x_ij)^2 (the same value, rounded otherwise).
+/// Which of FITPACK's fit routines runs: they differ in how part 2 sums fp at the data
+/// (curfit's and percur's sum_i (w_i (s_i - y_i))^2, or parcur's and clocur's
+/// sum_i w_i^2 sum_j (s_ij - x_ij)^2: the same value, rounded otherwise) and in the root
+/// finder's step constants (`steps`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Door {
     /// curfit (splrep, UnivariateSpline).
     Curfit,
     /// parcur (splprep).
     Parcur,
+    /// percur (splrep with per=1).
+    Percur,
+    /// clocur (splprep with per=1).
+    Clocur,
 }
 
 impl Door {
     /// The root finder's step constants (con1, con9, con4): 0.1, 0.9 and 0.04, which
-    /// fppara.f writes as single precision literals (`0.1e0`: 0.10000000149011612 in f64);
+    /// fppara.f, fpperi.f and fpclos.f write as single precision literals (`0.1e0`:
+    /// 0.10000000149011612 in f64; with doubles their fits land 1e-10 from SciPy's);
     /// fpcurf.f's are double.
     fn steps(self) -> (f64, f64, f64) {
         match self {
             Door::Curfit => (0.1, 0.9, 0.04),
-            Door::Parcur => (f64::from(0.1_f32), f64::from(0.9_f32), f64::from(0.04_f32)),
+            Door::Parcur | Door::Percur | Door::Clocur => {
+                (f64::from(0.1_f32), f64::from(0.9_f32), f64::from(0.04_f32))
+            }
+        }
+    }
+
+    /// fp with point it's residual added as the door adds it in part 2: the spline there
+    /// from its B-splines q and the coefficients from l0 on.
+    pub(crate) fn add_residual(
+        self,
+        mut fp: f64,
+        q: &[f64],
+        c: &[f64],
+        l0: usize,
+        data: &Data<'_>,
+        it: usize,
+    ) -> f64 {
+        let (d, w) = (data.d, data.w[it]);
+        if matches!(self, Door::Parcur | Door::Clocur) {
+            let mut term = 0.0;
+            for col in 0..d {
+                let delta = value_at(q, c, d, l0, col) - data.y[it * d + col];
+                term += delta * delta;
+            }
+            fp + term * w * w
+        } else {
+            for col in 0..d {
+                fp += (w * (value_at(q, c, d, l0, col) - data.y[it * d + col])).powi(2);
+            }
+            fp
         }
     }
 }
@@ -92,7 +128,7 @@ pub struct Fit {
 
 /// FITPACK's Givens rotation (fpgivs) that zeroes piv against ww: (cos, sin), ww replaced by
 /// sqrt(piv^2 + ww^2) computed without overflow.
-fn givens(piv: f64, ww: &mut f64) -> (f64, f64) {
+pub(crate) fn givens(piv: f64, ww: &mut f64) -> (f64, f64) {
     let store = piv.abs();
     let dd = if store >= *ww {
         store * (1.0 + (*ww / piv) * (*ww / piv)).sqrt()
@@ -105,7 +141,7 @@ fn givens(piv: f64, ww: &mut f64) -> (f64, f64) {
 }
 
 /// Applies a Givens rotation to the pair (a, b) (fprota).
-fn rotate((cos, sin): (f64, f64), a: &mut f64, b: &mut f64) {
+pub(crate) fn rotate((cos, sin): (f64, f64), a: &mut f64, b: &mut f64) {
     let rotated = cos * *a - sin * *b;
     *b = cos * *b + sin * *a;
     *a = rotated;
@@ -113,7 +149,7 @@ fn rotate((cos, sin): (f64, f64), a: &mut f64, b: &mut f64) {
 
 /// The k + 1 B-splines not zero at x in [t_l, t_{l+1}) (l 0-based), by the Cox–de Boor
 /// recurrence as fpbspl runs it (a zero where two knots coincide).
-fn basis(t: &[f64], k: usize, x: f64, l: usize, h: &mut [f64; 6]) {
+pub(crate) fn basis(t: &[f64], k: usize, x: f64, l: usize, h: &mut [f64; 6]) {
     let mut hh = [0.0; 6];
     h[0] = 1.0;
     for j in 1..=k {
@@ -237,7 +273,7 @@ fn least_squares(data: &Data<'_>, t: &[f64], k: usize) -> LeastSquares {
 
 /// The spline's value at point it (its B-splines q, the first of its k + 1 coefficients l0),
 /// coordinate col.
-fn value_at(q: &[f64], c: &[f64], d: usize, l0: usize, col: usize) -> f64 {
+pub(crate) fn value_at(q: &[f64], c: &[f64], d: usize, l0: usize, col: usize) -> f64 {
     let mut fac = 0.0;
     for (j, b) in q.iter().enumerate() {
         fac += c[(l0 + j) * d + col] * b;
@@ -278,7 +314,7 @@ fn shares(data: &Data<'_>, t: &[f64], k: usize, fit: &LeastSquares, c: &[f64]) -
 /// largest share among those with data inside; its share and count split between the halves
 /// in proportion to their counts. False, adding nothing, where no interval holds a point
 /// inside (see `smoothing_fit`).
-fn add_knot(
+pub(crate) fn add_knot(
     x: &[f64],
     t: &mut Vec<f64>,
     k: usize,
@@ -328,7 +364,7 @@ fn interpolation_knots(x: &[f64], k: usize, xb: f64, xe: f64) -> Vec<f64> {
 
 /// FITPACK's discontinuity rows (fpdisc): for each inner knot, the jumps of the k-th
 /// derivatives of the k + 2 B-splines around it, scaled by (nrint / (xe - xb))^k.
-fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 7]> {
+pub(crate) fn discontinuity(t: &[f64], k: usize) -> Vec<[f64; 7]> {
     let (k1, k2, n) = (k + 1, k + 2, t.len());
     let nk1 = n - k1;
     let fac = (nk1 - k) as f64 / (t[nk1] - t[k]);
@@ -375,31 +411,14 @@ fn rational_step(p1: &mut f64, f1: &mut f64, p2: f64, f2: f64, p3: &mut f64, f3:
 
 /// fp at the data of the spline with coefficients c, summed as the door sums it.
 fn sum_at_data(data: &Data<'_>, t: &[f64], k: usize, q: &[f64], c: &[f64], door: Door) -> f64 {
-    let (k1, d) = (k + 1, data.d);
+    let k1 = k + 1;
     let nk1 = t.len() - k1;
     let (mut fp, mut l) = (0.0, k + 1);
     for (it, &x) in data.x.iter().enumerate() {
         if x >= t[l] && l < nk1 {
             l += 1;
         }
-        let q = &q[it * k1..(it + 1) * k1];
-        let w = data.w[it];
-        match door {
-            Door::Curfit => {
-                for col in 0..d {
-                    let fac = value_at(q, c, d, l - k - 1, col);
-                    fp += (w * (fac - data.y[it * d + col])).powi(2);
-                }
-            }
-            Door::Parcur => {
-                let mut term = 0.0;
-                for col in 0..d {
-                    let delta = value_at(q, c, d, l - k - 1, col) - data.y[it * d + col];
-                    term += delta * delta;
-                }
-                fp += term * w * w;
-            }
-        }
+        fp = door.add_residual(fp, &q[it * k1..(it + 1) * k1], c, l - k - 1, data, it);
     }
     fp
 }
@@ -418,15 +437,9 @@ fn smooth(
     let (k1, k2, d) = (k + 1, k + 2, data.d);
     let nk1 = t.len() - k1;
     let n8 = t.len() - 2 * k1;
-    let acc = TOLERANCE * s;
-    let (con1, con9, con4) = door.steps();
     let jumps = discontinuity(t, k);
-    let (mut p1, mut f1, mut p3, mut f3) = (0.0, fp0 - s, -1.0, fpms);
     let diagonal: f64 = (0..nk1).map(|i| fit.band.a[i * k1]).sum();
-    let mut p = nk1 as f64 / diagonal;
-    let (mut ich1, mut ich3) = (false, false);
-    let mut last = (Vec::new(), 0.0);
-    for iteration in 1..=MAX_ITERATIONS {
+    let spline_for = |p: f64| {
         let pinv = 1.0 / p;
         let mut g = fit.band.widened(k2, d);
         let mut rhs = [0.0; 10];
@@ -455,14 +468,39 @@ fn smooth(
         }
         let c = g.back_substitute(d);
         let fp = sum_at_data(data, t, k, &fit.q, &c, door);
-        last = (c, fp);
+        (c, fp)
+    };
+    find_p(spline_for, nk1 as f64 / diagonal, (fp0, fpms), s, door)
+}
+
+/// Part 2's search for p (FITPACK's, in every fit routine alike): from p0, the spline of p
+/// (`spline_for`: coefficients and fp) until |fp - s| < s/1000, stepping by the door's
+/// constants until p is bracketed between f1 = fp0 - s > 0 (p1 = 0) and f3 < 0 (p3, at
+/// first infinity: fpms), then by the rational step. Returns (c, fp, ier): ier 0, 2 (f not
+/// decreasing as theory says) or 3 (20 iterations), the last spline standing.
+pub(crate) fn find_p(
+    mut spline_for: impl FnMut(f64) -> (Vec<f64>, f64),
+    p0: f64,
+    (fp0, fpms): (f64, f64),
+    s: f64,
+    door: Door,
+) -> (Vec<f64>, f64, i32) {
+    let acc = TOLERANCE * s;
+    let (con1, con9, con4) = door.steps();
+    let (mut p1, mut f1, mut p3, mut f3) = (0.0, fp0 - s, -1.0, fpms);
+    let (mut ich1, mut ich3) = (false, false);
+    let mut p = p0;
+    let mut iteration = 1;
+    loop {
+        let (c, fp) = spline_for(p);
         let f2 = fp - s;
         if f2.abs() < acc {
-            return (last.0, last.1, 0);
+            return (c, fp, 0);
         }
         if iteration == MAX_ITERATIONS {
-            return (last.0, last.1, 3);
+            return (c, fp, 3);
         }
+        iteration += 1;
         let p2 = p;
         if !ich3 {
             if f2 - f3 > acc {
@@ -491,17 +529,16 @@ fn smooth(
             }
         }
         if f2 >= f1 || f2 <= f3 {
-            return (last.0, last.1, 2);
+            return (c, fp, 2);
         }
         p = rational_step(&mut p1, &mut f1, p2, f2, &mut p3, &mut f3);
     }
-    (last.0, last.1, 3)
 }
 
 /// FITPACK's count of knots to add next (fpcurf): in proportion to how far fp is above s
 /// against how far the last knots brought it down, at most twice and at least half the last
 /// count and 1.
-fn knots_to_add(nplus: usize, fpms: f64, fall: f64, acc: f64) -> usize {
+pub(crate) fn knots_to_add(nplus: usize, fpms: f64, fall: f64, acc: f64) -> usize {
     let npl1 = if fall > acc {
         let val = nplus as f64 * fpms / fall;
         if val > f64::from(i32::MAX) {
