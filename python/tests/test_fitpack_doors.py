@@ -77,7 +77,7 @@ def test_the_issues_300_points_at_s_2():
 @pytest.mark.parametrize("n", [10, 40, 300, 3000])
 @pytest.mark.parametrize("d", [2, 3])
 def test_splprep_is_fitpacks_parcur(n, d):
-    x, points, _ = noisy(n, n + d, d)
+    _, points, _ = noisy(n, n + d, d)
     for factor in (0.1, 1.0, 10.0):
         for k in (1, 3, 5):
             for nest in (None, max(2 * k + 3, n // 10)):
