@@ -147,7 +147,7 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         if s == 0:
             fp = _fp(x[:-1], y[:-1], w, spline)
         return _reported(result, fp, ier, full_output, quiet, k, len(spline.t), m, s)
-    if task == 1:
+    if task == 1 and _last_search is not None:
         state, nest = _last_search
     else:
         state, nest = None, max(m + k + 1, 2 * k + 3)
