@@ -4,7 +4,7 @@
 //! on a periodic spline space, with FITPACK's own bookkeeping (see `curfit` for where it
 //! differs from SciPy's `make_splrep`, which `periodic` reproduces).
 //!
-//! The period is x[m-1] - x[0]; the last point stands for the first (its value is not
+//! The period is x_{m-1} - x_0; the last point stands for the first (its value is not
 //! fitted). The knots t_k = x_0 and t_{n-k-1} = x_{m-1}, each end's k outer knots the inner
 //! ones shifted by the period, and the last k coefficients equal to the first k (**): the
 //! spline is periodic. Least squares then rotate each point's row into a triangle in two
