@@ -297,6 +297,12 @@ def _xs_and_weights(xs, ws, xname: str = "xs") -> tuple:
     return _batch(xs, xname, 1), _batch(ws, "ws", 1), offsets
 
 
+def _is_named(obj, name: str) -> bool:
+    """Whether obj is an instance of a class called `name` (this package's or SciPy's: the
+    conversions between bases take either)."""
+    return any(cls.__name__ == name for cls in type(obj).__mro__)
+
+
 def _extrapolate(value):
     """SciPy's `extrapolate`: True, False or "periodic" (None: the object's own)."""
     if value is None or isinstance(value, bool):

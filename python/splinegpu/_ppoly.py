@@ -14,22 +14,29 @@ import math
 import numpy as np
 
 from . import _bspl, _native
-from ._helpers import _extrapolate, _f64
+from ._helpers import _extrapolate, _f64, _is_named
 
 
-class PPoly:
-    """`scipy.interpolate.PPoly(c, x, extrapolate=None, axis=0)`: c of shape (k, m, ...)
-    (with `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing (or
-    decreasing, as SciPy's) breakpoints; `c` is held as (k, m, ...). Calls with nu >= 0,
-    `derivative`, `antiderivative`, `integrate`, `solve`, `roots`, `extend`, `from_spline`,
-    `from_bernstein_basis` and `construct_fast` answer as SciPy's (roots by the eigenvalues
-    of each piece's companion matrix, as SciPy finds them, refined by one Newton step).
-    Evaluated, integrated and antidifferentiated in the extension in float64 (complex c as
-    its two parts; descending breakpoints in NumPy)."""
+class Piecewise:
+    """What SciPy's PPoly and BPoly share (its `_PPolyBase`): c of shape (k, m, ...) (with
+    `axis` a: k and m at c's axes a and a + 1), x of m + 1 strictly increasing (or decreasing,
+    as SciPy's) breakpoints, `c` held as (k, m, ...); the checks, `construct_fast`, calls
+    (through `_values`, the basis's own evaluation) and `extend`."""
 
-    # Whether c comes from the package's own fit (its rounding where SciPy's has exact zeros:
-    # roots take a piece's degree from its terms that are not negligible) rather than given.
-    _fitted = False
+    def _values(self, c: np.ndarray, flat: np.ndarray, nu: int) -> np.ndarray:
+        """Derivative nu of the pieces c (k, m, columns) at flat: (len, columns)."""
+        raise NotImplementedError
+
+    def _pieces(self, flat: np.ndarray) -> np.ndarray:
+        """The piece each value of flat evaluates in: the last breakpoint at or before it (the
+        first and last pieces taking what lies beyond the ends); for descending breakpoints
+        piece i spans [x_{i+1}, x_i], the one whose start is the first at or above the value."""
+        x = self.x
+        if x[0] <= x[-1]:
+            i = np.searchsorted(x, flat, side="right") - 1
+        else:
+            i = len(x) - 1 - np.searchsorted(x[::-1], flat, side="left")
+        return np.clip(i, 0, len(x) - 2)
 
     def __init__(self, c, x, extrapolate=None, axis: int = 0):
         c = np.asarray(c)
@@ -60,15 +67,93 @@ class PPoly:
         self.extrapolate = True if extrapolate is None else extrapolate
 
     @classmethod
-    def _made(cls, c, x, extrapolate, axis) -> PPoly:
+    def _made(cls, c, x, extrapolate, axis):
         poly = cls.__new__(cls)
         poly.c, poly.x, poly.extrapolate, poly.axis = c, x, extrapolate, axis
         return poly
 
     @classmethod
-    def construct_fast(cls, c, x, extrapolate=None, axis: int = 0) -> PPoly:
-        """A PPoly of c (k, m, ...) and x taken as they are, without checks, as SciPy's."""
+    def construct_fast(cls, c, x, extrapolate=None, axis: int = 0):
+        """A polynomial of c (k, m, ...) and x taken as they are, without checks, as SciPy's."""
         return cls._made(c, x, True if extrapolate is None else extrapolate, axis)
+
+    def _column_c(self) -> np.ndarray:
+        """c as (k, m, columns)."""
+        c = self.c
+        return c.reshape(c.shape[0], c.shape[1], math.prod(c.shape[2:]))
+
+    def _like(self, c: np.ndarray, x: np.ndarray, extrapolate):
+        """A polynomial made from this one (a derivative, an antiderivative)."""
+        return self._made(c, x, extrapolate, self.axis)
+
+    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
+        """Derivative nu (>= 0) at x, shape x.shape + c.shape[2:] (x's axes moved to `axis`);
+        NaN at NaN, and outside the breakpoints when extrapolate is False."""
+        if not isinstance(nu, (int, np.integer)) or nu < 0:
+            raise ValueError(f"nu: must be an integer >= 0, got {nu!r}")
+        nu = int(nu)
+        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
+        x = np.asarray(x, dtype=np.float64)
+        flat = x.ravel()
+        lo, hi = min(self.x[0], self.x[-1]), max(self.x[0], self.x[-1])
+        if mode == "periodic":
+            flat = self.x[0] + np.mod(flat - self.x[0], self.x[-1] - self.x[0])
+        out = self._values(self._column_c(), flat, nu)
+        if mode is False:
+            out[~((flat >= lo) & (flat <= hi))] = np.nan
+        out[np.isnan(flat)] = np.nan
+        out = out.reshape(x.shape + self.c.shape[2:])
+        if self.axis != 0 and x.ndim > 0:
+            axes = list(range(out.ndim))
+            axes = axes[x.ndim:x.ndim + self.axis] + axes[:x.ndim] + axes[x.ndim + self.axis:]
+            out = out.transpose(axes)
+        return out
+
+    def extend(self, c, x) -> None:
+        """Adds pieces c (k', m', ...) on the right (x[0] >= self.x[-1]) or the left
+        (x[-1] <= self.x[0]) with breakpoints x (m' values: the new pieces' far ends), as
+        SciPy's `extend`; a lower degree's missing leading coefficients are zeros."""
+        c, x = np.asarray(c), np.asarray(x, dtype=np.float64)
+        if c.ndim != self.c.ndim or c.shape[2:] != self.c.shape[2:]:
+            raise ValueError(f"c: shape {c.shape} does not match the polynomial's "
+                             f"{self.c.shape}")
+        if x.ndim != 1 or x.shape[0] != c.shape[1]:
+            raise ValueError(f"x: must be 1-D with one breakpoint per new piece "
+                             f"({c.shape[1]}), got shape {x.shape}")
+        if c.size == 0:
+            return
+        if np.any(np.diff(x) <= 0):
+            raise ValueError("x: must be strictly increasing")
+        if x[0] > self.x[-1]:
+            right = True
+        elif x[-1] < self.x[0]:
+            right = False
+        else:
+            raise ValueError("x: must lie wholly to the right or to the left of the "
+                             "breakpoints")
+        dtype = np.result_type(self.c, c)
+        k = max(c.shape[0], self.c.shape[0])
+        merged = np.zeros((k, self.c.shape[1] + c.shape[1], *self.c.shape[2:]), dtype=dtype)
+        old, new = (slice(0, self.c.shape[1]), slice(self.c.shape[1], None)) if right else \
+            (slice(c.shape[1], None), slice(0, c.shape[1]))
+        merged[k - self.c.shape[0]:, old] = self.c
+        merged[k - c.shape[0]:, new] = c
+        self.c = merged
+        self.x = np.concatenate([self.x, x] if right else [x, self.x])
+
+
+class PPoly(Piecewise):
+    """`scipy.interpolate.PPoly(c, x, extrapolate=None, axis=0)`: c of shape (k, m, ...) and
+    x as `Piecewise` takes them. Calls with nu >= 0, `derivative`, `antiderivative`,
+    `integrate`, `solve`, `roots`, `extend`, `from_spline`, `from_bernstein_basis` and
+    `construct_fast` answer as SciPy's (roots by the eigenvalues of each piece's companion
+    matrix, as SciPy finds them, refined by one Newton step). Evaluated, integrated and
+    antidifferentiated in the extension in float64 (complex c as its two parts; descending
+    breakpoints in NumPy)."""
+
+    # Whether c comes from the package's own fit (its rounding where SciPy's has exact zeros:
+    # roots take a piece's degree from its terms that are not negligible) rather than given.
+    _fitted = False
 
     @classmethod
     def from_spline(cls, tck, extrapolate=None) -> PPoly:
@@ -96,7 +181,7 @@ class PPoly:
         """SciPy's BPoly `bp` in the power basis: on a piece of width h,
         sum_a b_a C(k, a) u^a (1 - u)^(k - a) with u = s / h has the coefficient
         sum_{a <= d} b_a C(k, a) C(k - a, d - a) (-1)^(d - a) / h^d of s^d."""
-        if isinstance(bp, PPoly) or type(bp).__name__ != "BPoly":
+        if not _is_named(bp, "BPoly"):
             raise TypeError(f".from_bernstein_basis only accepts BPoly instances. Got "
                             f"{type(bp)} instead.")
 
@@ -113,53 +198,14 @@ class PPoly:
             extrapolate = bp.extrapolate
         return cls.construct_fast(c, x, extrapolate, bp.axis)
 
-    def _column_c(self) -> np.ndarray:
-        """c as (k, m, columns)."""
-        c = self.c
-        return c.reshape(c.shape[0], c.shape[1], math.prod(c.shape[2:]))
-
-    def _like(self, c: np.ndarray, x: np.ndarray, extrapolate) -> PPoly:
-        """A polynomial made from this one (a derivative, an antiderivative)."""
-        return self._made(c, x, extrapolate, self.axis)
-
-    def __call__(self, x, nu: int = 0, extrapolate=None) -> np.ndarray:
-        """Derivative nu (>= 0) at x, shape x.shape + c.shape[2:] (x's axes moved to `axis`);
-        NaN at NaN, and outside the breakpoints when extrapolate is False."""
-        if not isinstance(nu, (int, np.integer)) or nu < 0:
-            raise ValueError(f"nu: must be an integer >= 0, got {nu!r}")
-        nu = int(nu)
-        mode = self.extrapolate if extrapolate is None else _extrapolate(extrapolate)
-        x = np.asarray(x, dtype=np.float64)
-        flat = x.ravel()
-        lo, hi = min(self.x[0], self.x[-1]), max(self.x[0], self.x[-1])
-        if mode == "periodic":
-            flat = self.x[0] + np.mod(flat - self.x[0], self.x[-1] - self.x[0])
-        c = self._column_c()
+    def _values(self, c: np.ndarray, flat: np.ndarray, nu: int) -> np.ndarray:
+        """Derivative nu at flat: natively for real c and increasing breakpoints, else by
+        Horner's rule in NumPy (complex c, descending breakpoints): (len, columns)."""
         if self.x[0] <= self.x[-1] and not np.iscomplexobj(c):
-            out = _native.evaluate_pieces(_f64(self.x), _f64(c), _f64(flat), nu)
-        else:
-            out = self._by_horner(c, flat, nu)
-        if mode is False:
-            out[~((flat >= lo) & (flat <= hi))] = np.nan
-        out[np.isnan(flat)] = np.nan
-        out = out.reshape(x.shape + self.c.shape[2:])
-        if self.axis != 0 and x.ndim > 0:
-            axes = list(range(out.ndim))
-            axes = axes[x.ndim:x.ndim + self.axis] + axes[:x.ndim] + axes[x.ndim + self.axis:]
-            out = out.transpose(axes)
-        return out
-
-    def _by_horner(self, c: np.ndarray, flat: np.ndarray, nu: int) -> np.ndarray:
-        """Derivative nu at flat in NumPy (complex c, descending breakpoints): (len, columns)."""
+            return _native.evaluate_pieces(_f64(self.x), _f64(c), _f64(flat), nu)
         for _ in range(nu):
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
-        if self.x[0] <= self.x[-1]:
-            i = np.searchsorted(self.x, flat, side="right") - 1
-        else:
-            # Descending: piece i spans [x_{i+1}, x_i], the one whose start is the first at or
-            # above each value.
-            i = len(self.x) - 1 - np.searchsorted(self.x[::-1], flat, side="left")
-        i = np.clip(i, 0, c.shape[1] - 1)
+        i = np.clip(self._pieces(flat), 0, c.shape[1] - 1)
         dx = (flat - self.x[i])[:, None]
         out = np.zeros((len(flat), c.shape[2]), dtype=np.result_type(c, np.float64))
         for m in range(c.shape[0]):
@@ -264,38 +310,6 @@ class PPoly:
     def roots(self, discontinuity: bool = True, extrapolate=None):
         """`solve(0, ...)`."""
         return self.solve(0.0, discontinuity, extrapolate)
-
-    def extend(self, c, x) -> None:
-        """Adds pieces c (k', m', ...) on the right (x[0] >= self.x[-1]) or the left
-        (x[-1] <= self.x[0]) with breakpoints x (m' values: the new pieces' far ends), as
-        SciPy's `extend`."""
-        c, x = np.asarray(c), np.asarray(x, dtype=np.float64)
-        if c.ndim != self.c.ndim or c.shape[2:] != self.c.shape[2:]:
-            raise ValueError(f"c: shape {c.shape} does not match the polynomial's "
-                             f"{self.c.shape}")
-        if x.ndim != 1 or x.shape[0] != c.shape[1]:
-            raise ValueError(f"x: must be 1-D with one breakpoint per new piece "
-                             f"({c.shape[1]}), got shape {x.shape}")
-        if c.size == 0:
-            return
-        if np.any(np.diff(x) <= 0):
-            raise ValueError("x: must be strictly increasing")
-        if x[0] > self.x[-1]:
-            right = True
-        elif x[-1] < self.x[0]:
-            right = False
-        else:
-            raise ValueError("x: must lie wholly to the right or to the left of the "
-                             "breakpoints")
-        dtype = np.result_type(self.c, c)
-        k = max(c.shape[0], self.c.shape[0])
-        merged = np.zeros((k, self.c.shape[1] + c.shape[1], *self.c.shape[2:]), dtype=dtype)
-        old, new = (slice(0, self.c.shape[1]), slice(self.c.shape[1], None)) if right else \
-            (slice(c.shape[1], None), slice(0, c.shape[1]))
-        merged[k - self.c.shape[0]:, old] = self.c
-        merged[k - c.shape[0]:, new] = c
-        self.c = merged
-        self.x = np.concatenate([self.x, x] if right else [x, self.x])
 
 
 def _candidates(c: np.ndarray, y: float, widths: np.ndarray, exact: bool):

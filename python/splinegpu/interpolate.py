@@ -27,6 +27,7 @@ from ._batches import (
     make_splpreps,
     make_splreps,
 )
+from ._bpoly import BPoly
 from ._bsplines import BSpline, make_interp_spline
 from ._cubic import (
     Akima1DInterpolator,
@@ -53,7 +54,7 @@ from ._smoothing import make_smoothing_spline
 # SciPy's alias of PchipInterpolator.
 pchip = PchipInterpolator
 
-__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BSpline", "BSplines",
+__all__ = ["Akima1DInterpolator", "Akima1DInterpolators", "BPoly", "BSpline", "BSplines",
            "CubicHermiteSpline", "CubicHermiteSplines", "CubicSpline", "CubicSplines",
            "InterpolatedUnivariateSpline", "LSQUnivariateSpline", "NdBSpline", "NdBSplines",
            "PPoly", "PPolys", "PchipInterpolator", "PchipInterpolators", "RectBivariateSpline",

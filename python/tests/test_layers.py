@@ -8,13 +8,14 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "splinegpu"
 
-# The order a fit runs in: arguments, surfaces, meshes, queries and the context first, the B-spline
-# arithmetic, the piecewise polynomials and the cubic fits on them, B-splines and their fits,
-# FITPACK's doors, the gridded splines, the batches, and the public namespaces last.
+# The order a fit runs in: arguments, surfaces, meshes, queries and the context first, the
+# B-spline arithmetic, the piecewise polynomials (power, then Bernstein) and the cubic fits on
+# them, B-splines and their fits, FITPACK's doors, the gridded splines, the batches, and the
+# public namespaces last.
 LAYERS = ["_native", "_helpers", "_surfaces", "_geometry", "_queries", "_context", "_bspl",
-          "_collocation", "_ppoly", "_cubic", "_bsplines", "_lsq", "_smoothing", "_fitpack_repro",
-          "_fitpack_py", "_ndbspline", "_fitpack2", "_rgi", "_interp1d", "_batches", "interpolate",
-          "__init__", "dask"]
+          "_collocation", "_ppoly", "_bpoly", "_cubic", "_bsplines", "_lsq", "_smoothing",
+          "_fitpack_repro", "_fitpack_py", "_ndbspline", "_fitpack2", "_rgi", "_interp1d",
+          "_batches", "interpolate", "__init__", "dask"]
 
 
 def imports(path: Path):

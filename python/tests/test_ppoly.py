@@ -246,3 +246,73 @@ def test_misaligned_arrays_are_read_right():
     spline = si.make_interp_spline(misaligned(x), misaligned(x ** 2), k=4)
     np.testing.assert_allclose(spline(q), interpolate.make_interp_spline(x, x ** 2, k=4)(q),
                                rtol=1e-10)
+
+
+@pytest.mark.parametrize("descending", [False, True])
+def test_bpoly_answers_as_scipys(descending):
+    """BPoly against SciPy's: calls (derivatives 0 to past the degree, every extrapolate
+    mode), antiderivatives, integrals (periodic too), extend, and complex coefficients."""
+    rng = np.random.default_rng(31)
+    x = np.sort(rng.uniform(0, 5, 9))
+    if descending:
+        x = x[::-1].copy()
+    c = rng.normal(size=(6, 8, 2))
+    ours, theirs = si.BPoly(c, x), interpolate.BPoly(c, x)
+    xi = np.linspace(-1, 6, 41)
+    for nu in range(7):
+        np.testing.assert_allclose(ours(xi, nu), theirs(xi, nu), rtol=1e-12, atol=1e-9)
+    for mode in (True, False, "periodic"):
+        np.testing.assert_allclose(ours(xi, 1, extrapolate=mode), theirs(xi, 1, extrapolate=mode),
+                                   rtol=1e-12, atol=1e-9)
+        for a, b in ((0.3, 4.1), (-3.0, 11.5), (4.0, 0.5)):
+            np.testing.assert_allclose(ours.integrate(a, b, extrapolate=mode),
+                                       theirs.integrate(a, b, extrapolate=mode), rtol=1e-10,
+                                       atol=1e-9)
+    for nu in (1, 2, 3):
+        # Degree 8 extrapolated to s = 22 on the narrowest end piece is ill-conditioned: both
+        # evaluations are within 2e-8 of the exact value there (ours 2e-9, from fractions).
+        np.testing.assert_allclose(ours.antiderivative(nu)(xi), theirs.antiderivative(nu)(xi),
+                                   rtol=1e-7, atol=1e-9)
+    complex_c = c[..., 0] * (1 + 0.5j)
+    np.testing.assert_allclose(si.BPoly(complex_c, x)(xi, 2),
+                               interpolate.BPoly(complex_c, x)(xi, 2), rtol=1e-12, atol=1e-9)
+    if not descending:
+        more = rng.normal(size=(3, 2, 2))
+        ours.extend(more, [6.0, 7.0])
+        theirs.extend(more, [6.0, 7.0])
+        np.testing.assert_allclose(ours(np.linspace(0, 7, 30)), theirs(np.linspace(0, 7, 30)),
+                                   rtol=1e-12, atol=1e-9)
+
+
+def test_bpoly_from_derivatives_meets_them_and_converts_both_ways():
+    """from_derivatives' pieces take the given derivatives at the breakpoints (their own
+    check, then SciPy's coefficients); power and Bernstein bases convert into each other, ours
+    and SciPy's classes alike; a polynomial of the wrong basis is a TypeError."""
+    rng = np.random.default_rng(5)
+    xi = np.array([0.0, 0.7, 2.0, 2.5])
+    yi = [rng.normal(size=n) for n in (3, 2, 4, 1)]
+    ours = si.BPoly.from_derivatives(xi, yi)
+    for i, y in enumerate(yi):
+        at = np.array([xi[i]])
+        for q, v in enumerate(y):
+            # Piece i holds xi[i] (the last piece the last point): its q-th derivative there.
+            assert abs(ours(at, q)[0] - v) < 1e-9 * (1 + abs(v)), (i, q)
+    np.testing.assert_allclose(ours.c, interpolate.BPoly.from_derivatives(xi, yi).c, rtol=1e-12,
+                               atol=1e-12)
+    even = [rng.normal(size=2) for _ in xi]
+    np.testing.assert_allclose(si.BPoly.from_derivatives(xi, even, orders=3).c,
+                               interpolate.BPoly.from_derivatives(xi, even, orders=3).c,
+                               rtol=1e-12, atol=1e-12)
+    # An order the ends' counts cannot give: SciPy's ValueError, its words.
+    for module in (si, interpolate):
+        with pytest.raises(ValueError, match=r"Point 2\.0 has 4 derivatives, point 2\.5 has 1"):
+            module.BPoly.from_derivatives(xi, yi, orders=3)
+    pp = si.PPoly(rng.normal(size=(4, 3)), [0.0, 1.0, 1.5, 3.0])
+    for poly in (si.BPoly.from_power_basis(pp), interpolate.BPoly.from_power_basis(
+            interpolate.PPoly(pp.c, pp.x))):
+        back = si.PPoly.from_bernstein_basis(poly)
+        np.testing.assert_allclose(back.c, pp.c, rtol=1e-12, atol=1e-12)
+    with pytest.raises(TypeError, match="from_power_basis only accepts PPoly"):
+        si.BPoly.from_power_basis(si.BPoly(pp.c, pp.x))
+    with pytest.raises(TypeError, match="from_bernstein_basis only accepts BPoly"):
+        si.PPoly.from_bernstein_basis(pp)
