@@ -60,7 +60,7 @@ class BPoly(Piecewise):
     constructors `from_power_basis`, `from_derivatives` and `construct_fast`, as SciPy's."""
 
     def _values(self, c: np.ndarray, flat: np.ndarray, nu: int) -> np.ndarray:
-        return _bernstein(c, self.x, self._pieces(flat), flat, nu)
+        return _bernstein(c, self.x, self._piece_of(flat), flat, nu)
 
     def _widths(self) -> np.ndarray:
         """Each piece's signed width, shaped to multiply c[a] (m, ...)."""

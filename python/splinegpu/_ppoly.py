@@ -27,7 +27,7 @@ class Piecewise:
         """Derivative nu of the pieces c (k, m, columns) at flat: (len, columns)."""
         raise NotImplementedError
 
-    def _pieces(self, flat: np.ndarray) -> np.ndarray:
+    def _piece_of(self, flat: np.ndarray) -> np.ndarray:
         """The piece each value of flat evaluates in: the last breakpoint at or before it (the
         first and last pieces taking what lies beyond the ends); for descending breakpoints
         piece i spans [x_{i+1}, x_i], the one whose start is the first at or above the value."""
@@ -205,7 +205,7 @@ class PPoly(Piecewise):
             return _native.evaluate_pieces(_f64(self.x), _f64(c), _f64(flat), nu)
         for _ in range(nu):
             c = c[:-1] * np.arange(c.shape[0] - 1, 0, -1)[:, None, None]
-        i = np.clip(self._pieces(flat), 0, c.shape[1] - 1)
+        i = np.clip(self._piece_of(flat), 0, c.shape[1] - 1)
         dx = (flat - self.x[i])[:, None]
         out = np.zeros((len(flat), c.shape[2]), dtype=np.result_type(c, np.float64))
         for m in range(c.shape[0]):
