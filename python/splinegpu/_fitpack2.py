@@ -15,8 +15,8 @@ even k, without k // 2 + (k odd) of them at each end) and the end knots at the b
 (default: the data's ends), and the spline interpolates: the unique tensor B-spline on those
 knots through z, fitted here by separable banded solves (`_ndbspline.solve_grid`). FITPACK
 evaluates at a point clipped to the bounding box (no extrapolation: past an end, the value at
-the end), and so does this class; a smoothing s > 0 is refused by name (the fitting issue
-brings it).
+the end), and so does this class. A smoothing s > 0 is FITPACK's regrid itself
+(`bsplines::regrid`), as SciPy's.
 """
 
 from __future__ import annotations
@@ -34,6 +34,27 @@ from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline, solve_grid
 
 _EXT = {"extrapolate": 0, "zeros": 1, "raise": 2, "const": 3}
+
+# SciPy's RectBivariateSpline errors for regrid's ier (its `_surfit_messages`, word for
+# word).
+_SURFIT_MESSAGES = {
+    1: """
+The required storage space exceeds the available storage space: nxest
+or nyest too small, or s too small.
+The weighted least-squares spline corresponds to the current set of
+knots.""",
+    2: """
+A theoretically impossible result was found during the iteration
+process for finding a smoothing spline with fp = s: s too small or
+badly chosen eps.
+Weighted sum of squared residuals does not satisfy abs(fp-s)/s < tol.""",
+    3: """
+the maximal number of iterations maxit (set to 20 by the program)
+allowed for finding a smoothing spline with fp=s has been reached:
+s too small.
+Weighted sum of squared residuals does not satisfy abs(fp-s)/s < tol.
+Try increasing maxit by passing it as a keyword argument.""",
+}
 
 # SciPy's UnivariateSpline warnings for FITPACK's ier (its `_curfit_messages`, word for word:
 # callers match them).
@@ -328,12 +349,16 @@ class _Bivariate:
     def get_coeffs(self) -> np.ndarray:
         return self.tck[2]
 
-    def _spline(self) -> NdBSpline:
+    def _spline(self):
         spline = self.__dict__.get("_tensor")
         if spline is None:
             (tx, ty, c), (kx, ky) = self.tck, self.degrees
             shape = (len(tx) - kx - 1, len(ty) - ky - 1)
-            spline = NdBSpline((tx, ty), np.asarray(c).reshape(shape), (kx, ky))
+            c = np.asarray(c).reshape(shape)
+            if np.all(np.diff(tx) >= 0) and np.all(np.diff(ty) >= 0):
+                spline = NdBSpline((tx, ty), c, (kx, ky))
+            else:
+                spline = _OutOfOrder((np.asarray(tx), np.asarray(ty)), c, (kx, ky))
             self.__dict__["_tensor"] = spline
         return spline
 
@@ -385,6 +410,63 @@ class _Bivariate:
         derived = self._spline().derivative((dx, dy))
         tx, ty = derived.t
         return _DerivedBivariateSpline._from_tck((tx, ty, derived.c.ravel(), kx - dx, ky - dy))
+
+
+def _fitpack_basis(t: np.ndarray, k: int, x: np.ndarray) -> tuple:
+    """FITPACK's B-splines at x as fpbisp finds them, knots in order or not (regrid can leave
+    them out of order): each x's interval (0-based, from k: the first knot past it, or the
+    last interval), and the k + 1 values of the Cox-de Boor recurrence there (a zero where two
+    knots coincide). Returns (intervals, values (len(x), k + 1))."""
+    nk1 = len(t) - k - 1
+    beyond = t[k + 1:nk1][None, :] > x[:, None]
+    span = np.where(beyond.any(axis=1), k + np.argmax(beyond, axis=1), nk1 - 1)
+    h = np.zeros((len(x), k + 1))
+    h[:, 0] = 1.0
+    for j in range(1, k + 1):
+        hh = h[:, :j].copy()
+        h[:, 0] = 0.0
+        for i in range(1, j + 1):
+            right, left = t[span + i], t[span + i - j]
+            width = right - left
+            safe = np.where(width != 0.0, width, 1.0)
+            f = np.where(width != 0.0, hh[:, i - 1] / safe, 0.0)
+            h[:, i - 1] += f * (right - x)
+            h[:, i] = f * (x - left)
+    return span, h
+
+
+class _OutOfOrder:
+    """A tensor spline whose knots FITPACK's regrid left out of order, evaluated as FITPACK's
+    bispev and derived as its parder (SciPy answers so on such fits): the calls and
+    `derivative` that `_Bivariate` takes from an NdBSpline."""
+
+    def __init__(self, t: tuple, c: np.ndarray, k: tuple):
+        self.t, self.c, self.k = t, c, k
+
+    def __call__(self, points: np.ndarray) -> np.ndarray:
+        (tx, ty), (kx, ky) = self.t, self.k
+        lx, hx = _fitpack_basis(tx, kx, points[:, 0])
+        ly, hy = _fitpack_basis(ty, ky, points[:, 1])
+        out = np.zeros(len(points))
+        for i in range(kx + 1):
+            rows = self.c[lx - kx + i]
+            for j in range(ky + 1):
+                out += hx[:, i] * hy[:, j] * rows[np.arange(len(points)), ly - ky + j]
+        return out
+
+    def derivative(self, nu: tuple) -> _OutOfOrder:
+        """The derivative (nu_x, nu_y) as parder makes it: along each axis, nu times,
+        c_i <- k (c_{i+1} - c_i) / (t_{i+k+1} - t_{i+1}) on the knots less one at each end."""
+        t, c, k = list(self.t), self.c, list(self.k)
+        for axis, order in enumerate(nu):
+            for _ in range(order):
+                tt, kk = t[axis], k[axis]
+                span = (tt[kk + 1:len(tt) - 1] - tt[1:len(tt) - kk - 1])
+                shape = [1, 1]
+                shape[axis] = -1
+                c = kk * np.diff(c, axis=axis) / span.reshape(shape)
+                t[axis], k[axis] = tt[1:-1], kk - 1
+        return _OutOfOrder(tuple(t), c, tuple(k))
 
 
 class BivariateSpline(_Bivariate):
@@ -441,8 +523,10 @@ class _DerivedBivariateSpline(BivariateSpline):
 
 
 class RectBivariateSpline(BivariateSpline):
-    """SciPy's `RectBivariateSpline(x, y, z, bbox=[None] * 4, kx=3, ky=3, s=0, maxit=20)` for
-    s = 0 (see the module's documentation); `fp` (the residual) is 0."""
+    """SciPy's `RectBivariateSpline(x, y, z, bbox=[None] * 4, kx=3, ky=3, s=0, maxit=20)`:
+    for s = 0 the interpolant (see the module's documentation; `fp` is 0), for s > 0
+    FITPACK's regrid (`bsplines::regrid`: its knots, coefficients and fp; ier other than 0,
+    -1 and -2 raises ValueError with SciPy's words)."""
 
     def __init__(self, x, y, z, bbox=(None,) * 4, kx=3, ky=3, s=0, maxit=20):
         x = np.ravel(np.asarray(x, dtype=np.float64))
@@ -461,9 +545,6 @@ class RectBivariateSpline(BivariateSpline):
             raise ValueError("bbox shape should be (4,)")
         if s is not None and not s >= 0.0:
             raise ValueError("s should be s >= 0.0")
-        if s:
-            raise ValueError(f"s: smoothing (s = {s} > 0) is not supported yet; s = 0 "
-                             f"interpolates")
         for name, k, v in (("kx", kx, x), ("ky", ky, y)):
             if not 1 <= k <= 5:
                 raise ValueError(f"{name}: the degree must be 1 to 5, got {k}")
@@ -472,8 +553,8 @@ class RectBivariateSpline(BivariateSpline):
                                  f"{k}")
         if np.iscomplexobj(z) or not np.isfinite(np.asarray(z, dtype=np.float64)).all():
             raise ValueError("z: the values must be real and finite")
-        z = np.asarray(z, dtype=np.float64)
-        knots = []
+        z = np.ascontiguousarray(z, dtype=np.float64)
+        knots, bounds = [], []
         for v, k, (lo, hi) in ((x, kx, bbox[:2]), (y, ky, bbox[2:])):
             lo = v[0] if lo is None else float(lo)
             hi = v[-1] if hi is None else float(hi)
@@ -482,7 +563,22 @@ class RectBivariateSpline(BivariateSpline):
             t = _collocation.not_a_knot(v, k)
             t[:k + 1], t[-k - 1:] = lo, hi
             knots.append(t)
+            bounds.extend([lo, hi])
+        self.degrees = (kx, ky)
+        if s:
+            # FITPACK's regrid: its knots, coefficients, fp and ier (SciPy raises for ier
+            # other than 0, -1 and -2, with its words).
+            if not isinstance(maxit, (int, np.integer)) or maxit < 1:
+                raise ValueError(f"maxit: must be a positive integer, got {maxit!r}")
+            tx, ty, c, fp, ier = _native.fit_regrid(_aligned(x, "x"), _aligned(y, "y"), z,
+                                                     bounds, kx, ky, float(s), int(maxit))
+            if ier not in (0, -1, -2):
+                raise ValueError(_SURFIT_MESSAGES.get(ier, f"ier={ier}"))
+            if not np.all(np.isfinite(c)):
+                raise ValueError("z: the smoothing spline's coefficients are not finite (its "
+                                 "knots coincide); try another s")
+            self.fp, self.tck = fp, (tx, ty, c)
+            return
         c = solve_grid((x, y), tuple(knots), (kx, ky), z)
         self.fp = 0.0
         self.tck = (knots[0], knots[1], c.ravel())
-        self.degrees = (kx, ky)

@@ -5,7 +5,7 @@ use numpy::{
     PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 
-use bsplines::{banded, curfit, fitpack, lsq, percur, smoothing};
+use bsplines::{banded, curfit, fitpack, lsq, percur, regrid, smoothing};
 
 use crate::args::{Stack1, Stack2, ragged, value_error};
 use pyo3::exceptions::PyValueError;
@@ -81,6 +81,15 @@ pub(crate) type FitpackFits<'py> = (
     Vec<i64>,
     Bound<'py, PyArray2<f64>>,
     Vec<u8>,
+);
+
+/// `fit_regrid`'s answer: knots in x and y, coefficients, fp and ier.
+pub(crate) type RegridAnswer<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    f64,
+    i32,
 );
 
 /// Each series' columns' lams (S, m).
@@ -545,6 +554,81 @@ pub(crate) fn fit_curfit<'py>(
         fit.fp,
         fit.ier,
         (t, nrdata, fp0, fpold, nplus, ier),
+    ))
+}
+
+/// FITPACK's regrid with s > 0 (`bsplines::regrid::smoothing_fit`), RectBivariateSpline's
+/// smoothing: x (mx,) and y (my,) strictly increasing inside bounds (xb, xe, yb, ye), z (mx,
+/// my), degrees kx, ky, room for mx + kx + 1 and my + ky + 1 knots (SciPy's), at most maxit
+/// iterations for p. Returns (tx, ty, c ((nx - kx - 1) (ny - ky - 1),), fp, ier).
+#[pyfunction]
+#[expect(clippy::too_many_arguments, reason = "regrid's arguments, one each")]
+pub(crate) fn fit_regrid<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray1<'py, f64>,
+    y: PyReadonlyArray1<'py, f64>,
+    z: PyReadonlyArray2<'py, f64>,
+    bounds: [f64; 4],
+    kx: usize,
+    ky: usize,
+    s: f64,
+    maxit: usize,
+) -> PyResult<RegridAnswer<'py>> {
+    let (x, y) = (x.as_slice()?, y.as_slice()?);
+    if z.shape() != [x.len(), y.len()] {
+        return Err(value_error(format!(
+            "z: shape {:?} for {} x and {} y",
+            z.shape(),
+            x.len(),
+            y.len()
+        )));
+    }
+    let z = z.as_slice()?;
+    for (name, k, v) in [("kx", kx, x), ("ky", ky, y)] {
+        if !(1..=5).contains(&k) || v.len() <= k {
+            return Err(value_error(format!(
+                "{name}: degree 1 to 5 below the {} points, got {k}",
+                v.len()
+            )));
+        }
+        if let Some(i) = v.windows(2).position(|p| p[0] >= p[1] || p[1].is_nan()) {
+            return Err(value_error(format!(
+                "{}: must be strictly increasing, [{i}] = {} and [{}] = {}",
+                &name[1..],
+                v[i],
+                i + 1,
+                v[i + 1]
+            )));
+        }
+    }
+    let [xb, xe, yb, ye] = bounds;
+    if !(xb <= x[0] && x[x.len() - 1] <= xe && yb <= y[0] && y[y.len() - 1] <= ye) {
+        return Err(value_error(format!(
+            "bbox: [{xb}, {xe}] x [{yb}, {ye}] must hold the data"
+        )));
+    }
+    if let Some(i) = z.iter().position(|v| !v.is_finite()) {
+        return Err(value_error(format!(
+            "z: must be finite, z[{}, {}] = {}",
+            i / y.len(),
+            i % y.len(),
+            z[i]
+        )));
+    }
+    if !(s > 0.0 && s.is_finite() && maxit > 0) {
+        return Err(value_error(format!(
+            "fit_regrid: s > 0 and maxit >= 1, got s = {s}, maxit = {maxit}"
+        )));
+    }
+    let grid = regrid::Grid { x, y, z, bounds };
+    let rooms = (x.len() + kx + 1, y.len() + ky + 1);
+    let fit = py.detach(|| regrid::smoothing_fit(&grid, (kx, ky), s, rooms, maxit));
+    Ok((
+        PyArray1::from_vec(py, fit.tx),
+        PyArray1::from_vec(py, fit.ty),
+        PyArray1::from_vec(py, fit.c),
+        fit.fp,
+        fit.ier,
     ))
 }
 

@@ -37,6 +37,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fits::fit_smoothing, m)?)?;
     m.add_function(wrap_pyfunction!(fits::fit_splrep, m)?)?;
     m.add_function(wrap_pyfunction!(fits::fit_curfit, m)?)?;
+    m.add_function(wrap_pyfunction!(fits::fit_regrid, m)?)?;
     m.add_function(wrap_pyfunction!(fits::smoothing_gcv, m)?)?;
     m.add_function(wrap_pyfunction!(pieces::evaluate_pieces, m)?)?;
     m.add_function(wrap_pyfunction!(pieces::integrate_pieces, m)?)?;

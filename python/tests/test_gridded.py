@@ -180,8 +180,8 @@ def test_bad_input_is_named():
         G.RegularGridInterpolator(grid, values, method="quartic")
     with pytest.raises(ValueError, match="requires at least  6 points"):
         G.RegularGridInterpolator(grid, values, method="quintic")
-    with pytest.raises(ValueError, match="s: smoothing"):
-        G.RectBivariateSpline(grid[0], grid[1], values, s=1.0)
+    with pytest.raises(ValueError, match="maxit: must be a positive integer"):
+        G.RectBivariateSpline(grid[0], grid[1], values, s=1.0, maxit=0)
     with pytest.raises(ValueError, match="dimension 0 are inconsistent"):
         G.NdBSpline((np.r_[0, 0, 1, 1.0], np.r_[0, 0, 1, 1.0]), np.zeros((3, 2)), 1)
 

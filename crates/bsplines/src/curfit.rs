@@ -28,7 +28,7 @@
 use crate::fitpack::{Data, TOLERANCE};
 
 /// The most iterations of part 2's root finder (FITPACK's maxit).
-const MAX_ITERATIONS: usize = 20;
+pub(crate) const MAX_ITERATIONS: usize = 20;
 
 /// Which of FITPACK's fit routines runs: they differ in how part 2 sums fp at the data
 /// (curfit's and percur's sum_i (w_i (s_i - y_i))^2, or parcur's and clocur's
@@ -51,7 +51,7 @@ impl Door {
     /// fppara.f, fpperi.f and fpclos.f write as single precision literals (`0.1e0`:
     /// 0.10000000149011612 in f64; with doubles their fits land 1e-10 from SciPy's);
     /// fpcurf.f's are double.
-    fn steps(self) -> (f64, f64, f64) {
+    pub(crate) fn steps(self) -> (f64, f64, f64) {
         match self {
             Door::Curfit => (0.1, 0.9, 0.04),
             Door::Parcur | Door::Percur | Door::Clocur => {
@@ -347,7 +347,7 @@ pub(crate) fn add_knot(
 
 /// The knots of interpolation (m + k + 1): the data inside for odd k, their midpoints for
 /// even k, k / 2 + 1 of them left out at each end; the ends as the caller sets them.
-fn interpolation_knots(x: &[f64], k: usize, xb: f64, xe: f64) -> Vec<f64> {
+pub(crate) fn interpolation_knots(x: &[f64], k: usize, xb: f64, xe: f64) -> Vec<f64> {
     let m = x.len();
     let mut t = vec![xb; k + 1];
     let start = k / 2 + 1;
@@ -470,23 +470,30 @@ fn smooth(
         let fp = sum_at_data(data, t, k, &fit.q, &c, door);
         (c, fp)
     };
-    find_p(spline_for, nk1 as f64 / diagonal, (fp0, fpms), s, door)
+    find_p(
+        spline_for,
+        nk1 as f64 / diagonal,
+        (fp0, fpms),
+        (s, TOLERANCE * s),
+        door.steps(),
+        MAX_ITERATIONS,
+    )
 }
 
 /// Part 2's search for p (FITPACK's, in every fit routine alike): from p0, the spline of p
-/// (`spline_for`: coefficients and fp) until |fp - s| < s/1000, stepping by the door's
-/// constants until p is bracketed between f1 = fp0 - s > 0 (p1 = 0) and f3 < 0 (p3, at
-/// first infinity: fpms), then by the rational step. Returns (c, fp, ier): ier 0, 2 (f not
-/// decreasing as theory says) or 3 (20 iterations), the last spline standing.
+/// (`spline_for`: coefficients and fp) until |fp - s| < acc, stepping by the routine's
+/// constants (con1, con9, con4) until p is bracketed between f1 = fp0 - s > 0 (p1 = 0) and
+/// f3 < 0 (p3, at first infinity: fpms), then by the rational step. Returns (c, fp, ier):
+/// ier 0, 2 (f not decreasing as theory says) or 3 (maxit iterations), the last spline
+/// standing.
 pub(crate) fn find_p(
     mut spline_for: impl FnMut(f64) -> (Vec<f64>, f64),
     p0: f64,
     (fp0, fpms): (f64, f64),
-    s: f64,
-    door: Door,
+    (s, acc): (f64, f64),
+    (con1, con9, con4): (f64, f64, f64),
+    maxit: usize,
 ) -> (Vec<f64>, f64, i32) {
-    let acc = TOLERANCE * s;
-    let (con1, con9, con4) = door.steps();
     let (mut p1, mut f1, mut p3, mut f3) = (0.0, fp0 - s, -1.0, fpms);
     let (mut ich1, mut ich3) = (false, false);
     let mut p = p0;
@@ -497,7 +504,7 @@ pub(crate) fn find_p(
         if f2.abs() < acc {
             return (c, fp, 0);
         }
-        if iteration == MAX_ITERATIONS {
+        if iteration == maxit {
             return (c, fp, 3);
         }
         iteration += 1;

@@ -27,7 +27,7 @@
 //! | `interp` | interpolation of any degree, SciPy's not-a-knot knots |
 //! | `lsq` | weighted least squares by Givens rotations, the basis rows of data |
 //! | `fitpack`, `periodic` | FITPACK's knot search and smoothing as SciPy's `make_splrep` re-derives it, open and periodic |
-//! | `curfit`, `percur` | FITPACK's own curfit, parcur, percur and clocur, step for step (SciPy's splrep, splprep, UnivariateSpline) |
+//! | `curfit`, `percur`, `regrid` | FITPACK's own curfit, parcur, percur, clocur and regrid, step for step (SciPy's splrep, splprep, UnivariateSpline, RectBivariateSpline) |
 //! | `smoothing` | cubic smoothing splines, GCV, four series side by side (`lanes`) |
 //! | `bounded_search` | Brent's bounded minimisation, as SciPy runs it |
 //! | `grid`, `tensor_values` | tensor-product splines and gridded PCHIP |
@@ -49,6 +49,7 @@ pub mod pchip;
 pub mod percur;
 pub mod periodic;
 pub mod pieces;
+pub mod regrid;
 pub mod roots;
 pub mod smoothing;
 pub mod tensor;

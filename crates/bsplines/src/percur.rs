@@ -18,8 +18,8 @@
 //! triangle, p found as curfit finds it (`curfit::find_p`).
 
 use crate::curfit::{
-    Door, Fit, Search, add_knot, basis, discontinuity, find_p, givens, knots_to_add, rotate,
-    value_at,
+    Door, Fit, MAX_ITERATIONS, Search, add_knot, basis, discontinuity, find_p, givens,
+    knots_to_add, rotate, value_at,
 };
 use crate::fitpack::{Data, TOLERANCE};
 
@@ -449,7 +449,14 @@ fn smooth(
         }
         (c, fp)
     };
-    find_p(spline_for, n7 as f64 / diagonal, (fp0, fpms), s, door)
+    find_p(
+        spline_for,
+        n7 as f64 / diagonal,
+        (fp0, fpms),
+        (s, TOLERANCE * s),
+        door.steps(),
+        MAX_ITERATIONS,
+    )
 }
 
 /// FITPACK's periodic smoothing fit with s > 0 (percur's, or clocur's with `Door::Clocur`)
