@@ -528,16 +528,11 @@ def test_set_smoothing_factor_goes_on_from_the_knots_found():
         lsq.set_smoothing_factor(1.0)
 
 
-def test_far_apart_weights_keep_scipys_knots():
+def test_far_apart_weights_keep_scipys_knots(far_apart_weights):
     """Weights 1e12 against 1e2 to 1e3 (SciPy's gh-1375 data): they square to 1e24 in the
     normal equations, so the knot search rotates; the heavy points' residuals are then the
     basis recurrence's rounding, which FITPACK's divisions fix, and fp is summed at the data."""
-    x = np.array([-1.0, -0.65016502, -0.58856235, -0.26903553, -0.17370892, -0.10011001, 0.0,
-                  0.10011001, 0.17370892, 0.26903553, 0.58856235, 0.65016502, 1.0])
-    y = np.array([1.0, 0.62928599, 0.5797223, 0.39965815, 0.36322694, 0.3508061, 0.35214793,
-                  0.3508061, 0.36322694, 0.39965815, 0.5797223, 0.62928599, 1.0])
-    w = np.array([1e12, 688.875973, 489.314737, 426.864807, 607.74677, 451.341444,
-                  317.48021, 451.341444, 607.74677, 426.864807, 489.314737, 688.875973, 1e12])
+    x, y, w = far_apart_weights
     for s in (5.0, 13.0):
         ours, theirs = G.make_splrep(x, y, w=w, s=s), S.make_splrep(x, y, w=w, s=s)
         np.testing.assert_array_equal(ours.t, theirs.t)

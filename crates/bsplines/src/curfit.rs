@@ -345,6 +345,61 @@ pub(crate) fn add_knot(
     true
 }
 
+/// Adds up to `nplus` knots one at a time (`add_knot`, on the shares fpint and counts nrdata):
+/// at `nmax` knots the knots of interpolation take over (`interpolation`), at `nest` it stops.
+/// Returns whether any knot was added (none where no interval has a point inside).
+pub(crate) fn add_knots(
+    x: &[f64],
+    t: &mut Vec<f64>,
+    k: usize,
+    (fpint, nrdata): (&mut Vec<f64>, &mut Vec<usize>),
+    nplus: usize,
+    (nmax, nest): (usize, usize),
+    interpolation: impl Fn() -> Vec<f64>,
+) -> bool {
+    let before = t.len();
+    for _ in 0..nplus {
+        if !add_knot(x, t, k, fpint, nrdata) {
+            break;
+        }
+        if t.len() == nmax {
+            *t = interpolation();
+            break;
+        }
+        if t.len() == nest {
+            break;
+        }
+    }
+    t.len() > before
+}
+
+impl Fit {
+    /// A finished fit on the knots t, the search's state as FITPACK keeps it from the last
+    /// least-squares fit (`kept`: fp0, fpold, nplus) with the fit's ier.
+    pub(crate) fn stopped(
+        t: Vec<f64>,
+        (c, fp, ier): (Vec<f64>, f64, i32),
+        nrdata: Vec<usize>,
+        (fp0, fpold, nplus): (f64, f64, usize),
+    ) -> Self {
+        let search = Search {
+            t: t.clone(),
+            nrdata,
+            fp0,
+            fpold,
+            nplus,
+            ier,
+        };
+        Self {
+            t,
+            c,
+            fp,
+            ier,
+            search,
+        }
+    }
+}
+
 /// The knots of interpolation (m + k + 1): the data inside for odd k, their midpoints for
 /// even k, k / 2 + 1 of them left out at each end; the ends as the caller sets them.
 pub(crate) fn interpolation_knots(x: &[f64], k: usize, xb: f64, xe: f64) -> Vec<f64> {
@@ -619,20 +674,17 @@ pub fn smoothing_fit(
             }
             fpold = fit.fp;
             let mut fpint = shares(data, &t, k, &fit, &c);
-            let before = t.len();
-            for _ in 0..nplus {
-                if !add_knot(data.x, &mut t, k, &mut fpint, &mut nrdata) {
-                    break;
-                }
-                if t.len() == nmax {
-                    t = interpolation_knots(data.x, k, data.xb, data.xe);
-                    break;
-                }
-                if t.len() == nest {
-                    break;
-                }
-            }
-            if t.len() > before {
+            let interpolation = || interpolation_knots(data.x, k, data.xb, data.xe);
+            let shares = (&mut fpint, &mut nrdata);
+            if add_knots(
+                data.x,
+                &mut t,
+                k,
+                shares,
+                nplus,
+                (nmax, nest),
+                interpolation,
+            ) {
                 round += 1;
                 continue;
             }
@@ -640,27 +692,12 @@ pub fn smoothing_fit(
             // stops short: ier 2 or 3).
             None
         };
-        let mut search = Search {
-            t: t.clone(),
-            nrdata,
-            fp0: kept.0,
-            fpold: kept.1,
-            nplus: kept.2,
-            ier,
-        };
-        let (c, fp, ier) = match ending {
+        let answer = match ending {
             Some(ier) => (c, fit.fp, ier),
             None if ier == -2 => (c, fit.fp, ier),
             None => smooth(data, &t, k, s, (fp0, fpms), &fit, door),
         };
-        search.ier = ier;
-        return Fit {
-            t,
-            c,
-            fp,
-            ier,
-            search,
-        };
+        return Fit::stopped(t, answer, nrdata, kept);
     }
 }
 

@@ -18,7 +18,7 @@
 //! triangle, p found as curfit finds it (`curfit::find_p`).
 
 use crate::curfit::{
-    Door, Fit, MAX_ITERATIONS, Search, add_knot, basis, discontinuity, find_p, givens,
+    Door, Fit, MAX_ITERATIONS, Search, add_knots, basis, discontinuity, find_p, givens,
     knots_to_add, rotate, value_at,
 };
 use crate::fitpack::{Data, TOLERANCE};
@@ -506,21 +506,7 @@ pub fn smoothing_fit(
                 .flat_map(|_| c1[..d].iter().map(|v| v / d1))
                 .collect();
             let ier = if fp0 - s < acc || nmax == nmin { -2 } else { 1 };
-            let search = Search {
-                t: t.clone(),
-                nrdata: vec![0],
-                fp0,
-                fpold: 0.0,
-                nplus: 0,
-                ier,
-            };
-            return Fit {
-                t,
-                c,
-                fp: fp0,
-                ier,
-                search,
-            };
+            return Fit::stopped(t, (c, fp0, ier), vec![0], (fp0, 0.0, 0));
         }
         fpold = fp0;
         // One inner knot, at the middle data point.
@@ -549,46 +535,28 @@ pub fn smoothing_fit(
             nplus = knots_to_add(nplus, fpms, fpold - fit.fp, acc);
             fpold = fit.fp;
             let mut fpint = shares(data, &t, k, &fit);
-            let before = t.len();
-            for _ in 0..nplus {
-                if !add_knot(data.x, &mut t, k, &mut fpint, &mut nrdata) {
-                    break;
-                }
-                if t.len() == nmax {
-                    t = interpolation_knots(data.x, k);
-                    break;
-                }
-                if t.len() == nest {
-                    break;
-                }
-            }
-            if t.len() > before {
+            let interpolation = || interpolation_knots(data.x, k);
+            let shares = (&mut fpint, &mut nrdata);
+            if add_knots(
+                data.x,
+                &mut t,
+                k,
+                shares,
+                nplus,
+                (nmax, nest),
+                interpolation,
+            ) {
                 round += 1;
                 continue;
             }
             // No interval has a data point inside (see `curfit`): part 2 on these knots.
             None
         };
-        let mut search = Search {
-            t: t.clone(),
-            nrdata,
-            fp0: kept.0,
-            fpold: kept.1,
-            nplus: kept.2,
-            ier,
-        };
-        let (c, fp, ier) = match ending {
+        let answer = match ending {
             Some(ier) => (fit.c.clone(), fit.fp, ier),
             None => smooth(data, &t, k, s, (fp0, fpms), &fit, door),
         };
-        search.ier = ier;
-        return Fit {
-            t,
-            c,
-            fp,
-            ier,
-            search,
-        };
+        return Fit::stopped(t, answer, nrdata, kept);
     }
 }
 
