@@ -25,10 +25,10 @@ import warnings
 
 import numpy as np
 
-from . import _bspl, _collocation, _fitpack_repro, _native
+from . import _collocation, _fitpack_repro, _native
 from ._bsplines import BSpline
 from ._context import Context
-from ._fitpack_py import splint, sproot
+from ._fitpack_py import bspline_integrals, splint, sproot
 from ._helpers import _aligned
 from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline, solve_grid
@@ -480,31 +480,14 @@ class BivariateSpline(_Bivariate):
 
     def integral(self, xa, xb, ya, yb) -> float:
         """The integral over [xa, xb] x [ya, yb], each clipped to the knots' span as FITPACK's
-        `dblint`: the B-splines' integrals along each axis, contracted with c."""
+        `dblint`: the B-splines' integrals along each axis (fpintb's), contracted with c."""
         (tx, ty, c), (kx, ky) = self.tck, self.degrees
-        ix = _basis_integrals(tx, kx, xa, xb)
-        iy = _basis_integrals(ty, ky, ya, yb)
+        ix = bspline_integrals(np.asarray(tx, dtype=np.float64), kx, float(xa), float(xb))
+        iy = bspline_integrals(np.asarray(ty, dtype=np.float64), ky, float(ya), float(yb))
         return float(ix @ np.asarray(c).reshape(len(ix), len(iy)) @ iy)
 
     def get_residual(self) -> float:
         return self.fp
-
-
-def _basis_integrals(t: np.ndarray, k: int, a: float, b: float) -> np.ndarray:
-    """The integral of each B_{i,k} over [a, b] clipped to [t_0, t_last]: the antiderivative
-    of each (degree k + 1, coefficients the partial sums of (t_{i+k+1} - t_i) / (k + 1))
-    differenced at the ends."""
-    a, b = (float(np.clip(v, t[0], t[-1])) for v in (a, b))
-    n = len(t) - k - 1
-    identity = np.eye(n)
-    ta, ca, ka = _bspl.antiderivative(t, identity, k, 1)
-    ends = np.array([a, b])
-    span = _bspl.intervals(ta, ka, ends)
-    weights = _bspl.basis(ta, ka, ends, span)
-    value = np.zeros((2, ca.shape[1]))
-    for r in range(ka + 1):
-        value += weights[:, r:r + 1] * ca[span - ka + r]
-    return value[1] - value[0]
 
 
 class _DerivedBivariateSpline(BivariateSpline):

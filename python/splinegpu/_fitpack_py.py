@@ -341,16 +341,85 @@ def splint(a, b, tck, full_output: int = 0):
         return (value, np.zeros(len(tck.c))) if full_output else value
     t, c, k = _tck(tck, "splint")
     n = len(t) - k - 1
+    if c.shape[-1] < n:
+        raise ValueError(f"c: {c.shape[-1]} coefficients, must be >=n-k-1 = {n}")
+    integrals = bspline_integrals(np.asarray(t, dtype=np.float64), k, float(a), float(b))
 
     def one(coefficients):
-        spline = BSpline.construct_fast(t, np.ascontiguousarray(coefficients[:n]), k,
-                                        extrapolate=False)
-        return float(spline.integrate(a, b, extrapolate=False))
+        # FITPACK's splint: the coefficients times the B-splines' integrals, summed in order.
+        total = 0.0
+        for ci, bi in zip(coefficients[:n], integrals):
+            total += float(ci) * float(bi)
+        return total
 
     value = _each(c, one)
     if full_output:
-        return value, np.zeros(n)
+        return value, integrals
     return value
+
+
+def bspline_integrals(t: np.ndarray, k: int, a: float, b: float) -> np.ndarray:
+    """The integral of each B-spline B_{i,k} over [a, b], clipped to [t_k, t_{n-k-1}] (b < a:
+    the negative), as FITPACK's fpintb computes them: at each end, the values there of the
+    B-splines of degree k + 1 on the same knots (the recurrence carried one degree further),
+    whose differences over [a, b] plus 1 for every B-spline wholly inside, times
+    (t_{i+k+1} - t_i) / (k + 1), are the integrals."""
+    nk1 = len(t) - k - 1
+    out = np.zeros(nk1)
+    if a == b:
+        return out
+    sign = 1.0
+    if a > b:
+        a, b, sign = b, a, -1.0
+    a, b = max(a, t[k]), min(b, t[nk1])
+    if a > b:
+        return out
+
+    # Coincident knots give inf or NaN there, as in FITPACK, not an exception.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return sign * _integrals_from(t, out, k, (a, b))
+
+
+def _integrals_from(t: np.ndarray, out: np.ndarray, k: int, ends: tuple) -> np.ndarray:
+    """`bspline_integrals`' recurrence between the ends, into out (FITPACK's 1-based knot
+    numbers: t(i) is t[i - 1])."""
+    nk1, k1 = len(t) - k - 1, k + 1
+
+    def knot(i: int) -> np.float64:
+        return t[i - 1]
+
+    first = 0
+    span = k1
+    for end, arg in enumerate(ends):
+        while not (arg < knot(span + 1) or span == nk1):
+            span += 1
+        aint = [0.0] * k1
+        aint[0] = (arg - knot(span)) / (knot(span + 1) - knot(span))
+        h, h1 = [0.0] * (k1 + 1), [1.0] + [0.0] * k1
+        for j in range(1, k + 1):
+            h[0] = 0.0
+            for i in range(1, j + 1):
+                li, lj = span + i, span + i - j
+                f = h1[i - 1] / (knot(li) - knot(lj))
+                h[i - 1] += f * (knot(li) - arg)
+                h[i] = f * (arg - knot(lj))
+            for i in range(1, j + 2):
+                li, lj = span + i, span + i - j - 1
+                aint[i - 1] += h[i - 1] * (arg - knot(lj)) / (knot(li) - knot(lj))
+                h1[i - 1] = h[i - 1]
+        lowest = span - k
+        if end == 0:
+            first = lowest
+            for i in range(k1):
+                out[lowest - 1 + i] = -aint[i]
+        else:
+            for i in range(k1):
+                out[lowest - 1 + i] += aint[i]
+            for i in range(first, lowest):
+                out[i - 1] += 1.0
+    for i in range(1, nk1 + 1):
+        out[i - 1] *= (knot(i + k1) - knot(i)) / k1
+    return out
 
 
 def sproot(tck, mest: int = 10):
