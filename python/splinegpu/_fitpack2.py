@@ -28,7 +28,7 @@ import numpy as np
 from . import _collocation, _fitpack_repro, _native
 from ._bsplines import BSpline
 from ._context import Context
-from ._fitpack_py import bspline_integrals, splint, sproot
+from ._fitpack_py import bspline_integrals, curfit, splint, sproot
 from ._helpers import _aligned
 from ._lsq import make_lsq_spline
 from ._ndbspline import NdBSpline, solve_grid
@@ -131,14 +131,10 @@ class UnivariateSpline:
         x, y, w, k, s, xb, xe = _fitpack_repro._validated(x, y, w, k, s, bbox[0], bbox[1], False)
         if len(x) <= k:
             raise ValueError(f"x: m > k must hold, got m = {len(x)} points for k = {k}")
-        if k > 5:
-            raise ValueError("k should be 1 <= k <= 5")
-        t, c, fp, ier, state = _native.fit_curfit(
-            _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, False, state)
+        t, c, fp, ier, state = curfit(x, y, w, xb, xe, k, s, nest, state=state)
         if ier == 1:
             nest = len(x) + k + 1
-            t, c, fp, ier, state = _native.fit_curfit(
-                _aligned(x, "x"), y, _aligned(w, "w"), xb, xe, k, s, nest, False, False, state)
+            t, c, fp, ier, state = curfit(x, y, w, xb, xe, k, s, nest, state=state)
         self._search, self._fp = (state, nest), fp
         self._spline = BSpline.construct_fast(t, c[:, 0], k, context=self.context)
         self._reset_class(ier)

@@ -84,7 +84,7 @@ _IERMESS = {
 _last_search: tuple | None = None
 
 
-def _curfit(x: np.ndarray, y: np.ndarray, w, xb: float, xe: float, k: int, s: float,
+def curfit(x: np.ndarray, y: np.ndarray, w, xb: float, xe: float, k: int, s: float,
             nest: int, parametric: bool = False, periodic: bool = False, state=None):
     """FITPACK's curfit (parcur where `parametric`; percur, clocur where `periodic`) with
     s > 0 of (x, y (m, d)): (t, c (n, d), fp, ier, state)."""
@@ -171,7 +171,7 @@ def splrep(x, y, w=None, xb=None, xe=None, k: int = 3, task: int = 0, s=None, t=
         _last_search = (None, nest)
         fp, ier = _fp(x, y, w, spline), -1
     else:
-        knots, c, fp, ier, state = _curfit(x, y[:, None], w, x[0] if xb is None else xb,
+        knots, c, fp, ier, state = curfit(x, y[:, None], w, x[0] if xb is None else xb,
                                            x[-1] if xe is None else xe, k, s, nest,
                                            state=state)
         spline = BSpline.construct_fast(knots, c[:, 0], k)
@@ -202,7 +202,7 @@ def _periodic(x: np.ndarray, y: np.ndarray, w, k: int, s: float, nest=None,
         return spline, 0.0, -1
     m = len(x)
     nest = max(m + 2 * k if nest is None or nest < 0 else int(nest), 2 * k + 3)
-    knots, c, fp, ier, _ = _curfit(x, y, w, x[0], x[-1], k, s, nest, parametric=parametric,
+    knots, c, fp, ier, _ = curfit(x, y, w, x[0], x[-1], k, s, nest, parametric=parametric,
                                    periodic=True)
     return BSpline.construct_fast(knots, c, k), fp, ier
 
@@ -296,7 +296,7 @@ def _parcur(x: np.ndarray, w, u, ub, ue, k: int, s: float, nest):
     elif nest < 0:
         nest = m + k + 1
     nest = max(int(nest), 2 * k + 3)
-    knots, c, fp, ier, _ = _curfit(u, x.T, w, ub, ue, k, s, nest, parametric=True)
+    knots, c, fp, ier, _ = curfit(u, x.T, w, ub, ue, k, s, nest, parametric=True)
     return BSpline.construct_fast(knots, c, k), u, fp, ier
 
 

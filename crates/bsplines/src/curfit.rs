@@ -127,7 +127,8 @@ pub struct Fit {
 }
 
 /// FITPACK's Givens rotation (fpgivs) that zeroes piv against ww: (cos, sin), ww replaced by
-/// sqrt(piv^2 + ww^2) computed without overflow.
+/// sqrt(piv^2 + ww^2) computed without overflow. `lsq::givens` (one square root of the sum,
+/// one division) is faster and rounds otherwise; FITPACK's knots follow these roundings.
 pub(crate) fn givens(piv: f64, ww: &mut f64) -> (f64, f64) {
     let store = piv.abs();
     let dd = if store >= *ww {
@@ -148,7 +149,8 @@ pub(crate) fn rotate((cos, sin): (f64, f64), a: &mut f64, b: &mut f64) {
 }
 
 /// The k + 1 B-splines not zero at x in [t_l, t_{l+1}) (l 0-based), by the Cox–de Boor
-/// recurrence as fpbspl runs it (a zero where two knots coincide).
+/// recurrence as fpbspl runs it (a zero where two knots coincide; `lsq::BasisRows` runs
+/// de Boor's BSPLVB form, rounded otherwise).
 pub(crate) fn basis(t: &[f64], k: usize, x: f64, l: usize, h: &mut [f64; 6]) {
     let mut hh = [0.0; 6];
     h[0] = 1.0;

@@ -388,7 +388,6 @@ pub fn smoothing_fit(
         axis.nplus = nplus;
         let nrint = axis.t.len() - 2 * k - 1;
         let mut fpint = fpint[..nrint].to_vec();
-        let before = axis.t.len();
         let mut interpolating = false;
         for _ in 0..nplus {
             if !add_knot(values, &mut axis.t, k, &mut fpint, &mut axis.nrdata) {
@@ -411,9 +410,7 @@ pub fn smoothing_fit(
         }
         if interpolating && in_x && kx % 2 == 1 {
             // fpregr's own path: after x's knots of interpolation for odd kx it goes on to
-            // write y's over the y knots it has (their count kept). Where that leaves them
-            // out of order (old knots past the written ones), they are put back in order,
-            // where FITPACK would fit on them as they stand.
+            // write y's over the y knots it has (their count kept, their order as it falls).
             let mut interpolation = ay.t.clone();
             interpolation_knots(grid.y, ky, &mut interpolation);
             let n = ay.t.len();
@@ -422,9 +419,7 @@ pub fn smoothing_fit(
                     ay.t[i] = v;
                 }
             }
-            ay.t.sort_by(f64::total_cmp);
         }
-        debug_assert!(if in_x { ax.t.len() } else { ay.t.len() } > before);
         rounds += 1;
     }
     if ier == -2 {
