@@ -12,7 +12,9 @@ sample of the series and are scaled up (the row says so).
 - make_splpreps with bc_type "periodic" on 2,000 noisy closed 2-D outlines of 200 points,
   against make_splprep's periodic fit in a loop over 100 scaled by 20;
 - make_lsq_splines on 10,000 series of 100 points on one knot vector, against
-  make_lsq_spline in a loop; and one call of each.
+  make_lsq_spline in a loop; and one call of each;
+- the legacy doors (FITPACK's own curfit, clocur and regrid: splrep, UnivariateSpline,
+  splprep per=1, RectBivariateSpline with s > 0) and a BPoly call, one call each.
 """
 
 from __future__ import annotations
@@ -102,4 +104,45 @@ def rows() -> list:
     a = best(lambda: si.make_lsq_spline(series[0], values[0], t), calls=100)
     b = best(lambda: scipy.make_lsq_spline(series[0], values[0], t), calls=100)
     out.append(("make_lsq_spline, 100 pts", a, "SciPy", b, faster(a, b)))
+    out.extend(_legacy_doors(rng, scipy, si))
+    return out
+
+
+def _legacy_doors(rng, scipy, si) -> list:
+    """FITPACK's own fits through the legacy doors (curfit, parcur, clocur, regrid) and a
+    BPoly call, one call each as a caller makes it, against SciPy's Fortran on the same data."""
+    import warnings
+
+    out = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for n, share, repeats in ((300, 1.0, 5), (1000, 1.0, 5), (10_000, 0.3, 1)):
+            x = np.sort(rng.uniform(0, 10, n))
+            y = np.sin(x) + rng.normal(scale=0.1, size=n)
+            s = share * n * 0.01
+            a = best(lambda x=x, y=y, s=s: si.splrep(x, y, s=s), repeats=repeats)
+            b = best(lambda x=x, y=y, s=s: scipy.splrep(x, y, s=s), repeats=repeats)
+            out.append((f"splrep, {n:,} pts, s = {share} n sigma^2", a, "SciPy", b,
+                        faster(a, b)))
+        x = np.sort(rng.uniform(0, 10, 1000))
+        y = np.sin(x) + rng.normal(scale=0.1, size=1000)
+        a = best(lambda: si.UnivariateSpline(x, y, s=10.0))
+        b = best(lambda: scipy.UnivariateSpline(x, y, s=10.0))
+        out.append(("UnivariateSpline, 1,000 pts", a, "SciPy", b, faster(a, b)))
+        u = np.linspace(0, 1, 2000)
+        points = [np.cos(6 * u) + rng.normal(scale=0.05, size=2000),
+                  np.sin(6 * u) + rng.normal(scale=0.05, size=2000)]
+        a = best(lambda: si.splprep(points, s=10.0, per=1))
+        b = best(lambda: scipy.splprep(points, s=10.0, per=1))
+        out.append(("splprep per=1, 2,000 x 2-D", a, "SciPy", b, faster(a, b)))
+        gx, gy = np.sort(rng.uniform(0, 4, 200)), np.sort(rng.uniform(0, 3, 300))
+        z = np.sin(gx[:, None]) * np.cos(gy) + rng.normal(scale=0.1, size=(200, 300))
+        a = best(lambda: si.RectBivariateSpline(gx, gy, z, s=600.0), repeats=3)
+        b = best(lambda: scipy.RectBivariateSpline(gx, gy, z, s=600.0), repeats=3)
+        out.append(("RectBivariateSpline s > 0, 200 x 300", a, "SciPy", b, faster(a, b)))
+    breaks, c = np.sort(rng.uniform(0, 5, 9)), rng.normal(size=(6, 8))
+    xi = np.linspace(0, 5, 1000)
+    ours, theirs = si.BPoly(c, breaks), scipy.BPoly(c, breaks)
+    a, b = best(lambda: ours(xi), calls=100), best(lambda: theirs(xi), calls=100)
+    out.append(("BPoly call, degree 5, 1,000 pts", a, "SciPy", b, faster(a, b)))
     return out
