@@ -1,8 +1,8 @@
 //! Writing a geometry document's meshes (contract: "Output of a document with geometry"): JSON,
 //! CSV (vertices), NPZ (streamed) and the mesh files (.obj, .glb). Meshes are made group by
 //! group ([`GeometryJob::groups`]: f64 on the CPU, f32 on the GPU), so that memory holds one
-//! group's meshes at a time in every format but .glb, whose header gives its whole length
-//! first.
+//! group's meshes at a time in every format (a .glb's binary chunk waits in spills, on disk
+//! past a few MiB, until its header, which needs the positions' bounds, is written).
 //!
 //! A stroke's mesh is 2-D: its points are written with 2 coordinates in JSON, CSV and NPZ, and
 //! with z = 0 in the mesh files; it has no normals. Tubes and ribbons are 3-D with normals.
@@ -14,9 +14,10 @@ use splinegpu::InputError;
 use splinegpu::geometry::{Geometry, GeometryJob, Meshes};
 
 use crate::document::surfaces::group_vertices;
-use crate::mesh_files::{Mesh, ObjWriter, write_glb};
+use crate::mesh_files::{GlbWriter, Mesh, ObjWriter};
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::OutputError;
+use crate::spill::Spill;
 use crate::surface_output::Number;
 
 /// Makes the meshes of a range of a job's curves (f64 on the CPU, f32 on the GPU), their
@@ -152,11 +153,14 @@ pub fn write<F: Number>(
             Ok(())
         }
         MeshFormat::Glb => {
-            let meshes = evaluate(make, 0..job.len())?;
-            let all: Vec<Mesh<'_, F>> = (0..job.len())
-                .map(|c| mesh_of(job, &meshes, c, c))
-                .collect();
-            Ok(write_glb(&all, out)?)
+            let mut glb = GlbWriter::new();
+            for group in groups {
+                let meshes = evaluate(make, group.clone())?;
+                for (c, curve) in group.enumerate() {
+                    glb.mesh(&mesh_of(job, &meshes, c, curve))?;
+                }
+            }
+            Ok(glb.finish(out)?)
         }
     }
 }
@@ -308,9 +312,6 @@ fn write_json<F: Number>(
     Ok(())
 }
 
-/// A temporary file an NPZ array waits in for its turn.
-type Waiting = io::BufWriter<std::fs::File>;
-
 fn write_npz<F: Number>(
     job: &GeometryJob,
     groups: &[Range<usize>],
@@ -321,10 +322,8 @@ fn write_npz<F: Number>(
     let d = dim(job, 0);
     let normals = has_normals(job, 0);
     let (vertices, triangles) = (job.vertex_count(), job.triangle_count());
-    // "t", "normals" and "triangles" wait in files while "points" is written.
-    let mut waiting: Vec<Waiting> = (0..3)
-        .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
-        .collect::<Result<_, _>>()?;
+    // "t", "normals" and "triangles" wait while "points" is written.
+    let mut waiting: [Spill; 3] = Default::default();
     npz.begin("points", Dtype::of::<F>(), &[vertices, d as u64])?;
     for group in groups {
         let first = job.vertex_offsets()[group.start];
@@ -356,7 +355,7 @@ fn write_npz<F: Number>(
         }
     }
     npz.end()?;
-    let [t, n, tri]: [Waiting; 3] = waiting.try_into().expect("three waiting arrays");
+    let [t, n, tri] = &mut waiting;
     npz.array_from("t", Dtype::F64, &[vertices], t)?;
     if normals {
         npz.array_from("normals", Dtype::of::<F>(), &[vertices, 3], n)?;

@@ -14,6 +14,7 @@ pub mod npz;
 pub mod output;
 pub mod plain;
 pub mod query_output;
+pub mod spill;
 pub mod stream;
 pub mod surface_output;
 

@@ -409,7 +409,7 @@ fn finish(result: Result<(), OutputError>, output: Option<&Path>) -> Result<(), 
     }
 }
 
-/// A surface document: checked for the format, evaluated on the backend group by group as it
+/// A surface document: checked for the format, evaluated on the backend chunk by chunk as it
 /// is written.
 fn tessellate_surfaces(
     job: &SurfaceJob,
@@ -427,11 +427,11 @@ fn tessellate_surfaces(
     surface_output::check_format(job, format).map_err(Failure::input)?;
     let context = choose_backend(backend)?;
     let result = match &context {
-        None => write_surfaces(job, format, output, &mut |range| {
-            Ok(job.try_evaluate_cpu_group(range)?)
+        None => write_surfaces(job, format, output, &mut |chunk| {
+            Ok(job.try_evaluate_cpu_chunk(chunk)?)
         }),
-        Some(gpu) => write_surfaces(job, format, output, &mut |range| {
-            Ok(gpu.evaluate_surface_group(job, range)?)
+        Some(gpu) => write_surfaces(job, format, output, &mut |chunk| {
+            Ok(gpu.evaluate_surface_chunk(job, chunk)?)
         }),
     };
     finish(result, output)
@@ -485,7 +485,7 @@ fn write_meshes<F: surface_output::Number>(
 }
 
 /// The job written as `format` to `output` (standard output when none), its surfaces
-/// evaluated by `evaluate` group by group.
+/// evaluated by `evaluate` chunk by chunk.
 fn write_surfaces<F: surface_output::Number>(
     job: &SurfaceJob,
     format: SurfaceFormat,

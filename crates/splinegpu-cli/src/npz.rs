@@ -5,7 +5,9 @@
 //! CRC-32 follows the data in a data descriptor (general-purpose flag bit 3). Every entry and
 //! the end of the archive carry zip64 records, so arrays and archives past 4 GiB are fine.
 
-use std::io::{self, Read, Seek, Write};
+use std::io::{self, Write};
+
+use crate::spill::Spill;
 
 /// The `.npy` element types written here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -177,28 +179,19 @@ impl<W: Write> NpzWriter<W> {
         Ok(())
     }
 
-    /// One whole array whose data waited in `file` (written through a buffer, from its start).
+    /// One whole array whose data waited in `waiting` (emptied as it is written).
     ///
     /// # Errors
-    /// Any I/O error; a file that does not hold the array's bytes.
+    /// Any I/O error; a spill that does not hold the array's bytes.
     pub fn array_from(
         &mut self,
         name: &str,
         dtype: Dtype,
         shape: &[u64],
-        file: io::BufWriter<std::fs::File>,
+        waiting: &mut Spill,
     ) -> io::Result<()> {
-        let mut file = file.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.rewind()?;
         self.begin(name, dtype, shape)?;
-        let mut block = vec![0u8; 1 << 20];
-        loop {
-            let got = file.read(&mut block)?;
-            if got == 0 {
-                break;
-            }
-            self.write(&block[..got])?;
-        }
+        waiting.drain(&mut |bytes| self.write(bytes))?;
         self.end()
     }
 

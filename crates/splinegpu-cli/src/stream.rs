@@ -12,6 +12,7 @@ use std::io::{self, Write};
 
 use crate::npz::{Dtype, NpzWriter};
 use crate::output::{self, OutputError};
+use crate::spill::Spill;
 use splinegpu::GpuContext;
 use splinegpu::GpuError;
 use splinegpu::SamplePlan;
@@ -281,9 +282,7 @@ fn write_npz<F: SampleFloat>(
         .filter(|&(i, _)| (i == 0 && t_later) || (i > 0 && i <= order))
         .map(|(_, array)| array)
         .collect();
-    let mut later: Vec<io::BufWriter<std::fs::File>> = (0..later_arrays.len())
-        .map(|_| tempfile::tempfile().map(|f| io::BufWriter::with_capacity(1 << 20, f)))
-        .collect::<Result<_, _>>()?;
+    let mut later: Vec<Spill> = (0..later_arrays.len()).map(|_| Spill::new()).collect();
     npz.begin("points", dtype, &[n, dim as u64])?;
     for chunk in job.chunks(chunk_samples) {
         run(&chunk.job, &chunk.pieces, samples)?;
@@ -300,8 +299,8 @@ fn write_npz<F: SampleFloat>(
         }
     }
     npz.end()?;
-    for ((name, dtype, shape), file) in later_arrays.into_iter().zip(later) {
-        npz.array_from(name, dtype, &shape, file)?;
+    for ((name, dtype, shape), waiting) in later_arrays.into_iter().zip(&mut later) {
+        npz.array_from(name, dtype, &shape, waiting)?;
     }
     npz.begin("curve_offsets", Dtype::I64, &[job.len() as u64 + 1])?;
     let offsets: Vec<i64> = std::iter::once(0)

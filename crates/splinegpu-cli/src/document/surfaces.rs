@@ -49,19 +49,19 @@ pub(crate) fn surface_job(
         return Err(InputError::field("surfaces", "must not be empty").in_document());
     }
     let mut job = SurfaceJob::new(derivatives, normals)
-        .keeping_plans_up_to(group_vertices().saturating_mul(4));
+        .keeping_plans_up_to(group_vertices().saturating_mul(4))
+        .streamed();
     for (i, read) in surfaces.into_iter().enumerate() {
         let place = |e: InputError| e.in_surface(i);
         let surface = build_surface(&read.fields, &read.keys).map_err(place)?;
-        let table = surface.fit();
-        let entries = read.sampling.as_deref().or(default);
-        let sampling = match entries {
+        let patch_list = matches!(surface.kind(), SurfaceKind::BezierPatches { .. });
+        let sampling = match read.sampling.as_deref().or(default) {
             None => SurfaceSampling::PerSegment([16, 16]),
-            Some(entries) => {
-                surface_sampling(entries, table.patch_indices().is_some()).map_err(place)?
-            }
+            Some(entries) => surface_sampling(entries, patch_list).map_err(place)?,
         };
-        job.push(table, sampling).map_err(place)?;
+        // The document's values go before the fit: its table is the largest thing made.
+        drop(read);
+        job.push(surface.fit(), sampling).map_err(place)?;
     }
     Ok(job)
 }

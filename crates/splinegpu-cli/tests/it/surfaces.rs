@@ -115,6 +115,61 @@ fn json_output_parses_back_to_the_library_values() {
     assert_eq!(surfaces[2]["uv"][1], serde_json::json!([0.5, 1.25]));
 }
 
+/// Every format is written chunk by chunk, a surface larger than a chunk in pieces (issue 47,
+/// item 9): with chunks of 7 and 25 vertices (a closed net a line at a time, an open net, a
+/// tolerance mesh and welded patch lists cut out of their plans, explicit (u, v)) the file is
+/// byte for byte the one written in one chunk, in every format, on both backends.
+#[test]
+fn every_format_is_the_same_written_in_pieces() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = serde_json::to_string(&ring_net()).unwrap();
+    let meshes = format!(
+        r#"{{"sampling": {{"per_segment": [3, 2]}}, "derivatives": 1, "normals": true,
+  "surfaces": [
+    {{"kind": "bspline", "ends": ["closed", "closed"], "points": {net}}},
+    {{"kind": "bezier", "points": {PATCH_POINTS}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]],
+      "sampling": {{"per_segment": 5}}}},
+    {{"kind": "catmull-rom", "points": {net}, "sampling": {{"per_segment": [2, 5]}}}},
+    {{"kind": "bspline", "points": {net}, "sampling": {{"tolerance": 0.01}}}}
+  ]}}"#
+    );
+    let documents = [
+        (meshes.as_str(), &["csv", "json", "npz", "obj", "glb"][..]),
+        (&document(), &["csv", "json", "npz"][..]),
+    ];
+    for (doc, formats) in documents {
+        let input = dir.path().join("in.json");
+        std::fs::write(&input, doc).unwrap();
+        for backend in ["cpu", "gpu"] {
+            for format in formats {
+                let write = |chunk: &str| -> Vec<u8> {
+                    let out = dir.path().join(format!("out-{chunk}.{format}"));
+                    let args = [
+                        "tessellate",
+                        input.to_str().unwrap(),
+                        "-o",
+                        out.to_str().unwrap(),
+                        "--backend",
+                        backend,
+                    ];
+                    let envs = [("SPLINEGPU_CHUNK_SAMPLES", chunk)];
+                    let run = crate::support::run_cli(&args, &envs, "");
+                    let stderr = String::from_utf8_lossy(&run.stderr);
+                    assert!(run.status.success(), "{backend} {format} {chunk}: {stderr}");
+                    std::fs::read(out).unwrap()
+                };
+                let whole = write("1000000");
+                for chunk in ["7", "25"] {
+                    assert!(
+                        write(chunk) == whole,
+                        "{backend} {format}: chunks of {chunk} differ from one chunk"
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// NPZ is written group by group (SPLINEGPU_CHUNK_SAMPLES=20: the torus alone, its plan made
 /// again; then the other two), byte for byte as in one group, with the library's values, the
 /// triangles indexing the whole vertex array, the offsets and the patch column.
@@ -305,9 +360,9 @@ fn bad_surfaces_exit_2_naming_the_surface_the_field_and_the_value() {
             &["surface 0", "\"bias\"", "must be a number for a surface"],
         ),
         (
-            // 3.6e9 vertices (under the u32 cap), whose plan alone would take 144 GB: refused
-            // before it is made.
-            r#"{"sampling": {"per_segment": [60000, 60000]}, "surfaces": [{"kind": "bspline", "points": [[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]],[[0],[1],[2],[3]]]}]}"#,
+            // 3.6e9 vertices of a patch list (under the u32 cap), whose plan alone would take
+            // 230 GB: refused before it is made. (A net's grid streams line by line instead.)
+            &format!(r#"{{"sampling": {{"per_segment": 60000}}, "surfaces": [{{"kind": "bezier", "points": {PATCH_POINTS}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]]}}]}}"#),
             &["surface 0", "\"sampling\"", "3600120001 vertices", "bytes of memory available"],
         ),
         (
@@ -386,31 +441,20 @@ fn the_teapot_example_meshes_within_its_tolerance_on_both_backends() {
     }
 }
 
-/// Under an address-space limit (`ulimit -v`, 1 GiB), a surface whose plan and values would
-/// not fit (a 4 x 4 net at per_segment [4096, 4096]: 16.8 M vertices, 1.3 GB) exits 2 naming
-/// its sampling, before it allocates, and writes nothing: the guard read the machine's memory
+/// Under an address-space limit (`ulimit -v`, 512 MiB), a surface whose plan must be whole (a
+/// patch list at per_segment 4096: 16.8 M vertices, 1.07 GB of plan) exits 2 naming its
+/// sampling, before it allocates, and writes nothing: the guard read the machine's memory
 /// alone, and the process aborted (exit 134) mid-allocation.
 #[test]
 fn a_surface_over_the_process_memory_limit_exits_2_before_it_allocates() {
     let dir = tempfile::tempdir().unwrap();
-    let net: Vec<Vec<[f64; 3]>> = (0..4)
-        .map(|i| (0..4).map(|j| [f64::from(i), f64::from(j), 0.0]).collect())
-        .collect();
     let doc = format!(
-        r#"{{"surfaces": [{{"kind": "bspline", "points": {}, "sampling": {{"per_segment": [4096, 4096]}}}}]}}"#,
-        serde_json::to_string(&net).unwrap()
+        r#"{{"surfaces": [{{"kind": "bezier", "points": {PATCH_POINTS}, "patches": [[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15]], "sampling": {{"per_segment": 4096}}}}]}}"#
     );
     let input = dir.path().join("big.json");
     std::fs::write(&input, doc).unwrap();
     let output = dir.path().join("big.npz");
-    let out = std::process::Command::new("sh")
-        .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\""])
-        .arg(env!("CARGO_BIN_EXE_splinegpu"))
-        .args(["tessellate", input.to_str().unwrap(), "-o"])
-        .arg(&output)
-        .args(["--backend", "cpu"])
-        .output()
-        .unwrap();
+    let out = crate::support::tessellate_under_limit(524288, &input, &output);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
@@ -420,45 +464,52 @@ fn a_surface_over_the_process_memory_limit_exits_2_before_it_allocates() {
     assert!(!output.exists());
 }
 
-/// Under the same limit, surfaces that pass the estimate but whose samples, or whose .glb,
-/// the process cannot have (per_segment [2300, 2300] and [2500, 2500] with normals and
-/// derivatives) end with exit 0 and a whole file, or exit 2 naming the surface's sampling and
-/// no file: the samples' allocations are fallible and the .glb is streamed (each aborted with
-/// exit 134, "memory allocation of ... bytes failed", before).
+/// Under the same limit, a per_segment net whose samples would not fit whole streams within
+/// one surface, line by line (issue 47, item 9): a 1-D net at [3000, 3000] (9.0 M vertices,
+/// about 1 GB of plan and samples whole) as CSV, and a 3-D one at [2500, 2500] with normals
+/// (6.25 M vertices) as .glb, each through a pipe, exit 0 and whole (every row; the .glb's
+/// length in its header). Both were refused (exit 2) or aborted before.
 #[test]
-fn surfaces_near_the_process_memory_limit_never_abort() {
+fn a_surface_larger_than_memory_streams_within_the_limit() {
     let dir = tempfile::tempdir().unwrap();
-    let net: Vec<Vec<[f64; 3]>> = (0..4)
-        .map(|i| {
-            (0..4)
-                .map(|j| [f64::from(i), f64::from(j), f64::from(i * j % 3)])
-                .collect()
-        })
-        .collect();
-    for (n, derivatives, format) in [(2500, 0, "npz"), (2300, 0, "glb"), (1800, 2, "npz")] {
-        let doc = format!(
-            r#"{{"normals": true, "derivatives": {derivatives}, "surfaces": [{{"kind": "bspline",
-               "points": {}, "sampling": {{"per_segment": [{n}, {n}]}}}}]}}"#,
-            serde_json::to_string(&net).unwrap()
-        );
-        let input = dir.path().join("near.json");
-        std::fs::write(&input, doc).unwrap();
-        let output = dir.path().join(format!("near.{format}"));
-        let out = crate::support::tessellate_under_limit(1048576, &input, &output);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        match out.status.code() {
-            Some(0) => assert!(output.exists(), "{n} {format}"),
-            Some(2) => {
-                assert!(
-                    stderr.contains("surface 0: \"sampling\""),
-                    "{n} {format}: {stderr}"
-                );
-                assert!(!output.exists(), "{n} {format}");
-            }
-            other => panic!("{n} {format}: exit {other:?}: {stderr}"),
-        }
-        let _ = std::fs::remove_file(&output);
-    }
+    let net = |dim: usize| -> String {
+        let net: Vec<Vec<Vec<f64>>> = (0..4)
+            .map(|i| {
+                (0..4)
+                    .map(|j| [f64::from(i * j % 3), f64::from(i), f64::from(j)][..dim].to_vec())
+                    .collect()
+            })
+            .collect();
+        serde_json::to_string(&net).unwrap()
+    };
+    let input = dir.path().join("flat.json");
+    std::fs::write(
+        &input,
+        format!(
+            r#"{{"surfaces": [{{"kind": "bspline", "points": {}, "sampling": {{"per_segment": [3000, 3000]}}}}]}}"#,
+            net(1)
+        ),
+    )
+    .unwrap();
+    let (status, _, lines, _, stderr) =
+        crate::support::tessellate_to_pipe_under_limit(524288, &input, "csv");
+    assert_eq!(status, Some(0), "{stderr}");
+    assert_eq!(lines, 1 + 3001 * 3001);
+    let input = dir.path().join("solid.json");
+    std::fs::write(
+        &input,
+        format!(
+            r#"{{"normals": true, "surfaces": [{{"kind": "bspline", "points": {}, "sampling": {{"per_segment": [2500, 2500]}}}}]}}"#,
+            net(3)
+        ),
+    )
+    .unwrap();
+    let (status, bytes, _, _, stderr) =
+        crate::support::tessellate_to_pipe_under_limit(524288, &input, "glb");
+    assert_eq!(status, Some(0), "{stderr}");
+    // Positions and normals (12 bytes each a vertex) and three u32 a triangle, after the JSON.
+    let (vertices, triangles) = (2501u64 * 2501, 2 * 2500u64 * 2500);
+    assert!(bytes > 24 * vertices + 12 * triangles, "{bytes} bytes");
 }
 
 /// A surface whose values overflow f64 (a cardinal net of tension 1e308) is refused in every

@@ -6,11 +6,11 @@
 //! arrays and the GPU path all read the layout from here.
 
 use std::borrow::Cow;
-use std::ops::Range;
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
+use super::chunks::SurfaceChunk;
 use super::eval::{SurfacePlanes, SurfaceSamples, evaluate_surfaces, evaluate_surfaces_into};
 use super::mesh::{SurfacePlan, SurfaceSampling, cell_counts};
 use super::patch::PatchTable;
@@ -148,6 +148,8 @@ pub struct SurfaceJob {
     bound_every_plan: bool,
     /// The memory available, read once (at the first surface that needs it).
     available: OnceLock<Option<u64>>,
+    /// Whether the caller evaluates the job chunk by chunk ([`SurfaceJob::streamed`]).
+    streamed: bool,
 }
 
 impl SurfaceJob {
@@ -169,7 +171,18 @@ impl SurfaceJob {
             kept: 0,
             bound_every_plan: false,
             available: OnceLock::new(),
+            streamed: false,
         }
+    }
+
+    /// This job, to be evaluated chunk by chunk ([`SurfaceJob::chunks`]): a surface pushed is
+    /// checked against the memory its pieces need, not its whole samples' (a per_segment
+    /// net's none past the vertex cap; another sampling's whole plan, 64 bytes a vertex).
+    /// Evaluating it whole is still safe: the samples are allocated fallibly.
+    #[must_use]
+    pub fn streamed(mut self) -> Self {
+        self.streamed = true;
+        self
     }
 
     /// This job, keeping the plans (40 bytes a vertex) of the surfaces first pushed up to
@@ -347,11 +360,17 @@ impl SurfaceJob {
 
     /// Refuses, before its plan is made, a surface whose plan (64 bytes a vertex), samples
     /// and f64 values would not fit in the memory available: a count near the u32 vertex cap
-    /// would otherwise end in an allocation failure.
+    /// would otherwise end in an allocation failure. A streamed job's surface needs its plan
+    /// alone whole (a chunk's samples are a bounded part), and a per_segment net's not even
+    /// that (its pieces are made line by line).
     fn check_fits(&self, table: &PatchTable, sampling: &SurfaceSampling) -> Result<(), InputError> {
         let Some(vertices) = SurfacePlan::vertex_count(table, sampling) else {
             return Ok(());
         };
+        let grid = matches!(sampling, SurfaceSampling::PerSegment(_)) && table.knots().is_some();
+        if self.streamed && grid {
+            return Ok(());
+        }
         let Some(available) = *self.available.get_or_init(memory::available_memory) else {
             return Ok(());
         };
@@ -359,7 +378,11 @@ impl SurfaceJob {
         // The plan's vertex (40 bytes) and two triangles (24), the samples' (u, v), their
         // copy of the triangles and their values.
         let values = 8 * (planes * table.dim() as u128 + 3 * u128::from(self.normals));
-        let per_vertex = 40 + 24 + 16 + 24 + values;
+        let per_vertex = if self.streamed {
+            40 + 24
+        } else {
+            40 + 24 + 16 + 24 + values
+        };
         let bytes = u128::from(vertices) * per_vertex;
         if bytes > u128::from(available) {
             return Err(InputError::field(
@@ -437,76 +460,15 @@ impl SurfaceJob {
             .any(|s| s.table.patch_indices().is_some())
     }
 
-    /// Consecutive surfaces of at most `vertices` vertices together (a larger surface alone),
-    /// in order, covering the job: units to evaluate and write one at a time.
-    #[must_use]
-    pub fn groups(&self, vertices: usize) -> Vec<Range<usize>> {
-        let mut groups = Vec::new();
-        let (mut start, mut held) = (0, 0);
-        for (i, surface) in self.surfaces.iter().enumerate() {
-            if i > start && held + surface.vertices > vertices {
-                groups.push(start..i);
-                (start, held) = (i, 0);
-            }
-            held += surface.vertices;
-        }
-        groups.push(start..self.surfaces.len());
-        groups
-    }
-
     /// Every surface evaluated on the CPU in f64, on every thread.
+    ///
+    /// # Panics
+    /// If the memory for the samples cannot be had
+    /// ([`SurfaceJob::try_evaluate_cpu_chunk`] says so instead).
     #[must_use]
     pub fn evaluate_cpu(&self) -> Vec<SurfaceSamples> {
-        self.evaluate_cpu_group(0..self.len())
-    }
-
-    /// The surfaces of `range` evaluated on the CPU in f64.
-    ///
-    /// # Panics
-    /// If `range` is not within the job, or the memory for the samples cannot be had
-    /// ([`SurfaceJob::try_evaluate_cpu_group`] says so instead).
-    #[must_use]
-    pub fn evaluate_cpu_group(&self, range: Range<usize>) -> Vec<SurfaceSamples> {
-        self.try_evaluate_cpu_group(range)
+        self.try_evaluate_cpu_chunk(&SurfaceChunk::whole(0..self.len()))
             .unwrap_or_else(|e| panic!("{e}"))
-    }
-
-    /// [`SurfaceJob::evaluate_cpu_group`], the samples' memory allocated fallibly: a surface
-    /// whose samples the process cannot have (under an address-space or control-group limit
-    /// that the estimate made when it was pushed missed) is an error, never an abort.
-    ///
-    /// # Errors
-    /// The first surface (by index) whose samples could not be allocated, naming its sampling
-    /// and vertex count.
-    ///
-    /// # Panics
-    /// If `range` is not within the job.
-    pub fn try_evaluate_cpu_group(
-        &self,
-        range: Range<usize>,
-    ) -> Result<Vec<SurfaceSamples>, InputError> {
-        // Surfaces on every thread (each also splits its vertices), a plan made again only
-        // for its own surface's evaluation.
-        let first = range.start;
-        self.surfaces[range]
-            .par_iter()
-            .enumerate()
-            .map(|(i, s)| {
-                evaluate_surfaces(&s.table, &s.plan(), self.derivatives, self.normals).map_err(
-                    |e| {
-                        InputError::field(
-                            "sampling",
-                            format!(
-                                "gives {} vertices, whose samples the process could not \
-                                 allocate ({e})",
-                                s.vertices
-                            ),
-                        )
-                        .in_surface(first + i)
-                    },
-                )
-            })
-            .collect()
     }
 
     /// Every surface evaluated on the CPU in f64, the job consumed: each surface's plan is
@@ -573,14 +535,6 @@ impl SurfaceJob {
         evaluate_surfaces_into(&surface.table, &surface.plan(), planes);
         Ok(())
     }
-
-    /// The surfaces of `range` with their plans, for the GPU path.
-    pub(crate) fn planned(&self, range: Range<usize>) -> Vec<(&PatchTable, Cow<'_, SurfacePlan>)> {
-        self.surfaces[range]
-            .iter()
-            .map(|s| (&s.table, s.plan()))
-            .collect()
-    }
 }
 
 #[cfg(test)]
@@ -619,10 +573,15 @@ mod tests {
         // (k_u + 1)(k_v + 1) vertices and 2 k_u k_v triangles a patch; explicit (u, v) none.
         assert_eq!(job.vertex_offsets(), &[0, 9, 17, 18]);
         assert_eq!(job.triangle_offsets(), &[0, 8, 14, 14]);
-        assert_eq!(job.groups(10), vec![0..1, 1..3]);
+        let chunks: Vec<Vec<usize>> = job
+            .chunks(10)
+            .map(|c| c.parts().iter().map(|p| p.surface()).collect())
+            .collect();
+        assert_eq!(chunks, [vec![0], vec![1, 2]]);
         // The second plan was not kept (9 + 8 > 10) and is made again, the same.
         assert!(job.surfaces()[1].plan.is_none());
-        let again = job.evaluate_cpu_group(1..2);
+        let second = job.chunks(10).nth(1).unwrap();
+        let again = job.try_evaluate_cpu_chunk(&second).unwrap();
         assert_eq!(again[0].len(), 8);
     }
 

@@ -15,6 +15,7 @@
 //!   segment; the range's end is the last segment at 1), or a patch list's (p, u, v).
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use crate::error::{InputError, Shown};
 use crate::surface::graded::{graded_counts, graded_plan, patch_triangles};
@@ -262,11 +263,33 @@ pub(crate) fn grid(
 ) -> Result<SurfacePlan, InputError> {
     let count = |d: usize| (ks[d].iter().sum::<usize>() + usize::from(!closed[d])) as u64;
     check_count(count(0).saturating_mul(count(1)))?;
+    let rows = count(0) as usize;
+    let cells_u = ks[0].iter().sum();
+    let mut plan = grid_part(knots, closed, ks, 0..rows, 0..cells_u);
+    plan.cells = ks[0]
+        .iter()
+        .flat_map(|&ku| ks[1].iter().map(move |&kv| [ku as u32, kv as u32]))
+        .collect();
+    Ok(plan)
+}
+
+/// Part of a net's grid ([`grid`]'s, whose counts the caller has checked): the vertices of the
+/// lines along u in `lines` and the triangles of the rows of cells in `cell_rows`, numbered
+/// over the whole grid (a line holds the grid's (Σ k_v + open) vertices; a row of cells its
+/// 2 Σ k_v triangles); no cells.
+pub(crate) fn grid_part(
+    knots: [&[f64]; 2],
+    closed: [bool; 2],
+    ks: [&[usize]; 2],
+    lines_u: Range<usize>,
+    cell_rows: Range<usize>,
+) -> SurfacePlan {
     let along_u = lines(knots[0], closed[0], ks[0]);
     let along_v = lines(knots[1], closed[1], ks[1]);
     let across = knots[1].len() - 1;
-    let mut vertices = Vec::with_capacity(along_u.len() * along_v.len());
-    for &(iu, lu, u) in &along_u {
+    let (rows, cols) = (along_u.len(), along_v.len());
+    let mut vertices = Vec::with_capacity(lines_u.len() * cols);
+    for &(iu, lu, u) in &along_u[lines_u] {
         for &(iv, lv, v) in &along_v {
             vertices.push(Vertex {
                 patch: (iu * across + iv) as u32,
@@ -275,24 +298,19 @@ pub(crate) fn grid(
             });
         }
     }
-    let (rows, cols) = (along_u.len(), along_v.len());
-    let (cells_u, cells_v): (usize, usize) = (ks[0].iter().sum(), ks[1].iter().sum());
+    let cells_v: usize = ks[1].iter().sum();
     let index = |a: usize, b: usize| ((a % rows) * cols + (b % cols)) as u32;
-    let mut triangles = Vec::with_capacity(2 * cells_u * cells_v);
-    for a in 0..cells_u {
+    let mut triangles = Vec::with_capacity(2 * cell_rows.len() * cells_v);
+    for a in cell_rows {
         for b in 0..cells_v {
             push_cell(&mut triangles, a, b, index);
         }
     }
-    let cells = ks[0]
-        .iter()
-        .flat_map(|&ku| ks[1].iter().map(move |&kv| [ku as u32, kv as u32]))
-        .collect();
-    Ok(SurfacePlan {
+    SurfacePlan {
         vertices,
         triangles: Some(triangles),
-        cells,
-    })
+        cells: Vec::new(),
+    }
 }
 
 /// Cell (a, b)'s two triangles, counter-clockwise in (u, v): (a, b), (a+1, b), (a+1, b+1) and

@@ -18,9 +18,11 @@
 //! - `tolerance`: certified meshes within a distance, watertight across patches;
 //! - `eval`: a plan's vertices evaluated on the CPU;
 //! - `kinds`: the kinds by the contract's names, with their fields;
-//! - `job`: many surfaces, their plans, checks and output layout ([`SurfaceJob`]).
+//! - `job`: many surfaces, their plans, checks and output layout ([`SurfaceJob`]);
+//! - `chunks`: a job in chunks of bounded size, a large surface cut into pieces, to stream.
 
 pub(crate) mod bounds;
+pub(crate) mod chunks;
 pub(crate) mod direction;
 pub(crate) mod eval;
 pub(crate) mod graded;
@@ -38,6 +40,7 @@ use crate::fit::interp::EndCondition;
 use crate::points::MAX_DIM;
 use direction::Direction;
 
+pub use chunks::{ChunkPart, SurfaceChunk, SurfaceChunks};
 pub use eval::{SurfacePlanes, SurfaceSamples};
 pub use job::{JobSurface, KEPT_VERTICES, SurfaceJob};
 pub use kinds::{

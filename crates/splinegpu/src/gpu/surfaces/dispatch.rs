@@ -16,7 +16,7 @@ use crate::gpu::timing::Timestamps;
 #[cfg(feature = "profiling")]
 use crate::gpu::timing::{DeviceTime, TimingMethod};
 use crate::job::Derivatives;
-use crate::surface::{PatchTable, SurfaceJob, SurfacePlan, SurfaceSamples};
+use crate::surface::{PatchTable, SurfaceChunk, SurfaceJob, SurfacePlan, SurfaceSamples};
 
 /// The output planes of a vertex of a job: positions, then the derivatives asked for, then
 /// normals.
@@ -52,23 +52,24 @@ impl GpuContext {
         &self,
         job: &SurfaceJob,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        self.evaluate_surface_group(job, 0..job.len())
+        self.evaluate_surface_chunk(job, &SurfaceChunk::whole(0..job.len()))
     }
 
-    /// [`GpuContext::evaluate_surfaces`] of the surfaces of `range` (a group of
-    /// [`SurfaceJob::groups`], evaluated and written one at a time).
+    /// [`GpuContext::evaluate_surfaces`] of one chunk of [`SurfaceJob::chunks`] (whole
+    /// surfaces or a piece of one, evaluated and written one chunk at a time), a sample list
+    /// per part as [`SurfaceJob::try_evaluate_cpu_chunk`] gives them.
     ///
     /// # Errors
     /// As [`GpuContext::evaluate_surfaces`].
     ///
     /// # Panics
-    /// If `range` is not within the job.
-    pub fn evaluate_surface_group(
+    /// If the chunk is not of `job`.
+    pub fn evaluate_surface_chunk(
         &self,
         job: &SurfaceJob,
-        range: Range<usize>,
+        chunk: &SurfaceChunk,
     ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-        Ok(self.surfaces_on_device(job, range, false)?.0)
+        Ok(self.surfaces_on_device(job, chunk, false)?.0)
     }
 
     /// [`GpuContext::evaluate_surfaces`], also measuring how long the dispatches ran on the
@@ -82,21 +83,22 @@ impl GpuContext {
         &self,
         job: &SurfaceJob,
     ) -> Result<(Vec<SurfaceSamples<f32>>, DeviceTime), GpuError> {
-        let (samples, seconds) = self.surfaces_on_device(job, 0..job.len(), true)?;
+        let (samples, seconds) =
+            self.surfaces_on_device(job, &SurfaceChunk::whole(0..job.len()), true)?;
         let method = TimingMethod::of(&self.device);
         Ok((samples, DeviceTime { seconds, method }))
     }
 
-    /// The surfaces of `range` of `job` on the device, and the dispatches' device seconds
-    /// when `timed`.
+    /// The parts of `chunk` of `job` on the device, and the dispatches' device seconds when
+    /// `timed`.
     fn surfaces_on_device(
         &self,
         job: &SurfaceJob,
-        range: Range<usize>,
+        chunk: &SurfaceChunk,
         timed: bool,
     ) -> Result<(Vec<SurfaceSamples<f32>>, f64), GpuError> {
         let (derivatives, normals) = (job.derivatives(), job.normals());
-        let planned = job.planned(range);
+        let planned = job.chunk_plans(chunk);
         let surfaces: Vec<(&PatchTable, &SurfacePlan)> =
             planned.iter().map(|(t, p)| (*t, p.as_ref())).collect();
         // Groups of surfaces whose packed patches fit one storage binding.
@@ -104,11 +106,12 @@ impl GpuContext {
         let limit = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        let bytes = |t: &PatchTable| -> u64 {
+        // The patches each part's vertices use (a piece of a large surface: a few rows).
+        let bytes = |(t, plan): (&PatchTable, &SurfacePlan)| -> u64 {
             let per_patch = 17 * t.dim()
                 + if t.is_rational() { 16 } else { 0 }
                 + if normals { NORMAL_NET_FLOATS } else { 0 };
-            (t.len() * per_patch * 4) as u64
+            (used_patches(plan).len() * per_patch * 4) as u64
         };
         let mut out = Vec::with_capacity(surfaces.len());
         let mut seconds = 0.0;
@@ -116,14 +119,14 @@ impl GpuContext {
         while start < surfaces.len() {
             let mut end = start;
             let mut total = 0u64;
-            while end < surfaces.len() && total + bytes(surfaces[end].0) <= limit {
-                total += bytes(surfaces[end].0);
+            while end < surfaces.len() && total + bytes(surfaces[end]) <= limit {
+                total += bytes(surfaces[end]);
                 end += 1;
             }
             if end == start {
                 return Err(GpuError::TooLarge {
                     table: "patch coefficients",
-                    bytes: bytes(surfaces[start].0),
+                    bytes: bytes(surfaces[start]),
                     limit,
                 });
             }
@@ -309,8 +312,11 @@ pub(crate) fn evaluate_group_with(
     budget: DispatchBudget,
     dispatch: &mut Dispatch<'_>,
 ) -> Result<Vec<SurfaceSamples<f32>>, GpuError> {
-    let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
-    let packed = PackedPatches::new(&tables, normals);
+    let used: Vec<(&PatchTable, Range<usize>)> = surfaces
+        .iter()
+        .map(|(t, plan)| (*t, used_patches(plan)))
+        .collect();
+    let packed = PackedPatches::of_ranges(&used, normals);
     let mut out: Vec<SurfaceSamples<f32>> = surfaces
         .iter()
         .map(|(table, plan)| SurfaceSamples::for_plan(table, plan, derivatives, normals))
@@ -346,7 +352,7 @@ pub(crate) fn evaluate_group_with(
     };
     let mut floats = 0usize;
     for (s, (table, plan)) in surfaces.iter().enumerate() {
-        let (dim, first_patch) = (table.dim(), packed.first_patch[s]);
+        let (dim, first_patch, start) = (table.dim(), packed.first_patch[s], used[s].1.start);
         for (i, vertex) in plan.vertices.iter().enumerate() {
             if floats + dim > budget.floats || chunk.len() == budget.vertices {
                 flush(&mut chunk, &mut pieces, floats, &mut out)?;
@@ -357,7 +363,7 @@ pub(crate) fn evaluate_group_with(
                 _ => pieces.push((s, i, 1)),
             }
             chunk.push(GpuVertex {
-                patch_index: first_patch + vertex.patch,
+                patch_index: first_patch + (vertex.patch - start as u32),
                 out: floats as u32,
                 u: vertex.local[0] as f32,
                 v: vertex.local[1] as f32,
@@ -367,6 +373,18 @@ pub(crate) fn evaluate_group_with(
     }
     flush(&mut chunk, &mut pieces, floats, &mut out)?;
     Ok(out)
+}
+
+/// The patches a plan's vertices are evaluated on, first to last.
+fn used_patches(plan: &SurfacePlan) -> Range<usize> {
+    let (low, high) = plan
+        .vertices
+        .iter()
+        .fold((u32::MAX, 0), |(l, h), v| (l.min(v.patch), h.max(v.patch)));
+    if low > high {
+        return 0..0;
+    }
+    low as usize..high as usize + 1
 }
 
 /// `items`, or one default element where there is none (a binding needs at least one).

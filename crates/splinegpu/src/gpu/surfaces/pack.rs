@@ -3,6 +3,8 @@
 //! o_lo = f32(A_00 − o_hi), a rational patch's W, and (when normals are asked for) its normal
 //! nets; each surface's first patch.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::gpu::surfaces::abi::GpuPatch;
@@ -21,9 +23,18 @@ impl PackedPatches {
     /// Packs every table's patches (see the module docs); the normal nets only when `normals`
     /// are asked for. Tables are packed on every thread, then laid end to end.
     pub(crate) fn new(tables: &[&PatchTable], normals: bool) -> Self {
+        let whole: Vec<(&PatchTable, Range<usize>)> =
+            tables.iter().map(|&t| (t, 0..t.len())).collect();
+        Self::of_ranges(&whole, normals)
+    }
+
+    /// [`PackedPatches::new`] of the patches of each table's range only (a piece of a large
+    /// surface uses a few rows of its patches): `first_patch[s]` is then the record of table
+    /// s's `range.start`.
+    pub(crate) fn of_ranges(tables: &[(&PatchTable, Range<usize>)], normals: bool) -> Self {
         let parts: Vec<Self> = tables
             .par_iter()
-            .map(|table| Self::of_table(table, normals))
+            .map(|(table, range)| Self::of_table(table, range.clone(), normals))
             .collect();
         let mut packed = Self::default();
         packed
@@ -46,10 +57,10 @@ impl PackedPatches {
     }
 
     /// One table's patches, their offsets from its own first float.
-    fn of_table(table: &PatchTable, normals: bool) -> Self {
+    fn of_table(table: &PatchTable, range: Range<usize>, normals: bool) -> Self {
         let mut packed = Self::default();
         let dim = table.dim();
-        for p in 0..table.len() {
+        for p in range {
             let patch = table.patch(p);
             let [lu, lv] = patch.length();
             let rational = patch.denominator();

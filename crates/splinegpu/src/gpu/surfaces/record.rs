@@ -8,7 +8,7 @@
 use wgpu::util::DeviceExt;
 
 use crate::error::{GpuError, InputError};
-use crate::surface::{PatchTable, SurfaceJob, SurfacePlan};
+use crate::surface::{PatchTable, SurfaceChunk, SurfaceJob, SurfacePlan};
 
 use crate::gpu::GpuContext;
 use crate::gpu::kernel::workgroup_grid;
@@ -58,7 +58,8 @@ impl GpuContext {
     /// bytes each) exceed one storage binding.
     pub fn surface_recording(&self, job: &SurfaceJob) -> Result<SurfaceRecording, GpuError> {
         let normals = job.normals();
-        let planned = job.planned(0..job.len());
+        let whole = SurfaceChunk::whole(0..job.len());
+        let planned = job.chunk_plans(&whole);
         let surfaces: Vec<(&PatchTable, &SurfacePlan)> =
             planned.iter().map(|(t, p)| (*t, p.as_ref())).collect();
         let tables: Vec<&PatchTable> = surfaces.iter().map(|(t, _)| *t).collect();
