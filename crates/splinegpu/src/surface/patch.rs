@@ -74,6 +74,9 @@ pub(crate) struct AlongU {
     pub(crate) w: [[f64; 4]; 3],
 }
 
+/// Values of a band's fit along v that [`PatchTable::from_directions`] holds at a time.
+const BAND_VALUES: usize = 1 << 20;
+
 impl PatchTable {
     /// A net's patches from its two directions' rules; `weights` (one per point) makes them
     /// rational.
@@ -99,21 +102,9 @@ impl PatchTable {
         // Along u: the rows are the points of one curve of cols · width coordinates.
         let mut along_u = SegmentTable::default();
         directions[0].fit_lines(&lines, cols * width, extent, &mut along_u);
+        drop(lines);
         let segments_u = along_u.len();
-        // Along v: column j's point holds every u-segment's four coefficients.
-        let stride = segments_u * 4 * width;
-        let mut columns = vec![0.0; cols * stride];
-        for iu in 0..segments_u {
-            for (r, row) in along_u.segment(iu).power().iter().enumerate() {
-                for j in 0..cols {
-                    let to = j * stride + (iu * 4 + r) * width;
-                    columns[to..to + width].copy_from_slice(&row[j * width..(j + 1) * width]);
-                }
-            }
-        }
-        let mut along_v = SegmentTable::default();
-        directions[1].fit_lines(&columns, stride, extent, &mut along_v);
-        let segments_v = along_v.len();
+        let segments_v = directions[1].segments(cols);
         // Patch (iu, iv): A_ab, a = 3 − r (u), b = 3 − s (v).
         let mut coeffs = vec![0.0; segments_u * segments_v * 16 * dim];
         let mut denominators = Vec::new();
@@ -125,32 +116,54 @@ impl PatchTable {
             _ => Vec::new(),
         };
         let spans: [Vec<usize>; 2] = [spans(&directions[0], rows), spans(&directions[1], cols)];
-        for iu in 0..segments_u {
-            for iv in 0..segments_v {
-                let segment = along_v.segment(iv);
-                let power = segment.power();
-                for (s, row) in power.iter().enumerate() {
-                    for r in 0..4 {
-                        let (a, b) = (3 - r, 3 - s);
-                        let from = (iu * 4 + r) * width;
-                        homogeneous[(4 * a + b) * width..][..width]
-                            .copy_from_slice(&row[from..from + width]);
+        // Along v, a band of u-segments at a time: column j's point holds the band's
+        // u-segments' four coefficients. The fit is linear and coordinate by coordinate, so a
+        // band's is the whole fit's, bit for bit, and memory holds one band's fit (about 2^20
+        // values) beside the table rather than the whole net's four times over.
+        let band = (BAND_VALUES / (16 * cols * width)).clamp(1, segments_u);
+        let mut along_v = SegmentTable::default();
+        let mut columns = Vec::new();
+        for first in (0..segments_u).step_by(band) {
+            let band = first..(first + band).min(segments_u);
+            let stride = band.len() * 4 * width;
+            columns.clear();
+            columns.resize(cols * stride, 0.0);
+            for iu in band.clone() {
+                for (r, row) in along_u.segment(iu).power().iter().enumerate() {
+                    for j in 0..cols {
+                        let to = j * stride + ((iu - first) * 4 + r) * width;
+                        columns[to..to + width].copy_from_slice(&row[j * width..(j + 1) * width]);
                     }
                 }
-                let out = &mut coeffs[(iu * segments_v + iv) * 16 * dim..][..16 * dim];
-                match weights {
-                    None => out.copy_from_slice(&homogeneous),
-                    Some(w) => {
-                        let (su, sv) = (spans[0][iu], spans[1][iv]);
-                        let (ru, rv) = (su - 3..=su, sv - 3..=sv);
-                        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
-                        for i in ru {
-                            for j in rv.clone() {
-                                least = least.min(w[i * cols + j]);
-                                most = most.max(w[i * cols + j]);
-                            }
+            }
+            directions[1].fit_lines(&columns, stride, extent, &mut along_v);
+            for iu in band {
+                for iv in 0..segments_v {
+                    let segment = along_v.segment(iv);
+                    let power = segment.power();
+                    for (s, row) in power.iter().enumerate() {
+                        for r in 0..4 {
+                            let (a, b) = (3 - r, 3 - s);
+                            let from = ((iu - first) * 4 + r) * width;
+                            homogeneous[(4 * a + b) * width..][..width]
+                                .copy_from_slice(&row[from..from + width]);
                         }
-                        denominators.push(rational_patch(&homogeneous, dim, least, most, out));
+                    }
+                    let out = &mut coeffs[(iu * segments_v + iv) * 16 * dim..][..16 * dim];
+                    match weights {
+                        None => out.copy_from_slice(&homogeneous),
+                        Some(w) => {
+                            let (su, sv) = (spans[0][iu], spans[1][iv]);
+                            let (ru, rv) = (su - 3..=su, sv - 3..=sv);
+                            let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+                            for i in ru {
+                                for j in rv.clone() {
+                                    least = least.min(w[i * cols + j]);
+                                    most = most.max(w[i * cols + j]);
+                                }
+                            }
+                            denominators.push(rational_patch(&homogeneous, dim, least, most, out));
+                        }
                     }
                 }
             }
