@@ -126,7 +126,7 @@ pub(crate) struct ArcMap<'a> {
 impl<'a> ArcMap<'a> {
     /// The map of the position table `table`, within [`DEFAULT_ARCLEN_ACCURACY`] of its length.
     pub(crate) fn new(table: &'a SegmentTable) -> Self {
-        let tables = table.arc_tables(DEFAULT_ARCLEN_ACCURACY, false);
+        let tables = table.arc_tables(DEFAULT_ARCLEN_ACCURACY);
         let mut starts = Vec::with_capacity(tables.len() + 1);
         let mut sum = 0.0;
         for t in &tables {

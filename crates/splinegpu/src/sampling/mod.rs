@@ -6,11 +6,12 @@ use std::sync::Arc;
 
 pub(crate) mod arc_length;
 pub(crate) mod place;
+pub(crate) mod places;
 pub(crate) mod tolerance;
 
 use crate::error::{InputError, Shown};
 use crate::segment::SegmentTable;
-use arc_length::ArcTable;
+use places::PlaceTable;
 use tolerance::{MAX_SAMPLES_PER_SEGMENT, Placement};
 
 /// How to sample a curve (contract: "sampling").
@@ -96,13 +97,13 @@ pub(crate) struct ArcSamples {
     m: usize,
     /// The length where each segment starts, and, last, the curve's length L.
     starts: Vec<f64>,
-    tables: Vec<ArcTable>,
+    tables: Vec<PlaceTable>,
     knots: Vec<f64>,
 }
 
 impl ArcSamples {
     fn new(table: &SegmentTable, m: usize) -> Self {
-        let tables = table.arc_tables(arc_length::DEFAULT_ARCLEN_ACCURACY, true);
+        let tables = table.place_tables();
         let mut starts = vec![0.0];
         for t in &tables {
             starts.push(starts[starts.len() - 1] + t.length());
@@ -125,8 +126,8 @@ impl ArcSamples {
         &self.starts
     }
 
-    /// Each segment's arc table.
-    pub(crate) fn tables(&self) -> &[ArcTable] {
+    /// Each segment's place table.
+    pub(crate) fn tables(&self) -> &[PlaceTable] {
         &self.tables
     }
 
@@ -170,12 +171,12 @@ impl ArcSamples {
                 if target >= next_start || s <= 0.0 {
                     break;
                 }
-                // The next pieces, as `ArcTable::place`'s search would find them.
+                // The next pieces, as `PlaceTable::place`'s search would find them.
                 while s > piece_end {
                     hint.piece += 1;
                     (piece, piece_end) = table.inverse_piece(hint.piece);
                 }
-                // As `ArcTable::place`: u = 1 at or beyond the segment's length.
+                // As `PlaceTable::place`: u = 1 at or beyond the segment's length.
                 let u = if s >= at_end { 1.0 } else { piece.at(s) };
                 let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
                 out.push(SampleLoc { segment, u, t });

@@ -453,7 +453,7 @@ fn computed_places(job: &EvalJob, curves: Range<usize>) -> Vec<Vec<SampleLoc>> {
 /// floats are stored as their bits.
 /// - A header: (m − 1, 1/(m − 1), 0, 0).
 /// - Per segment: (its start / L, the vec4 of its first piece, its number of pieces, 0).
-/// - Per piece of the segments' explicit inverses ([`ArcTable`](crate::sampling::arc_length::ArcTable)),
+/// - Per piece of the segments' explicit inverses ([`PlaceTable`](crate::sampling::places::PlaceTable)),
 ///   segment after segment, two vec4s: (its start / L, u at its start, c1, c2), (c3, c4, c5, u
 ///   at its end): u = u at its start + (u at its end − u at its start) x, x = c1 y + … + c5 y⁵
 ///   in y = (s − its start) / its length, the length model's inverse within 1e-7 L. Its end / L
