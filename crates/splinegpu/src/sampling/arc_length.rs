@@ -707,7 +707,7 @@ impl SegmentTable {
     /// [`PLACE_ACCURACY`] times the curve's length (see [`places`](super::places)): the
     /// quadrature's share a sixth of it per unit of u over the whole parameter range, the
     /// models and their inverses 0.4 of it each (the worst sample of 3,000 random curves of
-    /// every kind: 0.45 of it, where the inverse's share dominates).
+    /// every kind: 0.47 of it, where the inverse's share dominates).
     pub(crate) fn place_tables(&self) -> Vec<PlaceTable> {
         let rough = self.rough_length();
         let quadrature_tolerance = PLACE_ACCURACY * rough / (6.0 * self.len() as f64);

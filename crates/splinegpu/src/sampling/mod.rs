@@ -25,13 +25,13 @@ pub enum Sampling {
     /// last segment at u = 1.
     At(Vec<f64>),
     /// m >= 2 points evenly spaced by arc length along the whole curve, the first and the last
-    /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-6 L, L the curve's length (the contract asks
-    /// 1e-4 L; lengths to [`DEFAULT_ARCLEN_ACCURACY`](crate::DEFAULT_ARCLEN_ACCURACY) of L by
-    /// adaptive Gauss–Legendre quadrature, each segment's length modelled within 1e-7 L and the
-    /// model inverted explicitly, one polynomial a sample; see [`SegmentTable::arclen`]). A
-    /// caller who needs places to 1e-10 L takes them from [`SegmentTable::inv_arclen`] and
-    /// samples them with [`Sampling::At`]. The GPU places the samples itself, in f32 from the
-    /// same explicit inverses, within 1e-5 L; its t are formed from them in f64.
+    /// at its ends: |s(t_j) − j L/(m − 1)| <= 1e-5 L, L the curve's length (the contract asks
+    /// 1e-4 L; each segment's length modelled piece by piece, checked against the speed and
+    /// the 8-point rule, and inverted explicitly, one polynomial a sample, at the accuracy
+    /// the sampling needs rather than the precise length's). A caller who needs places to
+    /// 1e-10 L takes them from [`SegmentTable::inv_arclen`] and samples them with
+    /// [`Sampling::At`]. The GPU places the samples itself, in f32 from the same explicit
+    /// inverses, within 3e-5 L; its t are formed from them in f64.
     ArcLength(u32),
     /// Per segment, as few samples as this method guarantees such that the polyline through
     /// them stays within `tol` (> 0, in the curve's units and D dimensions) of the curve; never

@@ -28,11 +28,11 @@ use super::arc_length::{
 };
 use crate::segment::Segment;
 
-/// The accuracy of a sampling's places relative to the curve's length: the lengths' (the
-/// model's speed test, scaled as the module docs say) and the inverse's against them, each a
-/// half of it. A hundredth of the contract's CPU spacing (1e-4 L) leaves room for what the
-/// measured bounds may miss; the GPU's f32 adds errors near 1e-7 L.
-pub(crate) const PLACE_ACCURACY: f64 = 1e-6;
+/// The accuracy of a sampling's places relative to the curve's length (the quadrature's share
+/// and the models' and inverses', as `SegmentTable::place_tables` shares it): a tenth of the
+/// contract's CPU spacing (1e-4 L), room for what the measured bounds may miss; the GPU's f32
+/// adds errors near 1e-6 L.
+pub(crate) const PLACE_ACCURACY: f64 = 1e-5;
 
 /// A segment's lengths mapped to u by explicit inverse pieces (see the module docs).
 #[derive(Clone, Debug, PartialEq)]

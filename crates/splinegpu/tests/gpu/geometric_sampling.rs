@@ -1,11 +1,11 @@
 //! Arc-length places found by the GPU (each sample's segment and u from the host's tables,
-//! in f32) against an independent quadrature, within 1e-5 of the length, and the values at
+//! in f32) against an independent quadrature, within 3e-5 of the length, and the values at
 //! them within the accuracy promise.
 
 use crate::arc_lengths::{DIMS, curves, spacing_error};
 use splinegpu::{Derivatives, EvalJob, Sampling};
 
-pub(crate) fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5_of_the_length() {
+pub(crate) fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_3e_5_of_the_length() {
     // The kernel finds each sample's segment and u from the host's tables in f32; the host
     // forms t from them in f64. Same curves as the CPU's 1e-10 test.
     let Some(context) = crate::support::gpu() else {
@@ -34,7 +34,7 @@ pub(crate) fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5
             );
             let (_, error) = spacing_error(table, ts);
             worst = worst.max(error);
-            assert!(error <= 1e-5, "D {dim}, curve {c}: {error:e} of L");
+            assert!(error <= 3e-5, "D {dim}, curve {c}: {error:e} of L");
         }
         // The points and derivatives are those at the GPU's t, within the promise.
         let reference = splinegpu::evaluate_reference(&job);
@@ -51,7 +51,7 @@ pub(crate) fn arc_length_samples_placed_by_the_gpu_are_evenly_spaced_within_1e_5
         for c in 0..job.len() {
             let (_, error) = spacing_error(job.table(c), gpu.curve(c).t);
             worst = worst.max(error);
-            assert!(error <= 1e-5, "m {m}, curve {c}: {error:e} of L");
+            assert!(error <= 3e-5, "m {m}, curve {c}: {error:e} of L");
         }
     }
     eprintln!("worst GPU arc-length spacing error: {worst:.2e} of L");

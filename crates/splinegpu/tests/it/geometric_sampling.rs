@@ -11,7 +11,7 @@ use splinegpu::{
 };
 
 #[test]
-fn arc_length_samples_are_evenly_spaced_within_1e_6_of_the_length() {
+fn arc_length_samples_are_evenly_spaced_within_1e_5_of_the_length() {
     let m = 37;
     let mut worst = 0.0f64;
     for dim in DIMS {
@@ -31,8 +31,8 @@ fn arc_length_samples_are_evenly_spaced_within_1e_6_of_the_length() {
             assert!(ts.windows(2).all(|w| w[0] <= w[1]), "t in order");
             let (total, error) = spacing_error(table, ts);
             worst = worst.max(error);
-            // The explicit inverse: within 1e-6 L (the contract asks 1e-4 L of the CPU).
-            assert!(error <= 1e-6, "D {dim}, curve {c}: {error:e} of L");
+            // The explicit inverse: within 1e-5 L (the contract asks 1e-4 L of the CPU).
+            assert!(error <= 1e-5, "D {dim}, curve {c}: {error:e} of L");
             // The library's length agrees with the independent one.
             let length = table.arclen(splinegpu::DEFAULT_ARCLEN_ACCURACY);
             assert!(
@@ -345,7 +345,7 @@ mod random_curves {
         #![proptest_config(config(16))]
 
         #[test]
-        fn arc_length_spacing_meets_1e_6_of_the_length(curve in curve(), m in 2u32..60) {
+        fn arc_length_spacing_meets_1e_5_of_the_length(curve in curve(), m in 2u32..60) {
             super::assert_arc_spacing(&curve, m);
         }
     }
@@ -393,7 +393,7 @@ fn a_segment_of_length_zero_is_placed_without_a_panic() {
     }
 }
 
-/// `curve`'s m arc-length samples lie within 1e-6 L of j L / (m - 1), against the independent
+/// `curve`'s m arc-length samples lie within 1e-5 L of j L / (m - 1), against the independent
 /// quadrature.
 fn assert_arc_spacing(curve: &Curve, m: u32) {
     let mut job = EvalJob::new(Derivatives::None);
@@ -406,7 +406,7 @@ fn assert_arc_spacing(curve: &Curve, m: u32) {
     for (j, s_j) in s.iter().enumerate() {
         let want = total * j as f64 / f64::from(m - 1);
         assert!(
-            (s_j - want).abs() <= 1e-6 * total,
+            (s_j - want).abs() <= 1e-5 * total,
             "sample {j}: {s_j} vs {want}"
         );
     }
