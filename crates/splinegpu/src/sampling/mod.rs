@@ -208,7 +208,7 @@ impl ArcSamples {
         let target = length * j as f64 / (self.m - 1) as f64;
         // The last segment that starts at or before the target.
         let segment =
-            arc_length::last_before(&self.starts[..segments], hint.segment, |s| s <= target);
+            arc_length::last_before(&self.starts[..segments], hint.segment, |&s| s <= target);
         if segment != hint.segment {
             *hint = ArcHint {
                 segment,

@@ -26,6 +26,9 @@
 use super::arc_length::{
     GL8_POSITIONS, MAX_DEPTH, Speed, polynomial, polynomial_slope, quintic_hermite,
 };
+use std::cell::Cell;
+
+use super::arc_length::last_before;
 use crate::segment::Segment;
 
 /// The accuracy of a sampling's places relative to the curve's length (the quadrature's share
@@ -38,9 +41,15 @@ pub(crate) const PLACE_ACCURACY: f64 = 1e-5;
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct PlaceTable {
     length: f64,
-    /// The length where each inverse piece starts (the last ends at `length`).
-    starts: Vec<f64>,
-    pieces: Vec<InversePiece>,
+    /// In order of the lengths where they start (the last ends at `length`).
+    pieces: Box<[InversePiece]>,
+}
+
+thread_local! {
+    /// A thread's inverse pieces while it makes a table, which keeps them at their exact
+    /// number (a growing vector's spare room, kept for every segment of a sampling, was as
+    /// large as the pieces).
+    static SCRATCH: Cell<Vec<InversePiece>> = const { Cell::new(Vec::new()) };
 }
 
 impl PlaceTable {
@@ -48,10 +57,11 @@ impl PlaceTable {
     /// `accuracy` in length.
     pub(crate) fn new(segment: &Segment<'_>, quadrature_tolerance: f64, accuracy: f64) -> Self {
         let speed = Speed::of(segment);
-        let mut table = Self {
+        let mut pieces = SCRATCH.take();
+        pieces.clear();
+        let mut builder = Builder {
             length: 0.0,
-            starts: Vec::with_capacity(16),
-            pieces: Vec::with_capacity(16),
+            pieces,
         };
         let tolerances = (quadrature_tolerance, accuracy);
         let mut a = 0.0;
@@ -65,12 +75,67 @@ impl PlaceTable {
             if b < 1.0 {
                 ends.1.1 = -speed.bend_at(b);
             }
-            table.fit(&speed, (a, b), ends, tolerances, 0);
+            builder.fit(&speed, (a, b), ends, tolerances, 0);
             a = b;
         }
+        let table = Self {
+            length: builder.length,
+            pieces: builder.pieces.as_slice().into(),
+        };
+        SCRATCH.set(builder.pieces);
         table
     }
 
+    /// The segment's length (the model pieces' together).
+    pub(crate) fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]): one
+    /// polynomial a length. `hint` is the inverse piece the last (nondecreasing) length fell
+    /// in (0 for the first); the answer does not depend on it.
+    #[inline]
+    pub(crate) fn place(&self, s: f64, hint: &mut usize) -> f64 {
+        if s <= 0.0 {
+            return 0.0;
+        }
+        if s >= self.length {
+            return 1.0;
+        }
+        let last = self.pieces.len() - 1;
+        let k = last_before(&self.pieces, (*hint).min(last), |p| p.s0 < s);
+        *hint = k;
+        self.pieces[k].at(s)
+    }
+
+    /// The inverse piece `k` and the lengths it takes, as [`PlaceTable::place`] chooses
+    /// pieces: above its start and up to the next one's (the last: up to the segment's
+    /// length; at or beyond it, u = 1).
+    pub(crate) fn inverse_piece(&self, k: usize) -> (&InversePiece, f64) {
+        let last = self.pieces.get(k + 1).map_or(f64::INFINITY, |p| p.s0);
+        (&self.pieces[k], last)
+    }
+
+    /// The inverse's pieces as (the length where each starts, its u there, its u at its end,
+    /// p's coefficients c1..c5 (c0 is 0: p(0) = 0)), for the GPU's f32 table: the kernel
+    /// places a sample as the CPU does, one polynomial a sample.
+    pub(crate) fn inverse_pieces(
+        &self,
+    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, [f64; 5])> {
+        self.pieces.iter().map(|p| {
+            let c = [p.c[1], p.c[2], p.c[3], p.c[4], p.c[5]];
+            (p.s0, p.u0, p.u0 + p.du, c)
+        })
+    }
+}
+
+/// A table being made: the length so far and the inverse pieces.
+struct Builder {
+    length: f64,
+    pieces: Vec<InversePiece>,
+}
+
+impl Builder {
     /// Appends [a, b] (the speed and its slope at its ends in `ends`) as model pieces, each
     /// mapped back by its inverse pieces, halved while the model or the rule is off.
     fn fit(
@@ -151,50 +216,7 @@ impl PlaceTable {
         }
         // Lengths from the segment's start: the model piece's start plus the model's.
         piece.s0 += model.start;
-        self.starts.push(piece.s0);
         self.pieces.push(piece);
-    }
-
-    /// The segment's length (the model pieces' together).
-    pub(crate) fn length(&self) -> f64 {
-        self.length
-    }
-
-    /// The u in [0, 1] at which the length from 0 reaches `s` (clamped to [0, length]): one
-    /// polynomial a length. `hint` is the inverse piece the last (nondecreasing) length fell
-    /// in (0 for the first); the answer does not depend on it.
-    #[inline]
-    pub(crate) fn place(&self, s: f64, hint: &mut usize) -> f64 {
-        if s <= 0.0 {
-            return 0.0;
-        }
-        if s >= self.length {
-            return 1.0;
-        }
-        let pieces = self.pieces.len();
-        let k = super::arc_length::last_before(&self.starts, (*hint).min(pieces - 1), |x| x < s);
-        *hint = k;
-        self.pieces[k].at(s)
-    }
-
-    /// The inverse piece `k` and the lengths it takes, as [`PlaceTable::place`] chooses
-    /// pieces: above its start and up to the next one's (the last: up to the segment's
-    /// length; at or beyond it, u = 1).
-    pub(crate) fn inverse_piece(&self, k: usize) -> (&InversePiece, f64) {
-        let last = self.starts.get(k + 1).copied().unwrap_or(f64::INFINITY);
-        (&self.pieces[k], last)
-    }
-
-    /// The inverse's pieces as (the length where each starts, its u there, its u at its end,
-    /// p's coefficients c1..c5 (c0 is 0: p(0) = 0)), for the GPU's f32 table: the kernel
-    /// places a sample as the CPU does, one polynomial a sample.
-    pub(crate) fn inverse_pieces(
-        &self,
-    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, [f64; 5])> {
-        self.pieces.iter().map(|p| {
-            let c = [p.c[1], p.c[2], p.c[3], p.c[4], p.c[5]];
-            (p.s0, p.u0, p.u0 + p.du, c)
-        })
     }
 }
 
