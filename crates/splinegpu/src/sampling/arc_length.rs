@@ -419,13 +419,13 @@ impl Speed {
                 return vec![1.0];
             }
         }
-        self.kinks_searched()
-    }
-
-    /// [`Speed::kinks`] found among all the critical points.
-    fn kinks_searched(&self) -> Vec<f64> {
         let mut cuts = self.critical_points();
         cuts.push(1.0);
+        self.kinks_among(cuts)
+    }
+
+    /// [`Speed::kinks`] found among `cuts`, the critical points followed by 1.
+    fn kinks_among(&self, mut cuts: Vec<f64>) -> Vec<f64> {
         let fastest = (cuts.iter().chain(&[0.0]))
             .map(|&c| self.at(c))
             .fold(0.0, f64::max);
@@ -503,8 +503,9 @@ impl ArcTable {
             table.subdivide(a, b, whole, tol, 0);
             a = b;
         }
+        // The parts' ends are among the quadrature's cuts, found once.
         let mut a = 0.0;
-        for b in table.speed.kinks() {
+        for b in table.speed.kinks_among(cuts) {
             let length = (table.length_to(b) - table.length_to(a)).max(0.0);
             let s = table.part_s[table.part_s.len() - 1];
             table.part_u.push(b);
@@ -822,7 +823,9 @@ mod tests {
                 denominator: None,
             };
             let kinks = speed.kinks();
-            assert_eq!(kinks, speed.kinks_searched(), "segment {i}");
+            let mut cuts = speed.critical_points();
+            cuts.push(1.0);
+            assert_eq!(kinks, speed.kinks_among(cuts), "segment {i}");
             if kinks.len() > 1 {
                 kinked += 1;
             } else {
