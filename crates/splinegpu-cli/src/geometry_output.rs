@@ -361,14 +361,8 @@ fn write_npz<F: Number>(
         npz.array_from("normals", Dtype::of::<F>(), &[vertices, 3], n)?;
     }
     npz.array_from("triangles", Dtype::I64, &[triangles, 3], tri)?;
-    let count = job.len() as u64 + 1;
-    let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };
-    npz.begin("curve_offsets", Dtype::I64, &[count])?;
-    npz.write(bytemuck::cast_slice(&signed(job.vertex_offsets())))?;
-    npz.end()?;
-    npz.begin("triangle_offsets", Dtype::I64, &[count])?;
-    npz.write(bytemuck::cast_slice(&signed(job.triangle_offsets())))?;
-    npz.end()?;
+    npz.offsets("curve_offsets", job.vertex_offsets())?;
+    npz.offsets("triangle_offsets", job.triangle_offsets())?;
     npz.finish()?;
     Ok(())
 }

@@ -195,6 +195,17 @@ impl<W: Write> NpzWriter<W> {
         self.end()
     }
 
+    /// One whole int64 array of `offsets` (a layout's starts and its total).
+    ///
+    /// # Errors
+    /// Any I/O error.
+    pub fn offsets(&mut self, name: &str, offsets: &[u64]) -> io::Result<()> {
+        let signed: Vec<i64> = offsets.iter().map(|&o| o as i64).collect();
+        self.begin(name, Dtype::I64, &[offsets.len() as u64])?;
+        self.write(bytemuck::cast_slice(&signed))?;
+        self.end()
+    }
+
     /// Writes the central directory and the zip64 end records, and returns the output.
     ///
     /// # Errors

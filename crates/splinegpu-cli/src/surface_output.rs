@@ -465,14 +465,8 @@ impl<F: Number> Sink<F> for Npz<'_, '_> {
             Dtype::I64,
             &[job.triangle_count(), 3],
         )?;
-        let s = job.len() as u64 + 1;
-        let signed = |offsets: &[u64]| -> Vec<i64> { offsets.iter().map(|&o| o as i64).collect() };
-        npz.begin("surface_offsets", Dtype::I64, &[s])?;
-        npz.write(bytemuck::cast_slice(&signed(job.vertex_offsets())))?;
-        npz.end()?;
-        npz.begin("triangle_offsets", Dtype::I64, &[s])?;
-        npz.write(bytemuck::cast_slice(&signed(job.triangle_offsets())))?;
-        npz.end()?;
+        npz.offsets("surface_offsets", job.vertex_offsets())?;
+        npz.offsets("triangle_offsets", job.triangle_offsets())?;
         if patches {
             copy(&mut npz, "patch", Dtype::I64, &[vertices])?;
         }
