@@ -72,15 +72,16 @@ pub(crate) fn solve_blocked<R: Rows>(
     threads: usize,
 ) {
     debug_assert!(n >= 1 && block >= 2);
-    // Resized, not cleared: every value read is written first (a separator's own entries in
-    // the scratch rows are never read).
-    x.resize(n * cols, 0.0);
+    // Not cleared: every value read is written first (a separator's own entries in the
+    // scratch rows are never read), and new memory is first touched by the blocks' sweeps,
+    // on every thread.
+    crate::memory::resize_for_overwrite(x, n * cols);
     for v in [
         &mut scratch.sup_prime,
         &mut scratch.left,
         &mut scratch.right,
     ] {
-        v.resize(n, 0.0);
+        crate::memory::resize_for_overwrite(v, n);
     }
     // Block j: rows starts[j] .. starts[j + 1] − 1; the last row of each but the last block is
     // its separator.
