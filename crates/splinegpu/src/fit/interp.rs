@@ -360,22 +360,16 @@ impl Fitter {
         extent: f64,
         out: &mut SegmentTable,
     ) {
-        // Slopes and second derivatives at the ends keep every row diagonally dominant.
-        let dominant = condition
-            .sides()
-            .is_some_and(|sides| !sides.iter().any(|s| matches!(s, Side::NotAKnot)));
-        if dominant {
-            self.solve_dominant(t, values, dim, condition);
-        } else {
-            self.solve_general(t, values, dim, condition);
+        match condition.sides() {
+            Some(sides) => self.solve_dominant(t, values, dim, sides),
+            None => self.solve_periodic(t, values, dim),
         }
         let segments = t.len() - 1;
         let (knots, coeffs) = out.parts_mut(dim, extent);
-        // Resized, not cleared: a table refilled at the same size is not zeroed first.
-        crate::memory::reserve_on_huge_pages(knots, t.len());
-        crate::memory::reserve_on_huge_pages(coeffs, 4 * dim * segments);
-        knots.resize(t.len(), 0.0);
-        coeffs.resize(4 * dim * segments, 0.0);
+        // Every value is written below, on the pool: a table refilled at the same size is
+        // not zeroed first, a new one is not written twice.
+        crate::memory::resize_for_overwrite(knots, t.len());
+        crate::memory::resize_for_overwrite(coeffs, 4 * dim * segments);
         // Each thread copies its segments' first knots too; the last knot is copied here.
         let (knots, last) = knots.split_at_mut(segments);
         last[0] = t[segments];
@@ -396,16 +390,17 @@ impl Fitter {
         crate::parallel::fan_out(parts, |(c, part)| fill(c, part));
     }
 
-    /// Natural and clamped ends: every row is strictly diagonally dominant, so the Thomas
-    /// algorithm (elimination without pivoting) is stable; it runs in blocks on every thread
-    /// ([`solve_blocked`]). The rows are built inside the sweeps, which read the knots and
-    /// points once.
-    fn solve_dominant(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
+    /// Non-periodic ends: the slope system ([`DominantRows`]) is strictly diagonally dominant
+    /// by rows, so the Thomas algorithm (elimination without pivoting) is stable; it runs in
+    /// blocks on every thread ([`solve_blocked`]). The rows are built inside the sweeps, which
+    /// read the knots and points once. A not-a-knot end's slope is found afterwards from its
+    /// neighbour's ([`not_a_knot_slopes`]).
+    fn solve_dominant(&mut self, t: &[f64], values: &[f64], dim: usize, sides: [Side<'_>; 2]) {
         let rows = DominantRows {
             t,
             values,
             dim,
-            sides: condition.sides().expect("ends with rows of their own"),
+            sides,
         };
         let threads = crate::available_threads();
         solve_blocked(
@@ -417,25 +412,23 @@ impl Fitter {
             &mut self.blocked,
             threads,
         );
+        not_a_knot_slopes(t, values, dim, sides, &mut self.slopes);
     }
 
-    /// Not-a-knot and periodic ends: the rows are assembled, then solved by banded elimination
-    /// with partial pivoting (not-a-knot's end rows are not diagonally dominant) or by
-    /// Sherman–Morrison (periodic).
-    fn solve_general(&mut self, t: &[f64], values: &[f64], dim: usize, condition: &EndCondition) {
+    /// Periodic ends: the cyclic system of the n − 1 distinct slopes, solved by
+    /// Sherman–Morrison.
+    fn solve_periodic(&mut self, t: &[f64], values: &[f64], dim: usize) {
         let n = t.len();
-        let periodic = matches!(condition, EndCondition::Periodic);
         // A periodic spline has n − 1 distinct slopes (m_{n−1} = m_0).
-        let rows = if periodic { n - 1 } else { n };
+        let rows = n - 1;
         let (a, rhs) = (&mut self.system, &mut self.slopes);
         a.reset(rows);
         rhs.clear();
         rhs.resize(n * dim, 0.0);
         let dt = |i: usize| t[i + 1] - t[i];
         let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
-        // Interior rows (all rows of a periodic spline, indices modulo n − 1).
-        let interior = if periodic { 0..rows } else { 1..n - 1 };
-        for i in interior {
+        // Every row is an interior row, its indices modulo n − 1.
+        for i in 0..rows {
             let prev = if i == 0 { rows - 1 } else { i - 1 };
             let (d_prev, d_here) = (dt(prev), dt(i));
             a.sub[i] = d_here;
@@ -445,34 +438,24 @@ impl Fitter {
                 rhs[i * dim + k] = 3.0 * (d_here * q(prev, k) + d_prev * q(i, k));
             }
         }
-        let solved = if periodic {
-            if rows == 2 {
-                // Two segments: both neighbours of each row are the other unknown.
-                let s = a.sub[0] + a.sup[0];
-                (a.sup[0], a.sub[1]) = (s, s);
-                solve_tridiagonal(a, &mut rhs[..rows * dim], dim, &mut self.fill)
-            } else {
-                // a.sub[0] and a.sup[rows − 1] are the corners A[0][rows−1] and A[rows−1][0].
-                solve_cyclic(a, &mut rhs[..rows * dim], dim, &mut self.cyclic)
-            }
+        let solved = if rows == 2 {
+            // Two segments: both neighbours of each row are the other unknown.
+            let s = a.sub[0] + a.sup[0];
+            (a.sup[0], a.sub[1]) = (s, s);
+            solve_tridiagonal(a, &mut rhs[..rows * dim], dim, &mut self.fill)
         } else {
-            let sides = condition
-                .sides()
-                .expect("a non-periodic spline has end rows");
-            end_rows(a, rhs, t, values, dim, sides);
-            solve_tridiagonal(a, rhs, dim, &mut self.fill)
+            // a.sub[0] and a.sup[rows − 1] are the corners A[0][rows−1] and A[rows−1][0].
+            solve_cyclic(a, &mut rhs[..rows * dim], dim, &mut self.cyclic)
         };
-        // Strictly increasing knots make every one of these systems nonsingular.
+        // Strictly increasing knots make the system nonsingular.
         debug_assert!(solved.is_ok(), "singular spline system: {solved:?}");
-        if periodic {
-            let (head, tail) = rhs.split_at_mut((n - 1) * dim);
-            tail.copy_from_slice(&head[..dim]);
-        }
+        let (head, tail) = rhs.split_at_mut((n - 1) * dim);
+        tail.copy_from_slice(&head[..dim]);
     }
 }
 
-/// The slope system of ends given by slopes or second derivatives (natural, clamped), row by row (each row scaled by its Δs, as
-/// the interior rows are):
+/// The slope system of a spline's non-periodic ends, row by row (each row scaled by its Δs,
+/// as the interior rows are):
 ///
 /// ```text
 /// first:    S'' = v: 2 m_0 + m_1 = 3 q_0 − vΔ_0/2;                 slope: m_0 = start
@@ -480,7 +463,25 @@ impl Fitter {
 /// last:     S'' = v: m_{n−2} + 2 m_{n−1} = 3 q_{n−2} + vΔ_{n−2}/2;   slope: m_{n−1} = end
 /// ```
 ///
-/// with q_i = (f_{i+1} − f_i)/Δ_i, the chord slopes.
+/// with q_i = (f_{i+1} − f_i)/Δ_i, the chord slopes. Every such row is strictly diagonally
+/// dominant. A not-a-knot end's row (the third derivative continuous at t_1; s = Δ_0 + Δ_1)
+///
+/// ```text
+/// row 0:    Δ_1 m_0 + s m_1 = ((Δ_0 + 2s) Δ_1 q_0 + Δ_0² q_1) / s
+/// ```
+///
+/// is not (s > Δ_1), so it is taken out: row 1 less row 0,
+///
+/// ```text
+/// row 1':   s m_1 + Δ_0 m_2 = (Δ_1² q_0 + Δ_0 (2Δ_0 + 3Δ_1) q_1) / s
+/// ```
+///
+/// is dominant (s > Δ_0) and holds no m_0; row 0 becomes m_0 = 0, solved apart from the rest,
+/// and m_0 is then row 0 solved for it, m_0 = (r_0 − s m_1)/Δ_1 ([`not_a_knot_slopes`]).
+/// This is the first step of elimination with partial pivoting on the whole system (rows 0
+/// and 1 both lead with Δ_1), as SciPy's banded solve takes it. The last end mirrors it (e =
+/// Δ_{n−3} + Δ_{n−2}): row n−2 less row n−1 gives
+/// Δ_{n−2} m_{n−3} + e m_{n−2} = (Δ_{n−2} (3Δ_{n−3} + 2Δ_{n−2}) q_{n−3} + Δ_{n−3}² q_{n−2}) / e.
 struct DominantRows<'a> {
     t: &'a [f64],
     values: &'a [f64],
@@ -503,9 +504,9 @@ impl Rows for DominantRows<'_> {
     #[inline(always)]
     fn next_row(&self, i: usize, carry: &mut Chords, rhs: &mut [f64]) -> (f64, f64, f64) {
         let (t, dim, n) = (self.t, self.dim, self.t.len());
-        if i == 0 || i + 1 >= n || carry.at != i || dim > 4 {
-            // An end row, a sweep's first row, or wide points: built whole, and the chords to
-            // the next row formed for it.
+        if i <= 1 || i + 2 >= n || carry.at != i || dim > 4 {
+            // An end row or its neighbour (a not-a-knot end's rows), a sweep's first row, or
+            // wide points: built whole, and the chords to the next row formed for it.
             let row = self.row(i, rhs);
             if i + 1 < n && dim <= 4 {
                 let inv = 1.0 / (t[i + 1] - t[i]);
@@ -549,6 +550,36 @@ impl Rows for DominantRows<'_> {
             }
         };
         match (i, self.sides) {
+            (0, [Side::NotAKnot, _]) => {
+                rhs.fill(0.0);
+                (0.0, 1.0, 0.0)
+            }
+            (i, [_, Side::NotAKnot]) if i == n - 1 => {
+                rhs.fill(0.0);
+                (0.0, 1.0, 0.0)
+            }
+            (1, [Side::NotAKnot, _]) => {
+                let (d0, d1) = (t[1] - t[0], t[2] - t[1]);
+                let s = d0 + d1;
+                // Each product of two spacings divided by s first: the product alone
+                // underflows for knots 1e-160 apart (overflows for 1e160).
+                let (w0, w1) = (d1 / s * d1, d0 / s * (2.0 * d0 + 3.0 * d1));
+                let (f0, f1, f2) = (point(0), point(1), point(2));
+                for k in 0..dim {
+                    rhs[k] = w0 * ((f1[k] - f0[k]) / d0) + w1 * ((f2[k] - f1[k]) / d1);
+                }
+                (0.0, s, d0)
+            }
+            (i, [_, Side::NotAKnot]) if i == n - 2 => {
+                let (dm, dl) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+                let e = dm + dl;
+                let (wm, wl) = (dl / e * (3.0 * dm + 2.0 * dl), dm / e * dm);
+                let (fm, f, fl) = (point(i - 1), point(i), point(i + 1));
+                for k in 0..dim {
+                    rhs[k] = wm * ((f[k] - fm[k]) / dm) + wl * ((fl[k] - f[k]) / dl);
+                }
+                (dl, e, 0.0)
+            }
             (0, [Side::Slope(start), _]) => {
                 rhs.copy_from_slice(start);
                 (0.0, 1.0, 0.0)
@@ -586,73 +617,37 @@ impl Rows for DominantRows<'_> {
     }
 }
 
-/// The first and last rows of a non-periodic slope system, each scaled like its neighbours.
-fn end_rows(
-    a: &mut Tridiagonal,
-    rhs: &mut [f64],
+/// The slope of each not-a-knot end, from the solved system (where it was set to zero): its
+/// own row solved for it, m_0 = (r_0 − s m_1)/Δ_1 at the start (see [`DominantRows`]),
+/// m_{n−1} = (r_{n−1} − e m_{n−2})/Δ_{n−3} at the end.
+fn not_a_knot_slopes(
     t: &[f64],
     values: &[f64],
     dim: usize,
     sides: [Side<'_>; 2],
+    slopes: &mut [f64],
 ) {
     let n = t.len();
     let dt = |i: usize| t[i + 1] - t[i];
     let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
-    let last = n - 1;
-    let (first_rhs, rest) = rhs.split_at_mut(dim);
-    let last_rhs = &mut rest[(last - 1) * dim..];
-    match sides[0] {
-        Side::Curvature(v) => {
-            // Δ (2 m_0 + m_1) = Δ (3 q_0 − vΔ/2).
-            let d0 = dt(0);
-            (a.diag[0], a.sup[0]) = (2.0 * d0, d0);
-            for k in 0..dim {
-                first_rhs[k] = d0 * (3.0 * q(0, k) - v.map_or(0.0, |v| 0.5 * v[k] * d0));
-            }
-        }
-        Side::Slope(start) => {
-            let d0 = dt(0);
-            (a.diag[0], a.sup[0]) = (d0, 0.0);
-            for k in 0..dim {
-                first_rhs[k] = d0 * start[k];
-            }
-        }
-        Side::NotAKnot => {
-            let (d0, d1) = (dt(0), dt(1));
-            let s = d0 + d1;
-            (a.diag[0], a.sup[0]) = (d1, s);
-            // Each product of two spacings divided by s first: the spacings' product alone
-            // underflows for knots 1e-160 apart (overflows for 1e160).
-            let (w0, w1) = ((d0 + 2.0 * s) / s * d1, d0 / s * d0);
-            for (k, r) in first_rhs.iter_mut().enumerate() {
-                *r = w0 * q(0, k) + w1 * q(1, k);
-            }
+    if let Side::NotAKnot = sides[0] {
+        let (d0, d1) = (dt(0), dt(1));
+        let s = d0 + d1;
+        // Each product of two spacings divided by s first: the spacings' product alone
+        // underflows for knots 1e-160 apart (overflows for 1e160).
+        let (w0, w1) = ((d0 + 2.0 * s) / s * d1, d0 / s * d0);
+        for k in 0..dim {
+            let r = w0 * q(0, k) + w1 * q(1, k);
+            slopes[k] = (r - s * slopes[dim + k]) / d1;
         }
     }
-    match sides[1] {
-        Side::Curvature(v) => {
-            // Δ (m_{n−2} + 2 m_{n−1}) = Δ (3 q_{n−2} + vΔ/2).
-            let dl = dt(n - 2);
-            (a.sub[last], a.diag[last]) = (dl, 2.0 * dl);
-            for k in 0..dim {
-                last_rhs[k] = dl * (3.0 * q(n - 2, k) + v.map_or(0.0, |v| 0.5 * v[k] * dl));
-            }
-        }
-        Side::Slope(end) => {
-            let dl = dt(n - 2);
-            (a.sub[last], a.diag[last]) = (0.0, dl);
-            for k in 0..dim {
-                last_rhs[k] = dl * end[k];
-            }
-        }
-        Side::NotAKnot => {
-            let (dl, dm) = (dt(n - 2), dt(n - 3));
-            let e = dl + dm;
-            (a.sub[last], a.diag[last]) = (e, dm);
-            let (wm, wl) = (dl / e * dl, (2.0 * e + dl) / e * dm);
-            for (k, r) in last_rhs.iter_mut().enumerate() {
-                *r = wm * q(n - 3, k) + wl * q(n - 2, k);
-            }
+    if let Side::NotAKnot = sides[1] {
+        let (dm, dl) = (dt(n - 3), dt(n - 2));
+        let e = dl + dm;
+        let (wm, wl) = (dl / e * dl, (2.0 * e + dl) / e * dm);
+        for k in 0..dim {
+            let r = wm * q(n - 3, k) + wl * q(n - 2, k);
+            slopes[(n - 1) * dim + k] = (r - e * slopes[(n - 2) * dim + k]) / dm;
         }
     }
 }

@@ -30,7 +30,7 @@ fn conditions(dim: usize) -> Vec<EndCondition> {
 
 /// `n` points, closed when `condition` is periodic.
 /// Ends given one at a time (SciPy's bc_type pairs): second derivatives, a slope and a
-/// second derivative, not-a-knot and a second derivative.
+/// second derivative, not-a-knot and a second derivative, a slope and not-a-knot.
 fn each_conditions(dim: usize) -> Vec<EndCondition> {
     let values = |scale: f64| (0..dim).map(|k| scale * (k as f64 - 0.7)).collect();
     vec![
@@ -45,6 +45,10 @@ fn each_conditions(dim: usize) -> Vec<EndCondition> {
         EndCondition::Each {
             start: End::NotAKnot,
             end: End::SecondDerivative(values(-4.0)),
+        },
+        EndCondition::Each {
+            start: End::FirstDerivative(values(-1.0)),
+            end: End::NotAKnot,
         },
     ]
 }
@@ -213,9 +217,17 @@ fn fits_match_scipy_cubic_spline() {
 #[test]
 fn every_end_condition_is_c2_and_meets_its_ends() {
     let mut rng = Rng(41);
-    for condition in conditions(3).into_iter().chain(each_conditions(3)) {
-        let t = uneven_knots(15, 1e3, 10.0);
-        let points = data(&mut rng, 15, 3, &condition);
+    // Every condition at its fewest points, and large fits solved in blocks of 65,536 rows on
+    // several threads: the last end's neighbour (a not-a-knot end's own row) first in its
+    // block (131,074 points) and the separator before a block of one row (65,537).
+    let cases = conditions(3).into_iter().chain(each_conditions(3));
+    let cases = cases.flat_map(|c| {
+        let fewest = c.min_points();
+        [fewest, 15, 65_537, 131_074].map(|n| (c.clone(), n))
+    });
+    for (condition, n) in cases {
+        let t = uneven_knots(n, 1e3, 10.0);
+        let points = data(&mut rng, n, 3, &condition);
         let curve = interpolating(condition.clone(), Some(t.clone()), points.clone());
         let table = curve.fit();
         let (mut l, mut r) = ([0.0; 3], [0.0; 3]);
