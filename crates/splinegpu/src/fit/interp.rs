@@ -23,10 +23,12 @@
 //! - periodic (Eberly §4): f_{n−1} = f_0, and the interior row also holds at t_0 with the
 //!   indices taken cyclically over the n − 1 segments. Eberly notes that eliminating its
 //!   block system directly is ill-conditioned; here the cyclic tridiagonal slope system, which
-//!   is strictly diagonally dominant, goes through Sherman–Morrison ([`solve_cyclic`]).
+//!   is strictly diagonally dominant, goes through Sherman–Morrison
+//!   ([`Fitter::solve_periodic`]).
 //!
-//! Every system is solved by banded elimination with partial pivoting, once for all D
-//! coordinates. Segment i is then the cubic Hermite piece of (f_i, m_i, f_{i+1}, m_{i+1}), in
+//! Every system is made strictly diagonally dominant (a not-a-knot end's row is taken out by
+//! its neighbour's, see [`DominantRows`]) and solved by elimination without pivoting in blocks
+//! on every thread ([`solve_blocked`]), once for all D coordinates. Segment i is then the cubic Hermite piece of (f_i, m_i, f_{i+1}, m_{i+1}), in
 //! local u = (t − t_i)/Δ_i:
 //!
 //! ```text
@@ -35,7 +37,7 @@
 //! ```
 
 use super::blocked::{BlockedScratch, Rows, SOLVE_BLOCK, solve_blocked};
-use super::tridiag::{CyclicScratch, Tridiagonal, solve_cyclic, solve_tridiagonal};
+use super::tridiag::{Tridiagonal, solve_tridiagonal};
 use crate::checks::{Order, check_increasing};
 use crate::error::{InputError, Shown};
 use crate::fit::hermite::hermite_segments_for;
@@ -285,7 +287,8 @@ pub struct Fitter {
     slopes: Vec<f64>,
     blocked: BlockedScratch,
     fill: Vec<f64>,
-    cyclic: CyclicScratch,
+    /// A periodic fit's blocked solution: each row's slopes, then z's entry.
+    cyclic: Vec<f64>,
 }
 
 /// Segments below which forming the coefficients stays on the calling thread.
@@ -415,41 +418,86 @@ impl Fitter {
         not_a_knot_slopes(t, values, dim, sides, &mut self.slopes);
     }
 
-    /// Periodic ends: the cyclic system of the n − 1 distinct slopes, solved by
-    /// Sherman–Morrison.
+    /// Periodic ends: the cyclic system of the n − 1 distinct slopes ([`PeriodicRows`]), by
+    /// Sherman–Morrison over the blocked solve: with N = n − 1 rows and γ = −A[0][0],
+    ///
+    /// ```text
+    /// A = T + u vᵀ,  u = (γ, 0, .., 0, A[N−1][0]),  v = (1, 0, .., 0, A[0][N−1]/γ)
+    /// solve T Y = B and T z = u (one solve, z as one more column), then X = Y − z (vᵀY)/(1 + vᵀz)
+    /// ```
+    ///
+    /// T, A without its corners and with its first and last diagonals grown, is strictly
+    /// diagonally dominant as A is, so the blocks' elimination without pivoting is stable.
     fn solve_periodic(&mut self, t: &[f64], values: &[f64], dim: usize) {
         let n = t.len();
-        // A periodic spline has n − 1 distinct slopes (m_{n−1} = m_0).
         let rows = n - 1;
-        let (a, rhs) = (&mut self.system, &mut self.slopes);
-        a.reset(rows);
-        rhs.clear();
-        rhs.resize(n * dim, 0.0);
-        let dt = |i: usize| t[i + 1] - t[i];
-        let q = |i: usize, k: usize| (values[(i + 1) * dim + k] - values[i * dim + k]) / dt(i);
-        // Every row is an interior row, its indices modulo n − 1.
-        for i in 0..rows {
-            let prev = if i == 0 { rows - 1 } else { i - 1 };
-            let (d_prev, d_here) = (dt(prev), dt(i));
-            a.sub[i] = d_here;
-            a.diag[i] = 2.0 * (d_prev + d_here);
-            a.sup[i] = d_prev;
-            for k in 0..dim {
-                rhs[i * dim + k] = 3.0 * (d_here * q(prev, k) + d_prev * q(i, k));
-            }
-        }
-        let solved = if rows == 2 {
+        if rows == 2 {
             // Two segments: both neighbours of each row are the other unknown.
-            let s = a.sub[0] + a.sup[0];
-            (a.sup[0], a.sub[1]) = (s, s);
-            solve_tridiagonal(a, &mut rhs[..rows * dim], dim, &mut self.fill)
-        } else {
-            // a.sub[0] and a.sup[rows − 1] are the corners A[0][rows−1] and A[rows−1][0].
-            solve_cyclic(a, &mut rhs[..rows * dim], dim, &mut self.cyclic)
-        };
+            self.solve_two_periodic(t, values, dim);
+            return;
+        }
+        let system = PeriodicRows::new(t, values, dim);
+        let cols = dim + 1;
+        let threads = crate::available_threads();
+        let solved = &mut self.cyclic;
+        solve_blocked(
+            rows,
+            cols,
+            SOLVE_BLOCK,
+            &system,
+            solved,
+            &mut self.blocked,
+            threads,
+        );
+        let (first, last) = (&solved[..cols], &solved[(rows - 1) * cols..]);
+        let ratio = system.corner_ratio;
+        let denominator = 1.0 + first[dim] + ratio * last[dim];
+        let mut factor = [0.0; crate::MAX_DIM];
+        for k in 0..dim {
+            factor[k] = (first[k] + ratio * last[k]) / denominator;
+        }
+        // X = Y − factor z, row by row on every thread; m_{n−1} = m_0.
+        crate::memory::resize_for_overwrite(&mut self.slopes, n * dim);
+        let per_thread = rows.div_ceil(threads).max(PARALLEL_SEGMENTS);
+        let parts: Vec<_> = self.slopes[..rows * dim]
+            .chunks_mut(per_thread * dim)
+            .zip(solved.chunks(per_thread * cols))
+            .collect();
+        crate::parallel::fan_out(parts, |(x, y)| {
+            for (x, y) in x.chunks_exact_mut(dim).zip(y.chunks_exact(cols)) {
+                for k in 0..dim {
+                    x[k] = y[k] - factor[k] * y[dim];
+                }
+            }
+        });
+        let (head, tail) = self.slopes.split_at_mut(rows * dim);
+        tail.copy_from_slice(&head[..dim]);
+    }
+
+    /// A periodic spline of two segments: its 2 × 2 slope system, each row's two neighbours
+    /// the other unknown.
+    fn solve_two_periodic(&mut self, t: &[f64], values: &[f64], dim: usize) {
+        let (a, rhs) = (&mut self.system, &mut self.slopes);
+        a.reset(2);
+        rhs.clear();
+        rhs.resize(3 * dim, 0.0);
+        let mut row = vec![0.0; dim];
+        let system = PeriodicRows::new(t, values, dim);
+        for i in 0..2 {
+            let (sub, diag, sup) = system.cyclic_row(i, &mut row);
+            (a.sub[i], a.diag[i], a.sup[i]) = (0.0, diag, 0.0);
+            // Both off-diagonal entries of the row multiply the other slope.
+            if i == 0 {
+                a.sup[0] = sub + sup;
+            } else {
+                a.sub[1] = sub + sup;
+            }
+            rhs[i * dim..(i + 1) * dim].copy_from_slice(&row);
+        }
+        let solved = solve_tridiagonal(a, &mut rhs[..2 * dim], dim, &mut self.fill);
         // Strictly increasing knots make the system nonsingular.
         debug_assert!(solved.is_ok(), "singular spline system: {solved:?}");
-        let (head, tail) = rhs.split_at_mut((n - 1) * dim);
+        let (head, tail) = rhs.split_at_mut(2 * dim);
         tail.copy_from_slice(&head[..dim]);
     }
 }
@@ -614,6 +662,82 @@ impl Rows for DominantRows<'_> {
                 (d_here, 2.0 * (d_prev + d_here), d_prev)
             }
         }
+    }
+}
+
+/// A periodic spline's cyclic slope system over its N = n − 1 distinct slopes: every row the
+/// interior row of [`DominantRows`], its indices taken modulo N, so that row 0's sub and
+/// row N − 1's sup are the corners A[0][N−1] and A[N−1][0]. As [`Rows`] it is T of
+/// [`Fitter::solve_periodic`] (corners left out, the two diagonals grown), with u as one
+/// more right-hand side.
+struct PeriodicRows<'a> {
+    t: &'a [f64],
+    values: &'a [f64],
+    dim: usize,
+    /// γ = −A[0][0].
+    gamma: f64,
+    /// A[0][N−1]/γ (formed first: the corners' product underflows for knots 1e-160 apart).
+    corner_ratio: f64,
+    /// A[N−1][0].
+    bottom_left: f64,
+}
+
+impl<'a> PeriodicRows<'a> {
+    fn new(t: &'a [f64], values: &'a [f64], dim: usize) -> Self {
+        let rows = t.len() - 1;
+        let (first, last) = (t[1] - t[0], t[rows] - t[rows - 1]);
+        let gamma = -2.0 * (last + first);
+        Self {
+            t,
+            values,
+            dim,
+            gamma,
+            corner_ratio: first / gamma,
+            bottom_left: t[rows - 1] - t[rows - 2],
+        }
+    }
+
+    /// Row i of A (sub, diag, sup), its right-hand sides into `rhs`.
+    fn cyclic_row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
+        let (t, dim) = (self.t, self.dim);
+        let rows = t.len() - 1;
+        let prev = if i == 0 { rows - 1 } else { i - 1 };
+        let (d_prev, d_here) = (t[prev + 1] - t[prev], t[i + 1] - t[i]);
+        let point = |i: usize| &self.values[i * dim..(i + 1) * dim];
+        let (f_prev, f_prev_next, f, f_next) =
+            (point(prev), point(prev + 1), point(i), point(i + 1));
+        for k in 0..dim {
+            let (q_prev, q) = (
+                (f_prev_next[k] - f_prev[k]) / d_prev,
+                (f_next[k] - f[k]) / d_here,
+            );
+            rhs[k] = 3.0 * (d_here * q_prev + d_prev * q);
+        }
+        (d_here, 2.0 * (d_prev + d_here), d_prev)
+    }
+}
+
+impl Rows for PeriodicRows<'_> {
+    type Carry = ();
+
+    fn row(&self, i: usize, rhs: &mut [f64]) -> (f64, f64, f64) {
+        let (rows, dim) = (self.t.len() - 1, self.dim);
+        let (sub, mut diag, sup) = self.cyclic_row(i, &mut rhs[..dim]);
+        rhs[dim] = 0.0;
+        if i == 0 {
+            diag -= self.gamma;
+            rhs[dim] = self.gamma;
+        }
+        if i == rows - 1 {
+            diag -= self.bottom_left * self.corner_ratio;
+            rhs[dim] = self.bottom_left;
+        }
+        (sub, diag, sup)
+    }
+
+    #[inline(always)]
+    fn next_row(&self, i: usize, (): &mut (), rhs: &mut [f64]) -> (f64, f64, f64) {
+        self.row(i, rhs)
     }
 }
 

@@ -3,8 +3,6 @@
 //! [`solve_tridiagonal`] is Gaussian elimination with partial pivoting restricted to the band
 //! (the scheme of LAPACK's `dgtsv`): stable for any nonsingular tridiagonal matrix, not only
 //! diagonally dominant ones, at the cost of one extra superdiagonal of fill-in.
-//! [`solve_cyclic`] adds the two corner entries of a periodic system through the
-//! Sherman–Morrison formula, which is stable when the matrix is diagonally dominant.
 
 /// A tridiagonal system's three bands: row i reads
 /// `sub[i] x[i-1] + diag[i] x[i] + sup[i] x[i+1]` (`sub[0]` and `sup[n-1]` are ignored).
@@ -102,63 +100,6 @@ pub(crate) fn solve_tridiagonal(
     Ok(())
 }
 
-/// Scratch space for [`solve_cyclic`], reusable between calls.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct CyclicScratch {
-    copy: Tridiagonal,
-    z: Vec<f64>,
-    fill: Vec<f64>,
-}
-
-/// Solves the cyclic system `A X = B` in place, where A is tridiagonal plus the corners
-/// `A[0][n-1] = a.sub[0]` and `A[n-1][0] = a.sup[n-1]`, for n >= 3.
-///
-/// Sherman–Morrison:
-///
-/// ```text
-/// A = T + u vᵀ,  u = (γ, 0, .., 0, A[n-1][0]),  v = (1, 0, .., 0, A[0][n-1]/γ),  γ = −A[0][0]
-/// solve T Y = B and T z = u, then X = Y − z (vᵀY)/(1 + vᵀz)
-/// ```
-///
-/// T stays diagonally dominant when A is, so both solves are stable.
-///
-/// # Errors
-/// The row of a zero pivot (singular system).
-pub(crate) fn solve_cyclic(
-    a: &Tridiagonal,
-    rhs: &mut [f64],
-    cols: usize,
-    scratch: &mut CyclicScratch,
-) -> Result<(), usize> {
-    let n = a.len();
-    debug_assert!(n >= 3);
-    let (top_right, bottom_left) = (a.sub[0], a.sup[n - 1]);
-    let gamma = -a.diag[0];
-    // top_right/gamma first: the entries scale with the spline's spacings, and the product
-    // of two of them underflows for knots 1e-160 apart (overflows for 1e160).
-    let corner_ratio = top_right / gamma;
-    let t = &mut scratch.copy;
-    t.clone_from(a);
-    t.diag[0] -= gamma;
-    t.diag[n - 1] -= bottom_left * corner_ratio;
-    let z = &mut scratch.z;
-    z.clear();
-    z.resize(n, 0.0);
-    z[0] = gamma;
-    z[n - 1] = bottom_left;
-    let mut t2 = t.clone();
-    solve_tridiagonal(t, rhs, cols, &mut scratch.fill)?;
-    solve_tridiagonal(&mut t2, z, 1, &mut scratch.fill)?;
-    let denominator = 1.0 + z[0] + corner_ratio * z[n - 1];
-    for k in 0..cols {
-        let factor = (rhs[k] + corner_ratio * rhs[(n - 1) * cols + k]) / denominator;
-        for i in 0..n {
-            rhs[i * cols + k] -= factor * z[i];
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -192,7 +133,7 @@ mod tests {
         x
     }
 
-    fn dense(a: &Tridiagonal, cyclic: bool) -> Vec<Vec<f64>> {
+    fn dense(a: &Tridiagonal) -> Vec<Vec<f64>> {
         let n = a.len();
         let mut m = vec![vec![0.0; n]; n];
         for i in 0..n {
@@ -203,10 +144,6 @@ mod tests {
             if i + 1 < n {
                 m[i][i + 1] = a.sup[i];
             }
-        }
-        if cyclic {
-            m[0][n - 1] = a.sub[0];
-            m[n - 1][0] = a.sup[n - 1];
         }
         m
     }
@@ -244,30 +181,13 @@ mod tests {
             solve_tridiagonal(&mut a.clone(), &mut x, 2, &mut Vec::new()).unwrap();
             for k in 0..2 {
                 let col: Vec<f64> = (0..n).map(|i| b[i * 2 + k]).collect();
-                let expected = dense_solve(dense(&a, false), col);
+                let expected = dense_solve(dense(&a), col);
                 for i in 0..n {
                     assert!(
                         (x[i * 2 + k] - expected[i]).abs() < 1e-9 * (1.0 + expected[i].abs()),
                         "n={n} i={i}"
                     );
                 }
-            }
-        }
-    }
-
-    #[test]
-    fn cyclic_solve_matches_dense_elimination() {
-        for n in [3, 4, 17] {
-            let a = sample_system(n, true);
-            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.61).sin()).collect();
-            let mut x = b.clone();
-            solve_cyclic(&a, &mut x, 1, &mut CyclicScratch::default()).unwrap();
-            let expected = dense_solve(dense(&a, true), b);
-            for i in 0..n {
-                assert!(
-                    (x[i] - expected[i]).abs() < 1e-12 * (1.0 + expected[i].abs()),
-                    "n={n} i={i}"
-                );
             }
         }
     }
