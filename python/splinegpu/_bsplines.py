@@ -230,13 +230,18 @@ class BSpline:
         return regular
 
     def _columns(self) -> tuple:
-        """t and c as the extension takes them: (t, (c as (rows, m),)) or, for a complex c,
-        (t, (real parts, imaginary parts)); made once (t and c are read-only)."""
+        """t and c as the extension takes them, with what a call reads of them: (t, (c as
+        (rows, m),)) or, for a complex c, (t, (real parts, imaginary parts)), then the base
+        interval [t[k], t[n]] as floats and c's trailing shape; made once (t and c are
+        read-only)."""
         made = self.__dict__.get("_as_columns")
         if made is None:
             c = self.c.reshape(len(self.c), -1)
             parts = (c.real, c.imag) if c.dtype == _COMPLEX else (c,)
-            made = (_f64(self.t), tuple(_f64(part) for part in parts))
+            t, k = self.t, self.k
+            n = len(t) - k - 1
+            made = (_f64(t), tuple(_f64(part) for part in parts), float(t[k]), float(t[n]),
+                    self.c.shape[1:])
             self._as_columns = made
         return made
 
@@ -252,13 +257,11 @@ class BSpline:
             x = np.array(x)
         elif x.__class__ is not np.ndarray or x.dtype != _F64:
             x = _float64(x, "x")
-        flat = _f64(x.reshape(-1))
-        t, k = self.t, self.k
-        n = len(t) - k - 1
-        lo, hi = t[k], t[n]
+        flat = _f64(x if x.ndim == 1 else x.reshape(-1))
+        knots, columns, lo, hi, trailing = self._columns()
+        k = self.k
         if mode == "periodic":
             flat = lo + np.mod(flat - lo, hi - lo)
-        knots, columns = self._columns()
         powers = mode is True and regular
         if len(columns) == 2:
             out = (_native.evaluate_bspline(knots, columns[0], k, flat, nu, powers)
@@ -267,7 +270,9 @@ class BSpline:
             out = _native.evaluate_bspline(knots, columns[0], k, flat, nu, powers)
         if mode is False:
             out[(flat < lo) | (flat > hi)] = np.nan
-        out = out.reshape(x.shape + self.c.shape[1:])
+        if x.ndim != 1 or len(trailing) != 1:
+            # The extension's (len(x), m) is the shape already where both are 1-D.
+            out = out.reshape(x.shape + trailing)
         if self.axis != 0 and x.ndim > 0:
             out = np.moveaxis(out, list(range(x.ndim)),
                               list(range(self.axis, self.axis + x.ndim)))
