@@ -190,12 +190,12 @@ pub(crate) fn write<F: SampleFloat>(
     }
 }
 
-fn tube(
+fn tube<F: SampleFloat>(
     sections: &[Section],
     sides: u32,
     caps: bool,
     closed: bool,
-    out: &mut MeshOut<'_, impl SampleFloat>,
+    out: &mut MeshOut<'_, F>,
 ) {
     let s = sides as usize;
     let rings = if closed {
@@ -208,25 +208,50 @@ fn tube(
         .map(|k| (std::f64::consts::TAU * k as f64 / s as f64).sin_cos())
         .collect();
     for (j, section) in sections[..rings].iter().enumerate() {
-        let b = cross(section.tangent, section.normal);
+        let (tangent, normal, r) = (section.tangent, section.normal, section.width);
+        let b = cross(tangent, normal);
         let speed = dot(section.d1, section.d1).sqrt();
         // T_s and r_s of the module's docs.
         let (bend, slope) = if speed > 0.0 {
-            let along = dot(section.d2, section.tangent);
+            let along = dot(section.d2, tangent);
             let bend = std::array::from_fn::<f64, 3, _>(|i| {
-                (section.d2[i] - along * section.tangent[i]) / (speed * speed)
+                (section.d2[i] - along * tangent[i]) / (speed * speed)
             });
             (bend, section.width_d1 / speed)
         } else {
             ([0.0; 3], 0.0)
         };
-        for (k, &(sin, cos)) in turns.iter().enumerate() {
-            let e: Vec3 = std::array::from_fn(|i| cos * section.normal[i] + sin * b[i]);
-            let position = std::array::from_fn(|i| section.position[i] + section.width * e[i]);
-            let stretch = 1.0 - section.width * dot(bend, e);
-            let n: Vec3 = std::array::from_fn(|i| stretch * e[i] - slope * section.tangent[i]);
-            let n = unit(n).unwrap_or(e);
-            out.vertex(j * s + k, position, n, section.t);
+        // T_s · e = cos θ (T_s · N) + sin θ (T_s · B): two dots a ring, not one a vertex.
+        let (bend_n, bend_b) = (dot(bend, normal), dot(bend, b));
+        let ring = j * s..(j + 1) * s;
+        let points = out.points[3 * ring.start..3 * ring.end].chunks_exact_mut(3);
+        let normals = out.normals[3 * ring.start..3 * ring.end].chunks_exact_mut(3);
+        for ((&(sin, cos), point), vertex_normal) in turns.iter().zip(points).zip(normals) {
+            let e: Vec3 = std::array::from_fn(|i| cos * normal[i] + sin * b[i]);
+            let stretch = 1.0 - r * (cos * bend_n + sin * bend_b);
+            // e is a unit vector across T, so |stretch e − r_s T|² = stretch² + r_s²: where
+            // the radius is constant (r_s = 0), n is ±e.
+            let n: Vec3 = if slope == 0.0 && stretch > 0.0 {
+                e
+            } else if slope == 0.0 && stretch < 0.0 {
+                e.map(|x| -x)
+            } else {
+                let size = (stretch * stretch + slope * slope).sqrt();
+                if size >= f64::MIN_POSITIVE && size.is_finite() {
+                    let inverse = 1.0 / size;
+                    std::array::from_fn(|i| (stretch * e[i] - slope * tangent[i]) * inverse)
+                } else {
+                    let n = std::array::from_fn(|i| stretch * e[i] - slope * tangent[i]);
+                    unit(n).unwrap_or(e)
+                }
+            };
+            for i in 0..3 {
+                point[i] = F::from_f64(section.position[i] + r * e[i]);
+                vertex_normal[i] = F::from_f64(n[i]);
+            }
+        }
+        if out.topology {
+            out.t[ring].fill(section.t);
         }
     }
     if caps {
