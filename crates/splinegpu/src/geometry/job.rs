@@ -9,7 +9,7 @@ use super::frames::{self, Vec3};
 use super::mesh::{self, MeshOut, Section, Shape};
 use super::stroke::StrokePlan;
 use super::tolerance::{self, Carried, FrameSlack, Swept};
-use super::{Cap, Geometry, dash, widen};
+use super::{Cap, Geometry, Width, dash, widen};
 use crate::conventions::Ends;
 use crate::curve::{Curve, CurveKind};
 use crate::error::{InputError, Shown};
@@ -1046,9 +1046,21 @@ fn make<F: SampleFloat>(planned: &Planned, out: &mut MeshOut<'_, F>) {
             dashes,
         } => (locs, lengths, *shape, *n0, dashes),
     };
+    // A constant width is the width itself, not the widened table's value (w within a
+    // rounding, w' of 1e-18 where the fit's sums do not cancel exactly).
+    let constant = match planned.geometry.width().0 {
+        Width::Constant(w) => Some(*w),
+        Width::PerPoint(_) => None,
+    };
     let mut sections: Vec<Section> = locs
         .iter()
-        .map(|&loc| section(&planned.table, loc))
+        .map(|&loc| {
+            let mut s = section(&planned.table, loc);
+            if let Some(w) = constant {
+                (s.width, s.width_d1) = (w, 0.0);
+            }
+            s
+        })
         .collect();
     let d1: Vec<Vec3> = sections.iter().map(|s| s.d1).collect();
     let d2: Vec<Vec3> = sections.iter().map(|s| s.d2).collect();
