@@ -134,27 +134,49 @@ pub fn first_normal(t0: Vec3, up: Option<Vec3>) -> Result<Vec3, InputError> {
 
 /// The normals N_j carried from `n0` along the cross-sections at `positions` with unit
 /// `tangents`, by double reflection (the module's docs).
+///
+/// A step is linear in the normal it carries (two reflections, then the part along T_{j+1}
+/// removed), so the chain of steps carries N_j times a length near 1 and each N_j is that
+/// vector normalized where it is written: the normalization (a square root and a division)
+/// stays off the chain, whose every step waits on the one before. The carried vector is made
+/// unit again only where its length leaves [1/2, 2] (rounding moves it by about 1e-16 a step).
 #[must_use]
 pub fn rotation_minimizing(positions: &[Vec3], tangents: &[Vec3], n0: Vec3) -> Vec<Vec3> {
     let mut normals = Vec::with_capacity(positions.len());
-    let mut n = n0;
+    let mut carried = n0;
     for j in 0..positions.len() {
-        if j > 0 {
-            n = reflected_twice(
-                positions[j - 1],
-                positions[j],
-                tangents[j - 1],
-                tangents[j],
-                n,
-            );
+        if j == 0 {
+            normals.push(n0);
+            continue;
         }
-        normals.push(n);
+        let t1 = tangents[j];
+        let turned = reflect_twice(positions[j - 1], positions[j], tangents[j - 1], t1, carried);
+        let across = axpy(-dot(turned, t1), t1, turned);
+        let normal = match unit(across) {
+            Some(normal) => {
+                let size = dot(across, across);
+                carried = if (0.25..=4.0).contains(&size) {
+                    across
+                } else {
+                    normal
+                };
+                normal
+            }
+            None => {
+                let normal = resumed(normals[j - 1], t1);
+                carried = normal;
+                normal
+            }
+        };
+        normals.push(normal);
     }
     normals
 }
 
-/// One double-reflection step from cross-section (x0, t0, n0) to (x1, t1).
-fn reflected_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
+/// The two reflections of one double-reflection step from cross-section (x0, t0) to (x1, t1)
+/// applied to `n0` (of any length; the step is linear in it): a reflection is left out where
+/// its c is 0. Rounding aside, the result is perpendicular to t1.
+fn reflect_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
     let v1 = sub(x1, x0);
     let c1 = dot(v1, v1);
     let (r, t) = if c1 > 0.0 {
@@ -167,16 +189,24 @@ fn reflected_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
     };
     let v2 = sub(t1, t);
     let c2 = dot(v2, v2);
-    let n1 = if c2 > 0.0 {
+    if c2 > 0.0 {
         axpy(-2.0 / c2 * dot(v2, r), v2, r)
     } else {
         r
-    };
-    // Rounding aside, n1 is perpendicular to t1 already; where it is not (a step across a
-    // cusp), the projection keeps the frame orthonormal.
-    perpendicular(n1, t1)
-        .or_else(|| perpendicular(n0, t1))
-        .unwrap_or_else(|| first_normal(t1, None).expect("no up to refuse"))
+    }
+}
+
+/// The normal after a step whose reflected normal has no part across t1 (a step across a
+/// cusp): the last normal made perpendicular to t1, or else t1's own first normal.
+fn resumed(n0: Vec3, t1: Vec3) -> Vec3 {
+    perpendicular(n0, t1).unwrap_or_else(|| first_normal(t1, None).expect("no up to refuse"))
+}
+
+/// One double-reflection step from cross-section (x0, t0, n0) to (x1, t1): the reflected
+/// normal made perpendicular to t1 and normalized again (where it has no part across t1, as
+/// [`resumed`]).
+fn reflected_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
+    perpendicular(reflect_twice(x0, x1, t0, t1, n0), t1).unwrap_or_else(|| resumed(n0, t1))
 }
 
 /// The angle about `t1` by which the double-reflection step from (x0, t0) to (x1, t1) turns a
