@@ -749,8 +749,10 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
     // The places are the position's: its arc length, not the widened curve's.
     let position = curve.fit();
     let closed = is_closed(curve.kind());
-    // The arc length, where dashes are laid by it or a closed tube's frames closed up by it.
-    let map = (geometry.dash().is_some() || (closed && shape.is_some()))
+    // The arc length, where dashes are laid by it or a closed tube's frames closed up within
+    // a tolerance (whose placement needs the curve's length first); a per_segment or
+    // arc_length closed tube measures the lengths to its places alone (`dash::lengths_to`).
+    let map = (geometry.dash().is_some() || (closed && shape.is_some() && tolerance.is_some()))
         .then(|| dash::ArcMap::new(&position));
     let mut locs = match tolerance {
         None => {
@@ -854,10 +856,10 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
             }
         };
         // The arc length to each cross-section of a closed curve, whose frames are closed up.
-        let lengths: Option<Vec<f64>> = map
-            .as_ref()
-            .filter(|_| closed)
-            .map(|map| merged.iter().map(|&loc| map.length_to(loc)).collect());
+        let lengths: Option<Vec<f64>> = closed.then(|| match &map {
+            Some(map) => merged.iter().map(|&loc| map.length_to(loc)).collect(),
+            None => dash::lengths_to(&position, &merged),
+        });
         let Some(tol) = tolerance else {
             break (merged, indices, lengths);
         };
