@@ -189,8 +189,17 @@ impl CellBounds {
         if dim > COORDS {
             return None;
         }
-        let position = dim - 1;
         let (m, rho) = (0.5 * (ua + ub), 0.5 * (ub - ua));
+        if segment.denominator().is_none() {
+            return Self::of_polynomial(segment, m, rho);
+        }
+        Self::general(segment, m, rho)
+    }
+
+    /// [`CellBounds::of`] about m, radius ρ, for any segment (W ≡ 1 for a polynomial one).
+    fn general(segment: &Segment<'_>, m: f64, rho: f64) -> Option<Self> {
+        let dim = segment.power()[0].len();
+        let position = dim - 1;
         let [a, b, c, d] = segment.power();
         let rational = segment.denominator().is_some();
         let w_coeffs = segment.denominator().map_or([1.0, 0.0, 0.0, 0.0], |w| {
@@ -237,6 +246,70 @@ impl CellBounds {
         let w_hi = w_max[0];
         let v_lo = min_norm(&speed, rho) / (w_hi * w_hi);
         let v_hi = derivative_maxima(&speed, rho)[0] / (w_lo * w_lo);
+        let bounds = Self {
+            k2,
+            k3,
+            v_lo,
+            v_hi,
+            w_max: w_mid.abs() + kw0,
+            w_lo: w_mid - kw0,
+            w1: kw1,
+            w2: kw2,
+        };
+        [k2, k3, v_lo, v_hi, kw0, kw1, kw2]
+            .iter()
+            .all(|v| v.is_finite())
+            .then_some(bounds)
+    }
+
+    /// [`CellBounds::of`] for a polynomial segment (W ≡ 1) about m, radius ρ, with the same
+    /// arithmetic and so the same bits: Ñ is N without its constant term, the quotient rule's
+    /// bounds are Ñ's own maxima, and the sums over Taylor coefficients stop at the cubic's
+    /// (the general path adds zeros past them). Six square roots where the general path takes
+    /// twenty-four; a stroke's placement asks for bounds several times a segment.
+    fn of_polynomial(segment: &Segment<'_>, m: f64, rho: f64) -> Option<Self> {
+        let [a, b, c, d] = segment.power();
+        let position = a.len() - 1;
+        // Each coordinate's Taylor coefficients about m less the constant: [0, n1, n2, n3].
+        let shifted = |k: usize| {
+            let n = taylor([0.0, c[k], b[k], a[k]], m);
+            (n[0], [n[1], n[2], n[3]])
+        };
+        // Per power, the norm over the position's coordinates (of Ñ, then of Ñ' = the speed).
+        let (mut n_sq, mut v_sq) = ([0.0; 3], [0.0; 3]);
+        for k in 0..position {
+            let (_, n) = shifted(k);
+            let v = [n[0], n[1] * 2.0, n[2] * 3.0];
+            for j in 0..3 {
+                n_sq[j] += n[j] * n[j];
+                v_sq[j] += v[j] * v[j];
+            }
+        }
+        let v_norm = v_sq.map(f64::sqrt);
+        // Ñ's norms per power, its constant's 0.
+        let n_norm = [0.0, n_sq[0].sqrt(), n_sq[1].sqrt(), n_sq[2].sqrt()];
+        // derivative_maxima's Horner sums, from the cubic's term down.
+        let maxima = |norms: [f64; 4], i: usize| {
+            let mut total = 0.0;
+            for j in (i..4).rev() {
+                total = total * rho + norms[j] * FALLING[i][j];
+            }
+            total
+        };
+        let (k2, k3) = (maxima(n_norm, 2), maxima(n_norm, 3));
+        let (value, w) = shifted(position);
+        let w_abs = [
+            0.0,
+            (w[0] * w[0]).sqrt(),
+            (w[1] * w[1]).sqrt(),
+            (w[2] * w[2]).sqrt(),
+        ];
+        let [kw0, kw1, kw2] = [0, 1, 2].map(|i| maxima(w_abs, i));
+        // The speed's norms as a quadratic's: min_norm and the value's maximum.
+        let rest = ((v_norm[2] * rho) + v_norm[1]) * rho;
+        let v_lo = v_norm[0] - rest;
+        let v_hi = (v_norm[2] * rho + v_norm[1]) * rho + v_norm[0];
+        let w_mid = d[position] + value;
         let bounds = Self {
             k2,
             k3,
@@ -756,6 +829,30 @@ mod tests {
             out.push(Curve::new(nurbs, points).unwrap().fit());
         }
         out
+    }
+
+    /// A polynomial segment's bounds are the general path's bit for bit (the general path
+    /// with W ≡ 1 as a rational segment's would take it).
+    #[test]
+    fn polynomial_bounds_are_the_general_paths() {
+        let mut rng = Rng(91);
+        for table in tables(&mut rng) {
+            for s in 0..table.len() {
+                let segment = table.segment(s);
+                if segment.denominator().is_some() {
+                    continue;
+                }
+                for (ua, ub) in [(0.0, 1.0), (0.25, 0.5), (0.9, 0.95), (0.0, 1e-9)] {
+                    let (m, rho) = (0.5 * (ua + ub), 0.5 * (ub - ua));
+                    let general = CellBounds::general(&segment, m, rho).unwrap();
+                    let polynomial = CellBounds::of(&segment, ua, ub).unwrap();
+                    let bits = |b: CellBounds| {
+                        [b.k2, b.k3, b.v_lo, b.v_hi, b.w_max, b.w_lo, b.w1, b.w2].map(f64::to_bits)
+                    };
+                    assert_eq!(bits(general), bits(polynomial), "segment {s} [{ua}, {ub}]");
+                }
+            }
+        }
     }
 
     /// Every bound holds against the values on a dense grid of the cell (derivatives in u).
