@@ -143,13 +143,20 @@ fn unit2(v: [f64; 2]) -> Option<[f64; 2]> {
     (length > 0.0 && length.is_finite()).then(|| [v[0] / length, v[1] / length])
 }
 
-/// The table's position derivatives at (segment, u): C' and C'' (the first two coordinates).
-fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], [f64; 2]) {
+/// The table's position derivatives at (segment, u) (the first two coordinates): C', and C''
+/// only where C' gives no direction (zero, or not finite), the one place a tangent reads it
+/// ([`tangent_of`]): most places need C' alone.
+fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], Option<[f64; 2]>) {
     let s = table.segment(segment);
-    let (mut d1, mut d2) = ([0.0; 3], [0.0; 3]);
-    s.deriv(u, &mut d1);
-    s.deriv2(u, &mut d2);
-    ([d1[0], d1[1]], [d2[0], d2[1]])
+    let mut d = [0.0; 3];
+    s.deriv(u, &mut d);
+    let d1 = [d[0], d[1]];
+    let directionless = d1 == [0.0, 0.0] || !(d1[0].is_finite() && d1[1].is_finite());
+    let d2 = directionless.then(|| {
+        s.deriv2(u, &mut d);
+        [d[0], d[1]]
+    });
+    (d1, d2)
 }
 
 /// The unit tangent at (segment, u) approached from above (`below` false) or below.
@@ -158,9 +165,13 @@ fn tangent(table: &SegmentTable, segment: usize, u: f64, below: bool) -> Option<
     tangent_of(d1, d2, below)
 }
 
-/// The unit tangent from C' and C'' (C''s direction, reversed from below, where C' = 0).
-fn tangent_of(d1: [f64; 2], d2: [f64; 2], below: bool) -> Option<[f64; 2]> {
-    unit2(d1).or_else(|| unit2(d2).map(|t| if below { [-t[0], -t[1]] } else { t }))
+/// The unit tangent from C' and C'' (C''s direction, reversed from below, where C' = 0; C''
+/// is given there, see [`derivatives`]).
+fn tangent_of(d1: [f64; 2], d2: Option<[f64; 2]>, below: bool) -> Option<[f64; 2]> {
+    unit2(d1).or_else(|| {
+        d2.and_then(unit2)
+            .map(|t| if below { [-t[0], -t[1]] } else { t })
+    })
 }
 
 fn turn(a: [f64; 2], b: [f64; 2]) -> f64 {
