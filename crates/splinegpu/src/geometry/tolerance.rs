@@ -246,26 +246,13 @@ impl CellBounds {
         let w_hi = w_max[0];
         let v_lo = min_norm(&speed, rho) / (w_hi * w_hi);
         let v_hi = derivative_maxima(&speed, rho)[0] / (w_lo * w_lo);
-        let bounds = Self {
-            k2,
-            k3,
-            v_lo,
-            v_hi,
-            w_max: w_mid.abs() + kw0,
-            w_lo: w_mid - kw0,
-            w1: kw1,
-            w2: kw2,
-        };
-        [k2, k3, v_lo, v_hi, kw0, kw1, kw2]
-            .iter()
-            .all(|v| v.is_finite())
-            .then_some(bounds)
+        Self::finite([k2, k3], [v_lo, v_hi], w_mid, [kw0, kw1, kw2])
     }
 
     /// [`CellBounds::of`] for a polynomial segment (W ≡ 1) about m, radius ρ, with the same
     /// arithmetic and so the same bits: Ñ is N without its constant term, the quotient rule's
     /// bounds are Ñ's own maxima, and the sums over Taylor coefficients stop at the cubic's
-    /// (the general path adds zeros past them). Six square roots where the general path takes
+    /// (the general path adds zeros past them). Nine square roots where the general path takes
     /// twenty-four; a stroke's placement asks for bounds several times a segment.
     fn of_polynomial(segment: &Segment<'_>, m: f64, rho: f64) -> Option<Self> {
         let [a, b, c, d] = segment.power();
@@ -310,19 +297,26 @@ impl CellBounds {
         let v_lo = v_norm[0] - rest;
         let v_hi = (v_norm[2] * rho + v_norm[1]) * rho + v_norm[0];
         let w_mid = d[position] + value;
+        Self::finite([k2, k3], [v_lo, v_hi], w_mid, [kw0, kw1, kw2])
+    }
+
+    /// The bounds from K2, K3, the speed's bounds, the width at m and the width's maxima
+    /// about it; `None` where one is not finite.
+    fn finite(k: [f64; 2], v: [f64; 2], w_mid: f64, kw: [f64; 3]) -> Option<Self> {
         let bounds = Self {
-            k2,
-            k3,
-            v_lo,
-            v_hi,
-            w_max: w_mid.abs() + kw0,
-            w_lo: w_mid - kw0,
-            w1: kw1,
-            w2: kw2,
+            k2: k[0],
+            k3: k[1],
+            v_lo: v[0],
+            v_hi: v[1],
+            w_max: w_mid.abs() + kw[0],
+            w_lo: w_mid - kw[0],
+            w1: kw[1],
+            w2: kw[2],
         };
-        [k2, k3, v_lo, v_hi, kw0, kw1, kw2]
-            .iter()
-            .all(|v| v.is_finite())
+        k.iter()
+            .chain(&v)
+            .chain(&kw)
+            .all(|x| x.is_finite())
             .then_some(bounds)
     }
 
