@@ -28,8 +28,8 @@
 //!
 //! Every system is made strictly diagonally dominant (a not-a-knot end's row is taken out by
 //! its neighbour's, see [`DominantRows`]) and solved by elimination without pivoting in blocks
-//! on every thread ([`solve_blocked`]), once for all D coordinates. Segment i is then the cubic Hermite piece of (f_i, m_i, f_{i+1}, m_{i+1}), in
-//! local u = (t − t_i)/Δ_i:
+//! on every thread ([`solve_blocked`]), once for all D coordinates. Segment i is then the
+//! cubic Hermite piece of (f_i, m_i, f_{i+1}, m_{i+1}), in local u = (t − t_i)/Δ_i:
 //!
 //! ```text
 //! A = 2(f_i − f_{i+1}) + Δ_i (m_i + m_{i+1})     B = 3(f_{i+1} − f_i) − Δ_i (2m_i + m_{i+1})
