@@ -794,13 +794,8 @@ mod tests {
     /// random u), the two agree.
     #[test]
     fn kinks_skipped_by_the_bound_are_none_the_search_finds() {
-        let mut state = 7u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::support::Rng(7);
+        let mut next = || rng.range(-1.0, 1.0);
         let (mut skipped, mut kinked) = (0, 0);
         for i in 0..4000 {
             // P'(u) = a u² + b u + c per coordinate; a cusp at u0 where P'(u0) = 0.
