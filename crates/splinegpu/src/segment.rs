@@ -473,6 +473,26 @@ impl Segment<'_> {
         self.derivative_into(2, u, out);
     }
 
+    /// P, dP/dt and d2P/dt2 at local u into `p`, `d1` and `d2` at once: the values
+    /// [`Segment::eval`], [`Segment::deriv`] and [`Segment::deriv2`] give, bit for bit, with
+    /// the segment's coefficients read once.
+    #[inline]
+    pub(crate) fn jet(&self, u: f64, p: &mut [f64], d1: &mut [f64], d2: &mut [f64]) {
+        if self.denominator.is_some() {
+            for (order, out) in [p, d1, d2].into_iter().enumerate() {
+                self.derivative_into(order, u, out);
+            }
+            return;
+        }
+        let [a, b, c, d] = self.power();
+        let inv_dt = 1.0 / self.dt;
+        for k in 0..self.dim {
+            p[k] = position(a[k], b[k], c[k], d[k], u);
+            d1[k] = first_derivative(a[k], b[k], c[k], u, inv_dt);
+            d2[k] = second_derivative(a[k], b[k], u, inv_dt);
+        }
+    }
+
     /// d^order P/dt^order (order 0..=3) at local u into `out`, by the formulas of
     /// [`position`] and its siblings, or of [`rational`](crate::rational) on a rational
     /// segment.

@@ -1010,12 +1010,11 @@ fn merge_by_t(
 }
 
 /// The widened table at one place: position, derivatives and width (its frame not yet set).
+#[inline]
 fn section(table: &SegmentTable, loc: SampleLoc) -> Section {
     let segment = table.segment(loc.segment);
     let (mut p, mut d1, mut d2) = ([0.0; 4], [0.0; 4], [0.0; 4]);
-    segment.eval(loc.u, &mut p);
-    segment.deriv(loc.u, &mut d1);
-    segment.deriv2(loc.u, &mut d2);
+    segment.jet(loc.u, &mut p, &mut d1, &mut d2);
     let clamped = p[3] < 0.0;
     Section {
         t: loc.t,
