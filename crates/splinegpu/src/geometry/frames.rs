@@ -135,13 +135,26 @@ pub fn first_normal(t0: Vec3, up: Option<Vec3>) -> Result<Vec3, InputError> {
 /// The normals N_j carried from `n0` along the cross-sections at `positions` with unit
 /// `tangents`, by double reflection (the module's docs).
 ///
-/// A step is linear in the normal it carries (two reflections, then the part along T_{j+1}
-/// removed), so the chain of steps carries N_j times a length near 1 and each N_j is that
-/// vector normalized where it is written: the normalization (a square root and a division)
-/// stays off the chain, whose every step waits on the one before. The carried vector is made
-/// unit again only where its length leaves [1/2, 2] (rounding moves it by about 1e-16 a step).
+/// A step is linear in the normal it carries: with w = v2 - (2/c1)(v1·v2) v1 (v2 reflected in
+/// the first plane), the two reflections take n to
+///
+/// ```text
+/// n - a v1 - b v2,   a = (2/c1)(v1·n),   b = (2/c2)(w·n)
+/// ```
+///
+/// whose two dots do not wait on each other. v1, v2, w and the two ratios depend on the
+/// cross-sections alone ([`Step`]), so the chain of steps, each waiting on the one before, is
+/// two dots and three multiply-adds long; the carried vector keeps its rounding-level part
+/// along the tangent (a step takes T_j onto T_{j+1}, so that part neither grows nor turns
+/// across) and each N_j is it made perpendicular to T_j and normalized where it is written.
+/// The carried vector is made unit again only where its length leaves [1/2, 2] (rounding moves
+/// it by about 1e-16 a step).
 #[must_use]
 pub fn rotation_minimizing(positions: &[Vec3], tangents: &[Vec3], n0: Vec3) -> Vec<Vec3> {
+    // The steps first, each on its own: their divisions overlap.
+    let steps: Vec<Step> = (1..positions.len())
+        .map(|j| Step::new(positions[j - 1], positions[j], tangents[j - 1], tangents[j]))
+        .collect();
     let mut normals = Vec::with_capacity(positions.len());
     let mut carried = n0;
     for j in 0..positions.len() {
@@ -150,13 +163,13 @@ pub fn rotation_minimizing(positions: &[Vec3], tangents: &[Vec3], n0: Vec3) -> V
             continue;
         }
         let t1 = tangents[j];
-        let turned = reflect_twice(positions[j - 1], positions[j], tangents[j - 1], t1, carried);
+        let turned = steps[j - 1].apply(carried);
         let across = axpy(-dot(turned, t1), t1, turned);
         let normal = match unit(across) {
             Some(normal) => {
-                let size = dot(across, across);
+                let size = dot(turned, turned);
                 carried = if (0.25..=4.0).contains(&size) {
-                    across
+                    turned
                 } else {
                     normal
                 };
@@ -173,26 +186,35 @@ pub fn rotation_minimizing(positions: &[Vec3], tangents: &[Vec3], n0: Vec3) -> V
     normals
 }
 
-/// The two reflections of one double-reflection step from cross-section (x0, t0) to (x1, t1)
-/// applied to `n0` (of any length; the step is linear in it): a reflection is left out where
-/// its c is 0. Rounding aside, the result is perpendicular to t1.
-fn reflect_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
-    let v1 = sub(x1, x0);
-    let c1 = dot(v1, v1);
-    let (r, t) = if c1 > 0.0 {
-        (
-            axpy(-2.0 / c1 * dot(v1, n0), v1, n0),
-            axpy(-2.0 / c1 * dot(v1, t0), v1, t0),
-        )
-    } else {
-        (n0, t0)
-    };
-    let v2 = sub(t1, t);
-    let c2 = dot(v2, v2);
-    if c2 > 0.0 {
-        axpy(-2.0 / c2 * dot(v2, r), v2, r)
-    } else {
-        r
+/// One double-reflection step from cross-section (x0, t0) to (x1, t1) as the linear map
+/// n ↦ n - (k1 v1·n) v1 - (k2 w·n) v2 (k = 2/c; a reflection whose c is 0 left out: its k
+/// is 0).
+struct Step {
+    v1: Vec3,
+    k1: f64,
+    v2: Vec3,
+    k2: f64,
+    w: Vec3,
+}
+
+impl Step {
+    fn new(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3) -> Self {
+        let v1 = sub(x1, x0);
+        let c1 = dot(v1, v1);
+        let k1 = if c1 > 0.0 { 2.0 / c1 } else { 0.0 };
+        let v2 = sub(t1, axpy(-k1 * dot(v1, t0), v1, t0));
+        let c2 = dot(v2, v2);
+        let k2 = if c2 > 0.0 { 2.0 / c2 } else { 0.0 };
+        let w = axpy(-k1 * dot(v1, v2), v1, v2);
+        Self { v1, k1, v2, k2, w }
+    }
+
+    /// The step applied to `n` (of any length). Rounding aside, a normal across t0 comes out
+    /// across t1.
+    #[inline]
+    fn apply(&self, n: Vec3) -> Vec3 {
+        let (a, b) = (self.k1 * dot(self.v1, n), self.k2 * dot(self.w, n));
+        axpy(-b, self.v2, axpy(-a, self.v1, n))
     }
 }
 
@@ -206,7 +228,7 @@ fn resumed(n0: Vec3, t1: Vec3) -> Vec3 {
 /// normal made perpendicular to t1 and normalized again (where it has no part across t1, as
 /// [`resumed`]).
 fn reflected_twice(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3, n0: Vec3) -> Vec3 {
-    perpendicular(reflect_twice(x0, x1, t0, t1, n0), t1).unwrap_or_else(|| resumed(n0, t1))
+    perpendicular(Step::new(x0, x1, t0, t1).apply(n0), t1).unwrap_or_else(|| resumed(n0, t1))
 }
 
 /// The angle about `t1` by which the double-reflection step from (x0, t0) to (x1, t1) turns a
@@ -230,10 +252,56 @@ pub(crate) fn step_twist(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3) -> f64 {
     angle_about(t1, minimal, reflected)
 }
 
-/// `v` (⟂ the unit `axis`) turned by `angle` about `axis`: v cos a + (axis × v) sin a.
+/// `v` (⟂ the unit `axis`) turned by `angle` (|angle| <= π) about `axis`:
+/// v cos a + (axis × v) sin a.
 fn turned(v: Vec3, axis: Vec3, angle: f64) -> Vec3 {
-    let (sin, cos) = angle.sin_cos();
+    let (sin, cos) = sin_cos_within_pi(angle);
     axpy(sin, cross(axis, v), v.map(|x| x * cos))
+}
+
+/// 1 / ((2k)(2k + 1)), k = 1..=10: the ratios of the sine's Taylor terms.
+const SIN_TERMS: [f64; 10] = {
+    let mut terms = [0.0; 10];
+    let mut k = 0;
+    while k < 10 {
+        let two_k = 2.0 * (k + 1) as f64;
+        terms[k] = 1.0 / (two_k * (two_k + 1.0));
+        k += 1;
+    }
+    terms
+};
+
+/// 1 / ((2k - 1)(2k)), k = 1..=11: the ratios of the cosine's Taylor terms.
+const COS_TERMS: [f64; 11] = {
+    let mut terms = [0.0; 11];
+    let mut k = 0;
+    while k < 11 {
+        let two_k = 2.0 * (k + 1) as f64;
+        terms[k] = 1.0 / ((two_k - 1.0) * two_k);
+        k += 1;
+    }
+    terms
+};
+
+/// (sin x, cos x) for |x| <= π (a little more is fine), within 2e-15 of the exact values:
+/// the Taylor series of y = x/2 (|y| <= π/2) to y^21 and y^22, whose first terms left out are
+/// below 2e-18 there, then sin x = 2 sin y cos y and cos x = 1 - 2 sin² y. No range
+/// reduction and no branch, so it inlines into the loop that turns every frame (libm's call
+/// was an eighth of a tube's making).
+#[inline]
+fn sin_cos_within_pi(x: f64) -> (f64, f64) {
+    let y = 0.5 * x;
+    let y2 = y * y;
+    // 1 - y²/(2·3) (1 - y²/(4·5) (...)) and 1 - y²/(1·2) (1 - y²/(3·4) (...)), innermost first.
+    let (mut sin, mut cos) = (1.0, 1.0);
+    for inverse in SIN_TERMS.iter().rev() {
+        sin = 1.0 - y2 * inverse * sin;
+    }
+    for inverse in COS_TERMS.iter().rev() {
+        cos = 1.0 - y2 * inverse * cos;
+    }
+    let sin_y = y * sin;
+    (2.0 * sin_y * cos, 1.0 - 2.0 * sin_y * sin_y)
 }
 
 /// The angle α in (-π, π] about the unit `axis` from `from` to `to` (both ⟂ `axis`).
@@ -317,6 +385,26 @@ mod tests {
         close_up(&tangents, &mut normals, &s);
         let closed = angle_about(tangents[0], normals[0], normals[m]);
         assert!(closed.abs() < 1e-12, "{closed}");
+    }
+
+    /// The closing-up's sine and cosine against libm's over [-π, π] and at its ends.
+    #[test]
+    fn sin_cos_within_pi_meets_libm() {
+        let mut worst: f64 = 0.0;
+        let ends = [
+            -std::f64::consts::PI,
+            std::f64::consts::PI,
+            0.0,
+            -0.0,
+            1e-300,
+        ];
+        let grid = (0..=100_000).map(|i| std::f64::consts::PI * (f64::from(i) / 50_000.0 - 1.0));
+        for x in ends.into_iter().chain(grid) {
+            let (sin, cos) = sin_cos_within_pi(x);
+            worst = worst.max((sin - x.sin()).abs()).max((cos - x.cos()).abs());
+        }
+        assert!(worst < 2e-15, "{worst:e}");
+        assert_eq!(sin_cos_within_pi(0.0), (0.0, 1.0));
     }
 
     #[test]
