@@ -23,6 +23,8 @@
 //! the normal is e.
 
 use super::frames::{Vec3, cross, dot, unit};
+use bsplines::lanes::Isa;
+
 use crate::job::samples::SampleFloat;
 
 /// What a mesh is made from at one cross-section: the curve parameter, the position and its
@@ -177,8 +179,59 @@ fn index(v: u64) -> u32 {
     u32::try_from(v).expect("a mesh's vertices were counted within u32 when it was pushed")
 }
 
-/// Writes the mesh of `sections` (with their frames) into `out`, sized by [`counts`].
+/// Writes the mesh of `sections` (with their frames) into `out`, sized by [`counts`],
+/// compiled for the widest vectors this CPU has (a tube's ring is a run of lanes).
 pub(crate) fn write<F: SampleFloat>(
+    shape: Shape,
+    sections: &[Section],
+    closed: bool,
+    out: &mut MeshOut<'_, F>,
+) {
+    // One of the crate's four unsafe blocks (the others are the CPU evaluator's, the same
+    // dispatch, and memory/'s madvise and getrlimit): a function compiled for an instruction
+    // set may only be called where the CPU has it.
+    #[allow(
+        unsafe_code,
+        reason = "a function compiled for an instruction set is called only where the CPU has it"
+    )]
+    match Isa::widest() {
+        Isa::Baseline => write_any(shape, sections, closed, out),
+        // SAFETY: `Isa::widest` names AVX2 only where the CPU has it.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { write_avx2(shape, sections, closed, out) },
+        // SAFETY: as for AVX2, with AVX-512F (and VL).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { write_avx512(shape, sections, closed, out) },
+    }
+}
+
+/// [`write_any`] with AVX2 enabled (all it calls a vertex is inlined into it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn write_avx2<F: SampleFloat>(
+    shape: Shape,
+    sections: &[Section],
+    closed: bool,
+    out: &mut MeshOut<'_, F>,
+) {
+    write_any(shape, sections, closed, out);
+}
+
+/// [`write_any`] with AVX-512F enabled, as [`write_avx2`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f")]
+fn write_avx512<F: SampleFloat>(
+    shape: Shape,
+    sections: &[Section],
+    closed: bool,
+    out: &mut MeshOut<'_, F>,
+) {
+    write_any(shape, sections, closed, out);
+}
+
+/// [`write`] as the instruction set of its caller compiles it.
+#[inline(always)]
+fn write_any<F: SampleFloat>(
     shape: Shape,
     sections: &[Section],
     closed: bool,
@@ -190,6 +243,7 @@ pub(crate) fn write<F: SampleFloat>(
     }
 }
 
+#[inline(always)]
 fn tube<F: SampleFloat>(
     sections: &[Section],
     sides: u32,
@@ -210,7 +264,21 @@ fn tube<F: SampleFloat>(
     for (j, section) in sections[..rings].iter().enumerate() {
         let (tangent, normal, r) = (section.tangent, section.normal, section.width);
         let b = cross(tangent, normal);
-        let speed = dot(section.d1, section.d1).sqrt();
+        let ring = j * s..(j + 1) * s;
+        let points = &mut out.points[3 * ring.start..3 * ring.end];
+        let normals = &mut out.normals[3 * ring.start..3 * ring.end];
+        if out.topology {
+            out.t[ring].fill(section.t);
+        }
+        // |T_s · e| <= |T_s| <= |C''| / |C'|²: where r |C''| <= |C'|² / 2 every stretch is at
+        // least 1/2 (rounding can not take it to 0), and with a constant radius (r' = 0, so
+        // r_s = 0) every vertex normal is e itself. Squared: no root, no division.
+        let (d1, d2) = (dot(section.d1, section.d1), dot(section.d2, section.d2));
+        if section.width_d1 == 0.0 && 4.0 * r * r * d2 <= d1 * d1 {
+            radial_ring(&turns, section.position, r, normal, b, points, normals);
+            continue;
+        }
+        let speed = d1.sqrt();
         // T_s and r_s of the module's docs.
         let (bend, slope) = if speed > 0.0 {
             let along = dot(section.d2, tangent);
@@ -223,9 +291,8 @@ fn tube<F: SampleFloat>(
         };
         // T_s · e = cos θ (T_s · N) + sin θ (T_s · B): two dots a ring, not one a vertex.
         let (bend_n, bend_b) = (dot(bend, normal), dot(bend, b));
-        let ring = j * s..(j + 1) * s;
-        let points = out.points[3 * ring.start..3 * ring.end].chunks_exact_mut(3);
-        let normals = out.normals[3 * ring.start..3 * ring.end].chunks_exact_mut(3);
+        let points = points.chunks_exact_mut(3);
+        let normals = normals.chunks_exact_mut(3);
         for ((&(sin, cos), point), vertex_normal) in turns.iter().zip(points).zip(normals) {
             let e: Vec3 = std::array::from_fn(|i| cos * normal[i] + sin * b[i]);
             let stretch = 1.0 - r * (cos * bend_n + sin * bend_b);
@@ -250,9 +317,6 @@ fn tube<F: SampleFloat>(
                 vertex_normal[i] = F::from_f64(n[i]);
             }
         }
-        if out.topology {
-            out.t[ring].fill(section.t);
-        }
     }
     if caps {
         let (first, last) = (&sections[0], &sections[sections.len() - 1]);
@@ -262,6 +326,30 @@ fn tube<F: SampleFloat>(
     }
     if out.topology {
         tube_triangles(sections.len(), sides, caps, closed, out.triangles);
+    }
+}
+
+/// A ring whose vertex normals are its directions e_k = cos θ_k N + sin θ_k B (a constant
+/// radius, the stretch positive all round): point x + r e_k, normal e_k, each rounded once to
+/// the output's type. Branch-free, so that the sides are evaluated in vector lanes.
+#[inline(always)]
+fn radial_ring<F: SampleFloat>(
+    turns: &[(f64, f64)],
+    position: Vec3,
+    r: f64,
+    normal: Vec3,
+    b: Vec3,
+    points: &mut [F],
+    normals: &mut [F],
+) {
+    let points = points.chunks_exact_mut(3);
+    let normals = normals.chunks_exact_mut(3);
+    for ((&(sin, cos), point), vertex_normal) in turns.iter().zip(points).zip(normals) {
+        for i in 0..3 {
+            let e = cos * normal[i] + sin * b[i];
+            point[i] = F::from_f64(position[i] + r * e);
+            vertex_normal[i] = F::from_f64(e);
+        }
     }
 }
 

@@ -167,6 +167,60 @@ fn a_tube_of_growing_radius_has_the_cones_exact_normals() {
     }
 }
 
+/// A tube of constant radius r about a circle of radius 1 (curvature κ = 1): its surface's
+/// normal at e (a unit vector across the tangent) is e where the stretch 1 - r κ (e · n̂) is
+/// positive (n̂ the circle's principal normal, towards its centre) and -e where it is negative
+/// (the surface turned inside out past the centre), as the module `geometry::mesh` derives.
+/// A thin tube (r = 0.3) is positive all round; a thick one (r = 1.5) turns on its inner side.
+#[test]
+fn a_tube_thicker_than_its_curvature_turns_its_inner_normals_inward() {
+    let points = (0..64)
+        .flat_map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 64.0;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    let kind = CurveKind::Uniform {
+        basis: Basis::CatmullRom,
+        ends: Ends::Closed,
+    };
+    let circle = Curve::new(kind, Points::new(3, points).unwrap()).unwrap();
+    for (r, inward) in [(0.3, false), (1.5, true)] {
+        let tube = Geometry::Tube(Tube {
+            radius: Width::Constant(r),
+            sides: Some(8),
+            ..Tube::default()
+        });
+        let (job, m) = meshes(&circle, &tube, &Sampling::PerSegment(2));
+        let mut turned = 0;
+        for ring in 0..job.vertex_count() as usize / 8 {
+            // The ring's centre: its 8 directions sum to 0.
+            let centre = (0..8).fold([0.0; 3], |c, k| {
+                let p = vertex(&m, 8 * ring + k);
+                [c[0] + p[0] / 8.0, c[1] + p[1] / 8.0, c[2] + p[2] / 8.0]
+            });
+            let towards = centre.map(|x| -x / dot(centre, centre).sqrt());
+            for v in 8 * ring..8 * ring + 8 {
+                let e = sub(vertex(&m, v), centre).map(|x| x / r);
+                let stretch = 1.0 - r * dot(e, towards);
+                if stretch.abs() < 0.05 {
+                    continue; // within the Catmull-Rom circle's curvature error of 0
+                }
+                let sign = stretch.signum();
+                turned += usize::from(sign < 0.0);
+                let n = normal(&m, v);
+                for i in 0..3 {
+                    assert!(
+                        (n[i] - sign * e[i]).abs() < 1e-9,
+                        "r {r}, vertex {v}: {n:?} against {sign} x {e:?}"
+                    );
+                }
+            }
+        }
+        assert_eq!(turned > 0, inward, "r {r}: {turned} normals turned inward");
+    }
+}
+
 #[test]
 fn a_closed_tube_wraps_its_rings_without_a_twist_at_the_seam() {
     let tube = Geometry::Tube(Tube {
