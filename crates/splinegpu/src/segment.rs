@@ -571,3 +571,42 @@ pub(crate) fn second_derivative(a: f64, b: f64, u: f64, inv_dt: f64) -> f64 {
 pub(crate) fn third_derivative(a: f64, inv_dt: f64) -> f64 {
     6.0 * a * inv_dt * inv_dt * inv_dt
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::{Basis, Curve, CurveKind, Ends, Points};
+
+    /// `jet` gives what eval, deriv and deriv2 give, bit for bit, on a polynomial curve and a
+    /// rational one (a weighted NURBS of two spans), at the ends and inside each segment.
+    #[test]
+    fn a_jet_is_eval_deriv_and_deriv2_at_once() {
+        let catmull_rom = CurveKind::Uniform {
+            basis: Basis::CatmullRom,
+            ends: Ends::Closed,
+        };
+        let points = vec![0.0, 0.0, 1.0, 2.0, 3.0, -1.0, 4.0, 0.5, 2.0, 3.0];
+        let polynomial = Curve::new(catmull_rom, Points::new(2, points).unwrap()).unwrap();
+        let nurbs = CurveKind::Nurbs {
+            knots: vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0],
+            weights: Some(vec![1.0, 0.5, 2.0, 1.5, 1.0]),
+        };
+        let control = vec![1.0, 0.0, 1.0, 1.0, 0.0, 1.0, -1.0, 2.0, -2.0, 0.5];
+        let rational = Curve::new(nurbs, Points::new(2, control).unwrap()).unwrap();
+        for curve in [&polynomial, &rational] {
+            let table = curve.fit();
+            for i in 0..table.len() {
+                let segment = table.segment(i);
+                for u in [0.0, 0.125, 0.5, 0.875, 1.0] {
+                    let (mut p, mut d1, mut d2) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+                    segment.jet(u, &mut p, &mut d1, &mut d2);
+                    let mut expected = [[0.0; 2]; 3];
+                    segment.eval(u, &mut expected[0]);
+                    segment.deriv(u, &mut expected[1]);
+                    segment.deriv2(u, &mut expected[2]);
+                    assert_eq!([p, d1, d2], expected, "segment {i} at u = {u}");
+                }
+            }
+        }
+        assert!(rational.fit().is_rational());
+    }
+}
