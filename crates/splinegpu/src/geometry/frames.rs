@@ -143,12 +143,12 @@ pub fn first_normal(t0: Vec3, up: Option<Vec3>) -> Result<Vec3, InputError> {
 /// ```
 ///
 /// whose two dots do not wait on each other. v1, v2, w and the two ratios depend on the
-/// cross-sections alone ([`Step`]), so the chain of steps, each waiting on the one before, is
-/// two dots and three multiply-adds long; the carried vector keeps its rounding-level part
-/// along the tangent (a step takes T_j onto T_{j+1}, so that part neither grows nor turns
-/// across) and each N_j is it made perpendicular to T_j and normalized where it is written.
-/// The carried vector is made unit again only where its length leaves [1/2, 2] (rounding moves
-/// it by about 1e-16 a step).
+/// cross-sections alone (made for every step first), so the chain of steps, each waiting on
+/// the one before, is two dots and three multiply-adds long. The carried vector keeps its
+/// rounding-level part along the tangent (a step takes T_j onto T_{j+1}, so that part neither
+/// grows nor turns across); each N_j is it made perpendicular to T_j and normalized where it is
+/// written. The carried vector is made unit again only where its length leaves [1/2, 2]
+/// (rounding moves it by about 1e-16 a step).
 #[must_use]
 pub fn rotation_minimizing(positions: &[Vec3], tangents: &[Vec3], n0: Vec3) -> Vec<Vec3> {
     // The steps first, each on its own: their divisions overlap.
