@@ -144,9 +144,9 @@ fn evaluate_range_with<F: SampleFloat>(
     t: &mut [f64],
     out: [&mut [F]; 3],
 ) {
-    // One of the crate's four unsafe blocks (the others are the geometry's mesh writer's, the
-    // same dispatch, and memory/'s madvise and getrlimit): a function compiled for an
-    // instruction set may only be called where the CPU has it.
+    // One of the crate's five unsafe blocks (the others are the geometry's mesh writer's and
+    // closing-up's, the same dispatch, and memory/'s madvise and getrlimit): a function
+    // compiled for an instruction set may only be called where the CPU has it.
     #[allow(
         unsafe_code,
         reason = "a function compiled for an instruction set is called only where the CPU has it"

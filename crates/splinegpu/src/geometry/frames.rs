@@ -19,6 +19,8 @@
 //! N_j is then turned about T_j by -α s_j / L (s_j the arc length to t_j, L the curve's), so
 //! that the last cross-section's frame is the first's ([`close_up`]).
 
+use bsplines::lanes::Isa;
+
 use crate::error::InputError;
 
 /// A 3-vector.
@@ -254,6 +256,7 @@ pub(crate) fn step_twist(x0: Vec3, x1: Vec3, t0: Vec3, t1: Vec3) -> f64 {
 
 /// `v` (⟂ the unit `axis`) turned by `angle` (|angle| <= π) about `axis`:
 /// v cos a + (axis × v) sin a.
+#[inline(always)]
 fn turned(v: Vec3, axis: Vec3, angle: f64) -> Vec3 {
     let (sin, cos) = sin_cos_within_pi(angle);
     axpy(sin, cross(axis, v), v.map(|x| x * cos))
@@ -288,7 +291,7 @@ const COS_TERMS: [f64; 11] = {
 /// below 2e-18 there, then sin x = 2 sin y cos y and cos x = 1 - 2 sin² y. No range
 /// reduction and no branch, so it inlines into the loop that turns every frame (libm's call
 /// was an eighth of a tube's making).
-#[inline]
+#[inline(always)]
 fn sin_cos_within_pi(x: f64) -> (f64, f64) {
     let y = 0.5 * x;
     let y2 = y * y;
@@ -314,6 +317,42 @@ fn angle_about(axis: Vec3, from: Vec3, to: Vec3) -> f64 {
 /// `s` the arc length to each cross-section (s_last = L). N_last meets N_0 turned by α about
 /// T_0; each N_j is turned about T_j by -α s_j / L, so that N_last = N_0 (to rounding).
 pub fn close_up(tangents: &[Vec3], normals: &mut [Vec3], s: &[f64]) {
+    // One of the crate's five unsafe blocks (the others are the CPU evaluator's and the mesh
+    // writer's, the same dispatch, and memory/'s madvise and getrlimit): a function compiled
+    // for an instruction set may only be called where the CPU has it.
+    #[allow(
+        unsafe_code,
+        reason = "a function compiled for an instruction set is called only where the CPU has it"
+    )]
+    match Isa::widest() {
+        Isa::Baseline => close_up_any(tangents, normals, s),
+        // SAFETY: `Isa::widest` names AVX2 only where the CPU has it.
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { close_up_avx2(tangents, normals, s) },
+        // SAFETY: as for AVX2, with AVX-512F (and VL).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx512 => unsafe { close_up_avx512(tangents, normals, s) },
+    }
+}
+
+/// [`close_up_any`] with AVX2 enabled (the turn and its sine inlined into it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn close_up_avx2(tangents: &[Vec3], normals: &mut [Vec3], s: &[f64]) {
+    close_up_any(tangents, normals, s);
+}
+
+/// [`close_up_any`] with AVX-512F enabled, as [`close_up_avx2`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f")]
+fn close_up_avx512(tangents: &[Vec3], normals: &mut [Vec3], s: &[f64]) {
+    close_up_any(tangents, normals, s);
+}
+
+/// [`close_up`] as the instruction set of its caller compiles it: the sections' turns side by
+/// side in vector lanes.
+#[inline(always)]
+fn close_up_any(tangents: &[Vec3], normals: &mut [Vec3], s: &[f64]) {
     let (Some(&last), Some(&length)) = (normals.last(), s.last()) else {
         return;
     };

@@ -187,9 +187,9 @@ pub(crate) fn write<F: SampleFloat>(
     closed: bool,
     out: &mut MeshOut<'_, F>,
 ) {
-    // One of the crate's four unsafe blocks (the others are the CPU evaluator's, the same
-    // dispatch, and memory/'s madvise and getrlimit): a function compiled for an instruction
-    // set may only be called where the CPU has it.
+    // One of the crate's five unsafe blocks (the others are the CPU evaluator's and the
+    // frames' closing-up, the same dispatch, and memory/'s madvise and getrlimit): a function
+    // compiled for an instruction set may only be called where the CPU has it.
     #[allow(
         unsafe_code,
         reason = "a function compiled for an instruction set is called only where the CPU has it"
