@@ -22,9 +22,9 @@
 //! with T_s = (C'' - (C''·T) T) / |C'|² and r_s = r' / |C'| (derivatives in t). Where C' = 0
 //! the normal is e.
 
-use super::frames::{Vec3, cross, dot, unit};
 use bsplines::lanes::Isa;
 
+use super::frames::{Vec3, cross, dot, unit};
 use crate::job::samples::SampleFloat;
 
 /// What a mesh is made from at one cross-section: the curve parameter, the position and its
