@@ -448,9 +448,7 @@ impl<'a> Carried<'a> {
         for loc in places {
             let segment = table.segment(loc.segment);
             let (mut d1, mut d2) = ([0.0; COORDS], [0.0; COORDS]);
-            segment.eval(loc.u, &mut p[..dim]);
-            segment.deriv(loc.u, &mut d1[..dim]);
-            segment.deriv2(loc.u, &mut d2[..dim]);
+            segment.jet(loc.u, &mut p[..dim], &mut d1[..dim], &mut d2[..dim]);
             positions.push([p[0], p[1], p[2]]);
             widths.push(p[dim - 1].max(0.0));
             d1s.push([d1[0], d1[1], d1[2]]);
