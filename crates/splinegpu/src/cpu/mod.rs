@@ -14,7 +14,8 @@ use crate::job::EvalJob;
 use crate::job::planes::Planes;
 use crate::job::samples::{SampleFloat, Samples};
 use crate::parallel::{even_ranges, fan_out, take_front};
-use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan};
+use crate::sampling::runs::Runs;
+use crate::sampling::{Filling, LOC_BLOCK, Plan, SampleLoc, SamplePlan, t_at};
 use crate::segment::{Segment, SegmentTable, first_derivative, position, second_derivative};
 use bsplines::lanes::Isa;
 
@@ -283,22 +284,31 @@ fn curve_range<F: SampleFloat>(
             }
         }
         Plan::At(locs) => at_places(table, &locs[range], [points, d1, d2]),
-        // Arc length and tolerance: places computed block by block.
-        _ => {
-            let mut locs = Vec::with_capacity(LOC_BLOCK);
+        // Arc length and tolerance: places computed block by block, each segment's samples
+        // evaluated together.
+        Plan::Arc(_) | Plan::Tolerance(_) => {
+            let mut runs = Runs::default();
             for start in range.clone().step_by(LOC_BLOCK) {
                 let end = (start + LOC_BLOCK).min(range.end);
-                locs.clear();
-                plan.locs_into(start..end, &mut locs);
-                if !t.is_empty() {
-                    let at = start - range.start..end - range.start;
-                    for (t, loc) in t[at].iter_mut().zip(&locs) {
-                        *t = loc.t;
+                runs.clear();
+                let knots = plan.runs_into(start..end, &mut runs);
+                let mut at = start - range.start;
+                for (segment, us) in runs.iter() {
+                    let samples = at..at + us.len();
+                    if !t.is_empty() {
+                        for (t, &u) in t[samples.clone()].iter_mut().zip(us) {
+                            *t = t_at(knots, segment, u);
+                        }
                     }
+                    let values = samples.start * dim..samples.end * dim;
+                    let parts = [
+                        sub(points, values.clone()),
+                        sub(d1, values.clone()),
+                        sub(d2, values),
+                    ];
+                    segment_block(&table.segment(segment), us, parts);
+                    at = samples.end;
                 }
-                let at = (start - range.start) * dim..(end - range.start) * dim;
-                let parts = [sub(points, at.clone()), sub(d1, at.clone()), sub(d2, at)];
-                at_places(table, &locs, parts);
             }
         }
     }

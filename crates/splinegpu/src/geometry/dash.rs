@@ -16,7 +16,7 @@
 
 use super::MAX_SECTIONS;
 use crate::error::{InputError, Shown};
-use crate::sampling::arc_length::{ArcTable, DEFAULT_ARCLEN_ACCURACY, Speed};
+use crate::sampling::arc_length::{ArcTable, Cuts, DEFAULT_ARCLEN_ACCURACY, Speed};
 use crate::sampling::{SampleLoc, Sampling};
 use crate::segment::SegmentTable;
 
@@ -211,7 +211,7 @@ impl<'a> ArcMap<'a> {
 pub(crate) fn lengths_to(table: &SegmentTable, locs: &[SampleLoc]) -> Vec<f64> {
     let mut lengths = Vec::with_capacity(locs.len());
     // The segment walked, its speed and the ends of its smooth parts, and the u reached.
-    let mut walked: Option<(usize, Speed, Vec<f64>)> = None;
+    let mut walked: Option<(usize, Speed, Cuts)> = None;
     let (mut segment, mut u, mut total) = (0, 0.0, 0.0);
     let mut measure = |segment: usize, a: f64, b: f64| -> f64 {
         if b <= a {

@@ -31,9 +31,14 @@
 //! accuracy, where the speed does not vanish), and max|P''| in the Newton bound is the proven
 //! bound of [`RationalCubic::second_derivative_bound`].
 
-use super::places::{PLACE_ACCURACY, PlaceTable};
+use super::places::{PLACE_ACCURACY, PlaceTables};
 use crate::rational::{Denominator, RationalCubic, quotient};
 use crate::segment::{Segment, SegmentTable};
+use smallvec::{SmallVec, smallvec};
+
+/// A segment's critical points or kinks: a handful (a polynomial segment's are the roots of a
+/// cubic and of a quadratic, and 1), kept inline.
+pub(crate) type Cuts = SmallVec<[f64; 8]>;
 
 /// Accuracy of arc lengths when the caller has no reason to choose: an error of at most 1e-12
 /// of the length measured.
@@ -197,14 +202,14 @@ impl Speed {
     /// The zeros of Q'' (a quadratic, in closed form) cut [0, 1] into parts on which Q' is
     /// monotone, so each part holds at most one zero, found by Newton steps kept in
     /// its bracket to f64 precision.
-    pub(crate) fn critical_points(&self) -> Vec<f64> {
+    pub(crate) fn critical_points(&self) -> Cuts {
         if let Some(w) = &self.denominator {
             return self.rational_critical_points(w);
         }
         let q = &self.quartic();
         let dq = |u: f64| q[1] + u * (2.0 * q[2] + u * (3.0 * q[3] + u * 4.0 * q[4]));
         // Q'' = 2 q2 + 6 q3 u + 12 q4 u².
-        let mut cuts = vec![0.0];
+        let mut cuts: Cuts = smallvec![0.0];
         cuts.extend(
             quadratic_roots(12.0 * q[4], 6.0 * q[3], 2.0 * q[2])
                 .into_iter()
@@ -212,7 +217,7 @@ impl Speed {
         );
         cuts.push(1.0);
         cuts.sort_by(f64::total_cmp);
-        let mut roots = Vec::new();
+        let mut roots = Cuts::new();
         for w in cuts.windows(2) {
             let (mut lo, mut hi) = (w[0], w[1]);
             let (flo, fhi) = (dq(lo), dq(hi));
@@ -261,9 +266,9 @@ impl Speed {
 
     /// The sign changes of R'·R'' (the speed's extrema) on a rational segment, found on a
     /// grid of [`RATIONAL_GRID`] intervals and bisected to f64 precision, in order.
-    fn rational_critical_points(&self, w: &Denominator) -> Vec<f64> {
+    fn rational_critical_points(&self, w: &Denominator) -> Cuts {
         let slope = |u: f64| self.rational_at(w, u).1;
-        let mut roots = Vec::new();
+        let mut roots = Cuts::new();
         let mut lo = 0.0;
         let mut f_lo = slope(0.0);
         for i in 1..=RATIONAL_GRID {
@@ -356,14 +361,29 @@ impl Speed {
         sum * half * self.scale
     }
 
-    /// The 4-point Gauss–Legendre rule for ∫ speed over [a, b].
+    /// The 4-point Gauss–Legendre rule for ∫ speed over [a, b]: on a polynomial segment the
+    /// four nodes side by side, as [`Speed::gl8`] evaluates its eight (the same operations as
+    /// [`Speed::at`] at each, so the same bits).
     #[inline]
     pub(crate) fn gl4(&self, a: f64, b: f64) -> f64 {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+        let x = [half * GL4_NODES[0], half * GL4_NODES[1]];
+        let u = [mid - x[0], mid + x[0], mid - x[1], mid + x[1]];
+        let v: [f64; 4] = if self.denominator.is_some() {
+            u.map(|u| self.at(u))
+        } else {
+            let mut q = [0.0; 4];
+            for [a, b, c] in &self.terms {
+                for i in 0..4 {
+                    let d = c + u[i] * (b + u[i] * a);
+                    q[i] += d * d;
+                }
+            }
+            q.map(|q| q.sqrt() * self.scale)
+        };
         let mut sum = 0.0;
         for i in 0..2 {
-            let x = half * GL4_NODES[i];
-            sum += GL4_WEIGHTS[i] * (self.at(mid - x) + self.at(mid + x));
+            sum += GL4_WEIGHTS[i] * (v[2 * i] + v[2 * i + 1]);
         }
         sum * half
     }
@@ -396,7 +416,7 @@ impl Speed {
     /// Where the speed vanishes inside (0, 1) (its critical points at or below 1e-9 of the
     /// fastest critical point or end: a kink of |P'|), then 1: the ends of the parts on which
     /// the length is as smooth as the speed.
-    pub(crate) fn kinks(&self) -> Vec<f64> {
+    pub(crate) fn kinks(&self) -> Cuts {
         if self.denominator.is_none() {
             // Q's Bernstein coefficients on [0, 1] bound it: where the least is above 1e-16
             // of the largest (1e-9 in the speed is 1e-18 in Q: a margin of 100) and above
@@ -416,7 +436,7 @@ impl Speed {
             let rounding =
                 8.0 * f64::EPSILON * (q0.abs() + q1.abs() + q2.abs() + q3.abs() + q4.abs());
             if least > 1e-16 * largest + rounding {
-                return vec![1.0];
+                return smallvec![1.0];
             }
         }
         let mut cuts = self.critical_points();
@@ -425,11 +445,11 @@ impl Speed {
     }
 
     /// [`Speed::kinks`] found among `cuts`, the critical points followed by 1.
-    fn kinks_among(&self, mut cuts: Vec<f64>) -> Vec<f64> {
+    fn kinks_among(&self, mut cuts: Cuts) -> Cuts {
         let fastest = (cuts.iter().chain(&[0.0]))
             .map(|&c| self.at(c))
             .fold(0.0, f64::max);
-        cuts.retain(|&c| c == 1.0 || self.at(c) <= 1e-9 * fastest);
+        cuts.retain(|c| *c == 1.0 || self.at(*c) <= 1e-9 * fastest);
         cuts
     }
 }
@@ -445,19 +465,23 @@ pub(crate) fn power_of_two_near(x: f64) -> f64 {
 
 /// The real roots of a x² + b x + c (none, one or two; `a` may be 0), computed without
 /// cancellation.
-fn quadratic_roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+fn quadratic_roots(a: f64, b: f64, c: f64) -> SmallVec<[f64; 2]> {
     if a == 0.0 {
-        return if b == 0.0 { vec![] } else { vec![-c / b] };
+        return if b == 0.0 {
+            smallvec![]
+        } else {
+            smallvec![-c / b]
+        };
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
-        return vec![];
+        return smallvec![];
     }
     let q = -0.5 * (b + b.signum() * disc.sqrt());
     if q == 0.0 {
-        return vec![0.0];
+        return smallvec![0.0];
     }
-    vec![q / a, c / q]
+    smallvec![q / a, c / q]
 }
 
 /// A segment's arc length as pieces of u on which the quadrature is accurate: `u[k]..u[k + 1]`
@@ -732,18 +756,17 @@ impl SegmentTable {
             .collect()
     }
 
-    /// Each segment's [`PlaceTable`] for an arc-length sampling, within
+    /// Each segment's place table ([`PlaceTables`]) for an arc-length sampling, within
     /// [`PLACE_ACCURACY`] times the curve's length (see [`places`](super::places)): the
     /// quadrature's share a sixth of it per unit of u over the whole parameter range, the
     /// models and their inverses 0.4 of it each (the worst sample of 3,000 random curves of
     /// every kind: 0.47 of it, where the inverse's share dominates).
-    pub(crate) fn place_tables(&self) -> Vec<PlaceTable> {
+    pub(crate) fn place_tables(&self) -> PlaceTables {
         let rough = self.rough_length();
         let quadrature_tolerance = PLACE_ACCURACY * rough / (6.0 * self.len() as f64);
         let accuracy = 0.4 * PLACE_ACCURACY * rough;
-        (0..self.len())
-            .map(|i| PlaceTable::new(&self.segment(i), quadrature_tolerance, accuracy))
-            .collect()
+        let segments = (0..self.len()).map(|i| self.segment(i));
+        PlaceTables::new(segments, quadrature_tolerance, accuracy)
     }
 
     /// A first estimate of the length (each segment's 8-point rule), which scales the

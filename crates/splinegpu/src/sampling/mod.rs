@@ -7,11 +7,13 @@ use std::sync::Arc;
 pub(crate) mod arc_length;
 pub(crate) mod place;
 pub(crate) mod places;
+pub(crate) mod runs;
 pub(crate) mod tolerance;
 
 use crate::error::{InputError, Shown};
 use crate::segment::SegmentTable;
-use places::PlaceTable;
+use places::PlaceTables;
+use runs::{Runs, first_outside};
 use tolerance::{MAX_SAMPLES_PER_SEGMENT, Placement};
 
 /// How to sample a curve (contract: "sampling").
@@ -97,7 +99,7 @@ pub(crate) struct ArcSamples {
     m: usize,
     /// The length where each segment starts, and, last, the curve's length L.
     starts: Vec<f64>,
-    tables: Vec<PlaceTable>,
+    tables: PlaceTables,
     knots: Vec<f64>,
 }
 
@@ -105,7 +107,7 @@ impl ArcSamples {
     fn new(table: &SegmentTable, m: usize) -> Self {
         let tables = table.place_tables();
         let mut starts = vec![0.0];
-        for t in &tables {
+        for t in tables.iter() {
             starts.push(starts[starts.len() - 1] + t.length());
         }
         Self {
@@ -127,7 +129,7 @@ impl ArcSamples {
     }
 
     /// Each segment's place table.
-    pub(crate) fn tables(&self) -> &[PlaceTable] {
+    pub(crate) fn tables(&self) -> &PlaceTables {
         &self.tables
     }
 
@@ -135,28 +137,35 @@ impl ArcSamples {
         self.loc_from(j, &mut ArcHint::default())
     }
 
-    /// The places of samples `range`: each sample as [`ArcSamples::loc_from`] places it
-    /// (the same segment, the same inverse piece, the same arithmetic), found by walking the
-    /// segments' inverse pieces along with the samples instead of searching for each.
-    fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+    /// The places of samples `range`, each as [`ArcSamples::loc_from`] places it (the same
+    /// segment, the same inverse piece, the same arithmetic), found by walking the segments'
+    /// inverse pieces along with the samples instead of searching for each: the samples of a
+    /// piece are counted from where its lengths end (a guess, then the exact test) and placed
+    /// together, one polynomial each, in a loop the compiler vectorizes.
+    #[inline(always)]
+    fn runs_into(&self, range: Range<usize>, out: &mut Runs) {
         let segments = self.tables.len();
         let length = self.starts[segments];
+        let denominator = (self.m - 1) as f64;
+        let target = |j: usize| length * j as f64 / denominator;
+        // The curve's end is placed by loc_from, as its start is.
+        let interior_end = range.end.min(self.m - 1);
         let mut hint = ArcHint::default();
         let mut j = range.start;
         while j < range.end {
-            if j == 0 || j + 1 == self.m {
-                out.push(self.loc_from(j, &mut hint));
-                j += 1;
+            // The first of a run (or an end), placed as loc_from places it.
+            let first = self.loc_from(j, &mut hint);
+            out.push(first.segment, first.u);
+            let is_end = j == 0 || j + 1 == self.m;
+            j += 1;
+            // A target at or below this segment's start is placed afresh (only a curve of
+            // length 0 has one after its first sample).
+            if is_end || j >= interior_end || target(j) - self.starts[first.segment] <= 0.0 {
                 continue;
             }
-            // The first of a run of samples in one inverse piece, placed as loc_from places it.
-            let first = self.loc_from(j, &mut hint);
-            out.push(first);
-            j += 1;
             let segment = first.segment;
-            let table = &self.tables[segment];
+            let table = self.tables.get(segment);
             let start = self.starts[segment];
-            let (mut piece, mut piece_end) = table.inverse_piece(hint.piece);
             let at_end = table.length();
             // The next segment's start: a target there belongs to it.
             let next_start = if segment + 1 < segments {
@@ -164,23 +173,34 @@ impl ArcSamples {
             } else {
                 f64::INFINITY
             };
-            let (t0, t1) = (self.knots[segment], self.knots[segment + 1]);
-            while j < range.end && j + 1 < self.m {
-                let target = length * j as f64 / (self.m - 1) as f64;
-                let s = target - start;
-                if target >= next_start || s <= 0.0 {
-                    break;
-                }
-                // The next pieces, as `PlaceTable::place`'s search would find them.
-                while s > piece_end {
+            while j < interior_end {
+                let (piece, piece_end) = table.inverse_piece(hint.piece);
+                let inside = |i: usize| {
+                    let t = target(i);
+                    t < next_start && t - start <= piece_end
+                };
+                let limit = next_start.min(start + piece_end);
+                let guess = (limit / length * denominator).ceil();
+                let end = first_outside(j..interior_end, guess, inside);
+                if end == j {
+                    if target(j) >= next_start {
+                        break;
+                    }
+                    // Past this piece's lengths: the next piece, as `PlaceTable::place`'s
+                    // search would find it.
                     hint.piece += 1;
-                    (piece, piece_end) = table.inverse_piece(hint.piece);
+                    continue;
                 }
-                // As `PlaceTable::place`: u = 1 at or beyond the segment's length.
-                let u = if s >= at_end { 1.0 } else { piece.at(s) };
-                let t = if u == 1.0 { t1 } else { t0 + u * (t1 - t0) };
-                out.push(SampleLoc { segment, u, t });
-                j += 1;
+                // A copy the loop knows is not written through `out`.
+                let piece = piece.clone();
+                for (k, u) in out.extend(segment, end - j).iter_mut().enumerate() {
+                    let s = target(j + k) - start;
+                    // As `PlaceTable::place`: u = 1 at or beyond the segment's length (both
+                    // computed, one kept: a loop without branches).
+                    let placed = piece.at(s);
+                    *u = if s >= at_end { 1.0 } else { placed };
+                }
+                j = end;
             }
         }
     }
@@ -215,7 +235,7 @@ impl ArcSamples {
                 ..ArcHint::default()
             };
         }
-        let table = &self.tables[segment];
+        let table = self.tables.get(segment);
         let u = table.place(target - self.starts[segment], &mut hint.piece);
         let t = t_at(&self.knots, segment, u);
         SampleLoc { segment, u, t }
@@ -293,14 +313,14 @@ impl ToleranceSamples {
         }
     }
 
-    /// Samples `range` (of the whole curve), segment by segment.
-    fn locs_into(&self, range: Range<usize>, out: &mut Vec<SampleLoc>) {
+    /// The places of samples `range` (of the whole curve), segment by segment.
+    fn runs_into(&self, range: Range<usize>, out: &mut Runs) {
         let segments = self.placements.len();
         let mut us = Vec::new();
         let mut g = range.start;
         while g < range.end {
             if g == self.offsets[segments] {
-                out.push(self.loc(g));
+                out.push(segments - 1, 1.0);
                 g += 1;
                 continue;
             }
@@ -308,11 +328,8 @@ impl ToleranceSamples {
             self.placements[segment].us_into(&mut us);
             let first = g - self.offsets[segment];
             let end = us.len().min(first + range.end - g);
-            out.extend(us[first..end].iter().map(|&u| SampleLoc {
-                segment,
-                u,
-                t: self.t(segment, u),
-            }));
+            out.extend(segment, end - first)
+                .copy_from_slice(&us[first..end]);
             g += end - first;
         }
     }
@@ -585,12 +602,40 @@ impl SamplePlan {
         match &self.0 {
             Plan::Grid(grid) => out.extend(range.map(|i| grid.loc(grid.first + i))),
             Plan::At(locs) => out.extend_from_slice(&locs[range]),
-            Plan::Arc(w) => w
-                .data
-                .locs_into(w.first + range.start..w.first + range.end, out),
-            Plan::Tolerance(w) => w
-                .data
-                .locs_into(w.first + range.start..w.first + range.end, out),
+            Plan::Arc(_) | Plan::Tolerance(_) => {
+                let mut runs = Runs::default();
+                let knots = self.runs_into(range, &mut runs);
+                out.extend(runs.iter().flat_map(|(segment, us)| {
+                    us.iter().map(move |&u| SampleLoc {
+                        segment,
+                        u,
+                        t: t_at(knots, segment, u),
+                    })
+                }));
+            }
+        }
+    }
+
+    /// Appends the places of samples `range` of a computed plan (arc length, tolerance) to
+    /// `out` as runs on one segment each, the same places [`SamplePlan::loc`] gives, and
+    /// returns the knots their t are formed from ([`t_at`]).
+    ///
+    /// # Panics
+    /// If the plan is not computed ([`SamplePlan::is_computed`]).
+    #[inline(always)]
+    pub(crate) fn runs_into(&self, range: Range<usize>, out: &mut Runs) -> &[f64] {
+        match &self.0 {
+            Plan::Arc(w) => {
+                w.data
+                    .runs_into(w.first + range.start..w.first + range.end, out);
+                &w.data.knots
+            }
+            Plan::Tolerance(w) => {
+                w.data
+                    .runs_into(w.first + range.start..w.first + range.end, out);
+                &w.data.knots
+            }
+            Plan::Grid(_) | Plan::At(_) => unreachable!("runs are made of computed plans"),
         }
     }
 
@@ -627,6 +672,7 @@ impl<T> Window<T> {
 
 /// The t of local `u` on `segment`: t_i + u·(t_{i+1} − t_i), and t_{i+1} itself at u = 1 (the
 /// sum may round off it).
+#[inline]
 pub(crate) fn t_at(knots: &[f64], segment: usize, u: f64) -> f64 {
     let (t0, t1) = (knots[segment], knots[segment + 1]);
     if u == 1.0 { t1 } else { t0 + u * (t1 - t0) }
@@ -719,10 +765,17 @@ mod tests {
             .fit();
         let arc = ArcSamples::new(&table, 997);
         let fresh: Vec<SampleLoc> = (0..997).map(|j| arc.loc(j)).collect();
+        let plan = SamplePlan(Plan::Arc(Window {
+            data: Arc::new(arc),
+            first: 0,
+            len: 997,
+        }));
         for start in [0, 1, 13, 500, 996] {
-            let mut run = Vec::new();
-            arc.locs_into(start..997, &mut run);
-            assert_eq!(run, fresh[start..], "from sample {start}");
+            for end in [start + 1, start + 2, start + 40, 997].map(|end| end.min(997)) {
+                let mut run = Vec::new();
+                plan.locs_into(start..end, &mut run);
+                assert_eq!(run, fresh[start..end], "samples {start}..{end}");
+            }
         }
     }
 

@@ -37,55 +37,86 @@ use crate::segment::Segment;
 /// adds errors near 1e-6 L.
 pub(crate) const PLACE_ACCURACY: f64 = 1e-5;
 
-/// A segment's lengths mapped to u by explicit inverse pieces (see the module docs).
+/// A curve's place tables: each segment's lengths mapped to u by explicit inverse pieces (see
+/// the module docs), every segment's pieces in one allocation (a table a segment was as many
+/// allocations, freed with the job and their pages faulted in again by the next).
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct PlaceTable {
-    length: f64,
-    /// In order of the lengths where they start (the last ends at `length`).
+pub(crate) struct PlaceTables {
+    /// Each segment's length.
+    lengths: Box<[f64]>,
+    /// Segment i's pieces are `pieces[first[i]..first[i + 1]]`.
+    first: Box<[usize]>,
+    /// Each segment's in order of the lengths where they start (the last ends at the
+    /// segment's length).
     pieces: Box<[InversePiece]>,
 }
 
+/// One segment's table: its length and its inverse pieces.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PlaceTable<'a> {
+    length: f64,
+    pieces: &'a [InversePiece],
+}
+
 thread_local! {
-    /// A thread's inverse pieces while it makes a table, which keeps them at their exact
-    /// number (a growing vector's spare room, kept for every segment of a sampling, was as
+    /// A thread's inverse pieces while it makes a curve's tables, which keeps them at their
+    /// exact number (a growing vector's spare room, kept for every curve of a sampling, was as
     /// large as the pieces).
     static SCRATCH: Cell<Vec<InversePiece>> = const { Cell::new(Vec::new()) };
 }
 
-impl PlaceTable {
-    /// The table of `segment` (see the module docs): `quadrature_tolerance` per unit of u,
+impl PlaceTables {
+    /// The tables of `segments` (see the module docs): `quadrature_tolerance` per unit of u,
     /// `accuracy` in length.
-    pub(crate) fn new(segment: &Segment<'_>, quadrature_tolerance: f64, accuracy: f64) -> Self {
-        let speed = Speed::of(segment);
+    pub(crate) fn new<'s>(
+        segments: impl ExactSizeIterator<Item = Segment<'s>>,
+        quadrature_tolerance: f64,
+        accuracy: f64,
+    ) -> Self {
+        let mut lengths = Vec::with_capacity(segments.len());
+        let mut first = Vec::with_capacity(segments.len() + 1);
         let mut pieces = SCRATCH.take();
         pieces.clear();
         let mut builder = Builder {
             length: 0.0,
             pieces,
         };
-        let tolerances = (quadrature_tolerance, accuracy);
-        let mut a = 0.0;
-        for (i, b) in speed.kinks().into_iter().enumerate() {
-            // Away from a zero of the speed, it grows as |P''| times the distance: the slopes
-            // at a kink are the one-sided ones.
-            let mut ends = (speed.with_slope(a), speed.with_slope(b));
-            if i > 0 {
-                ends.0.1 = speed.bend_at(a);
-            }
-            if b < 1.0 {
-                ends.1.1 = -speed.bend_at(b);
-            }
-            builder.fit(&speed, (a, b), ends, tolerances, 0);
-            a = b;
+        first.push(0);
+        for segment in segments {
+            builder.length = 0.0;
+            builder.segment(&segment, quadrature_tolerance, accuracy);
+            lengths.push(builder.length);
+            first.push(builder.pieces.len());
         }
-        let table = Self {
-            length: builder.length,
+        let tables = Self {
+            lengths: lengths.into(),
+            first: first.into(),
             pieces: builder.pieces.as_slice().into(),
         };
         SCRATCH.set(builder.pieces);
-        table
+        tables
     }
 
+    /// The number of segments.
+    pub(crate) fn len(&self) -> usize {
+        self.lengths.len()
+    }
+
+    /// Segment `i`'s table.
+    pub(crate) fn get(&self, i: usize) -> PlaceTable<'_> {
+        PlaceTable {
+            length: self.lengths[i],
+            pieces: &self.pieces[self.first[i]..self.first[i + 1]],
+        }
+    }
+
+    /// Every segment's table, in order.
+    pub(crate) fn iter(&self) -> impl ExactSizeIterator<Item = PlaceTable<'_>> {
+        (0..self.len()).map(|i| self.get(i))
+    }
+}
+
+impl<'a> PlaceTable<'a> {
     /// The segment's length (the model pieces' together).
     pub(crate) fn length(&self) -> f64 {
         self.length
@@ -103,7 +134,7 @@ impl PlaceTable {
             return 1.0;
         }
         let last = self.pieces.len() - 1;
-        let k = last_before(&self.pieces, (*hint).min(last), |p| p.s0 < s);
+        let k = last_before(self.pieces, (*hint).min(last), |p| p.s0 < s);
         *hint = k;
         self.pieces[k].at(s)
     }
@@ -111,7 +142,7 @@ impl PlaceTable {
     /// The inverse piece `k` and the lengths it takes, as [`PlaceTable::place`] chooses
     /// pieces: above its start and up to the next one's (the last: up to the segment's
     /// length; at or beyond it, u = 1).
-    pub(crate) fn inverse_piece(&self, k: usize) -> (&InversePiece, f64) {
+    pub(crate) fn inverse_piece(&self, k: usize) -> (&'a InversePiece, f64) {
         let last = self.pieces.get(k + 1).map_or(f64::INFINITY, |p| p.s0);
         (&self.pieces[k], last)
     }
@@ -121,7 +152,7 @@ impl PlaceTable {
     /// places a sample as the CPU does, one polynomial a sample.
     pub(crate) fn inverse_pieces(
         &self,
-    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, [f64; 5])> {
+    ) -> impl ExactSizeIterator<Item = (f64, f64, f64, [f64; 5])> + 'a {
         self.pieces.iter().map(|p| {
             let c = [p.c[1], p.c[2], p.c[3], p.c[4], p.c[5]];
             (p.s0, p.u0, p.u0 + p.du, c)
@@ -129,13 +160,33 @@ impl PlaceTable {
     }
 }
 
-/// A table being made: the length so far and the inverse pieces.
+/// Tables being made: the length so far of the segment being made, and the inverse pieces.
 struct Builder {
     length: f64,
     pieces: Vec<InversePiece>,
 }
 
 impl Builder {
+    /// Appends `segment`'s pieces (its length from 0 in `self.length`).
+    fn segment(&mut self, segment: &Segment<'_>, quadrature_tolerance: f64, accuracy: f64) {
+        let speed = Speed::of(segment);
+        let tolerances = (quadrature_tolerance, accuracy);
+        let mut a = 0.0;
+        for (i, b) in speed.kinks().into_iter().enumerate() {
+            // Away from a zero of the speed, it grows as |P''| times the distance: the slopes
+            // at a kink are the one-sided ones.
+            let mut ends = (speed.with_slope(a), speed.with_slope(b));
+            if i > 0 {
+                ends.0.1 = speed.bend_at(a);
+            }
+            if b < 1.0 {
+                ends.1.1 = -speed.bend_at(b);
+            }
+            self.fit(&speed, (a, b), ends, tolerances, 0);
+            a = b;
+        }
+    }
+
     /// Appends [a, b] (the speed and its slope at its ends in `ends`) as model pieces, each
     /// mapped back by its inverse pieces, halved while the model or the rule is off.
     fn fit(
@@ -151,11 +202,15 @@ impl Builder {
         let ((v0, dv0), (v1, dv1)) = ends;
         let c = quintic_hermite(length, v0 * w, v1 * w, dv0 * w * w, dv1 * w * w);
         // The model's slope at the nodes, and the rules' difference (see the module docs).
+        // Every node is tested, none skipped (a NaN is not within): straight-line code, no
+        // branch a node.
+        let within_at_nodes: usize = GL8_POSITIONS
+            .iter()
+            .zip(at_nodes)
+            .map(|(&x, v)| usize::from((polynomial_slope(&c, x) - w * v).abs() <= accuracy))
+            .sum();
         let fits = length <= accuracy
-            || (GL8_POSITIONS
-                .iter()
-                .zip(at_nodes)
-                .all(|(&x, v)| (polynomial_slope(&c, x) - w * v).abs() <= accuracy)
+            || (within_at_nodes == GL8_POSITIONS.len()
                 && (speed.gl4(a, b) - length).abs() <= w * quadrature_tolerance);
         if !fits && depth < MAX_DEPTH {
             let mid = 0.5 * (a + b);
@@ -187,23 +242,29 @@ impl Builder {
         let (ua, w) = model.u;
         let mut piece = InversePiece::linear((ua + xa * w, ua + xb * w), (sa, sb));
         if sb - sa > accuracy && xb > xa {
+            // Every node and check point is computed, none skipped (a NaN is not within):
+            // straight-line code, no branch a point.
+            let (dx, ds) = (xb - xa, sb - sa);
             let nodes: [f64; 6] = std::array::from_fn(|i| match i {
                 0 => 0.0,
                 5 => 1.0,
-                _ => (model.at(xa + LOBATTO[i] * (xb - xa)) - sa) / (sb - sa),
+                _ => (model.at(xa + LOBATTO[i] * dx) - sa) / ds,
             });
             let increasing = nodes.windows(2).all(|pair| pair[0] < pair[1]);
-            let fits = increasing && {
-                let p = interpolate(&nodes, &LOBATTO);
-                let fits = MIDPOINTS.iter().all(|&m| {
-                    let s = model.at(xa + m * (xb - xa));
-                    let tau = (s - sa) / (sb - sa);
-                    let x = xa + (xb - xa) * evaluate5(&p, tau).clamp(0.0, 1.0);
-                    (model.at(x) - s).abs() <= accuracy
-                });
+            let p = interpolate(&nodes, &LOBATTO);
+            let lengths = MIDPOINTS.map(|m| model.at(xa + m * dx));
+            let within: usize = lengths
+                .iter()
+                .map(|&s| {
+                    let tau = (s - sa) / ds;
+                    let x = xa + dx * evaluate5(&p, tau).clamp(0.0, 1.0);
+                    usize::from((model.at(x) - s).abs() <= accuracy)
+                })
+                .sum();
+            let fits = increasing && within == MIDPOINTS.len();
+            if increasing {
                 piece.c = p;
-                fits
-            };
+            }
             if !fits && depth < MAX_DEPTH {
                 let mid = 0.5 * (xa + xb);
                 self.invert(model, (xa, mid), accuracy, depth + 1);
@@ -232,11 +293,17 @@ struct Model {
 impl Model {
     /// The length from the piece's start at x, within [0, length] (a piece of length 0, a
     /// segment that stands still, may end a rounding below its start).
+    #[inline]
     fn at(&self, x: f64) -> f64 {
-        if x >= 1.0 {
+        // Clamped by comparisons, as `InversePiece::at` is (`f64::clamp` checks that its
+        // bounds are ordered, a branch at every call).
+        let s = polynomial(&self.c, x);
+        if x >= 1.0 || s > self.length {
             self.length
+        } else if s < 0.0 {
+            0.0
         } else {
-            polynomial(&self.c, x).clamp(0.0, self.length)
+            s
         }
     }
 }
@@ -269,7 +336,17 @@ impl InversePiece {
     #[inline]
     pub(crate) fn at(&self, s: f64) -> f64 {
         let tau = ((s - self.s0) * self.inv_length).clamp(0.0, 1.0);
-        (self.u0 + self.du * evaluate5(&self.c, tau)).clamp(self.u0, self.u0 + self.du)
+        let u = self.u0 + self.du * evaluate5(&self.c, tau);
+        // Clamped to [u0, u0 + du] (du >= 0) by selects: `f64::clamp`'s check of bounds not
+        // known to be ordered would keep the callers' loops from vectorizing.
+        let end = self.u0 + self.du;
+        if u < self.u0 {
+            self.u0
+        } else if u > end {
+            end
+        } else {
+            u
+        }
     }
 }
 
