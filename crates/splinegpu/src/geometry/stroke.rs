@@ -17,11 +17,13 @@
 //!
 //! Every triangle is counter-clockwise in (x, y).
 
+use std::borrow::Cow;
+
 use super::mesh::MeshOut;
 use crate::error::InputError;
 use crate::job::samples::SampleFloat;
 use crate::sampling::SampleLoc;
-use crate::segment::SegmentTable;
+use crate::segment::{SegmentTable, first_derivative};
 
 /// How a stroke ends at an open curve's ends.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -159,6 +161,50 @@ fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], Optio
     (d1, d2)
 }
 
+/// [`derivatives`] at places that come segment by segment: a polynomial segment's x and y
+/// coefficients and 1/Δ read once for its places (the same operations as
+/// [`Segment::deriv`](crate::Segment::deriv), so the same bits); a rational one through
+/// [`derivatives`].
+struct PlaneDerivatives<'t> {
+    table: &'t SegmentTable,
+    /// The segment read, and what is held of it.
+    held: Option<(usize, Option<PlaneTerms>)>,
+}
+
+/// A polynomial segment's x and y coefficients (A, B, C) and 1/Δ (`None` for a rational one).
+type PlaneTerms = ([[f64; 3]; 2], f64);
+
+impl<'t> PlaneDerivatives<'t> {
+    fn new(table: &'t SegmentTable) -> Self {
+        Self { table, held: None }
+    }
+
+    /// [`derivatives`] at (segment, u).
+    #[inline]
+    fn at(&mut self, segment: usize, u: f64) -> ([f64; 2], Option<[f64; 2]>) {
+        let held = match self.held {
+            Some((s, held)) if s == segment => held,
+            _ => {
+                let s = self.table.segment(segment);
+                let held = s.denominator().is_none().then(|| {
+                    let [a, b, c, _] = s.power();
+                    ([[a[0], b[0], c[0]], [a[1], b[1], c[1]]], 1.0 / s.dt())
+                });
+                self.held = Some((segment, held));
+                held
+            }
+        };
+        let Some((xy, inv_dt)) = held else {
+            return derivatives(self.table, segment, u);
+        };
+        let d1 = xy.map(|[a, b, c]| first_derivative(a, b, c, u, inv_dt));
+        if d1 == [0.0, 0.0] || !(d1[0].is_finite() && d1[1].is_finite()) {
+            return derivatives(self.table, segment, u);
+        }
+        (d1, None)
+    }
+}
+
 /// The unit tangent at (segment, u) approached from above (`below` false) or below.
 fn tangent(table: &SegmentTable, segment: usize, u: f64, below: bool) -> Option<[f64; 2]> {
     let (d1, d2) = derivatives(table, segment, u);
@@ -182,14 +228,25 @@ fn turn(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// `locs` with a place at every joint between their first and their last where the curve
 /// turns a corner that they do not already hold (arc-length places seldom fall on one, nor a
-/// dash's): every corner gets its join.
-fn with_corner_joints(table: &SegmentTable, locs: &[SampleLoc]) -> Vec<SampleLoc> {
+/// dash's): every corner gets its join. `locs` themselves where they hold every joint (a
+/// tolerance or per-segment sampling's do): no copy.
+fn with_corner_joints<'l>(table: &SegmentTable, locs: &'l [SampleLoc]) -> Cow<'l, [SampleLoc]> {
     let (first, last) = (locs[0].t, locs[locs.len() - 1].t);
-    let joints = (1..table.len()).filter(|&s| {
+    // The joints strictly inside the places' range (a place at a joint has u = 0 on the
+    // segment that starts there).
+    let inside = (1..table.len()).filter(|&s| {
         let t = table.segment(s).t0();
-        if t <= first || t >= last {
-            return false;
-        }
+        t > first && t < last
+    });
+    let held = |s: usize| {
+        let t = table.segment(s).t0();
+        let at = locs.partition_point(|loc| loc.t < t);
+        locs.get(at).is_some_and(|loc| loc.t == t)
+    };
+    if inside.clone().all(held) {
+        return Cow::Borrowed(locs);
+    }
+    let joints = inside.filter(|&s| {
         let arriving = tangent(table, s - 1, 1.0, true);
         let leaving = tangent(table, s, 0.0, false);
         matches!((arriving, leaving), (Some(a), Some(b)) if turn(a, b) > CORNER)
@@ -213,7 +270,7 @@ fn with_corner_joints(table: &SegmentTable, locs: &[SampleLoc]) -> Vec<SampleLoc
         }
         merged.push(*loc);
     }
-    merged
+    Cow::Owned(merged)
 }
 
 impl StrokePlan {
@@ -272,10 +329,11 @@ impl StrokePlan {
         let mut sections: Vec<Section> = Vec::with_capacity(locs.len());
         let mut corners = Vec::new();
         let mut previous = [1.0, 0.0];
+        let mut plane_derivatives = PlaneDerivatives::new(table);
         for (j, loc) in locs.iter().enumerate() {
             let loc = *loc;
             let at_end = j == last;
-            let (d1, d2) = derivatives(table, loc.segment, loc.u);
+            let (d1, d2) = plane_derivatives.at(loc.segment, loc.u);
             let here = tangent_of(d1, d2, at_end && j > 0);
             let leaving = here.unwrap_or(previous);
             let section = |tangent| Section {
