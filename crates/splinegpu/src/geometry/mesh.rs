@@ -355,19 +355,52 @@ fn radial_ring<F: SampleFloat>(
 
 /// A tube's triangles: rings j and j + 1 joined by quads of two triangles (a closed curve's
 /// last ring its first), and with `caps` a fan onto each end's centre.
+///
+/// Rings j and j + 1 with j + 1 a ring of its own (all but a closed curve's last quads) are
+/// the quads of rings 0 and 1 with j·sides added to every index: that pattern is made once
+/// and copied ring by ring, offset, in a loop without divisions or checks (the indices were
+/// counted within u32 when the curve was pushed; the largest is checked once here).
 fn tube_triangles(sections: usize, sides: u32, caps: bool, closed: bool, out: &mut [[u32; 3]]) {
     let s = u64::from(sides);
     let rings = if closed { sections - 1 } else { sections } as u64;
     let ring = |j: u64| (j % rings) * s;
-    let mut triangle = 0;
-    for j in 0..sections as u64 - 1 {
-        let (a, b) = (ring(j), ring(j + 1));
-        for k in 0..s {
-            let k1 = (k + 1) % s;
-            out[triangle] = [index(a + k), index(a + k1), index(b + k1)];
-            out[triangle + 1] = [index(a + k), index(b + k1), index(b + k)];
-            triangle += 2;
+    let quads = |a: u64, b: u64, out: &mut [[u32; 3]]| {
+        for (k, pair) in (0..s).zip(out.chunks_exact_mut(2)) {
+            let k1 = if k + 1 == s { 0 } else { k + 1 };
+            pair[0] = [index(a + k), index(a + k1), index(b + k1)];
+            pair[1] = [index(a + k), index(b + k1), index(b + k)];
         }
+    };
+    let per_ring = 2 * sides as usize;
+    let joined = sections - 1;
+    // The rings whose next ring follows them in the vertices: all of an open tube's, all but
+    // the last of a closed one's.
+    let offset_rings = if closed {
+        joined.saturating_sub(1)
+    } else {
+        joined
+    };
+    let mut pattern = vec![[0u32; 3]; per_ring];
+    quads(0, s, &mut pattern);
+    // The largest index the copies write: ring offset_rings's last vertex.
+    index(offset_rings as u64 * s + s - 1);
+    for (j, ring_out) in out[..offset_rings * per_ring]
+        .chunks_exact_mut(per_ring)
+        .enumerate()
+    {
+        let a = (j as u64 * s) as u32;
+        for (t, p) in ring_out.iter_mut().zip(&pattern) {
+            *t = p.map(|v| v + a);
+        }
+    }
+    let mut triangle = offset_rings * per_ring;
+    for j in offset_rings as u64..joined as u64 {
+        quads(
+            ring(j),
+            ring(j + 1),
+            &mut out[triangle..triangle + per_ring],
+        );
+        triangle += per_ring;
     }
     if caps {
         let (start, end) = (rings * s, rings * s + 1);
