@@ -539,6 +539,60 @@ mod tests {
         job
     }
 
+    /// Computed plans (arc length, tolerance) of more samples than a block of places, on
+    /// threads whose ranges start and end inside them, give what [`SamplePlan::loc`] gives
+    /// one sample at a time: the reference's values and the places' t, bit for bit.
+    #[test]
+    fn computed_places_in_ranges_cut_anywhere_are_the_ones_found_one_by_one() {
+        let mut job = EvalJob::new(Derivatives::First);
+        let coords: Vec<f64> = (0..60).map(|v| (f64::from(v) * 2.59).sin() * 5.0).collect();
+        let points = Points::new(3, coords).unwrap();
+        let kind = CurveKind::Uniform {
+            basis: Basis::CatmullRom,
+            ends: Ends::Repeat,
+        };
+        let curve = Curve::new(kind, points.clone()).unwrap();
+        job.push(&curve, &Sampling::ArcLength(20_011)).unwrap();
+        job.push(&curve, &Sampling::Tolerance(1e-7)).unwrap();
+        let knots: Vec<f64> = [0.0; 4]
+            .into_iter()
+            .chain((1..17).map(|k| f64::from(k) * f64::from(k)))
+            .chain([289.0; 4])
+            .collect();
+        let kind = CurveKind::Nurbs {
+            knots,
+            weights: Some((0..20).map(|j| 0.5 + f64::from(j % 4)).collect()),
+        };
+        job.push(
+            &Curve::new(kind, points).unwrap(),
+            &Sampling::ArcLength(9_001),
+        )
+        .unwrap();
+        let plans: Vec<usize> = (0..job.len()).map(|c| job.plan(c).len()).collect();
+        assert!(
+            plans[1] > 2 * LOC_BLOCK,
+            "the tolerance sampling spans blocks: {plans:?}"
+        );
+        let want_t: Vec<f64> = (0..job.len())
+            .flat_map(|c| (0..job.plan(c).len()).map(move |i| (c, i)))
+            .map(|(c, i)| job.plan(c).loc(i).t)
+            .collect();
+        let (_, _, want) = evaluate_reference(&job).into_parts();
+        for threads in 1..=3 {
+            let mut fast = Samples::<f64>::for_job(&job);
+            evaluate_cpu_into(&job, fast.planes_for(&job), threads);
+            let (_, t, got) = fast.into_parts();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert!(bits(&t) == bits(&want_t), "t on {threads} threads");
+            for plane in 0..2 {
+                assert!(
+                    bits(&got[plane]) == bits(&want[plane]),
+                    "plane {plane} on {threads} threads"
+                );
+            }
+        }
+    }
+
     /// Every instruction set's build gives the reference's bits in f64 and the reference
     /// rounded once in f32, so the one a CPU picks never changes an answer.
     #[test]
