@@ -977,7 +977,7 @@ fn tube_sides(
 fn swept_kind(shape: Option<Shape>) -> Swept {
     match shape {
         None => Swept::Stroke,
-        Some(Shape::Tube { sides, .. }) => Swept::Tube { sides },
+        Some(Shape::Tube { sides, .. }) => Swept::tube(sides),
         Some(Shape::Ribbon) => Swept::Ribbon,
     }
 }

@@ -72,8 +72,11 @@ const SMALLEST_CELL: f64 = 1.0 / (1u64 << 40) as f64;
 /// What a cell's error is measured for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Swept {
-    /// A tube of this many sides.
-    Tube { sides: u32 },
+    /// A tube of this many sides; `sagitta` is a ring's sagitta over its radius,
+    /// 1 − cos(π/sides), made once ([`Swept::tube`]): computed in [`CellBounds::error`], the
+    /// cosine was evaluated on every call, strokes' and ribbons' too (libm's cos was 4-5 % of
+    /// a stroke's planning in `perf`).
+    Tube { sides: u32, sagitta: f64 },
     /// A ribbon.
     Ribbon,
     /// A 2-D stroke's body.
@@ -81,6 +84,12 @@ pub(crate) enum Swept {
 }
 
 impl Swept {
+    /// A tube of `sides` sides.
+    pub(crate) fn tube(sides: u32) -> Self {
+        let sagitta = 1.0 - (std::f64::consts::PI / f64::from(sides)).cos();
+        Swept::Tube { sides, sagitta }
+    }
+
     /// Whether its cross-sections carry rotation-minimizing frames.
     fn framed(self) -> bool {
         !matches!(self, Swept::Stroke)
@@ -349,10 +358,7 @@ impl CellBounds {
         let a = self.k2 + r2 + 2.0 * r1 * e1 + r0 * f2;
         let error = match swept {
             // The quads' twists across the cell are measured on the quads ([`Carried`]).
-            Swept::Tube { sides } => {
-                let alpha = std::f64::consts::PI / f64::from(sides);
-                r0 * (1.0 - alpha.cos()) + a * h * h / 8.0
-            }
+            Swept::Tube { sagitta, .. } => r0 * sagitta + a * h * h / 8.0,
             Swept::Ribbon => a * h * h / 8.0,
             Swept::Stroke => (self.k2 + r2 + 2.0 * r1 * t1 + r0 * t2) * h * h / 8.0,
         };
@@ -597,7 +603,7 @@ impl<'a> Carried<'a> {
                 let turn: f64 = corners[i..j].iter().sum();
                 let warp = match swept {
                     Swept::Ribbon => self.ribbon_warp(i, j),
-                    Swept::Tube { sides } => self.tube_warp(i, j, sides),
+                    Swept::Tube { sides, .. } => self.tube_warp(i, j, sides),
                     Swept::Stroke => 0.0,
                 };
                 let bounds = if j == i + 1 {
@@ -742,7 +748,7 @@ fn too_many(limit: usize) -> InputError {
 fn uncertified(segment: &Segment<'_>, u: f64, swept: Swept) -> InputError {
     let t = segment.t0() + u * segment.dt();
     let why = match swept {
-        Swept::Tube { sides } => format!(
+        Swept::Tube { sides, .. } => format!(
             "the curve's speed vanishes there, or {sides} sides leave the rings no room \
              within it"
         ),
