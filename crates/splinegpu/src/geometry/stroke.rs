@@ -23,7 +23,7 @@ use super::mesh::MeshOut;
 use crate::error::InputError;
 use crate::job::samples::SampleFloat;
 use crate::sampling::SampleLoc;
-use crate::segment::{SegmentTable, first_derivative};
+use crate::segment::{SegmentTable, first_derivative, position};
 
 /// How a stroke ends at an open curve's ends.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -161,47 +161,70 @@ fn derivatives(table: &SegmentTable, segment: usize, u: f64) -> ([f64; 2], Optio
     (d1, d2)
 }
 
-/// [`derivatives`] at places that come segment by segment: a polynomial segment's x and y
-/// coefficients and 1/Δ read once for its places (the same operations as
-/// [`Segment::deriv`](crate::Segment::deriv), so the same bits); a rational one through
-/// [`derivatives`].
-struct PlaneDerivatives<'t> {
+/// The widened table (x, y, w) read at places that come segment by segment: a polynomial
+/// segment's coefficients and 1/Δ read once for its places, each value by the same operations
+/// as [`Segment::eval`](crate::Segment::eval) and [`Segment::deriv`](crate::Segment::deriv)
+/// (so the same bits); a rational segment through them.
+struct HeldSegment<'t> {
     table: &'t SegmentTable,
     /// The segment read, and what is held of it.
-    held: Option<(usize, Option<PlaneTerms>)>,
+    held: Option<(usize, Option<WidenedTerms>)>,
 }
 
-/// A polynomial segment's x and y coefficients (A, B, C) and 1/Δ (`None` for a rational one).
-type PlaneTerms = ([[f64; 3]; 2], f64);
+/// A polynomial segment's (A, B, C, D) for x, y and w, and 1/Δ (`None` for a rational one).
+type WidenedTerms = ([[f64; 4]; 3], f64);
 
-impl<'t> PlaneDerivatives<'t> {
+impl<'t> HeldSegment<'t> {
     fn new(table: &'t SegmentTable) -> Self {
         Self { table, held: None }
     }
 
+    /// The terms of `segment` (`None` where it is rational, or the table is not x, y, w),
+    /// read once for a run of places.
+    #[inline]
+    fn terms(&mut self, segment: usize) -> Option<&WidenedTerms> {
+        if self.held.as_ref().is_none_or(|(s, _)| *s != segment) {
+            let s = self.table.segment(segment);
+            let polynomial = s.denominator().is_none() && self.table.dim() == 3;
+            let held = polynomial.then(|| {
+                let [a, b, c, d] = s.power();
+                (
+                    std::array::from_fn(|k| [a[k], b[k], c[k], d[k]]),
+                    1.0 / s.dt(),
+                )
+            });
+            self.held = Some((segment, held));
+        }
+        self.held.as_ref().and_then(|(_, held)| held.as_ref())
+    }
+
     /// [`derivatives`] at (segment, u).
     #[inline]
-    fn at(&mut self, segment: usize, u: f64) -> ([f64; 2], Option<[f64; 2]>) {
-        let held = match self.held {
-            Some((s, held)) if s == segment => held,
-            _ => {
-                let s = self.table.segment(segment);
-                let held = s.denominator().is_none().then(|| {
-                    let [a, b, c, _] = s.power();
-                    ([[a[0], b[0], c[0]], [a[1], b[1], c[1]]], 1.0 / s.dt())
-                });
-                self.held = Some((segment, held));
-                held
-            }
+    fn derivatives(&mut self, segment: usize, u: f64) -> ([f64; 2], Option<[f64; 2]>) {
+        let table = self.table;
+        let Some((terms, inv_dt)) = self.terms(segment) else {
+            return derivatives(table, segment, u);
         };
-        let Some((xy, inv_dt)) = held else {
-            return derivatives(self.table, segment, u);
-        };
-        let d1 = xy.map(|[a, b, c]| first_derivative(a, b, c, u, inv_dt));
+        let d1 = [0, 1].map(|k| {
+            let [a, b, c, _] = terms[k];
+            first_derivative(a, b, c, u, *inv_dt)
+        });
         if d1 == [0.0, 0.0] || !(d1[0].is_finite() && d1[1].is_finite()) {
             return derivatives(self.table, segment, u);
         }
         (d1, None)
+    }
+
+    /// The position and width (x, y, w) at (segment, u).
+    #[inline]
+    fn centre(&mut self, segment: usize, u: f64) -> [f64; 3] {
+        let table = self.table;
+        let Some((terms, _)) = self.terms(segment) else {
+            let mut p = [0.0; 3];
+            table.segment(segment).eval(u, &mut p);
+            return p;
+        };
+        terms.map(|[a, b, c, d]| position(a, b, c, d, u))
     }
 }
 
@@ -329,11 +352,11 @@ impl StrokePlan {
         let mut sections: Vec<Section> = Vec::with_capacity(locs.len());
         let mut corners = Vec::new();
         let mut previous = [1.0, 0.0];
-        let mut plane_derivatives = PlaneDerivatives::new(table);
+        let mut held = HeldSegment::new(table);
         for (j, loc) in locs.iter().enumerate() {
             let loc = *loc;
             let at_end = j == last;
-            let (d1, d2) = plane_derivatives.at(loc.segment, loc.u);
+            let (d1, d2) = held.derivatives(loc.segment, loc.u);
             let here = tangent_of(d1, d2, at_end && j > 0);
             let leaving = here.unwrap_or(previous);
             let section = |tangent| Section {
@@ -434,12 +457,12 @@ impl StrokePlan {
         planes: Option<(&mut [F], &mut [F])>,
         topology: Option<(&mut [f64], &mut [[u32; 3]])>,
     ) {
+        let mut held = HeldSegment::new(table);
         let centres = self
             .sections
             .iter()
             .map(|s| {
-                let mut p = [0.0; 3];
-                table.segment(s.segment).eval(s.u, &mut p);
+                let p = held.centre(s.segment, s.u);
                 ([p[0], p[1]], 0.5 * p[2].max(0.0), s.t)
             })
             .collect();
