@@ -361,26 +361,31 @@ impl Speed {
         sum * half * self.scale
     }
 
-    /// The 4-point Gauss–Legendre rule for ∫ speed over [a, b]: on a polynomial segment the
-    /// four nodes side by side, as [`Speed::gl8`] evaluates its eight (the same operations as
-    /// [`Speed::at`] at each, so the same bits).
+    /// The speed at each of `u`: on a polynomial segment side by side (coordinate by
+    /// coordinate, then the square roots), which the compiler turns into vector instructions;
+    /// the same operations as [`Speed::at`] at each, so the same bits.
+    #[inline]
+    fn speeds<const N: usize>(&self, u: [f64; N]) -> [f64; N] {
+        if self.denominator.is_some() {
+            return u.map(|u| self.at(u));
+        }
+        let mut q = [0.0; N];
+        for [a, b, c] in &self.terms {
+            for i in 0..N {
+                let d = c + u[i] * (b + u[i] * a);
+                q[i] += d * d;
+            }
+        }
+        q.map(|q| q.sqrt() * self.scale)
+    }
+
+    /// The 4-point Gauss–Legendre rule for ∫ speed over [a, b], its nodes side by side
+    /// ([`Speed::speeds`]).
     #[inline]
     pub(crate) fn gl4(&self, a: f64, b: f64) -> f64 {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
         let x = [half * GL4_NODES[0], half * GL4_NODES[1]];
-        let u = [mid - x[0], mid + x[0], mid - x[1], mid + x[1]];
-        let v: [f64; 4] = if self.denominator.is_some() {
-            u.map(|u| self.at(u))
-        } else {
-            let mut q = [0.0; 4];
-            for [a, b, c] in &self.terms {
-                for i in 0..4 {
-                    let d = c + u[i] * (b + u[i] * a);
-                    q[i] += d * d;
-                }
-            }
-            q.map(|q| q.sqrt() * self.scale)
-        };
+        let v = self.speeds([mid - x[0], mid + x[0], mid - x[1], mid + x[1]]);
         let mut sum = 0.0;
         for i in 0..2 {
             sum += GL4_WEIGHTS[i] * (v[2 * i] + v[2 * i + 1]);
@@ -393,19 +398,7 @@ impl Speed {
     #[inline]
     pub(crate) fn gl8_nodes(&self, a: f64, b: f64) -> (f64, [f64; 8]) {
         let w = b - a;
-        let v: [f64; 8] = if self.denominator.is_some() {
-            std::array::from_fn(|i| self.at(a + w * GL8_POSITIONS[i]))
-        } else {
-            let u: [f64; 8] = std::array::from_fn(|i| a + w * GL8_POSITIONS[i]);
-            let mut q = [0.0; 8];
-            for [a, b, c] in &self.terms {
-                for i in 0..8 {
-                    let d = c + u[i] * (b + u[i] * a);
-                    q[i] += d * d;
-                }
-            }
-            q.map(|q| q.sqrt() * self.scale)
-        };
+        let v = self.speeds(std::array::from_fn(|i| a + w * GL8_POSITIONS[i]));
         let mut sum = 0.0;
         for i in 0..4 {
             sum += GL8_WEIGHTS[i] * (v[i] + v[i + 4]);
