@@ -302,7 +302,7 @@ impl GeometryJob {
         let Some(available) = *self.available.get_or_init(memory::available_memory) else {
             return Ok(());
         };
-        let bytes = u128::from(vertices) * 56 + u128::from(triangles) * 12;
+        let bytes = mesh_bytes(vertices, triangles);
         if bytes > u128::from(available) {
             return Err(InputError::field(
                 "sampling",
@@ -483,7 +483,7 @@ impl GeometryJob {
                      {} bytes, more than the process can have",
                     range.start,
                     range.end.saturating_sub(1),
-                    vertices as u64 * 56 + triangles as u64 * 12
+                    mesh_bytes(vertices as u64, triangles as u64)
                 ),
             )
         };
@@ -689,6 +689,50 @@ fn check_mesh_size(vertices: u64) -> Result<(), InputError> {
     Ok(())
 }
 
+/// The vertices and triangles of a tube or ribbon at `places` cross-sections, or of its
+/// `dashes` (each a list of indices into the places).
+fn mesh_counts(
+    shape: Shape,
+    places: usize,
+    dashes: Option<&[Vec<usize>]>,
+    closed: bool,
+) -> (u64, u64) {
+    match dashes {
+        None => mesh::counts(shape, places as u64, closed),
+        Some(dashes) => dashes.iter().fold((0, 0), |(v, f), dash| {
+            let (dv, df) = mesh::counts(shape, dash.len() as u64, false);
+            (v + dv, f + df)
+        }),
+    }
+}
+
+/// The bytes of a mesh made in f64: its positions, normals and t, and its triangles.
+fn mesh_bytes(vertices: u64, triangles: u64) -> u128 {
+    u128::from(vertices) * 56 + u128::from(triangles) * 12
+}
+
+/// Refuses a curve whose mesh will have at least `vertices` and `triangles`, where that is
+/// more than 2^32 − 1 vertices or more bytes than the process has (the memory read only for a
+/// mesh of a GiB or more; the job checks its whole once planned).
+fn check_least_mesh(vertices: u64, triangles: u64) -> Result<(), InputError> {
+    let bytes = mesh_bytes(vertices, triangles);
+    let available = (bytes >= 1 << 30).then(memory::available_memory).flatten();
+    let beyond = if vertices > u64::from(u32::MAX) {
+        "more than 2^32 - 1 vertices".to_string()
+    } else if let Some(available) = available.filter(|&a| bytes > u128::from(a)) {
+        format!("more than the {available} bytes of memory the process has available")
+    } else {
+        return Ok(());
+    };
+    Err(InputError::field(
+        "sampling",
+        format!(
+            "makes a mesh of at least {vertices} vertices and {triangles} triangles, {bytes} \
+             bytes: {beyond}"
+        ),
+    ))
+}
+
 /// Whether the curve closes on itself (its frames are then closed up and its mesh wraps).
 fn is_closed(kind: &CurveKind) -> bool {
     match kind {
@@ -863,6 +907,11 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         let Some(tol) = tolerance else {
             break (merged, indices, lengths);
         };
+        // Places are only ever added: the mesh they give now is the least the tolerance can
+        // end with, refused before its cells are measured (a tube's cells, quad by quad, cost
+        // as much as making the mesh).
+        let (vertices, triangles) = mesh_counts(shape, merged.len(), indices.as_deref(), closed);
+        check_least_mesh(vertices, triangles)?;
         let carried = Carried::of(&table, &merged, n0, lengths.as_deref());
         let slack = FrameSlack {
             closed_length: lengths.as_ref().and_then(|l| l.last().copied()),
@@ -894,13 +943,7 @@ fn plan(curve: &Curve, geometry: &Geometry, sampling: &Sampling) -> Result<Plann
         }
         pieces = lay(&locs)?;
     };
-    let (vertices, triangles) = match &dashes {
-        None => mesh::counts(shape, locs.len() as u64, closed),
-        Some(indices) => indices.iter().fold((0, 0), |(v, f), piece| {
-            let (pv, pf) = mesh::counts(shape, piece.len() as u64, false);
-            (v + pv, f + pf)
-        }),
-    };
+    let (vertices, triangles) = mesh_counts(shape, locs.len(), dashes.as_deref(), closed);
     Ok(Planned {
         table,
         geometry: geometry.clone(),

@@ -46,7 +46,7 @@
 //! part is bounded again.
 
 use super::frames::{self, Vec3};
-use crate::error::InputError;
+use crate::error::{InputError, Shown};
 use crate::sampling::SampleLoc;
 use crate::segment::{Segment, SegmentTable};
 
@@ -494,18 +494,19 @@ impl<'a> Carried<'a> {
     }
 
     /// The most any of a tube's quads between the rings at places i and j strays from the
-    /// bilinear patch through its corners, and back ([`quad_warp`]).
-    fn tube_warp(&self, i: usize, j: usize, sides: u32) -> f64 {
+    /// bilinear patch through its corners, and back ([`quad_warp`]); `circle` the sides'
+    /// (sin θ_k, cos θ_k).
+    fn tube_warp(&self, i: usize, j: usize, circle: &[(f64, f64)]) -> f64 {
         let ring = |k: usize| {
             let (n, x, r) = (self.normals[k], self.positions[k], self.widths[k]);
             let b = frames::cross(self.tangents[k], n);
-            move |side: u32| {
-                let angle = std::f64::consts::TAU * f64::from(side) / f64::from(sides);
-                let (sin, cos) = angle.sin_cos();
+            move |side: usize| {
+                let (sin, cos) = circle[side];
                 std::array::from_fn(|d| x[d] + r * (cos * n[d] + sin * b[d]))
             }
         };
         let (a, b) = (ring(i), ring(j));
+        let sides = circle.len();
         (0..sides)
             .map(|k| {
                 let next = (k + 1) % sides;
@@ -589,6 +590,13 @@ impl<'a> Carried<'a> {
                 vec![&all]
             }
         };
+        // A tube's sides' angles, θ_k = 2πk/sides, as the mesh writer makes them.
+        let circle: Vec<(f64, f64)> = match swept {
+            Swept::Tube { sides, .. } => (0..sides)
+                .map(|k| (std::f64::consts::TAU * f64::from(k) / f64::from(sides)).sin_cos())
+                .collect(),
+            _ => Vec::new(),
+        };
         let mut failing = Vec::new();
         for piece in pieces {
             for cell in piece.windows(2) {
@@ -601,20 +609,23 @@ impl<'a> Carried<'a> {
                 let segment = self.table.segment(s);
                 let slope = slopes[i..j].iter().copied().fold(0.0, f64::max);
                 let turn: f64 = corners[i..j].iter().sum();
-                let warp = match swept {
-                    Swept::Ribbon => self.ribbon_warp(i, j),
-                    Swept::Tube { sides, .. } => self.tube_warp(i, j, sides),
-                    Swept::Stroke => 0.0,
-                };
                 let bounds = if j == i + 1 {
                     step_bounds[i]
                 } else {
                     CellBounds::of(&segment, ua, ub)
                 };
-                let error = bounds.map_or(f64::INFINITY, |b| {
-                    b.error(swept, h, slope) + b.w_max * turn + warp
-                });
-                if error.is_nan() || error > tol {
+                let error =
+                    bounds.map_or(f64::INFINITY, |b| b.error(swept, h, slope) + b.w_max * turn);
+                // The quads' warp adds to the error: measured only for a cell within tol
+                // without it (a tube's is a loop over its sides).
+                let fails = error.is_nan()
+                    || error > tol
+                    || match swept {
+                        Swept::Ribbon => error + self.ribbon_warp(i, j) > tol,
+                        Swept::Tube { .. } => error + self.tube_warp(i, j, &circle) > tol,
+                        Swept::Stroke => false,
+                    };
+                if fails {
                     failing.push(loc(&segment, s, 0.5 * (ua + ub)));
                 }
             }
@@ -699,7 +710,13 @@ pub(crate) fn places(
                 continue;
             }
             if width < SMALLEST_CELL {
-                return Err(uncertified(&segment, ua, swept));
+                return Err(uncertified(
+                    &segment,
+                    ua,
+                    swept,
+                    tol,
+                    error(CELLS_PER_BOUND),
+                ));
             }
             // Each part about CELLS_PER_BOUND cells, as the error falls with h² once the bounds
             // are tight; while a loose bound (a speed near 0 at this width) inflates it,
@@ -745,18 +762,32 @@ fn too_many(limit: usize) -> InputError {
     )
 }
 
-fn uncertified(segment: &Segment<'_>, u: f64, swept: Swept) -> InputError {
+/// A cell at `u` of `segment` that still fails as narrow as f64 cuts it, whose error bound
+/// there is `finest`: where that bound has shrunk with the cell to a trace of the segment's
+/// size (its speed's and width's bounds), the tolerance is below what f64 cells can reach;
+/// where it has not, the speed vanishes there (or a tube's sides leave the rings no room).
+fn uncertified(segment: &Segment<'_>, u: f64, swept: Swept, tol: f64, finest: f64) -> InputError {
     let t = segment.t0() + u * segment.dt();
-    let why = match swept {
-        Swept::Tube { sides, .. } => format!(
-            "the curve's speed vanishes there, or {sides} sides leave the rings no room \
-             within it"
-        ),
-        _ => "the curve's speed vanishes there".to_string(),
+    let size = CellBounds::of(segment, 0.0, 1.0).map_or(f64::NAN, |b| b.v_hi + b.w_max);
+    let why = if finest <= 1e-9 * size {
+        format!(
+            "cells as narrow as f64 cuts them there still stray up to {} from the exact shape, \
+             more than the tolerance {} (use a larger tolerance)",
+            Shown(finest),
+            Shown(tol)
+        )
+    } else {
+        let sides = match swept {
+            Swept::Tube { sides, .. } => {
+                format!(", or {sides} sides leave the rings no room within it")
+            }
+            _ => String::new(),
+        };
+        format!("the curve's speed vanishes there{sides} (use per_segment or arc_length sampling)")
     };
     InputError::field(
         "tolerance",
-        format!("cannot be certified near t = {t}: {why} (use per_segment or arc_length sampling)"),
+        format!("cannot be certified near t = {t}: {why}"),
     )
 }
 

@@ -690,6 +690,51 @@ fn bad_strokes_are_refused_by_name() {
     }
 }
 
+/// Tolerances that cannot be met are refused with their reason: a tube whose first rings and
+/// sides alone make more than 2^32 - 1 vertices, before its cells are measured (quad by quad,
+/// a check that would run for hours), a tolerance below what cells as narrow as f64 cuts
+/// them can reach, and a cusp, where the speed vanishes.
+#[test]
+fn unreachable_tolerances_are_refused_with_their_reason() {
+    use splinegpu::geometry::Stroke;
+    let bent = natural(vec![
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 3.0, 0.0, 1.0,
+    ]);
+    let tube = Geometry::Tube(Tube {
+        radius: Width::Constant(1.0),
+        ..Tube::default()
+    });
+    let plane =
+        |points: Vec<f64>| Curve::new(CurveKind::Bezier, Points::new(2, points).unwrap()).unwrap();
+    let stroke = Geometry::Stroke(Stroke::default());
+    let cases = [
+        (bent, tube, 1e-10, "sampling", "at least"),
+        (
+            plane(vec![0.0, 0.0, 1.0, 0.0, 2.0, 1.0, 3.0, 0.0]),
+            stroke.clone(),
+            1e-300,
+            "tolerance",
+            "use a larger tolerance",
+        ),
+        (
+            plane(vec![0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0]),
+            stroke,
+            1e-3,
+            "tolerance",
+            "speed vanishes",
+        ),
+    ];
+    for (curve, geometry, tol, field, why) in cases {
+        let mut job = GeometryJob::new();
+        let error = job
+            .push(&curve, &geometry, &Sampling::Tolerance(tol))
+            .unwrap_err();
+        assert_eq!(error.field.as_deref(), Some(field), "{error}");
+        assert!(error.to_string().contains(why), "{error}");
+        assert!(job.is_empty());
+    }
+}
+
 #[test]
 fn push_many_makes_the_meshes_that_pushing_one_by_one_makes() {
     let tube = Geometry::Tube(Tube {
