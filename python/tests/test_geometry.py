@@ -143,7 +143,7 @@ def test_bad_input_is_named(cpu, call, kwargs, error, match):
 def test_stroke_fields_are_named(cpu):
     with pytest.raises(ValueError, match='cap: must be "butt", "round" or "square"'):
         cpu.strokes(PATHS, width=0.1, cap="flat")
-    with pytest.raises(ValueError, match='curve 0: "miter_limit" must be a number >= 1'):
+    with pytest.raises(ValueError, match='curve 0: "miter_limit" must be a finite number >= 1'):
         cpu.strokes(PATHS, width=0.1, miter_limit=0.5)
 
 

@@ -393,7 +393,7 @@ fn bad_geometry_exits_2_naming_the_curve_the_field_and_the_value() {
         ),
         (
             stroke(r#", "miter_limit": 0.5"#),
-            "curve 1: \"miter_limit\" must be a number >= 1, got 0.5",
+            "curve 1: \"miter_limit\" must be a finite number >= 1, got 0.5",
         ),
         (
             stroke(r#", "sides": 3"#),

@@ -311,7 +311,7 @@ impl StrokePlan {
         if !(style.miter_limit.is_finite() && style.miter_limit >= 1.0) {
             return Err(InputError::field(
                 "miter_limit",
-                format!("must be a number >= 1, got {}", style.miter_limit),
+                format!("must be a finite number >= 1, got {}", style.miter_limit),
             ));
         }
         if style.sides < 4 {
