@@ -36,12 +36,14 @@ mod dash;
 pub mod frames;
 pub(crate) mod job;
 pub mod mesh;
+mod plan;
 pub(crate) mod stroke;
 mod tolerance;
 mod widen;
 
 pub use dash::Dash;
-pub use job::{GeometryJob, MAX_SECTIONS, MeshPlanes, Meshes};
+pub use job::{GeometryJob, MeshPlanes, Meshes};
+pub use plan::MAX_SECTIONS;
 pub use stroke::{Cap, Join, Stroke};
 
 /// A width (ribbons, strokes) or radius (tubes): one value for the whole curve, or one per
