@@ -45,6 +45,8 @@
 //! parts of about 8 cells each (the error falls as h² once the bounds are tight) and each
 //! part is bounded again.
 
+use rayon::prelude::*;
+
 use super::frames::{self, Vec3};
 use crate::error::{InputError, Shown};
 use crate::sampling::SampleLoc;
@@ -65,6 +67,9 @@ const CORNER: f64 = 1e-6;
 /// The most equal cells placed under one interval's bounds: more would be placed under
 /// bounds looser than a smaller interval's (more cells), fewer would compute bounds more often.
 const CELLS_PER_BOUND: usize = 8;
+
+/// The fewest cells a thread takes at once when a curve's cells are checked on every thread.
+const CELLS_PER_TASK: usize = 64;
 
 /// Below this width in u a cell that cannot be certified is given up on.
 const SMALLEST_CELL: f64 = 1.0 / (1u64 << 40) as f64;
@@ -597,38 +602,42 @@ impl<'a> Carried<'a> {
                 .collect(),
             _ => Vec::new(),
         };
+        // Every cell on every thread (a tube's quads make a cell as costly as its rings), the
+        // failing ones in order.
+        let fails = |i: usize, j: usize| -> Option<SampleLoc> {
+            let (s, ua, ub) = span(&self.places[i], &self.places[j]);
+            let h = ub - ua;
+            if h <= 0.0 {
+                return None;
+            }
+            let segment = self.table.segment(s);
+            let slope = slopes[i..j].iter().copied().fold(0.0, f64::max);
+            let turn: f64 = corners[i..j].iter().sum();
+            let bounds = if j == i + 1 {
+                step_bounds[i]
+            } else {
+                CellBounds::of(&segment, ua, ub)
+            };
+            let error = bounds.map_or(f64::INFINITY, |b| b.error(swept, h, slope) + b.w_max * turn);
+            // The quads' warp adds to the error: measured only for a cell within tol without
+            // it (a tube's is a loop over its sides).
+            let fails = error.is_nan()
+                || error > tol
+                || match swept {
+                    Swept::Ribbon => error + self.ribbon_warp(i, j) > tol,
+                    Swept::Tube { .. } => error + self.tube_warp(i, j, &circle) > tol,
+                    Swept::Stroke => false,
+                };
+            fails.then(|| loc(&segment, s, 0.5 * (ua + ub)))
+        };
         let mut failing = Vec::new();
         for piece in pieces {
-            for cell in piece.windows(2) {
-                let (i, j) = (cell[0], cell[1]);
-                let (s, ua, ub) = span(&self.places[i], &self.places[j]);
-                let h = ub - ua;
-                if h <= 0.0 {
-                    continue;
-                }
-                let segment = self.table.segment(s);
-                let slope = slopes[i..j].iter().copied().fold(0.0, f64::max);
-                let turn: f64 = corners[i..j].iter().sum();
-                let bounds = if j == i + 1 {
-                    step_bounds[i]
-                } else {
-                    CellBounds::of(&segment, ua, ub)
-                };
-                let error =
-                    bounds.map_or(f64::INFINITY, |b| b.error(swept, h, slope) + b.w_max * turn);
-                // The quads' warp adds to the error: measured only for a cell within tol
-                // without it (a tube's is a loop over its sides).
-                let fails = error.is_nan()
-                    || error > tol
-                    || match swept {
-                        Swept::Ribbon => error + self.ribbon_warp(i, j) > tol,
-                        Swept::Tube { .. } => error + self.tube_warp(i, j, &circle) > tol,
-                        Swept::Stroke => false,
-                    };
-                if fails {
-                    failing.push(loc(&segment, s, 0.5 * (ua + ub)));
-                }
-            }
+            let piece_failing: Vec<SampleLoc> = piece
+                .par_windows(2)
+                .with_min_len(CELLS_PER_TASK)
+                .filter_map(|cell| fails(cell[0], cell[1]))
+                .collect();
+            failing.extend(piece_failing);
         }
         Ok(failing)
     }
