@@ -119,6 +119,7 @@ fn is_closed(kind: &CurveKind) -> bool {
     }
 }
 
+/// `curve`'s mesh for `geometry` at `sampling`, planned (see the module docs).
 pub(super) fn plan(
     curve: &Curve,
     geometry: &Geometry,

@@ -604,7 +604,7 @@ impl<'a> Carried<'a> {
         };
         // Every cell on every thread (a tube's quads make a cell as costly as its rings), the
         // failing ones in order.
-        let fails = |i: usize, j: usize| -> Option<SampleLoc> {
+        let failing_midpoint = |i: usize, j: usize| -> Option<SampleLoc> {
             let (s, ua, ub) = span(&self.places[i], &self.places[j]);
             let h = ub - ua;
             if h <= 0.0 {
@@ -632,12 +632,12 @@ impl<'a> Carried<'a> {
         };
         let mut failing = Vec::new();
         for piece in pieces {
-            let piece_failing: Vec<SampleLoc> = piece
-                .par_windows(2)
-                .with_min_len(CELLS_PER_TASK)
-                .filter_map(|cell| fails(cell[0], cell[1]))
-                .collect();
-            failing.extend(piece_failing);
+            failing.par_extend(
+                piece
+                    .par_windows(2)
+                    .with_min_len(CELLS_PER_TASK)
+                    .filter_map(|cell| failing_midpoint(cell[0], cell[1])),
+            );
         }
         Ok(failing)
     }
